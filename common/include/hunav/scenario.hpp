@@ -1,0 +1,100 @@
+#pragma once
+// A scenario: static map, robot, people (HuNavSim agents layout), clock. Defined once, in YAML, and
+// shared by runs, tests and benchmarks. scenarios/README.md documents every key.
+#include "hunav/geometry.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hunav {
+
+// HuNavSim behavior codes.
+enum class Behavior : int { Regular = 1, Impassive = 2, Surprised = 3, Scared = 4, Curious = 5, Threatening = 6 };
+const char* behaviorName(int code);
+
+struct BehaviorParams {
+  int configuration = 0;  // 0 default, 1 custom, 2 random normal, 3 random uniform
+  double duration = 40.0;
+  bool once = true;
+  double vel = 1.0;
+  double dist = 0.0;
+  double goal_force_factor = 2.0;
+  double obstacle_force_factor = 10.0;
+  double social_force_factor = 5.0;
+  double other_force_factor = 20.0;
+};
+
+struct AgentConfig {
+  int id = -1;
+  std::string name;
+  int skin = 0;
+  int behavior = 1;
+  BehaviorParams params;
+  std::string behavior_tree;  // empty = built-in tree of the behavior
+  int group_id = -1;
+  double max_vel = 1.0;       // m/s, desired speed
+  double radius = 0.35;       // m
+  Vec2 position = Vec2::Zero();
+  double yaw = 0.0;
+  double goal_radius = 0.0;
+  bool cyclic_goals = true;
+  std::vector<Vec2> goals;
+  std::string source_file;  // where it was defined, for error messages
+  int source_line = 0;
+};
+
+struct RobotLimits {
+  double max_v = 0.6;      // m/s
+  double min_v = 0.0;      // m/s
+  double max_w = 1.2;      // rad/s
+  double max_acc_v = 1.0;  // m/s^2
+  double max_acc_w = 2.5;  // rad/s^2
+};
+
+struct LaserConfig {
+  int beams = 180;
+  double fov = 2.0 * kPi;  // rad, centred on the robot heading
+  double range_min = 0.05;  // m
+  double range_max = 8.0;   // m
+  double noise_std = 0.0;   // m, Gaussian, seeded
+};
+
+struct RobotConfig {
+  int id = 0;
+  double radius = 0.3;
+  Vec2 start = Vec2::Zero();
+  double start_yaw = 0.0;
+  bool has_goal = false;
+  Vec2 goal = Vec2::Zero();
+  double goal_yaw = 0.0;
+  double goal_radius = 0.3;
+  RobotLimits limits;
+  LaserConfig laser;
+  double perception_range = 8.0;  // m, people detections
+  double control_rate = 10.0;     // Hz of simulation time
+};
+
+struct Scenario {
+  std::string name;
+  std::string file;            // path it was loaded from
+  double dt = 0.01;            // s
+  double time_limit = 60.0;    // s of simulation time
+  std::uint64_t seed = 1;
+  double obstacle_radius = 3.0;  // m, static shapes closer than this feed an agent's obstacle force
+  std::vector<Shape> shapes;   // static geometry
+  RobotConfig robot;
+  std::vector<AgentConfig> agents;
+
+  // Bounds of everything in the scenario, with a margin.
+  void bounds(Vec2& lo, Vec2& hi, double margin = 1.0) const;
+};
+
+// Loads and validates a scenario file. Throws ConfigError("file:line: key: what").
+Scenario loadScenario(const std::string& path);
+
+// Loads a HuNavSim agents file (v1 integer behavior or v1.5 behavior mapping).
+// `seed` drives the random configuration modes (with each agent's id).
+std::vector<AgentConfig> loadAgentsFile(const std::string& path, std::uint64_t seed);
+
+}  // namespace hunav

@@ -1,0 +1,21 @@
+#include "hunav/config_error.hpp"
+
+namespace hunav {
+
+namespace {
+std::string format(const std::string& file, int line, const std::string& key, const std::string& what) {
+  std::string s = file;
+  if (line > 0) s += ":" + std::to_string(line);
+  s += ": ";
+  if (!key.empty()) s += key + ": ";
+  return s + what;
+}
+}  // namespace
+
+ConfigError::ConfigError(std::string file, int line, std::string key, std::string what)
+    : std::runtime_error(format(file, line, key, what)),
+      file_(std::move(file)),
+      line_(line),
+      key_(std::move(key)) {}
+
+}  // namespace hunav
