@@ -141,7 +141,7 @@ void Scenario::bounds(Vec2& lo, Vec2& hi, double margin) const {
   hi += Vec2(margin, margin);
 }
 
-Scenario loadScenario(const std::string& path) {
+Scenario loadScenario(const std::string& path, long long seed_override) {
   YamlReader yr(path);
   const YAML::Node& root = yr.root();
   Scenario s;
@@ -153,7 +153,7 @@ Scenario loadScenario(const std::string& path) {
   if (s.time_limit <= 0.0) yr.fail(root["time_limit"], "time_limit", "must be > 0");
   const long long seed = yr.get<long long>(root, "seed", "", 1);
   if (seed < 0) yr.fail(root["seed"], "seed", "must be >= 0");
-  s.seed = static_cast<std::uint64_t>(seed);
+  s.seed = static_cast<std::uint64_t>(seed_override >= 0 ? seed_override : seed);
   s.obstacle_radius = yr.get<double>(root, "obstacle_radius", "", s.obstacle_radius);
   if (s.obstacle_radius <= 0.0) yr.fail(root["obstacle_radius"], "obstacle_radius", "must be > 0");
 

@@ -91,7 +91,8 @@ struct Scenario {
 };
 
 // Loads and validates a scenario file. Throws ConfigError("file:line: key: what").
-Scenario loadScenario(const std::string& path);
+// `seed_override` >= 0 replaces the file's seed (it drives the random agent parameters too).
+Scenario loadScenario(const std::string& path, long long seed_override = -1);
 
 // Loads a HuNavSim agents file (v1 integer behavior or v1.5 behavior mapping).
 // `seed` drives the random configuration modes (with each agent's id).

@@ -1,0 +1,21 @@
+#include "hunav/signals.hpp"
+
+#include <csignal>
+
+namespace hunav {
+
+namespace {
+std::atomic<bool> g_stop{false};
+extern "C" void onStopSignal(int) { g_stop.store(true); }
+}  // namespace
+
+const std::atomic<bool>& installStopSignals() {
+  struct sigaction sa {};
+  sa.sa_handler = onStopSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  return g_stop;
+}
+
+}  // namespace hunav

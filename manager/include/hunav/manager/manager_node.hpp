@@ -1,0 +1,33 @@
+#pragma once
+// The manager process logic: answers STEP_REQUEST with STEP_REPLY.
+#include "hunav/manager/agent_manager.hpp"
+#include "hunav/transport.hpp"
+
+#include <hunav/episode_event_t.hpp>
+
+#include <cstdint>
+
+namespace hunav::manager {
+
+class ManagerNode {
+ public:
+  explicit ManagerNode(Bus& bus);
+
+  AgentManager& manager() { return manager_; }
+  std::uint64_t stepsComputed() const { return steps_computed_; }
+  std::uint64_t repliesResent() const { return replies_resent_; }
+  std::uint64_t episodesEnded() const { return episodes_ended_; }
+
+ private:
+  void onRequest(const step_request_t& request);
+
+  Bus& bus_;
+  AgentManager manager_;
+  bool have_last_ = false;
+  step_reply_t last_reply_;
+  std::uint64_t steps_computed_ = 0;
+  std::uint64_t replies_resent_ = 0;
+  std::uint64_t episodes_ended_ = 0;
+};
+
+}  // namespace hunav::manager

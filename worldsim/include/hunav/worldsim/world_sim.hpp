@@ -1,0 +1,103 @@
+#pragma once
+// The world process logic: owns the clock, runs episodes over the step protocol (DESIGN.md section 4)
+// and publishes what is true at every tick.
+#include "hunav/fingerprint.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/transport.hpp"
+#include "hunav/worldsim/physics_world.hpp"
+
+#include <hunav/robot_command_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
+#include <hunav/world_state_t.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+
+namespace hunav::worldsim {
+
+struct WorldOptions {
+  std::string planner = "dwb";     // reported in events; "none" runs without a planner (robot stands)
+  std::string mode = "lockstep";   // inprocess | lockstep | realtime (realtime: wall-clock paced,
+                                   // the robot uses the latest command instead of waiting for it)
+  std::string run_id;              // default: <scenario>_<planner>_s<seed>
+  std::chrono::milliseconds resend_after{100};    // resend a request unanswered this long
+  std::chrono::milliseconds silence_limit{1000};  // abort after this long without an answer
+  std::chrono::milliseconds startup_limit{10000}; // same, for a component's first answer of an episode
+  const std::atomic<bool>* stop = nullptr;        // set (e.g. by SIGINT) to end the episode early
+};
+
+struct EpisodeResult {
+  std::string status;  // goal_reached | time_limit | aborted
+  std::string reason;
+  std::int64_t ticks = 0;  // world states published, tick 0 included
+  double sim_time = 0.0;   // s
+  double wall_time = 0.0;  // s
+  std::string fingerprint;
+  std::uint64_t collisions = 0;
+  bool ended() const { return status == "goal_reached" || status == "time_limit"; }
+};
+
+class WorldSim {
+ public:
+  WorldSim(Bus& bus, Scenario scenario, WorldOptions options);
+  ~WorldSim();
+
+  // Runs one episode from the scenario's initial state; every call is a fresh world and a new
+  // episode number.
+  EpisodeResult runEpisode();
+
+  const Scenario& scenario() const { return scenario_; }
+  std::uint64_t resends() const { return resends_; }
+
+ private:
+  void reset();
+  void sense();
+  agent_state_t robotState() const;
+  void publishWorldState();
+  bool exchangeWithManager(std::string& failure);
+  bool exchangeWithPlanner(std::string& failure);
+  bool awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
+                  std::int64_t seq, std::string& failure);
+  robot_observation_t observation();
+  void applyReply(const step_reply_t& reply);
+  void driveRobot();
+  bool robotAtGoal() const;
+  void onStepReply(const step_reply_t& reply);
+  void onCommand(const robot_command_t& cmd);
+  double simTime() const { return static_cast<double>(time_us_) * 1e-6; }
+
+  Bus& bus_;
+  Scenario scenario_;
+  WorldOptions options_;
+  std::int64_t dt_us_;
+  int control_every_;  // ticks per planner cycle
+
+  std::unique_ptr<PhysicsWorld> physics_;
+  std::vector<agent_state_t> agents_;
+  double robot_v_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at
+  double cmd_v_ = 0.0, cmd_w_ = 0.0;      // last command
+  std::vector<Vec2> robot_obstacles_;
+  std::mt19937_64 laser_rng_;
+
+  std::int64_t episode_ = 0;
+  std::int64_t tick_ = 0;
+  std::int64_t time_us_ = 0;
+  std::int64_t step_seq_ = 0;
+  std::int64_t obs_seq_ = 0;
+  bool manager_answered_ = false;  // within this episode
+  bool planner_answered_ = false;
+  std::optional<step_reply_t> reply_;
+  bool reply_arrived_ = false;
+  bool command_arrived_ = false;
+  std::uint64_t collisions_ = 0;
+  std::uint64_t resends_ = 0;
+  Fingerprint fingerprint_;
+};
+
+}  // namespace hunav::worldsim

@@ -1,0 +1,413 @@
+#include "hunav/worldsim/world_sim.hpp"
+
+#include "hunav/channels.hpp"
+#include "hunav/message_checks.hpp"
+#include "hunav/worldsim/diff_drive.hpp"
+
+#include <hunav/episode_event_t.hpp>
+#include <hunav/nav_goal_t.hpp>
+
+#include <cmath>
+#include <thread>
+
+namespace hunav::worldsim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+agent_state_t initialAgentState(const AgentConfig& a) {
+  agent_state_t s{};
+  s.id = a.id;
+  s.type = agent_state_t::TYPE_PERSON;
+  s.name = a.name;
+  s.behavior = static_cast<int8_t>(a.behavior);
+  s.behavior_state = agent_state_t::STATE_INACTIVE;
+  s.behavior_params.configuration = static_cast<int8_t>(a.params.configuration);
+  s.behavior_params.duration = a.params.duration;
+  s.behavior_params.once = a.params.once;
+  s.behavior_params.vel = a.params.vel;
+  s.behavior_params.dist = a.params.dist;
+  s.behavior_params.goal_force_factor = a.params.goal_force_factor;
+  s.behavior_params.obstacle_force_factor = a.params.obstacle_force_factor;
+  s.behavior_params.social_force_factor = a.params.social_force_factor;
+  s.behavior_params.other_force_factor = a.params.other_force_factor;
+  s.behavior_tree = a.behavior_tree;
+  s.group_id = a.group_id;
+  s.x = a.position.x();
+  s.y = a.position.y();
+  s.yaw = normalizeAngle(a.yaw);
+  s.radius = a.radius;
+  s.desired_speed = a.max_vel;
+  for (const Vec2& g : a.goals) s.goals.push_back(point2d_t{g.x(), g.y()});
+  s.num_goals = static_cast<int32_t>(s.goals.size());
+  s.goal_radius = a.goal_radius;
+  s.cyclic_goals = a.cyclic_goals;
+  return s;
+}
+
+void setObstacles(agent_state_t& s, const std::vector<Vec2>& points) {
+  s.obstacles.clear();
+  for (const Vec2& p : points) s.obstacles.push_back(point2d_t{p.x(), p.y()});
+  s.num_obstacles = static_cast<int32_t>(s.obstacles.size());
+}
+
+}  // namespace
+
+WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
+    : bus_(bus), scenario_(std::move(scenario)), options_(std::move(options)) {
+  dt_us_ = static_cast<std::int64_t>(std::llround(scenario_.dt * 1e6));
+  control_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (scenario_.robot.control_rate * scenario_.dt))));
+  if (options_.run_id.empty())
+    options_.run_id = scenario_.name + "_" + options_.planner + "_s" + std::to_string(scenario_.seed);
+  bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
+  bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
+}
+
+WorldSim::~WorldSim() = default;
+
+void WorldSim::reset() {
+  physics_ = std::make_unique<PhysicsWorld>(scenario_);
+  agents_.clear();
+  for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a));
+  robot_v_ = robot_w_ = cmd_v_ = cmd_w_ = 0.0;
+  // One random stream per purpose, seeded by the scenario seed.
+  std::seed_seq laser_seed{static_cast<std::uint32_t>(scenario_.seed), static_cast<std::uint32_t>(scenario_.seed >> 32),
+                           0x6c61u /* "la": laser noise stream */};
+  laser_rng_.seed(laser_seed);
+  tick_ = 0;
+  time_us_ = 0;
+  step_seq_ = 0;
+  obs_seq_ = 0;
+  manager_answered_ = planner_answered_ = false;
+  collisions_ = 0;
+  fingerprint_ = Fingerprint();
+}
+
+void WorldSim::sense() {
+  const Vec2 robot_pos = toVec(physics_->robot().GetPosition());
+  for (std::size_t i = 0; i < agents_.size(); ++i) {
+    agent_state_t& s = agents_[i];
+    const b2Body& body = physics_->person(i);
+    const Vec2 p = toVec(body.GetPosition());
+    const Vec2 v = toVec(body.GetLinearVelocity());
+    s.utime = time_us_;
+    s.x = p.x();
+    s.y = p.y();
+    s.yaw = normalizeAngle(body.GetAngle());
+    s.vx = v.x();
+    s.vy = v.y();
+    s.vyaw = body.GetAngularVelocity();
+    s.linear_vel = v.norm();
+    s.angular_vel = s.vyaw;
+    setObstacles(s, physics_->closestObstaclePoints(p, scenario_.obstacle_radius));
+    s.robot_in_sight = physics_->lineOfSight(p, robot_pos);
+  }
+  robot_obstacles_ = physics_->closestObstaclePoints(robot_pos, scenario_.obstacle_radius);
+}
+
+agent_state_t WorldSim::robotState() const {
+  const RobotConfig& rc = scenario_.robot;
+  const b2Body& body = physics_->robot();
+  agent_state_t r{};
+  r.utime = time_us_;
+  r.id = rc.id;
+  r.type = agent_state_t::TYPE_ROBOT;
+  r.name = "robot";
+  r.behavior = agent_state_t::BEH_NONE;
+  r.group_id = -1;
+  const Vec2 p = toVec(body.GetPosition());
+  const Vec2 v = toVec(body.GetLinearVelocity());
+  r.x = p.x();
+  r.y = p.y();
+  r.yaw = normalizeAngle(body.GetAngle());
+  r.vx = v.x();
+  r.vy = v.y();
+  r.vyaw = body.GetAngularVelocity();
+  r.linear_vel = v.norm();
+  r.angular_vel = r.vyaw;
+  r.radius = rc.radius;
+  r.desired_speed = rc.limits.max_v;
+  if (rc.has_goal) {
+    r.goals.push_back(point2d_t{rc.goal.x(), rc.goal.y()});
+    r.num_goals = 1;
+    r.goal_radius = rc.goal_radius;
+  }
+  setObstacles(r, robot_obstacles_);
+  r.robot_in_sight = true;
+  return r;
+}
+
+void WorldSim::publishWorldState() {
+  world_state_t ws{};
+  ws.utime = time_us_;
+  ws.tick = tick_;
+  ws.episode = episode_;
+  ws.robot = robotState();
+  ws.agents = agents_;
+  ws.num_agents = static_cast<int32_t>(agents_.size());
+  ws.collisions = physics_->newContacts();
+  ws.num_collisions = static_cast<int32_t>(ws.collisions.size());
+  collisions_ += ws.collisions.size();
+  const std::vector<std::uint8_t>& bytes = bus_.encode(ws);
+  fingerprint_.add(bytes.data(), bytes.size());
+  bus_.publishRaw(channels::kWorldState, bytes.data(), bytes.size());
+}
+
+void WorldSim::onStepReply(const step_reply_t& reply) {
+  if (reply.episode != episode_ || reply.seq != step_seq_ || reply_arrived_) return;  // stale or duplicate
+  checkAgentStates(reply.agents, reply.num_agents, "step reply");
+  if (reply.agents.size() != agents_.size()) throw BadMessage("step reply: wrong number of agents");
+  for (std::size_t i = 0; i < agents_.size(); ++i)
+    if (reply.agents[i].id != agents_[i].id) throw BadMessage("step reply: agents out of order");
+  reply_ = reply;
+  reply_arrived_ = true;
+}
+
+void WorldSim::onCommand(const robot_command_t& cmd) {
+  if (cmd.episode != episode_) return;
+  checkFinite(cmd.v, "v", "robot command");
+  checkFinite(cmd.w, "w", "robot command");
+  // Lockstep: only the answer to the pending observation. Realtime: the latest command wins.
+  if (options_.mode != "realtime" && (cmd.seq != obs_seq_ || command_arrived_)) return;
+  cmd_v_ = cmd.v;
+  cmd_w_ = cmd.w;
+  command_arrived_ = true;
+}
+
+bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
+                          std::int64_t seq, std::string& failure) {
+  send();
+  const Clock::time_point start = Clock::now();
+  Clock::time_point last_send = start;
+  const auto limit = first ? options_.startup_limit : options_.silence_limit;
+  int sends = 1;
+  while (!arrived) {
+    if (options_.stop != nullptr && options_.stop->load()) {
+      failure = "interrupted";
+      return false;
+    }
+    const Clock::time_point now = Clock::now();
+    if (now - start >= limit) {
+      failure = std::string(who) + " did not answer seq " + std::to_string(seq) + " within " +
+                std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(limit).count()) + " ms (" +
+                std::to_string(sends) + " sends)";
+      return false;
+    }
+    if (now - last_send >= options_.resend_after) {
+      send();
+      ++sends;
+      ++resends_;
+      last_send = now;
+    }
+    const auto until_resend = options_.resend_after - (now - last_send);
+    const auto until_limit = limit - (now - start);
+    const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(std::min(until_resend, until_limit));
+    bus_.handleFor(std::max(wait, std::chrono::milliseconds(1)));
+  }
+  return true;
+}
+
+bool WorldSim::exchangeWithManager(std::string& failure) {
+  step_request_t req{};
+  req.utime = time_us_;
+  req.seq = ++step_seq_;
+  req.episode = episode_;
+  req.dt = scenario_.dt;
+  req.agents = agents_;
+  req.num_agents = static_cast<int32_t>(agents_.size());
+  req.robot = robotState();
+  reply_arrived_ = false;
+  const std::vector<std::uint8_t> bytes = bus_.encode(req);
+  const bool ok = awaitReply([&] { bus_.publishRaw(channels::kStepRequest, bytes.data(), bytes.size()); },
+                             reply_arrived_, !manager_answered_, "manager", req.seq, failure);
+  manager_answered_ = manager_answered_ || ok;
+  return ok;
+}
+
+robot_observation_t WorldSim::observation() {
+  const RobotConfig& rc = scenario_.robot;
+  const b2Body& body = physics_->robot();
+  const Vec2 p = toVec(body.GetPosition());
+  const double yaw = normalizeAngle(body.GetAngle());
+  robot_observation_t obs{};
+  obs.utime = time_us_;
+  obs.seq = ++obs_seq_;
+  obs.episode = episode_;
+  obs.x = p.x();
+  obs.y = p.y();
+  obs.yaw = yaw;
+  obs.v = toVec(body.GetLinearVelocity()).dot(Vec2(std::cos(yaw), std::sin(yaw)));
+  obs.w = body.GetAngularVelocity();
+  obs.radius = rc.radius;
+  obs.max_v = rc.limits.max_v;
+  obs.min_v = rc.limits.min_v;
+  obs.max_w = rc.limits.max_w;
+  obs.max_acc_v = rc.limits.max_acc_v;
+  obs.max_acc_w = rc.limits.max_acc_w;
+  obs.control_period = control_every_ * scenario_.dt;
+  obs.goal.utime = time_us_;
+  obs.goal.valid = rc.has_goal;
+  obs.goal.x = rc.goal.x();
+  obs.goal.y = rc.goal.y();
+  obs.goal.yaw = rc.goal_yaw;
+  obs.goal.radius = rc.goal_radius;
+
+  const LaserConfig& laser = rc.laser;
+  laser_scan_t& scan = obs.scan;
+  scan.utime = time_us_;
+  scan.sensor_x = p.x();
+  scan.sensor_y = p.y();
+  scan.sensor_yaw = yaw;
+  const bool full_circle = laser.fov >= 2.0 * kPi - 1e-9;
+  scan.angle_min = full_circle ? -kPi : -laser.fov / 2.0;
+  scan.angle_increment = laser.beams > 1 ? laser.fov / (full_circle ? laser.beams : laser.beams - 1) : 0.0;
+  scan.range_min = laser.range_min;
+  scan.range_max = laser.range_max;
+  scan.num_ranges = laser.beams;
+  scan.ranges.resize(static_cast<std::size_t>(laser.beams));
+  std::normal_distribution<double> noise(0.0, laser.noise_std);
+  for (int i = 0; i < laser.beams; ++i) {
+    double r = physics_->rayDistance(p, yaw + scan.angle_min + i * scan.angle_increment, laser.range_max, true);
+    if (laser.noise_std > 0.0 && r < laser.range_max) r += noise(laser_rng_);
+    scan.ranges[static_cast<std::size_t>(i)] = static_cast<float>(std::clamp(r, laser.range_min, laser.range_max));
+  }
+
+  for (const agent_state_t& a : agents_) {
+    const Vec2 ap(a.x, a.y);
+    if ((ap - p).norm() > rc.perception_range || !a.robot_in_sight) continue;
+    obs.people.push_back(detected_person_t{a.id, a.x, a.y, a.yaw, a.vx, a.vy, a.radius});
+  }
+  obs.num_people = static_cast<int32_t>(obs.people.size());
+  return obs;
+}
+
+bool WorldSim::exchangeWithPlanner(std::string& failure) {
+  const robot_observation_t obs = observation();
+  const std::vector<std::uint8_t> bytes = bus_.encode(obs);
+  if (options_.mode == "realtime") {
+    bus_.publishRaw(channels::kRobotObservation, bytes.data(), bytes.size());
+    return true;
+  }
+  command_arrived_ = false;
+  const bool ok = awaitReply([&] { bus_.publishRaw(channels::kRobotObservation, bytes.data(), bytes.size()); },
+                             command_arrived_, !planner_answered_, "planner", obs.seq, failure);
+  planner_answered_ = planner_answered_ || ok;
+  return ok;
+}
+
+void WorldSim::applyReply(const step_reply_t& reply) {
+  for (std::size_t i = 0; i < agents_.size(); ++i) {
+    const agent_state_t& next = reply.agents[i];
+    agent_state_t& s = agents_[i];
+    // The manager owns goals, behavior state and parameters; the world owns positions (Box2D moves
+    // the bodies with the manager's velocities and resolves contacts).
+    s.goals = next.goals;
+    s.num_goals = next.num_goals;
+    s.behavior_state = next.behavior_state;
+    s.behavior_params = next.behavior_params;
+    s.desired_speed = next.desired_speed;
+    b2Body& body = physics_->person(i);
+    body.SetLinearVelocity(b2Vec2(static_cast<float>(next.vx), static_cast<float>(next.vy)));
+    body.SetAngularVelocity(static_cast<float>(normalizeAngle(next.yaw - body.GetAngle()) / scenario_.dt));
+  }
+}
+
+void WorldSim::driveRobot() {
+  applyLimits(scenario_.robot.limits, scenario_.dt, cmd_v_, cmd_w_, robot_v_, robot_w_);
+  b2Body& body = physics_->robot();
+  const Pose2 now{body.GetPosition().x, body.GetPosition().y, body.GetAngle()};
+  const Pose2 next = driveArc(now, robot_v_, robot_w_, scenario_.dt);
+  // Box2D integrates position += v * dt: this velocity lands the body on the exact arc.
+  body.SetLinearVelocity(b2Vec2(static_cast<float>((next.x - now.x) / scenario_.dt),
+                                static_cast<float>((next.y - now.y) / scenario_.dt)));
+  body.SetAngularVelocity(static_cast<float>(robot_w_));
+}
+
+bool WorldSim::robotAtGoal() const {
+  const RobotConfig& rc = scenario_.robot;
+  if (!rc.has_goal) return false;
+  return (toVec(physics_->robot().GetPosition()) - rc.goal).norm() <= rc.goal_radius;
+}
+
+EpisodeResult WorldSim::runEpisode() {
+  ++episode_;
+  reset();
+  const Clock::time_point wall_start = Clock::now();
+  const std::int64_t limit_us = static_cast<std::int64_t>(std::llround(scenario_.time_limit * 1e6));
+
+  episode_event_t ev{};
+  ev.utime = 0;
+  ev.event = episode_event_t::START;
+  ev.episode = episode_;
+  ev.run_id = options_.run_id;
+  ev.scenario = scenario_.name;
+  ev.scenario_file = scenario_.file;
+  ev.planner = options_.planner;
+  ev.seed = static_cast<std::int64_t>(scenario_.seed);
+  ev.mode = options_.mode;
+  ev.status = "running";
+  bus_.publish(channels::kEpisodeEvent, ev);
+
+  nav_goal_t goal{};
+  goal.valid = scenario_.robot.has_goal;
+  goal.x = scenario_.robot.goal.x();
+  goal.y = scenario_.robot.goal.y();
+  goal.yaw = scenario_.robot.goal_yaw;
+  goal.radius = scenario_.robot.goal_radius;
+  bus_.publish(channels::kNavGoal, goal);
+
+  sense();
+  publishWorldState();
+
+  EpisodeResult result;
+  const bool with_planner = options_.planner != "none";
+  while (result.status.empty()) {
+    std::string failure;
+    if (options_.stop != nullptr && options_.stop->load()) {
+      result.status = "aborted";
+      result.reason = "interrupted (SIGINT/SIGTERM)";
+    } else if (robotAtGoal()) {
+      result.status = "goal_reached";
+      result.reason = "the robot is within its goal radius";
+    } else if (time_us_ >= limit_us) {
+      result.status = "time_limit";
+      result.reason = "the time limit of the scenario was reached";
+    } else if (!agents_.empty() && !exchangeWithManager(failure)) {
+      result.status = "aborted";
+      result.reason = failure;
+    } else if (with_planner && tick_ % control_every_ == 0 && !exchangeWithPlanner(failure)) {
+      result.status = "aborted";
+      result.reason = failure;
+    } else {
+      if (!agents_.empty()) applyReply(*reply_);
+      driveRobot();
+      physics_->step(scenario_.dt);
+      ++tick_;
+      time_us_ += dt_us_;
+      sense();
+      publishWorldState();
+      if (options_.mode == "realtime")
+        std::this_thread::sleep_until(wall_start + std::chrono::microseconds(time_us_));
+    }
+  }
+
+  result.ticks = tick_ + 1;
+  result.sim_time = simTime();
+  result.wall_time = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  result.fingerprint = fingerprint_.hex();
+  result.collisions = collisions_;
+
+  ev.utime = time_us_;
+  ev.event = episode_event_t::END;
+  ev.status = result.status;
+  ev.reason = result.reason;
+  ev.ticks = result.ticks;
+  ev.sim_time = result.sim_time;
+  ev.wall_time = result.wall_time;
+  ev.fingerprint = result.fingerprint;
+  bus_.publish(channels::kEpisodeEvent, ev);
+  return result;
+}
+
+}  // namespace hunav::worldsim
