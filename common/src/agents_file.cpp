@@ -125,12 +125,10 @@ std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc
     // behavior: v1 integer, v1.5 mapping, v2 type string
     const YAML::Node beh = yr.child(m, "behavior", aw, false);
     const std::string bw = YamlReader::join(aw, "behavior");
-    YAML::Node type_node = beh;
-    std::string type_key = bw;
-    if (beh && beh.IsMap()) {
-      type_node = yr.child(beh, "type", bw, true);
-      type_key = YamlReader::join(bw, "type");
-    }
+    // (Initialised once: assigning one YAML::Node to another overwrites the node it refers to.)
+    const bool beh_is_map = beh && beh.IsMap();
+    const YAML::Node type_node = beh_is_map ? yr.child(beh, "type", bw, true) : beh;
+    const std::string type_key = beh_is_map ? YamlReader::join(bw, "type") : bw;
     if (type_node) {
       int code = 0;
       try {

@@ -1,0 +1,182 @@
+#include "hunav/config_error.hpp"
+#include "hunav/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace hunav;
+
+namespace {
+
+std::string source(const std::string& rel) { return std::string(HUNAV_SOURCE_DIR) + "/" + rel; }
+
+// Writes `text` to a fresh file and returns its path.
+std::string writeFile(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "hunav_test_scenario";
+  std::filesystem::create_directories(dir);
+  const auto path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+const char* kMinimal = R"(name: mini
+dt: 0.01
+map:
+  walls:
+    - [[-5, -2], [5, -2]]
+robot:
+  radius: 0.3
+  start: {x: 0, y: 0}
+  goal: {x: 3, y: 0, radius: 0.2}
+)";
+
+// Expects loading to fail with an error at `line` mentioning `key`.
+void expectError(const std::string& name, const std::string& text, int line, const std::string& key) {
+  const std::string path = writeFile(name, text);
+  try {
+    loadScenario(path);
+    FAIL() << "no error for " << name;
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.key(), key) << e.what();
+    const std::string prefix = path + ":" + std::to_string(line) + ": " + (key.empty() ? "" : key + ": ");
+    EXPECT_EQ(std::string(e.what()).rfind(prefix, 0), 0u) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(Scenario, LoadsThePassingScenario) {
+  const Scenario s = loadScenario(source("scenarios/passing.yaml"));
+  EXPECT_EQ(s.name, "passing");
+  EXPECT_DOUBLE_EQ(s.dt, 0.01);
+  EXPECT_EQ(s.shapes.size(), 4u);
+  EXPECT_TRUE(s.robot.has_goal);
+  EXPECT_DOUBLE_EQ(s.robot.goal.x(), 15.0);
+  ASSERT_EQ(s.agents.size(), 2u);
+  EXPECT_EQ(s.agents[0].name, "agent1");
+  EXPECT_EQ(s.agents[0].behavior, 1);
+  EXPECT_DOUBLE_EQ(s.agents[0].max_vel, 0.9);
+  EXPECT_FALSE(s.agents[0].cyclic_goals);
+  ASSERT_EQ(s.agents[0].goals.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.agents[0].goals[0].x(), 0.0);
+  EXPECT_DOUBLE_EQ(s.agents[0].params.social_force_factor, 5.0);
+}
+
+TEST(Scenario, MalformedFilesNameFileLineAndKey) {
+  expectError("bad_yaml.yaml", "name: x\nrobot: [unclosed\n", 3, "");
+  expectError("no_robot.yaml", "name: x\ndt: 0.01\n", 1, "robot");
+  expectError("bad_type.yaml", std::string(kMinimal) + "time_limit: soon\n", 10, "time_limit");
+  expectError("bad_radius.yaml",
+              "robot:\n  radius: -0.3\n  start: {x: 0, y: 0}\n", 2, "robot.radius");
+  expectError("goal_in_wall.yaml",
+              "map:\n  boxes: [{x: 3, y: 0, width: 1, height: 1}]\nrobot:\n  start: {x: 0, y: 0}\n"
+              "  goal: {x: 3, y: 0}\n",
+              5, "robot.goal");
+  expectError("bad_dt.yaml", "dt: 0\nrobot:\n  start: {x: 0, y: 0}\n", 1, "dt");
+}
+
+TEST(Scenario, AgentErrorsNameTheAgentKey) {
+  const std::string people = std::string(kMinimal) + R"(people:
+  hunav_loader:
+    ros__parameters:
+      agents: [a1]
+      a1:
+        id: 1
+        radius: -1
+        init_pose: {x: 1, y: 1}
+)";
+  expectError("bad_agent.yaml", people, 16, "people.hunav_loader.ros__parameters.a1.radius");
+}
+
+TEST(Scenario, HunavAgentFilesV1AndV15Load) {
+  const std::string v1 = writeFile("agents_v1.yaml", R"(hunav_loader:
+  ros__parameters:
+    map: cafe
+    publish_people: true
+    agents: [agent1, agent2]
+    agent1:
+      id: 1
+      skin: 0
+      behavior: 4
+      group_id: -1
+      max_vel: 1.5
+      radius: 0.4
+      init_pose: {x: 3.48, y: 6.93, z: 1.25, h: 0.0}
+      goal_radius: 0.3
+      cyclic_goals: true
+      goals: [g1, g2]
+      g1: {x: 1.0, y: 2.0, h: 0.0}
+      g2: {x: -1.0, y: 2.0, h: 0.0}
+    agent2:
+      id: 2
+      behavior: 5
+      init_pose: {x: 0.0, y: 0.0, z: 1.25, h: 1.0}
+      goals: []
+)");
+  const auto a = loadAgentsFile(v1, 1);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].behavior, 4);  // scared, default configuration: run-away 0.6 m/s, detection 3 m
+  EXPECT_DOUBLE_EQ(a[0].params.vel, 0.6);
+  EXPECT_DOUBLE_EQ(a[0].params.dist, 3.0);
+  ASSERT_EQ(a[0].goals.size(), 2u);
+  EXPECT_DOUBLE_EQ(a[0].goals[1].x(), -1.0);
+  EXPECT_DOUBLE_EQ(a[1].max_vel, 1.0);  // v1 defaults
+  EXPECT_DOUBLE_EQ(a[1].radius, 0.35);
+  EXPECT_DOUBLE_EQ(a[1].params.vel, 1.0);  // curious default: vel = max_vel
+  EXPECT_DOUBLE_EQ(a[1].yaw, 1.0);
+
+  const std::string v15 = writeFile("agents_v15.yaml", R"(hunav_loader:
+  ros__parameters:
+    agents: [walker_a]
+    walker_a:
+      id: 1
+      behavior:
+        type: 3
+        configuration: 1
+        duration: 15.0
+        once: false
+        vel: 2.5
+        dist: 3.5
+        social_force_factor: 7.0
+      init_pose: {x: -4.0, y: 0.5, z: 1.25, h: 0.0}
+      goals: [ga]
+      ga: {x: 4.0, y: 0.5, h: 0.0}
+)");
+  const auto b = loadAgentsFile(v15, 1);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_EQ(b[0].behavior, 3);
+  EXPECT_EQ(b[0].params.configuration, 1);
+  EXPECT_DOUBLE_EQ(b[0].params.duration, 15.0);
+  EXPECT_FALSE(b[0].params.once);
+  EXPECT_DOUBLE_EQ(b[0].params.vel, 1.8);  // clamped to [0, 1.8]
+  EXPECT_DOUBLE_EQ(b[0].params.social_force_factor, 7.0);
+}
+
+TEST(Scenario, RandomConfigurationsAreSeeded) {
+  const std::string f = writeFile("agents_random.yaml", R"(hunav_loader:
+  ros__parameters:
+    agents: [a, b]
+    a:
+      id: 1
+      behavior: {type: 5, configuration: 2}
+      init_pose: {x: 0, y: 0}
+    b:
+      id: 2
+      behavior: {type: 6, configuration: 3}
+      init_pose: {x: 1, y: 0}
+)");
+  const auto s1 = loadAgentsFile(f, 7), s1_again = loadAgentsFile(f, 7), s2 = loadAgentsFile(f, 8);
+  EXPECT_EQ(s1[0].params.social_force_factor, s1_again[0].params.social_force_factor);
+  EXPECT_EQ(s1[1].params.dist, s1_again[1].params.dist);
+  EXPECT_NE(s1[0].params.social_force_factor, s2[0].params.social_force_factor);
+  EXPECT_NE(s1[0].params.social_force_factor, s1[1].params.social_force_factor);  // per agent id
+  // Uniform draws stay in their ranges: threatening front distance U(0.8, 1.9), social U(2.1, 15).
+  EXPECT_GE(s1[1].params.dist, 0.8);
+  EXPECT_LE(s1[1].params.dist, 1.9);
+  EXPECT_GE(s1[1].params.social_force_factor, 2.1);
+  EXPECT_LE(s1[1].params.social_force_factor, 15.0);
+}

@@ -1,0 +1,97 @@
+#include "hunav/transport.hpp"
+
+#include <gtest/gtest.h>
+
+#include <hunav/nav_goal_t.hpp>
+
+#include <cstdlib>
+
+using hunav::Bus;
+
+namespace {
+hunav::nav_goal_t goal(double x) {
+  hunav::nav_goal_t g{};
+  g.utime = 5;
+  g.valid = true;
+  g.x = x;
+  return g;
+}
+}  // namespace
+
+TEST(Transport, LambdaSubscriptionReceivesTypedMessages) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  std::vector<double> xs;
+  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { xs.push_back(g.x); });
+  bus.publish("GOAL", goal(1.5));
+  bus.publish("OTHER", goal(9.0));
+  EXPECT_TRUE(bus.handleFor(std::chrono::milliseconds(100)));
+  bus.handleAvailable();
+  ASSERT_EQ(xs.size(), 1u);
+  EXPECT_EQ(xs[0], 1.5);
+  EXPECT_FALSE(bus.handleFor(std::chrono::milliseconds(1)));  // nothing left: times out
+}
+
+TEST(Transport, UnboundedQueueKeepsEveryMessage) {
+  // LCM's default capacity of 30 would drop all but 30 of these.
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  int n = 0;
+  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++n; });
+  for (int i = 0; i < 500; ++i) bus.publish("GOAL", goal(i));
+  bus.handleAvailable();
+  EXPECT_EQ(n, 500);
+}
+
+TEST(Transport, HandlerExceptionsReachTheCaller) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  bus.subscribe<hunav::nav_goal_t>("GOAL", [](const hunav::nav_goal_t&) { throw std::logic_error("boom"); });
+  bus.publish("GOAL", goal(1));
+  EXPECT_THROW(bus.handleAvailable(), std::logic_error);
+}
+
+TEST(Transport, BadMessagesAreDroppedAndCounted) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  int n = 0;
+  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) {
+    if (g.x < 0) throw hunav::BadMessage("negative");
+    ++n;
+  });
+  const char garbage[] = "not an lcm message";
+  bus.publishRaw("GOAL", garbage, sizeof garbage);  // fails to decode (wrong fingerprint)
+  bus.publish("GOAL", goal(-1));                     // rejected by the handler
+  bus.publish("GOAL", goal(1));
+  bus.handleAvailable();
+  EXPECT_EQ(n, 1);
+  EXPECT_EQ(bus.droppedMessages(), 2u);
+}
+
+TEST(Transport, UrlPrecedenceFlagThenEnvironmentThenDefault) {
+  ::unsetenv("LCM_DEFAULT_URL");
+  EXPECT_EQ(hunav::resolveLcmUrl(""), hunav::kDefaultLcmUrl);
+  EXPECT_NE(std::string(hunav::kDefaultLcmUrl).find("ttl=0"), std::string::npos);
+  ::setenv("LCM_DEFAULT_URL", "memq://", 1);
+  EXPECT_EQ(hunav::resolveLcmUrl(""), "memq://");
+  EXPECT_EQ(hunav::resolveLcmUrl("udpm://239.255.76.1:7000?ttl=0"), "udpm://239.255.76.1:7000?ttl=0");
+  ::unsetenv("LCM_DEFAULT_URL");
+}
+
+TEST(Transport, SeededLossIsReproducible) {
+  auto lost = [](std::uint64_t seed) {
+    lcm::LCM lcm("memq://");
+    Bus bus(lcm);
+    bus.setOutgoingLossForTesting(0.1, seed);
+    int n = 0;
+    bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++n; });
+    for (int i = 0; i < 1000; ++i) bus.publish("GOAL", goal(i));
+    bus.handleAvailable();
+    EXPECT_EQ(static_cast<std::uint64_t>(n) + bus.lostForTesting(), 1000u);
+    return bus.lostForTesting();
+  };
+  const auto a = lost(3);
+  EXPECT_EQ(a, lost(3));
+  EXPECT_GT(a, 60u);  // about 100 of 1000
+  EXPECT_LT(a, 140u);
+}

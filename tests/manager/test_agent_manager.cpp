@@ -1,0 +1,149 @@
+#include "hunav/channels.hpp"
+#include "hunav/manager/manager_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace hunav;
+using namespace hunav::manager;
+
+namespace {
+
+agent_state_t person(int id, double x, double y) {
+  agent_state_t a{};
+  a.id = id;
+  a.type = agent_state_t::TYPE_PERSON;
+  a.behavior = agent_state_t::BEH_REGULAR;
+  a.group_id = -1;
+  a.x = x;
+  a.y = y;
+  a.radius = 0.35;
+  a.desired_speed = 1.0;
+  a.goal_radius = 0.3;
+  a.behavior_params.goal_force_factor = 2.0;
+  a.behavior_params.obstacle_force_factor = 10.0;
+  a.behavior_params.social_force_factor = 5.0;
+  return a;
+}
+
+step_request_t request(std::vector<agent_state_t> agents, agent_state_t robot, int64_t seq = 1) {
+  step_request_t r{};
+  r.utime = 1000000;
+  r.seq = seq;
+  r.episode = 1;
+  r.dt = 0.01;
+  r.agents = std::move(agents);
+  r.num_agents = static_cast<int32_t>(r.agents.size());
+  r.robot = robot;
+  return r;
+}
+
+agent_state_t robotAt(double x, double y) {
+  agent_state_t r = person(0, x, y);
+  r.type = agent_state_t::TYPE_ROBOT;
+  r.behavior = agent_state_t::BEH_NONE;
+  return r;
+}
+
+}  // namespace
+
+TEST(AgentManager, RegularTreatsTheRobotAsAPersonImpassiveAsAnObstacle) {
+  // One agent at the origin, robot at (2, 0), both at rest, no goal, no walls.
+  agent_state_t a = person(1, 0, 0);
+  const step_request_t req = request({a}, robotAt(2, 0));
+  StepSnapshot snap;
+  snap.request = &req;
+  snap.agents.push_back(SfmBody{1, -1, Vec2(0, 0), Vec2(0, 0), 0.35});
+  snap.robot = SfmBody{0, -1, Vec2(2, 0), Vec2(0, 0), 0.35};
+
+  // Regular: social force of a resting "person" 2 m ahead = (-0.016492528779695457, 0) (see
+  // test_social_force), no obstacle force.
+  ForceSet regular = computeForces(snap, 0, a, nullptr, false);
+  EXPECT_NEAR(regular.social.x(), -0.016492528779695457, 1e-15);
+  EXPECT_EQ(regular.obstacle, Vec2::Zero());
+  // Impassive: the robot is an obstacle point at (2, 0): d = 2 - 0.35 = 1.65,
+  // F = 10 exp(-1.65 / 0.2) (-1, 0) = (-0.0026125856335... , 0); no social force.
+  ForceSet impassive = computeForces(snap, 0, a, nullptr, true);
+  EXPECT_EQ(impassive.social, Vec2::Zero());
+  EXPECT_NEAR(impassive.obstacle.x(), -10 * std::exp(-8.25), 1e-15);
+}
+
+TEST(AgentManager, WalksTowardGoalAndCyclesGoals) {
+  agent_state_t a = person(1, 0, 0);
+  a.goals = {point2d_t{10, 0}, point2d_t{0, 5}};
+  a.num_goals = 2;
+  a.cyclic_goals = true;
+  AgentManager m;
+  // First step from rest: F = 2 * (1 * (1, 0)) / 0.5 = (4, 0); v = 0.04, x = 0.0004 after 0.01 s.
+  step_reply_t r = m.step(request({a}, robotAt(-50, -50)));
+  ASSERT_EQ(r.num_agents, 1);
+  EXPECT_NEAR(r.agents[0].vx, 0.04, 1e-6);  // the far robot adds a negligible social force
+  EXPECT_NEAR(r.agents[0].x, 0.0004, 1e-8);
+  EXPECT_EQ(r.utime, 1010000);
+  // Within goal_radius + 0.1 of (10, 0): the goal goes to the back of the queue.
+  a.x = 9.65;
+  r = m.step(request({a}, robotAt(-50, -50)));
+  ASSERT_EQ(r.agents[0].num_goals, 2);
+  EXPECT_DOUBLE_EQ(r.agents[0].goals[0].y, 5.0);
+  EXPECT_DOUBLE_EQ(r.agents[0].goals[1].x, 10.0);
+  // Non-cyclic: the goal is dropped.
+  a.cyclic_goals = false;
+  r = m.step(request({a}, robotAt(-50, -50)));
+  EXPECT_EQ(r.agents[0].num_goals, 1);
+}
+
+TEST(AgentManager, ForcesDoNotDependOnAgentOrder) {
+  std::vector<agent_state_t> agents{person(1, 0, 0), person(2, 1, 0.2), person(3, 0.5, 1)};
+  for (auto& a : agents) {
+    a.goals = {point2d_t{5, 5}};
+    a.num_goals = 1;
+  }
+  AgentManager m;
+  const step_reply_t forward = m.step(request(agents, robotAt(2, 2)));
+  std::reverse(agents.begin(), agents.end());
+  const step_reply_t backward = m.step(request(agents, robotAt(2, 2)));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(forward.agents[i].x, backward.agents[2 - i].x);
+    EXPECT_EQ(forward.agents[i].vy, backward.agents[2 - i].vy);
+  }
+}
+
+TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  ManagerNode node(bus);
+  std::vector<step_reply_t> replies;
+  bus.subscribe<step_reply_t>(channels::kStepReply, [&](const step_reply_t& r) { replies.push_back(r); });
+
+  agent_state_t a = person(1, 0, 0);
+  a.goals = {point2d_t{3, 0}};
+  a.num_goals = 1;
+  step_request_t req = request({a}, robotAt(-5, 0), 7);
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].seq, 7);
+
+  // A resend of seq 7 with different contents still gets the first answer: idempotent per seq.
+  req.agents[0].x = 1.0;
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+  ASSERT_EQ(replies.size(), 2u);
+  EXPECT_EQ(replies[1].agents[0].x, replies[0].agents[0].x);
+  EXPECT_EQ(node.stepsComputed(), 1u);
+  EXPECT_EQ(node.repliesResent(), 1u);
+
+  req.seq = 8;
+  req.agents[0].vx = std::nan("");
+  bus.publish(channels::kStepRequest, req);
+  req.seq = 9;
+  req.agents[0].vx = 0;
+  req.num_agents = 5;  // lies about the array size: LCM cannot even encode it consistently
+  req.agents.push_back(person(1, 1, 1));  // duplicate id
+  req.num_agents = 2;
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+  EXPECT_EQ(replies.size(), 2u);
+  EXPECT_EQ(bus.droppedMessages(), 2u);
+}
