@@ -1,0 +1,36 @@
+#pragma once
+// One episode with every component (world, manager, planner, evaluator) in this process, on one
+// memq:// bus: the same code and the same messages as separate processes in lockstep, so the same
+// fingerprint, without a network.
+#include "hunav/evaluator/results.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/worldsim/world_sim.hpp"
+
+#include <atomic>
+#include <optional>
+#include <string>
+
+namespace hunav::runner {
+
+struct RunOptions {
+  std::string planner = "dwb";   // a registered planner name, or "none" (the robot stands still)
+  std::string planner_config;    // YAML parameters of the planner (empty: defaults)
+  std::string out_dir;           // result files
+  std::string profile = "default";
+  std::string experiment_tag = "exp";
+  std::string run_id;            // default <scenario>_<planner>_s<seed>
+  std::string record_file;       // LCM log of every message (empty: none)
+  const std::atomic<bool>* stop = nullptr;
+};
+
+struct RunOutcome {
+  worldsim::EpisodeResult episode;
+  std::optional<evaluator::RunResult> result;
+  std::uint64_t dropped_messages = 0;
+};
+
+// Runs one episode of `scenario`. Throws ConfigError for a bad planner config, std::exception on
+// other failures.
+RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options);
+
+}  // namespace hunav::runner

@@ -1,0 +1,50 @@
+#include "hunav/runner/in_process_run.hpp"
+
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/manager/manager_node.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/planner_node.hpp"
+#include "hunav/runner/log_writer.hpp"
+
+#include <memory>
+
+namespace hunav::runner {
+
+RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
+  std::unique_ptr<YamlReader> planner_config;
+  if (!options.planner_config.empty()) planner_config = std::make_unique<YamlReader>(options.planner_config);
+
+  lcm::LCM lcm("memq://");
+  std::unique_ptr<LogWriter> log;
+  if (!options.record_file.empty()) log = std::make_unique<LogWriter>(lcm, options.record_file);
+  Bus bus(lcm);
+
+  evaluator::EvaluatorOptions eval_options;
+  eval_options.out_dir = options.out_dir;
+  eval_options.profile = options.profile;
+  eval_options.experiment_tag = options.experiment_tag;
+  eval_options.episodes = 1;
+  evaluator::EvaluatorNode evaluator(bus, eval_options);
+  manager::ManagerNode manager(bus);
+  std::unique_ptr<planners::PlannerNode> planner;
+  if (options.planner != "none")
+    planner = std::make_unique<planners::PlannerNode>(
+        bus, planners::createPlanner(options.planner, scenario, planner_config.get()));
+
+  worldsim::WorldOptions world_options;
+  world_options.planner = options.planner;
+  world_options.mode = "inprocess";
+  world_options.run_id = options.run_id;
+  world_options.stop = options.stop;
+  worldsim::WorldSim world(bus, scenario, world_options);
+
+  RunOutcome outcome;
+  outcome.episode = world.runEpisode();
+  bus.handleAvailable();  // deliver the last world states and the END event
+  if (!evaluator.finished()) evaluator.finishIncomplete("the runner stopped before the episode END was recorded");
+  outcome.result = evaluator.lastResult();
+  outcome.dropped_messages = bus.droppedMessages();
+  return outcome;
+}
+
+}  // namespace hunav::runner
