@@ -1,5 +1,6 @@
 #include "hunav/transport.hpp"
 
+#include <cerrno>
 #include <cstdlib>
 
 namespace hunav {
@@ -59,8 +60,12 @@ void Bus::setOutgoingLossForTesting(double probability, std::uint64_t seed) {
 }
 
 bool Bus::handleFor(std::chrono::milliseconds timeout) {
+  errno = 0;
   const int status = lcm_.handleTimeout(static_cast<int>(timeout.count()));
-  if (status < 0) throw std::runtime_error("LCM handle failed");
+  if (status < 0) {
+    if (errno == EINTR) return false;  // a signal (SIGINT/SIGTERM) woke us: let the caller check its flag
+    throw std::runtime_error("LCM handle failed");
+  }
   rethrowPending();
   return status > 0;
 }

@@ -1,0 +1,73 @@
+// Golden determinism test (in the spirit of Box2D's): the passing scenario with the dwb planner must
+// keep producing the same world-state stream. When a change alters the simulation on purpose,
+// regenerate the golden value with HUNAV_UPDATE_GOLDEN=1 and say why in the commit.
+#include "hunav/runner/in_process_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <hunav/world_state_t.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kGoldenFile = std::string(HUNAV_SOURCE_DIR) + "/tests/integration/golden/passing_dwb.fingerprint";
+
+hunav::runner::RunOutcome runPassing(const fs::path& out, const std::string& record = "") {
+  const hunav::Scenario s = hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
+  hunav::runner::RunOptions o;
+  o.planner = "dwb";
+  o.out_dir = out.string();
+  o.record_file = record;
+  return hunav::runner::runInProcess(s, o);
+}
+
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("hunav_golden_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(Golden, PassingWithDwbMatchesTheRecordedFingerprint) {
+  const auto outcome = runPassing(freshDir("a"));
+  ASSERT_EQ(outcome.episode.status, "goal_reached") << outcome.episode.reason;
+  if (const char* update = std::getenv("HUNAV_UPDATE_GOLDEN"); update != nullptr && std::string(update) == "1") {
+    std::ofstream(kGoldenFile) << outcome.episode.fingerprint << "\n";
+    GTEST_SKIP() << "golden fingerprint rewritten: " << outcome.episode.fingerprint;
+  }
+  std::ifstream in(kGoldenFile);
+  std::string golden;
+  ASSERT_TRUE(in >> golden) << "missing " << kGoldenFile;
+  EXPECT_EQ(outcome.episode.fingerprint, golden)
+      << "the simulation changed; if on purpose, rerun with HUNAV_UPDATE_GOLDEN=1";
+}
+
+TEST(Golden, RepeatedRunsAreBitIdenticalAndRecordEverything) {
+  const fs::path log = fs::temp_directory_path() / "hunav_golden_run.lcmlog";
+  const auto a = runPassing(freshDir("b"), log.string());
+  const auto b = runPassing(freshDir("c"));
+  EXPECT_EQ(a.episode.fingerprint, b.episode.fingerprint);
+  ASSERT_TRUE(a.result.has_value());
+  EXPECT_EQ(a.result->info.recorded_ticks, a.episode.ticks);
+  EXPECT_EQ(a.result->info.fingerprint, a.episode.fingerprint);
+
+  // The log holds every world state, stamped with simulation time.
+  lcm::LogFile reader(log.string(), "r");
+  ASSERT_TRUE(reader.good());
+  std::int64_t world_states = 0, last_stamp = -1;
+  bool monotonic = true;
+  while (const lcm::LogEvent* ev = reader.readNextEvent()) {
+    monotonic = monotonic && ev->timestamp >= last_stamp;
+    last_stamp = ev->timestamp;
+    if (ev->channel == "WORLD_STATE") ++world_states;
+  }
+  EXPECT_EQ(world_states, a.episode.ticks);
+  EXPECT_TRUE(monotonic);
+  EXPECT_EQ(last_stamp, static_cast<std::int64_t>(std::llround(a.episode.sim_time * 1e6)));
+}
