@@ -10,10 +10,12 @@ class Fingerprint {
  public:
   void add(const void* data, std::size_t size) {
     const auto* bytes = static_cast<const std::uint8_t*>(data);
+    std::uint64_t h = hash_;  // a local: the compiler keeps it in a register
     for (std::size_t i = 0; i < size; ++i) {
-      hash_ ^= bytes[i];
-      hash_ *= 0x100000001b3ULL;
+      h ^= bytes[i];
+      h *= 0x100000001b3ULL;
     }
+    hash_ = h;
   }
   std::uint64_t value() const { return hash_; }
   std::string hex() const;

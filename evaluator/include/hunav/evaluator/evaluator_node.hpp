@@ -1,0 +1,105 @@
+#pragma once
+// The evaluator as a component: records episodes from the bus and writes their results.
+//
+//   EPISODE_EVENT START  -> opens <run dir>/states.csv (header written at once)
+//   WORLD_STATE          -> rows appended and flushed at once, sample kept in memory
+//   EPISODE_EVENT END    -> metrics computed; a row appended to <out_dir>/metrics.csv and
+//                           <run dir>/run.json written
+// The run dir is out_dir for the first episode the node records and out_dir/<run_id>/ for the
+// following ones (out_dir/<run_id>-<episode>/ when that folder was already used by this node). A world state outside a START/END pair (or of another episode), with a
+// non-finite number, with a tick that does not increase, or with a time that does not increase is
+// dropped (the handler throws hunav::BadMessage) and counted in run.json's dropped_messages; tick
+// numbers that never arrived are counted in lost_ticks.
+//
+// Used the same way by the hunav_evaluator binary and by the in-process runner, on one thread:
+//   hunav::Bus bus(lcm);
+//   EvaluatorNode evaluator(bus, {out_dir, "default", "exp", 1});
+//   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
+//   std::cout << evaluator.lastResult()->formatTable();   // or formatMetricsTable(metrics)
+// On SIGINT or an error, call finishIncomplete() so that nothing recorded is lost.
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/fingerprint.hpp"
+#include "hunav/transport.hpp"
+
+#include <hunav/episode_event_t.hpp>
+#include <hunav/world_state_t.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace hunav::evaluator {
+
+struct EvaluatorOptions {
+  std::filesystem::path out_dir;     // created when missing
+  std::string profile = "default";   // metric profile (knownProfiles())
+  std::string experiment_tag = "exp";
+  int episodes = 1;                  // episodes to record; 0 = no limit
+};
+
+class EvaluatorNode {
+ public:
+  // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus`. hunav::Bus cannot drop
+  // one subscriber's subscriptions, so the bus must not dispatch after the node is gone: give each
+  // node its own Bus (several Buses may share one lcm::LCM) and destroy it before or with the node.
+  // Throws std::invalid_argument for an unknown profile or a negative episode count.
+  EvaluatorNode(Bus& bus, EvaluatorOptions options);
+  // Closes states.csv of an episode still open without computing anything: call
+  // finishIncomplete() first to keep its results.
+  ~EvaluatorNode();
+  EvaluatorNode(const EvaluatorNode&) = delete;
+  EvaluatorNode& operator=(const EvaluatorNode&) = delete;
+
+  // True once `episodes` episodes have ended (never with episodes = 0). Later messages are ignored
+  // (world states are dropped and counted as outside an episode).
+  bool finished() const;
+  // True between a START and its END.
+  bool recording() const { return current_ != nullptr; }
+  int episodesEnded() const { return episodes_ended_; }
+
+  // Ends the open episode without an END event (SIGINT, SIGTERM, the runner giving up): computes the
+  // metrics of what was recorded, appends the metrics.csv row, writes run.json with
+  // status "incomplete", `reason` and complete = false, and closes states.csv. Returns false (and
+  // writes nothing) when no episode is open.
+  bool finishIncomplete(const std::string& reason);
+
+  // Results of the last episode that ended (absent before the first one).
+  const std::optional<RunResult>& lastResult() const { return last_result_; }
+
+  // World states and events this node rejected since it was created.
+  std::uint64_t droppedMessages() const { return dropped_total_; }
+
+  const EvaluatorOptions& options() const { return options_; }
+
+ private:
+  struct Episode;
+
+  void onEvent(const episode_event_t& ev);
+  void onWorldState(const world_state_t& ws);
+  [[noreturn]] void reject(const std::string& why);
+  void begin(const episode_event_t& start);
+  void finish(const episode_event_t* end, const std::string& incomplete_reason);
+
+  EvaluatorOptions options_;
+  const MetricRegistry& registry_;
+  std::unique_ptr<Episode> current_;
+  int episodes_started_ = 0;
+  int episodes_ended_ = 0;
+  std::uint64_t dropped_total_ = 0;
+  std::uint64_t dropped_at_last_end_ = 0;  // drops before a START count for the episode it opens
+  std::optional<RunResult> last_result_;
+  std::vector<std::uint8_t> encode_buffer_;
+  std::vector<EntityState> agents_scratch_;
+  std::vector<Vec2> points_scratch_;
+  std::set<std::string> used_run_dirs_;  // folders of episodes 2, 3, ...
+};
+
+}  // namespace hunav::evaluator

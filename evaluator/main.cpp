@@ -1,0 +1,135 @@
+// hunav_evaluator: records episodes from LCM and writes their metrics, or recomputes the metrics of
+// a run from its states.csv. See `hunav_evaluator --help` and evaluator/README.md.
+#include "hunav/config_error.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/evaluator/offline.hpp"
+#include "hunav/signals.hpp"
+#include "hunav/transport.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+namespace {
+
+constexpr int kMaxDrainedMessages = 1000000;
+
+void report(const hunav::evaluator::RunResult& r) {
+  std::cerr << "hunav_evaluator: " << r.info.run_id << ": " << r.info.status << ", " << r.info.recorded_ticks
+            << " ticks recorded; wrote " << (r.run_dir / "run.json").string() << " and a row of "
+            << r.metrics_csv.string() << "\n";
+}
+
+int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string& lcm_url) {
+  using namespace std::chrono_literals;
+  const std::atomic<bool>& stop = hunav::installStopSignals();
+  lcm::LCM lcm(hunav::resolveLcmUrl(lcm_url));
+  hunav::Bus bus(lcm);
+  hunav::evaluator::EvaluatorNode node(bus, options);
+  std::cout << "ready" << std::endl;
+
+  int reported = 0;
+  while (!node.finished() && !stop.load()) {
+    try {
+      bus.handleFor(100ms);
+    } catch (const std::exception& e) {
+      // A signal interrupts LCM's wait, which may then report a failure: not an error when stopping.
+      if (stop.load()) break;
+      // Any other failure (disk full, LCM down): keep what the open episode recorded, then fail.
+      try {
+        node.finishIncomplete(std::string("evaluator error: ") + e.what());
+      } catch (const std::exception& again) {
+        std::cerr << "hunav_evaluator: cannot save the open episode: " << again.what() << "\n";
+      }
+      throw;
+    }
+    if (node.episodesEnded() > reported) {
+      reported = node.episodesEnded();
+      report(*node.lastResult());
+    }
+  }
+  if (stop.load()) {
+    // Messages that already arrived are part of the recording: dispatch them (a bounded number, in
+    // case a publisher keeps going) before closing the episode.
+    for (int i = 0; i < kMaxDrainedMessages && !node.finished() && bus.handleFor(0ms); ++i) {
+    }
+    if (node.episodesEnded() > reported) report(*node.lastResult());
+    if (node.finishIncomplete("interrupted (SIGINT/SIGTERM)")) report(*node.lastResult());
+  }
+  return 0;
+}
+
+int runOffline(const hunav::evaluator::OfflineOptions& options) {
+  const auto result = hunav::evaluator::recomputeFromStates(options);
+  std::cout << result.formatTable();
+  report(result);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hunav_evaluator: records HuNav-LCM episodes (EPISODE_EVENT, WORLD_STATE) and writes, per episode,\n"
+      "states.csv, run.json and a row of metrics.csv. The first episode writes into --out, the following\n"
+      "ones into --out/<run_id>/; metrics.csv (one row per episode) is always in --out.\n"
+      "Prints one line 'ready' on stdout once subscribed; exits 0 after --episodes episodes ended, or on\n"
+      "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status incomplete).\n"
+      "Offline: --states FILE recomputes metrics.csv and run.json from a states.csv (provenance taken\n"
+      "from the run.json beside it). Exit codes: 0 done, 1 error, 2 bad command line or input file."};
+  std::string out_dir;
+  std::string profile = "default";
+  std::string experiment_tag = "exp";
+  int episodes = 1;
+  std::string lcm_url;
+  std::string states_file;
+
+  app.add_option("--out", out_dir,
+                 "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
+      ->required();
+  app.add_option("--profile", profile,
+                 "metric profile: 'default' = HuNavSim's metrics with its bugs fixed (evaluator/README.md)")
+      ->check(CLI::IsMember(hunav::evaluator::knownProfiles()))
+      ->capture_default_str();
+  auto* tag_opt = app.add_option("--experiment-tag", experiment_tag,
+                                 "experiment_tag column of metrics.csv (offline: default the source run.json's)")
+                      ->capture_default_str();
+  auto* episodes_opt = app.add_option("--episodes", episodes, "episodes to record before exiting; 0 = until a signal")
+                           ->check(CLI::NonNegativeNumber)
+                           ->capture_default_str();
+  auto* url_opt = app.add_option("--lcm-url", lcm_url,
+                                 "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
+  auto* states_opt = app.add_option("--states", states_file,
+                                    "offline: recompute metrics.csv and run.json of this states.csv into --out");
+  states_opt->excludes(episodes_opt)->excludes(url_opt);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : hunav::kExitBadInput;
+  }
+
+  try {
+    if (!states_file.empty()) {
+      hunav::evaluator::OfflineOptions options;
+      options.states_file = states_file;
+      options.out_dir = out_dir;
+      options.profile = profile;
+      if (tag_opt->count() > 0) options.experiment_tag = experiment_tag;
+      return runOffline(options);
+    }
+    hunav::evaluator::EvaluatorOptions options;
+    options.out_dir = out_dir;
+    options.profile = profile;
+    options.experiment_tag = experiment_tag;
+    options.episodes = episodes;
+    return runLive(options, lcm_url);
+  } catch (const hunav::ConfigError& e) {
+    std::cerr << e.what() << "\n";
+    return hunav::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "hunav_evaluator: " << e.what() << "\n";
+    return 1;
+  }
+}

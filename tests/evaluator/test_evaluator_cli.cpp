@@ -1,0 +1,235 @@
+// The hunav_evaluator binary: help, offline recomputation, bad input (exit 2), "ready" and signals.
+#include "evaluator_test_helpers.hpp"
+
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/transport.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+using namespace hunav::evaluator;
+using namespace evaluator_test;
+
+namespace {
+
+const std::string kBinary = std::string(HUNAV_BINARY_DIR) + "/bin/hunav_evaluator";
+
+// Runs a shell command; returns its exit code.
+int run(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A child process running the evaluator with its stdout on a pipe.
+struct Child {
+  pid_t pid = -1;
+  int out = -1;
+
+  static Child spawn(const std::vector<std::string>& args) {
+    int fds[2];
+    if (pipe(fds) != 0) return {};
+    const pid_t pid = fork();
+    if (pid == 0) {
+      dup2(fds[1], STDOUT_FILENO);
+      close(fds[0]);
+      close(fds[1]);
+      std::vector<char*> argv;
+      argv.push_back(const_cast<char*>(kBinary.c_str()));
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(kBinary.c_str(), argv.data());
+      _exit(127);
+    }
+    close(fds[1]);
+    return Child{pid, fds[0]};
+  }
+
+  // Reads one line from stdout, waiting at most `timeout`.
+  std::string readLine(std::chrono::milliseconds timeout) const {
+    std::string line;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      pollfd p{out, POLLIN, 0};
+      if (poll(&p, 1, 50) <= 0) continue;
+      char c = 0;
+      if (read(out, &c, 1) != 1) break;
+      if (c == '\n') return line;
+      line += c;
+    }
+    return line;
+  }
+
+  // Everything left on stdout (after the process ended).
+  std::string rest() const {
+    std::string s;
+    char buf[256];
+    ssize_t n = 0;
+    while ((n = read(out, buf, sizeof buf)) > 0) s.append(buf, static_cast<std::size_t>(n));
+    return s;
+  }
+
+  int wait() const {
+    int status = 0;
+    waitpid(pid, &status, 0);
+    close(out);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+};
+
+bool waitForLines(const std::filesystem::path& file, std::size_t lines, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (readLines(file).size() >= lines) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+void writeSmallRun(const std::filesystem::path& dir) {
+  Recording rec;
+  StatesCsvWriter w(dir / "states.csv");
+  for (int k = 0; k < 5; ++k) {
+    EntityState r = robotWithGoal(0.1 * k, 0.0, 1.0, 0.0, 0.3);
+    r.linear_vel = 0.5;
+    rec.addSample(0.01 * k, r, {agent(1, 2.0 - 0.1 * k, 0.5, 0.35, 3.0, -1, 0.7)});
+    w.write(rec, rec.back());
+  }
+  w.close();
+  RunInfo info;
+  info.run_id = "small";
+  info.experiment_tag = "tag1";
+  info.scenario = "crossing";
+  info.planner = "sfw";
+  info.seed = 7;
+  info.mode = "lockstep";
+  info.status = "time_limit";
+  info.ticks = 5;
+  info.fingerprint = "00000000deadbeef";
+  info.git_commit = "abc1234";
+  info.complete = true;
+  writeRunJson(dir / "run.json", info, {});
+}
+
+}  // namespace
+
+TEST(EvaluatorCli, HelpDocumentsEveryOption) {
+  const auto dir = freshDir();
+  ASSERT_EQ(run(kBinary + " --help > '" + (dir / "help.txt").string() + "'"), 0);
+  const std::string help = readFile(dir / "help.txt");
+  for (const char* opt : {"--out", "--profile", "--experiment-tag", "--episodes", "--lcm-url", "--states"})
+    EXPECT_NE(help.find(opt), std::string::npos) << opt;
+}
+
+TEST(EvaluatorCli, BadCommandLineExitsWithTwo) {
+  const auto dir = freshDir();
+  EXPECT_EQ(run(kBinary + " 2>/dev/null"), 2);  // --out is required
+  EXPECT_EQ(run(kBinary + " --out '" + dir.string() + "' --profile nope 2>/dev/null"), 2);
+}
+
+TEST(EvaluatorCli, OfflineRecomputesFromStatesAndRunJson) {
+  const auto src = freshDir();
+  writeSmallRun(src);
+  const auto out = src / "recomputed";
+  ASSERT_EQ(run(kBinary + " --states '" + (src / "states.csv").string() + "' --out '" + out.string() +
+                "' > '" + (src / "table.txt").string() + "' 2>/dev/null"),
+            0);
+  const auto rows = readLines(out / "metrics.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].rfind("tag1,small,crossing,sfw,7,default,", 0), 0u);
+  const RunInfo info = readRunJson(out / "run.json");
+  EXPECT_EQ(info.mode, "lockstep");
+  EXPECT_EQ(info.git_commit, "abc1234");
+  EXPECT_EQ(info.recorded_ticks, 5);
+  EXPECT_EQ(info.states_file, (src / "states.csv").string());
+  EXPECT_NE(readFile(src / "table.txt").find("path_length"), std::string::npos);
+
+  // --experiment-tag overrides the source's tag.
+  ASSERT_EQ(run(kBinary + " --states '" + (src / "states.csv").string() + "' --out '" + out.string() +
+                "' --experiment-tag again >/dev/null 2>&1"),
+            0);
+  EXPECT_EQ(readLines(out / "metrics.csv")[2].rfind("again,small,", 0), 0u);
+}
+
+TEST(EvaluatorCli, MalformedStatesFileNamesLineAndKeyAndExitsWithTwo) {
+  const auto dir = freshDir();
+  writeFile(dir / "states.csv", std::string(kStatesCsvHeader) +
+                                    "\n0,robot,1,0,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n"
+                                    "0.1,robot,1,zero,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
+  const auto err = dir / "err.txt";
+  EXPECT_EQ(run(kBinary + " --states '" + (dir / "states.csv").string() + "' --out '" + (dir / "out").string() +
+                "' >/dev/null 2>'" + err.string() + "'"),
+            2);
+  EXPECT_EQ(readFile(err), (dir / "states.csv").string() + ":3: x: expected a finite number, got 'zero'\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "metrics.csv"));
+
+  // A malformed run.json beside the states file is bad input too.
+  writeFile(dir / "states.csv", std::string(kStatesCsvHeader) + "\n0,robot,1,0,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
+  writeFile(dir / "run.json", "{\n  \"seed\": \"seven\"\n}\n");
+  EXPECT_EQ(run(kBinary + " --states '" + (dir / "states.csv").string() + "' --out '" + (dir / "out").string() +
+                "' >/dev/null 2>'" + err.string() + "'"),
+            2);
+  EXPECT_EQ(readFile(err).rfind((dir / "run.json").string() + ":2: seed: ", 0), 0u) << readFile(err);
+}
+
+TEST(EvaluatorCli, PrintsReadyAndExitsCleanlyOnSigterm) {
+  const auto dir = freshDir();
+  Child c = Child::spawn({"--out", dir.string(), "--lcm-url", "memq://"});
+  ASSERT_GT(c.pid, 0);
+  EXPECT_EQ(c.readLine(std::chrono::seconds(10)), "ready");
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(c.wait(), 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "metrics.csv"));  // nothing was recorded
+}
+
+// Two processes over UDP multicast: needs a private network namespace with a multicast route
+// (DESIGN.md section 11). Skipped where namespaces cannot be created.
+TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
+  const auto dir = freshDir();
+  const pid_t helper = fork();
+  if (helper == 0) {
+    // In the helper process: no gtest assertions, exit codes only (77 = cannot isolate).
+    if (unshare(CLONE_NEWNET) != 0) _exit(77);
+    if (std::system("ip link set lo up && ip route add 224.0.0.0/4 dev lo") != 0) _exit(77);
+    const std::string url = "udpm://239.255.76.67:7667?ttl=0";
+    Child c = Child::spawn({"--out", dir.string(), "--lcm-url", url});
+    if (c.readLine(std::chrono::seconds(10)) != "ready") _exit(10);
+    lcm::LCM lcm(url);
+    hunav::Bus world(lcm);
+    world.publish(hunav::channels::kEpisodeEvent, startEvent(1, "udp-run"));
+    for (int k = 0; k < 5; ++k)
+      world.publish(hunav::channels::kWorldState,
+                    worldState(1, k, k * 10000, robotMsg(0.1 * k, 0, 0, 0.5, 0), {personMsg(1, 2, 0.5, 0.7)}));
+    if (!waitForLines(dir / "states.csv", 1 + 5 * 2, std::chrono::seconds(10))) {
+      kill(c.pid, SIGKILL);
+      c.wait();
+      _exit(11);
+    }
+    kill(c.pid, SIGINT);
+    const int code = c.wait();
+    _exit(code == 0 ? 0 : 12);
+  }
+  ASSERT_GT(helper, 0);
+  int status = 0;
+  waitpid(helper, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "no private network namespace here";
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+
+  EXPECT_EQ(checkOutputs(dir), 0);
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_FALSE(info.complete);
+  EXPECT_EQ(info.status, "incomplete");
+  EXPECT_EQ(info.recorded_ticks, 5);
+  EXPECT_EQ(info.run_id, "udp-run");
+  EXPECT_EQ(readLines(dir / "metrics.csv").size(), 2u);
+  EXPECT_EQ(readLines(dir / "states.csv").size(), 1u + 5u * 2u);
+}
