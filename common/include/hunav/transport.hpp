@@ -91,7 +91,13 @@ class Bus {
     TypedSubscription(Bus* b, std::function<void(const Msg&)> h) : handler(std::move(h)) { bus = b; }
     void dispatch(const void* data, unsigned size) override {
       Msg msg;
-      if (msg.decode(data, 0, static_cast<int>(size)) < 0) {
+      int decoded = -1;
+      try {  // generated decoders throw (length_error, bad_alloc) on absurd array counts
+        decoded = msg.decode(data, 0, static_cast<int>(size));
+      } catch (const std::exception&) {
+        decoded = -1;
+      }
+      if (decoded < 0) {
         ++bus->dropped_;
         return;
       }
