@@ -1,0 +1,120 @@
+#pragma once
+// `dwb`: a DWB-like local planner (after nav2's dwb_core). Each cycle it
+//  1. rebuilds the transient costmap layer from the laser scan and the detected people (and,
+//     below lethal cost, where the moving ones will walk over people_prediction_time),
+//  2. plans an A* path from the robot to the goal on the costmap (every cycle by default),
+//  3. samples (v, w) across the dynamic window, rolls each out over sim_time and scores it with
+//     the critics (obstacle, people, path distance, path alignment, goal distance, oscillation),
+//  4. sends the cheapest admissible sample; it turns on the spot when the path lies far to the
+//     side or behind, and brakes (turning toward the path when that helps) when no sample is
+//     admissible. At the goal, or without one, it sends (0, 0).
+// Planners built on the same machinery (`scl`, `sfw`) derive from it, add costmap layers in
+// updateLayers() and critics with addCritic().
+#include "hunav/planners/costmap.hpp"
+#include "hunav/planners/critics.hpp"
+#include "hunav/planners/global_planner.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/trajectory.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace hunav::planners {
+
+// Defaults suit a 0.3 m robot at 0.6 m/s in corridors and rooms. Section `dwb:` of --config.
+struct DwbParams {
+  // Sampling and rollout.
+  double sim_time = 1.7;   // s, horizon each (v, w) is rolled out over
+  double sim_step = 0.05;  // s, time between the poses checked along a rollout
+  int v_samples = 8;       // forward speeds sampled across the window (ends included)
+  int w_samples = 21;      // yaw rates sampled across the window (ends included)
+
+  // Critic weights: total cost = sum of weight * critic score (scores documented in critics.hpp).
+  double obstacle_weight = 0.5;       // costmap cost in [0, 1]
+  double people_weight = 1.0;         // closeness to people in [0, 1]
+  double path_distance_weight = 1.0;  // m from the path
+  double path_align_weight = 0.6;     // m from the path, of a point ahead of the robot
+  double goal_distance_weight = 1.0;  // m still to travel
+  double oscillation_weight = 0.3;    // 1 when reversing the turn too soon
+
+  // Critic shapes.
+  double forward_point_distance = 0.3;      // m, the point ahead judged by path_align
+  double people_safety_margin = 0.1;        // m added to the radii before a trajectory counts as touching a person
+  double people_sigma = 0.3;                // m, decay length of the closeness-to-people score
+  double oscillation_reset_distance = 0.1;  // m the robot must travel before reversing its turn is free again
+
+  // Behaviour around the samples.
+  double lookahead_distance = 0.6;      // m along the path to the point the heading error is measured to
+  double rotate_in_place_angle = 1.0;   // rad, heading error beyond which the robot turns on the spot
+  double stopped_rotate_angle = 0.1;    // rad, heading error worth turning for while nothing is admissible
+  double rotate_gain = 1.5;             // 1/s, yaw rate per rad of heading error when turning on the spot
+  // s of simulation time between A* replans; 0 = every cycle. In between, the path is replanned
+  // early when an obstacle lands on it or the robot strays 0.5 m from it. After a search that found
+  // no path A* waits 1 s before trying again (that search visited every reachable cell).
+  double replan_period = 0.0;
+  bool mark_scan = true;                // laser hits go into the transient costmap layer
+  bool mark_people = true;              // detected people go into the transient costmap layer
+  // s: where a moving person will be over this time is marked too, with costs capped below lethal,
+  // so the global path steps aside early instead of brushing past the person's current place.
+  double people_prediction_time = 1.5;
+
+  CostmapParams costmap;                // section `costmap:`
+  GlobalPlannerParams global_planner;   // section `global_planner:`
+
+  // Reads sections costmap, global_planner and dwb of the --config file (null: defaults).
+  static DwbParams fromConfig(const YamlReader* config);
+  // Reads only the `dwb:` section into this (planners that extend dwb call it on their params).
+  void readDwbSection(const YamlReader* config);
+};
+
+// Reads the `costmap:` and `global_planner:` sections (shared by every costmap-based planner).
+CostmapParams readCostmapParams(const YamlReader* config);
+GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config);
+
+class DwbPlanner : public Planner {
+ public:
+  explicit DwbPlanner(const Scenario& scenario, const DwbParams& params = {});
+
+  robot_command_t plan(const robot_observation_t& obs) override;
+  void reset() override;
+
+  void addCritic(std::unique_ptr<TrajectoryCritic> critic) { critics_.push_back(std::move(critic)); }
+
+  const DwbParams& params() const { return params_; }
+  const Costmap& costmap() const { return costmap_; }
+  const GlobalPath& globalPath() const { return path_; }
+  const AStarPlanner& globalPlanner() const { return astar_; }
+  // What the last plan() did, for tests and diagnostics.
+  enum class Decision { Idle, AtGoal, Sampled, RotateInPlace, NoAdmissible };
+  Decision lastDecision() const { return last_decision_; }
+  std::size_t lastAdmissible() const { return last_admissible_; }
+
+ protected:
+  // Hook for derived planners: extra transient costmap layers, after scan and people are marked.
+  virtual void updateLayers(const robot_observation_t& /*obs*/, Costmap& /*costmap*/) {}
+
+ private:
+  void markPeople(const robot_observation_t& obs);
+  void updateGlobalPath(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal);
+  void prepareContext(const robot_observation_t& obs);
+  double headingErrorToPath() const;
+  // Best sample of the window, or false when none is admissible.
+  bool sampleBest(const VelocityWindow& window, double& v, double& w);
+
+  DwbParams params_;
+  Costmap costmap_;
+  AStarPlanner astar_;
+  GlobalPath path_;
+  std::int64_t path_utime_ = 0;       // when path_ was last planned (or found impossible)
+  std::optional<Vec2> path_goal_;     // the goal it was planned for; none before the first plan
+  std::vector<std::unique_ptr<TrajectoryCritic>> critics_;
+  std::vector<Circle> people_marked_;  // this cycle's people in the costmap
+  PlanningContext ctx_;
+  Trajectory trajectory_;  // rollout buffer, reused
+  Decision last_decision_ = Decision::Idle;
+  std::size_t last_admissible_ = 0;
+};
+
+}  // namespace hunav::planners

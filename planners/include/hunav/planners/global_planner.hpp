@@ -1,0 +1,74 @@
+#pragma once
+// The global path: an 8-connected, cost-aware A* over the costmap from the robot to the goal.
+#include "hunav/geometry.hpp"
+#include "hunav/planners/costmap.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace hunav::planners {
+
+// A polyline from the robot to the goal, with the length that remains from each point to the end.
+class GlobalPath {
+ public:
+  GlobalPath() = default;
+  explicit GlobalPath(std::vector<Vec2> points);
+
+  bool empty() const { return points_.empty(); }
+  std::size_t size() const { return points_.size(); }
+  const std::vector<Vec2>& points() const { return points_; }
+  const Vec2& operator[](std::size_t i) const { return points_[i]; }
+  double remaining(std::size_t i) const { return remaining_[i]; }
+  double length() const { return remaining_.empty() ? 0.0 : remaining_.front(); }
+
+  // Index of the point nearest to p among [first, last) (clamped to the path); its distance in
+  // *distance when given. The path must not be empty.
+  std::size_t nearest(const Vec2& p, std::size_t first, std::size_t last, double* distance = nullptr) const;
+  // The last index whose distance along the path from `from` is at most `distance`.
+  std::size_t indexAhead(std::size_t from, double distance) const;
+  // True when a point from `from` on lies in a lethal cell (an obstacle moved onto the path).
+  bool blocked(const Costmap& costmap, std::size_t from = 0) const;
+
+ private:
+  std::vector<Vec2> points_;
+  std::vector<double> remaining_;
+};
+
+struct GlobalPlannerParams {
+  // A step into a cell of cost c costs its length times (1 + cost_weight * c / 252): how far the
+  // path is willing to detour to stay away from obstacles.
+  double cost_weight = 3.0;
+};
+
+class AStarPlanner {
+ public:
+  explicit AStarPlanner(const GlobalPlannerParams& params = {}) : params_(params) {}
+
+  // Plans from start to goal. Lethal cells are impassable, except inscribed ones (near, not in, an
+  // obstacle) within one robot radius of a start that is itself lethal: a robot pushed into an
+  // inflated region must be able to leave it.
+  // When the goal cell is lethal, any passable cell within goal_tolerance of the goal ends the
+  // search. Returns false (and an empty path) when no path exists.
+  bool plan(const Costmap& costmap, const Vec2& start, const Vec2& goal, double goal_tolerance, GlobalPath& path);
+
+  std::size_t lastExpansions() const { return expansions_; }
+  std::size_t searches() const { return searches_; }  // plan() calls so far
+  const GlobalPlannerParams& params() const { return params_; }
+
+ private:
+  GlobalPlannerParams params_;
+  // Search buffers, kept between calls: a cell's g and parent are valid when its stamp is current.
+  std::vector<float> g_;
+  std::vector<int> parent_;
+  std::vector<std::uint32_t> seen_stamp_;
+  std::vector<std::uint32_t> closed_stamp_;
+  std::uint32_t stamp_ = 0;
+  // Open list as a binary min-heap of (f, cell) packed in one integer: f's float bits in the high
+  // half (non-negative floats order like their bit patterns), the cell in the low half.
+  std::vector<std::uint64_t> open_;
+  std::size_t expansions_ = 0;
+  std::size_t searches_ = 0;
+};
+
+}  // namespace hunav::planners

@@ -1,0 +1,58 @@
+#pragma once
+// The planner process logic on the bus: answers each ROBOT_OBSERVATION with a ROBOT_COMMAND that
+// echoes its utime, seq and episode (DESIGN.md section 4).
+//  - Replies are idempotent: an observation with the (episode, seq) answered last gets the same
+//    command again without replanning (the world resends on timeout). Older seqs are ignored.
+//  - A new episode (in an observation or an EPISODE_EVENT START) resets the planner.
+//  - Invalid observations (non-finite numbers, impossible sizes or limits) are dropped and counted
+//    by the Bus (BadMessage).
+//  - EPISODE_EVENT END events are counted, so the process can stop after N episodes.
+#include "hunav/planners/planner.hpp"
+#include "hunav/transport.hpp"
+
+#include <hunav/episode_event_t.hpp>
+#include <hunav/robot_command_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+namespace hunav::planners {
+
+class PlannerNode {
+ public:
+  static constexpr int kMaxRanges = 100000;  // the scenario loader's limit on laser beams
+  static constexpr int kMaxPeople = 10000;
+
+  // Subscribes ROBOT_OBSERVATION and EPISODE_EVENT on `bus` (which must outlive the node).
+  PlannerNode(Bus& bus, std::unique_ptr<Planner> planner);
+
+  std::int64_t episodesEnded() const { return episodes_ended_; }
+  std::uint64_t plansComputed() const { return plans_computed_; }
+  std::uint64_t commandsSent() const { return commands_sent_; }      // resends included
+  std::uint64_t repliesResent() const { return replies_resent_; }    // cached answers to resent observations
+  std::uint64_t staleIgnored() const { return stale_ignored_; }      // observations older than the last answered
+  Planner& planner() { return *planner_; }
+
+  // Throws BadMessage when the observation cannot be planned on.
+  static void validate(const robot_observation_t& obs);
+
+ private:
+  void onObservation(const robot_observation_t& obs);
+  void onEpisodeEvent(const episode_event_t& event);
+  void beginEpisode(std::int64_t episode);
+
+  Bus& bus_;
+  std::unique_ptr<Planner> planner_;
+  std::optional<std::int64_t> episode_;  // the episode being served
+  bool episode_ended_ = false;           // its END event arrived
+  std::optional<robot_command_t> last_reply_;
+  std::int64_t episodes_ended_ = 0;
+  std::uint64_t plans_computed_ = 0;
+  std::uint64_t commands_sent_ = 0;
+  std::uint64_t replies_resent_ = 0;
+  std::uint64_t stale_ignored_ = 0;
+};
+
+}  // namespace hunav::planners

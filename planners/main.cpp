@@ -1,0 +1,101 @@
+// hunav_planner: a robot planner process. Answers ROBOT_OBSERVATION with ROBOT_COMMAND (lockstep,
+// see DESIGN.md section 4). Prints "ready" once subscribed; SIGINT/SIGTERM end it with exit 0.
+#include "hunav/config_error.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/planner_node.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/transport.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <optional>
+#include <pthread.h>
+#include <thread>
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+// SIGINT and SIGTERM are blocked in every thread and taken by one waiting thread, so LCM's wait
+// for messages is never interrupted; the main loop sees the flag within one handleFor() timeout.
+void catchTerminationSignals() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([signals] {
+    int received = 0;
+    sigwait(&signals, &received);
+    g_stop = true;
+  }).detach();
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace hp = hunav::planners;
+  CLI::App app{"HuNav-LCM robot planner: answers each robot observation (channel ROBOT_OBSERVATION) with a "
+               "velocity command (ROBOT_COMMAND) echoing its seq. Prints 'ready' on stdout once subscribed. "
+               "Exit codes: 0 done or signalled, 1 runtime error, 2 bad input (file, flag or parameter)."};
+  std::string planner_name = "dwb";
+  std::string scenario_file;
+  std::string config_file;
+  std::string lcm_url;
+  long long episodes = 0;
+  app.add_option("--planner", planner_name, "planner to run, one of: " + joined(hp::plannerNames()))
+      ->capture_default_str();
+  app.add_option("--scenario", scenario_file, "scenario YAML file; its static map feeds the costmap")->required();
+  app.add_option("--config", config_file,
+                 "planner parameters (YAML): sections costmap, global_planner and dwb; a key left out keeps "
+                 "its default. planners/config/dwb.yaml lists every key with its default and meaning");
+  app.add_option("--lcm-url", lcm_url,
+                 "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
+  app.add_option("--episodes", episodes, "exit after this many episodes have ended (EPISODE_EVENT END); 0 = run until signalled")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : hunav::kExitBadInput;
+  }
+
+  try {
+    if (!hp::hasPlanner(planner_name)) {
+      std::cerr << "--planner: unknown planner '" << planner_name << "' (known: " << joined(hp::plannerNames()) << ")\n";
+      return hunav::kExitBadInput;
+    }
+    const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
+    std::optional<hunav::YamlReader> config;
+    if (!config_file.empty()) config.emplace(config_file);
+    auto planner = hp::createPlanner(planner_name, scenario, config ? &*config : nullptr);
+
+    catchTerminationSignals();
+    lcm::LCM lcm(hunav::resolveLcmUrl(lcm_url));
+    hunav::Bus bus(lcm);
+    hp::PlannerNode node(bus, std::move(planner));
+    std::cout << "ready" << std::endl;
+
+    while (!g_stop && (episodes == 0 || node.episodesEnded() < episodes)) bus.handleFor(std::chrono::milliseconds(100));
+
+    std::cerr << "hunav_planner: " << node.plansComputed() << " plans, " << node.repliesResent()
+              << " resent replies, " << bus.droppedMessages() << " dropped messages\n";
+    return 0;
+  } catch (const hunav::ConfigError& e) {
+    std::cerr << e.what() << "\n";
+    return hunav::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "hunav_planner: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,243 @@
+#include "hunav/planners/dwb_planner.hpp"
+
+#include "hunav/planners/params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace hunav::planners {
+
+namespace {
+constexpr double kMaxPathDeviation = 0.5;  // m off the path before it is replanned early
+// s of simulation time before A* tries again after finding no path: a failed search has visited
+// every reachable cell, the most expensive search there is.
+constexpr double kFailedPlanRetryPeriod = 1.0;
+constexpr double kPathWindowMargin = 0.5;  // m of path beyond the farthest reachable point
+}  // namespace
+
+CostmapParams readCostmapParams(const YamlReader* config) {
+  CostmapParams p;
+  ParamSection s(config, "costmap");
+  s.read("resolution", p.resolution, 0.005, 1.0);
+  s.read("inflation_radius", p.inflation_radius, 0.0, 10.0);
+  s.read("cost_scaling_factor", p.cost_scaling_factor, 0.0, 100.0);
+  s.read("margin", p.margin, 0.0, 100.0);
+  s.finish();
+  return p;
+}
+
+GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config) {
+  GlobalPlannerParams p;
+  ParamSection s(config, "global_planner");
+  s.read("cost_weight", p.cost_weight, 0.0, 1000.0);
+  s.finish();
+  return p;
+}
+
+void DwbParams::readDwbSection(const YamlReader* config) {
+  constexpr double kBig = 1e6;
+  ParamSection s(config, "dwb");
+  s.read("sim_time", sim_time, 0.1, 10.0);
+  s.read("sim_step", sim_step, 0.005, 1.0);
+  s.read("v_samples", v_samples, 1, 100);
+  s.read("w_samples", w_samples, 1, 200);
+  s.read("obstacle_weight", obstacle_weight, 0.0, kBig);
+  s.read("people_weight", people_weight, 0.0, kBig);
+  s.read("path_distance_weight", path_distance_weight, 0.0, kBig);
+  s.read("path_align_weight", path_align_weight, 0.0, kBig);
+  s.read("goal_distance_weight", goal_distance_weight, 0.0, kBig);
+  s.read("oscillation_weight", oscillation_weight, 0.0, kBig);
+  s.read("forward_point_distance", forward_point_distance, 0.0, 10.0);
+  s.read("people_safety_margin", people_safety_margin, 0.0, 10.0);
+  s.read("people_sigma", people_sigma, 0.01, 10.0);
+  s.read("oscillation_reset_distance", oscillation_reset_distance, 0.0, 10.0);
+  s.read("lookahead_distance", lookahead_distance, 0.0, 10.0);
+  s.read("rotate_in_place_angle", rotate_in_place_angle, 0.0, 4.0);
+  s.read("stopped_rotate_angle", stopped_rotate_angle, 0.0, 4.0);
+  s.read("rotate_gain", rotate_gain, 0.0, 100.0);
+  s.read("replan_period", replan_period, 0.0, 3600.0);
+  s.read("mark_scan", mark_scan);
+  s.read("mark_people", mark_people);
+  s.read("people_prediction_time", people_prediction_time, 0.0, 10.0);
+  s.finish();
+}
+
+DwbParams DwbParams::fromConfig(const YamlReader* config) {
+  checkSections(config, {"costmap", "global_planner", "dwb"});
+  DwbParams p;
+  p.costmap = readCostmapParams(config);
+  p.global_planner = readGlobalPlannerParams(config);
+  p.readDwbSection(config);
+  return p;
+}
+
+DwbPlanner::DwbPlanner(const Scenario& scenario, const DwbParams& params)
+    : params_(params), costmap_(scenario, scenario.robot.radius, params.costmap), astar_(params.global_planner) {
+  if (!(params_.sim_time > 0.0) || !(params_.sim_step > 0.0) || params_.v_samples < 1 || params_.w_samples < 1 ||
+      !(params_.people_sigma > 0.0))
+    throw std::invalid_argument("dwb: sim_time, sim_step, people_sigma must be > 0 and the sample counts >= 1");
+  // Rejecting critics first: the order is also the order of evaluation.
+  addCritic(std::make_unique<ObstacleCritic>(params_.obstacle_weight));
+  addCritic(std::make_unique<PeopleCritic>(params_.people_weight, params_.people_safety_margin, params_.people_sigma));
+  addCritic(std::make_unique<PathDistanceCritic>(params_.path_distance_weight));
+  addCritic(std::make_unique<PathAlignCritic>(params_.path_align_weight, params_.forward_point_distance));
+  addCritic(std::make_unique<GoalDistanceCritic>(params_.goal_distance_weight));
+  addCritic(std::make_unique<OscillationCritic>(params_.oscillation_weight, params_.oscillation_reset_distance));
+}
+
+void DwbPlanner::reset() {
+  path_ = GlobalPath();
+  path_goal_.reset();
+  costmap_.clearTransient();
+  for (auto& critic : critics_) critic->reset();
+  last_decision_ = Decision::Idle;
+  last_admissible_ = 0;
+}
+
+robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
+  robot_command_t cmd = stopCommand(obs);
+  last_admissible_ = 0;
+  const Vec2 robot(obs.x, obs.y);
+  const Vec2 goal(obs.goal.x, obs.goal.y);
+  if (!obs.goal.valid || (goal - robot).norm() <= obs.goal.radius) {
+    last_decision_ = obs.goal.valid ? Decision::AtGoal : Decision::Idle;
+    path_ = GlobalPath();
+    path_goal_.reset();
+    return cmd;
+  }
+
+  costmap_.setRobotRadius(obs.radius);
+  costmap_.clearTransient();
+  people_marked_.clear();
+  if (params_.mark_people) markPeople(obs);
+  if (params_.mark_scan) costmap_.markScan(obs.scan, people_marked_);
+  updateLayers(obs, costmap_);
+  updateGlobalPath(obs, robot, goal);
+  prepareContext(obs);
+  for (auto& critic : critics_) critic->prepare(ctx_);
+
+  const VelocityWindow window = VelocityWindow::fromObservation(obs);
+  const double heading_error = headingErrorToPath();
+  double v, w;
+  if (std::abs(heading_error) > params_.rotate_in_place_angle) {
+    // The path lies far to the side or behind: arcs toward it would sweep wide, turn first.
+    v = window.clampV(0.0);
+    w = window.clampW(params_.rotate_gain * heading_error);
+    last_decision_ = Decision::RotateInPlace;
+  } else if (sampleBest(window, v, w)) {
+    last_decision_ = Decision::Sampled;
+  } else {
+    // Brake as hard as the window allows; turning toward the path may open a way.
+    v = window.clampV(0.0);
+    w = window.clampW(std::abs(heading_error) > params_.stopped_rotate_angle ? params_.rotate_gain * heading_error
+                                                                               : 0.0);
+    last_decision_ = Decision::NoAdmissible;
+  }
+  for (auto& critic : critics_) critic->commit(v, w, ctx_);
+  cmd.v = v;
+  cmd.w = w;
+  return cmd;
+}
+
+void DwbPlanner::markPeople(const robot_observation_t& obs) {
+  constexpr double kMovingSpeed = 0.05;  // m/s below which a person counts as standing
+  for (const detected_person_t& person : obs.people) {
+    const Vec2 position(person.x, person.y), velocity(person.vx, person.vy);
+    people_marked_.push_back({position, person.radius});
+    costmap_.markCircle(position, person.radius);
+    if (velocity.norm() < kMovingSpeed || params_.people_prediction_time <= 0.0) continue;
+    costmap_.markCapsule(position, position + params_.people_prediction_time * velocity, person.radius,
+                         Costmap::kMaxInflated);
+  }
+}
+
+void DwbPlanner::updateGlobalPath(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal) {
+  const double since_last_plan = static_cast<double>(obs.utime - path_utime_) * 1e-6;
+  bool replan;
+  if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0) {
+    replan = true;  // first plan for this goal (or the clock went back)
+  } else if (path_.empty()) {
+    replan = since_last_plan >= kFailedPlanRetryPeriod;
+  } else if (params_.replan_period <= 0.0 || since_last_plan >= params_.replan_period) {
+    replan = true;
+  } else {
+    double off_path;
+    const std::size_t i = path_.nearest(robot, 0, path_.size(), &off_path);
+    replan = off_path > kMaxPathDeviation || path_.blocked(costmap_, i);
+  }
+  if (!replan) return;
+  astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);  // an empty path when there is none
+  path_utime_ = obs.utime;
+  path_goal_ = goal;
+}
+
+void DwbPlanner::prepareContext(const robot_observation_t& obs) {
+  ctx_.obs = &obs;
+  ctx_.robot = Vec2(obs.x, obs.y);
+  ctx_.robot_yaw = obs.yaw;
+  ctx_.robot_radius = obs.radius;
+  ctx_.goal = Vec2(obs.goal.x, obs.goal.y);
+  ctx_.costmap = &costmap_;
+  ctx_.path = &path_;
+  const double max_speed = std::max(std::abs(obs.max_v), std::abs(obs.min_v));
+  if (!path_.empty()) {
+    ctx_.robot_path_index = path_.nearest(ctx_.robot, 0, path_.size());
+    const double reach = params_.sim_time * max_speed + params_.forward_point_distance + kPathWindowMargin;
+    ctx_.path_begin = ctx_.robot_path_index;
+    ctx_.path_end = path_.indexAhead(ctx_.robot_path_index, reach) + 1;
+  } else {
+    ctx_.robot_path_index = ctx_.path_begin = ctx_.path_end = 0;
+  }
+  // Only people the robot could get near within the horizon can change a score.
+  ctx_.people.clear();
+  for (const detected_person_t& p : obs.people) {
+    PredictedPerson person{p.id, Vec2(p.x, p.y), Vec2(p.vx, p.vy), p.radius};
+    const double gap = (person.position - ctx_.robot).norm() - person.radius - obs.radius;
+    const double approach = params_.sim_time * (max_speed + person.velocity.norm());
+    if (gap < approach + params_.people_safety_margin + 5.0 * params_.people_sigma) ctx_.people.push_back(person);
+  }
+}
+
+double DwbPlanner::headingErrorToPath() const {
+  Vec2 target = ctx_.goal;
+  if (!path_.empty()) target = path_[path_.indexAhead(ctx_.robot_path_index, params_.lookahead_distance)];
+  const Vec2 to_target = target - ctx_.robot;
+  if (to_target.norm() < 1e-6) return 0.0;
+  return normalizeAngle(angleOf(to_target) - ctx_.robot_yaw);
+}
+
+bool DwbPlanner::sampleBest(const VelocityWindow& window, double& v, double& w) {
+  const int nv = window.v_max - window.v_min > 1e-9 ? params_.v_samples : 1;
+  const int nw = window.w_max - window.w_min > 1e-9 ? params_.w_samples : 1;
+  const double dv = nv > 1 ? (window.v_max - window.v_min) / (nv - 1) : 0.0;
+  const double dw = nw > 1 ? (window.w_max - window.w_min) / (nw - 1) : 0.0;
+  double best = TrajectoryCritic::kReject;
+  // Fastest speeds first: on equal cost the faster sample wins.
+  for (int iv = 0; iv < nv; ++iv) {
+    const double sample_v = window.v_max - iv * dv;
+    for (int iw = 0; iw < nw; ++iw) {
+      const double sample_w = window.w_min + iw * dw;
+      rollout(ctx_.robot, ctx_.robot_yaw, sample_v, sample_w, params_.sim_time, params_.sim_step, trajectory_);
+      double total = 0.0;
+      for (const auto& critic : critics_) {
+        const double s = critic->score(trajectory_, ctx_);
+        if (s == TrajectoryCritic::kReject) {
+          total = TrajectoryCritic::kReject;
+          break;
+        }
+        total += critic->weight() * s;
+      }
+      if (total == TrajectoryCritic::kReject) continue;
+      ++last_admissible_;
+      if (total < best) {
+        best = total;
+        v = sample_v;
+        w = sample_w;
+      }
+    }
+  }
+  return last_admissible_ > 0;
+}
+
+}  // namespace hunav::planners

@@ -1,0 +1,54 @@
+#include "hunav/planners/planner.hpp"
+
+#include "hunav/planners/dwb_planner.hpp"
+
+#include <map>
+#include <stdexcept>
+
+namespace hunav::planners {
+
+void Planner::reset() {}
+
+namespace {
+// The built-in planners; another one is a line here (or a registerPlanner() call before use).
+std::map<std::string, PlannerFactory>& registry() {
+  static std::map<std::string, PlannerFactory> planners = {
+      {"dwb", [](const Scenario& scenario, const YamlReader* config) -> std::unique_ptr<Planner> {
+         return std::make_unique<DwbPlanner>(scenario, DwbParams::fromConfig(config));
+       }},
+  };
+  return planners;
+}
+}  // namespace
+
+void registerPlanner(const std::string& name, PlannerFactory factory) { registry()[name] = std::move(factory); }
+
+bool hasPlanner(const std::string& name) { return registry().count(name) > 0; }
+
+std::vector<std::string> plannerNames() {
+  std::vector<std::string> names;
+  for (const auto& entry : registry()) names.push_back(entry.first);
+  return names;
+}
+
+std::unique_ptr<Planner> createPlanner(const std::string& name, const Scenario& scenario, const YamlReader* config) {
+  const auto it = registry().find(name);
+  if (it == registry().end()) {
+    std::string known;
+    for (const std::string& n : plannerNames()) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("unknown planner '" + name + "' (known: " + known + ")");
+  }
+  return it->second(scenario, config);
+}
+
+robot_command_t stopCommand(const robot_observation_t& obs) {
+  robot_command_t cmd;
+  cmd.utime = obs.utime;
+  cmd.seq = obs.seq;
+  cmd.episode = obs.episode;
+  cmd.v = 0.0;
+  cmd.w = 0.0;
+  return cmd;
+}
+
+}  // namespace hunav::planners

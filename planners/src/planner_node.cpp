@@ -1,0 +1,98 @@
+#include "hunav/planners/planner_node.hpp"
+
+#include "hunav/channels.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace hunav::planners {
+
+namespace {
+void requireFinite(double value, const char* field) {
+  if (!std::isfinite(value)) throw BadMessage(std::string("robot_observation_t: non-finite ") + field);
+}
+void require(bool condition, const char* what) {
+  if (!condition) throw BadMessage(std::string("robot_observation_t: ") + what);
+}
+}  // namespace
+
+PlannerNode::PlannerNode(Bus& bus, std::unique_ptr<Planner> planner) : bus_(bus), planner_(std::move(planner)) {
+  bus_.subscribe<robot_observation_t>(channels::kRobotObservation,
+                                      [this](const robot_observation_t& obs) { onObservation(obs); });
+  bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { onEpisodeEvent(e); });
+}
+
+void PlannerNode::validate(const robot_observation_t& obs) {
+  const double state[] = {obs.x, obs.y, obs.yaw, obs.v, obs.w, obs.radius, obs.max_v, obs.min_v, obs.max_w,
+                          obs.max_acc_v, obs.max_acc_w, obs.control_period};
+  for (double value : state) requireFinite(value, "robot state or limits");
+  require(obs.radius > 0.0, "radius must be > 0");
+  require(obs.min_v <= obs.max_v && obs.max_v >= 0.0, "needs min_v <= max_v and max_v >= 0");
+  require(obs.max_w >= 0.0 && obs.max_acc_v > 0.0 && obs.max_acc_w > 0.0, "needs max_w >= 0 and accelerations > 0");
+  require(obs.control_period > 0.0, "control_period must be > 0");
+  if (obs.goal.valid) {
+    for (double value : {obs.goal.x, obs.goal.y, obs.goal.yaw, obs.goal.radius}) requireFinite(value, "goal");
+    require(obs.goal.radius >= 0.0, "goal radius must be >= 0");
+  }
+
+  const laser_scan_t& scan = obs.scan;
+  require(scan.num_ranges >= 0 && scan.num_ranges <= kMaxRanges, "num_ranges out of range");
+  for (double value : {scan.sensor_x, scan.sensor_y, scan.sensor_yaw, scan.angle_min, scan.angle_increment,
+                       scan.range_min, scan.range_max})
+    requireFinite(value, "scan geometry");
+  for (float r : scan.ranges) requireFinite(r, "scan range");
+
+  require(obs.num_people >= 0 && obs.num_people <= kMaxPeople, "num_people out of range");
+  for (const detected_person_t& p : obs.people) {
+    for (double value : {p.x, p.y, p.yaw, p.vx, p.vy, p.radius}) requireFinite(value, "person");
+    require(p.radius >= 0.0, "person radius must be >= 0");
+  }
+}
+
+void PlannerNode::beginEpisode(std::int64_t episode) {
+  planner_->reset();
+  episode_ = episode;
+  episode_ended_ = false;
+  last_reply_.reset();
+}
+
+void PlannerNode::onObservation(const robot_observation_t& obs) {
+  validate(obs);
+  if (!episode_ || obs.episode != *episode_) beginEpisode(obs.episode);
+  if (last_reply_) {
+    if (obs.seq == last_reply_->seq) {  // a resend: same answer, no replanning
+      bus_.publish(channels::kRobotCommand, *last_reply_);
+      ++commands_sent_;
+      ++replies_resent_;
+      return;
+    }
+    if (obs.seq < last_reply_->seq) {  // a late duplicate of an observation already overtaken
+      ++stale_ignored_;
+      return;
+    }
+  }
+  robot_command_t cmd = planner_->plan(obs);
+  ++plans_computed_;
+  cmd.utime = obs.utime;
+  cmd.seq = obs.seq;
+  cmd.episode = obs.episode;
+  last_reply_ = cmd;
+  bus_.publish(channels::kRobotCommand, cmd);
+  ++commands_sent_;
+}
+
+void PlannerNode::onEpisodeEvent(const episode_event_t& event) {
+  if (event.event == episode_event_t::START) {
+    // A restarted world may reuse an episode number: after an END, any START begins afresh.
+    if (!episode_ || event.episode != *episode_ || episode_ended_) beginEpisode(event.episode);
+  } else if (event.event == episode_event_t::END) {
+    if (!episode_ || event.episode != *episode_) beginEpisode(event.episode);  // ended unseen
+    else if (episode_ended_) return;                                          // a repeated END
+    episode_ended_ = true;
+    ++episodes_ended_;
+  } else {
+    throw BadMessage("episode_event_t: unknown event " + std::to_string(event.event));
+  }
+}
+
+}  // namespace hunav::planners

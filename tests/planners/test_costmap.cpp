@@ -1,0 +1,159 @@
+#include "hunav/planners/costmap.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace hunav;
+using namespace hunav::planners;
+
+namespace {
+
+Shape wall(Vec2 a, Vec2 b) {
+  Shape s;
+  s.kind = Shape::Kind::Polyline;
+  s.points = {a, b};
+  return s;
+}
+
+constexpr double kRadius = 0.3;
+
+// A 4 m wall along y = 0.01 (off the cell boundaries) in a 8 m x 4 m grid with the default params.
+Costmap wallMap() { return Costmap({wall(Vec2(0, 0.01), Vec2(4, 0.01))}, Vec2(-2, -2), Vec2(6, 2), kRadius); }
+
+}  // namespace
+
+TEST(Costmap, GridCoversTheRequestedArea) {
+  const Costmap map = wallMap();
+  EXPECT_EQ(map.width(), 160);
+  EXPECT_EQ(map.height(), 80);
+  int cx, cy;
+  ASSERT_TRUE(map.worldToCell(Vec2(0.01, 0.01), cx, cy));
+  EXPECT_EQ(cx, 40);
+  EXPECT_EQ(cy, 40);
+  EXPECT_TRUE(map.cellCenter(cx, cy).isApprox(Vec2(0.025, 0.025)));
+  EXPECT_FALSE(map.worldToCell(Vec2(7, 0), cx, cy));
+  EXPECT_EQ(map.costAt(Vec2(7, 0)), Costmap::kLethal);  // off the map counts as an obstacle
+}
+
+TEST(Costmap, CellsTheWallCrossesAreLethal) {
+  const Costmap map = wallMap();
+  for (double x = 0.0; x <= 4.0; x += 0.05) EXPECT_EQ(map.costAt(Vec2(x, 0.01)), Costmap::kLethal) << x;
+  EXPECT_EQ(map.staticCost(40, 40), Costmap::kLethal);
+  // Two cells away from the wall the robot still touches it, but no cell is the wall itself.
+  EXPECT_EQ(map.costAt(Vec2(2.0, 0.12)), Costmap::kInscribed);
+  EXPECT_EQ(map.costAt(Vec2(2.0, -1.5)), Costmap::kFree);
+}
+
+TEST(Costmap, InflationReachesExactlyTheRobotRadiusThenDecaysToZero) {
+  const Costmap map = wallMap();
+  const Shape w = wall(Vec2(0, 0.01), Vec2(4, 0.01));
+  const double half_diagonal = 0.5 * std::sqrt(2.0) * map.resolution();
+  int inscribed = 0, decaying = 0;
+  for (int cy = 0; cy < map.height(); ++cy)
+    for (int cx = 0; cx < map.width(); ++cx) {
+      const double d = w.distance(map.cellCenter(cx, cy));
+      const std::uint8_t c = map.cost(cx, cy);
+      if (d <= half_diagonal) {
+        EXPECT_EQ(c, Costmap::kLethal);
+      } else if (d <= kRadius) {
+        EXPECT_EQ(c, Costmap::kInscribed) << "d = " << d;
+        ++inscribed;
+      } else if (d < map.inflationRadius()) {
+        EXPECT_GT(c, Costmap::kFree) << "d = " << d;
+        EXPECT_LE(c, Costmap::kMaxInflated) << "d = " << d;
+        ++decaying;
+      } else {
+        EXPECT_EQ(c, Costmap::kFree) << "d = " << d;
+      }
+    }
+  EXPECT_GT(inscribed, 100);
+  EXPECT_GT(decaying, 100);
+  // Decay follows nav2's 252 * exp(-k (d - r)) (tabulated every 1/8 cell: within one step).
+  int cx, cy;
+  map.worldToCell(Vec2(2.0, 0.51), cx, cy);
+  const double d = map.cellCenter(cx, cy).y() - 0.01;
+  const double expected = 252.0 * std::exp(-map.params().cost_scaling_factor * (d - kRadius));
+  EXPECT_NEAR(map.cost(cx, cy), expected, 252.0 * map.params().cost_scaling_factor * map.resolution() / 8 + 1);
+}
+
+TEST(Costmap, CostNeverIncreasesAwayFromTheWall) {
+  const Costmap map = wallMap();
+  int cx, cy;
+  map.worldToCell(Vec2(2.0, 0.01), cx, cy);
+  for (int y = cy; y + 1 < map.height(); ++y) EXPECT_GE(map.cost(cx, y), map.cost(cx, y + 1)) << y;
+}
+
+TEST(Costmap, PolygonInsideAndCircleAreLethal) {
+  Shape box;
+  box.kind = Shape::Kind::Polygon;
+  box.points = {Vec2(1, 1), Vec2(2, 1), Vec2(2, 2), Vec2(1, 2)};
+  Shape pillar;
+  pillar.kind = Shape::Kind::Circle;
+  pillar.center = Vec2(-1, -1);
+  pillar.radius = 0.4;
+  const Costmap map({box, pillar}, Vec2(-3, -3), Vec2(4, 4), kRadius);
+  EXPECT_EQ(map.costAt(Vec2(1.5, 1.5)), Costmap::kLethal);
+  EXPECT_EQ(map.costAt(Vec2(-1, -1)), Costmap::kLethal);
+  EXPECT_EQ(map.costAt(Vec2(-1 + 0.4 + 0.2, -1)), Costmap::kInscribed);
+  EXPECT_LT(map.costAt(Vec2(-1 + 0.4 + 0.4, -1)), Costmap::kInscribed);
+  EXPECT_EQ(map.costAt(Vec2(0.2, -2.8)), Costmap::kFree);
+}
+
+TEST(Costmap, RobotRadiusChangeRebuildsTheInflation) {
+  Costmap map = wallMap();
+  const Vec2 p(2.0, 0.385);  // in the cell centred 0.365 m from the wall
+  EXPECT_LT(map.costAt(p), Costmap::kInscribed);
+  map.setRobotRadius(0.45);
+  EXPECT_EQ(map.costAt(p), Costmap::kInscribed);
+}
+
+TEST(Costmap, TransientMarksAreInflatedAndClearedEachCycle) {
+  Costmap map = wallMap();
+  const Vec2 p(2.0, -1.5);  // beyond the wall's inflation
+  map.markPoint(p);
+  EXPECT_EQ(map.costAt(p), Costmap::kLethal);
+  EXPECT_EQ(map.costAt(p + Vec2(0.25, 0.0)), Costmap::kInscribed);
+  EXPECT_GT(map.costAt(p + Vec2(0.5, 0.0)), Costmap::kFree);
+  EXPECT_LT(map.costAt(p + Vec2(0.5, 0.0)), Costmap::kInscribed);
+  map.markCircle(Vec2(4.5, -1.0), 0.35);
+  EXPECT_EQ(map.costAt(Vec2(4.5 + 0.35 + 0.25, -1.0)), Costmap::kInscribed);
+  EXPECT_LT(map.costAt(Vec2(4.5 + 0.35 + 0.35, -1.0)), Costmap::kInscribed);
+
+  // A predicted place only discourages: capped below the inscribed cost.
+  map.markCircle(Vec2(1.0, -1.5), 0.35, Costmap::kMaxInflated);
+  EXPECT_EQ(map.costAt(Vec2(1.0, -1.5)), Costmap::kMaxInflated);
+
+  map.clearTransient();
+  EXPECT_EQ(map.costAt(p), Costmap::kFree);
+  EXPECT_EQ(map.costAt(Vec2(1.0, -1.5)), Costmap::kFree);
+  EXPECT_EQ(map.costAt(Vec2(4.5, -1.0)), Costmap::kFree);
+  EXPECT_EQ(map.costAt(Vec2(2.0, 0.01)), Costmap::kLethal);  // the static layer stays
+}
+
+TEST(Costmap, ScanHitsAreMarkedButNotMissesOrStaticObstacles) {
+  Costmap map = wallMap();
+  laser_scan_t scan{};
+  scan.sensor_x = 2.0;
+  scan.sensor_y = -1.0;
+  scan.sensor_yaw = 0.0;
+  scan.angle_min = 0.0;
+  scan.angle_increment = kPi / 2;  // beams along +x, +y, -x
+  scan.range_min = 0.05;
+  scan.range_max = 3.0;
+  scan.ranges = {1.5f, 1.01f, 3.0f};  // a box at (3.5, -1); the wall; nothing
+  scan.num_ranges = 3;
+  map.markScan(scan);
+  EXPECT_EQ(map.costAt(Vec2(3.5, -1.0)), Costmap::kLethal);
+  int cx, cy;
+  map.worldToCell(Vec2(2.0, 0.01), cx, cy);
+  EXPECT_EQ(map.transientCost(cx, cy), Costmap::kFree);  // already in the static layer
+  map.worldToCell(Vec2(-1.0, -1.0), cx, cy);
+  EXPECT_EQ(map.transientCost(cx, cy), Costmap::kFree);  // range_max: no return
+
+  // A hit inside an already marked person adds nothing.
+  map.clearTransient();
+  map.markScan(scan, {Circle{Vec2(3.6, -1.0), 0.2}});
+  map.worldToCell(Vec2(3.5, -1.0), cx, cy);
+  EXPECT_EQ(map.transientCost(cx, cy), Costmap::kFree);
+}

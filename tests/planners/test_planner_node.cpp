@@ -1,0 +1,196 @@
+#include "hunav/channels.hpp"
+#include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/planner_node.hpp"
+#include "hunav/planners/sim_tools.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+
+using namespace hunav;
+using namespace hunav::planners;
+
+namespace {
+
+// Answers v = number of plan() calls so far, so a cached reply is told apart from a new one.
+class CountingPlanner : public Planner {
+ public:
+  robot_command_t plan(const robot_observation_t& obs) override {
+    robot_command_t cmd = stopCommand(obs);
+    cmd.v = ++*plans;
+    return cmd;
+  }
+  void reset() override { ++*resets; }
+  std::shared_ptr<int> plans = std::make_shared<int>(0);
+  std::shared_ptr<int> resets = std::make_shared<int>(0);
+};
+
+Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
+
+class PlannerNodeTest : public ::testing::Test {
+ protected:
+  PlannerNodeTest() : lcm_("memq://"), bus_(lcm_) {
+    auto planner = std::make_unique<CountingPlanner>();
+    plans_ = planner->plans;
+    resets_ = planner->resets;
+    node_ = std::make_unique<PlannerNode>(bus_, std::move(planner));
+    bus_.subscribe<robot_command_t>(channels::kRobotCommand,
+                                    [this](const robot_command_t& cmd) { commands_.push_back(cmd); });
+  }
+
+  robot_observation_t observation(std::int64_t seq, std::int64_t episode = 1) {
+    return makeObservation(scenario_, Vec2(0, 0), 0.0, 0.0, 0.0, seq * 100000, seq, episode);
+  }
+  void send(const robot_observation_t& obs) {
+    bus_.publish(channels::kRobotObservation, obs);
+    bus_.handleAvailable();  // the observation, then the command it produced
+  }
+  void sendEvent(std::int8_t kind, std::int64_t episode) {
+    episode_event_t e{};
+    e.event = kind;
+    e.episode = episode;
+    bus_.publish(channels::kEpisodeEvent, e);
+    bus_.handleAvailable();
+  }
+
+  Scenario scenario_ = passing();
+  lcm::LCM lcm_;
+  Bus bus_;
+  std::unique_ptr<PlannerNode> node_;
+  std::shared_ptr<int> plans_, resets_;
+  std::vector<robot_command_t> commands_;
+};
+
+}  // namespace
+
+TEST_F(PlannerNodeTest, AnswersEachObservationEchoingItsIds) {
+  send(observation(1, 5));
+  ASSERT_EQ(commands_.size(), 1u);
+  EXPECT_EQ(commands_[0].seq, 1);
+  EXPECT_EQ(commands_[0].utime, 100000);
+  EXPECT_EQ(commands_[0].episode, 5);
+  EXPECT_EQ(commands_[0].v, 1.0);
+  send(observation(2, 5));
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(commands_[1].seq, 2);
+  EXPECT_EQ(commands_[1].v, 2.0);
+  EXPECT_EQ(node_->plansComputed(), 2u);
+}
+
+TEST_F(PlannerNodeTest, AResentObservationGetsTheCachedCommandWithoutReplanning) {
+  send(observation(1));
+  send(observation(1));
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(*plans_, 1);
+  EXPECT_EQ(commands_[1].seq, 1);
+  EXPECT_EQ(commands_[1].v, commands_[0].v);
+  EXPECT_EQ(node_->repliesResent(), 1u);
+  // Late duplicates of older observations are ignored.
+  send(observation(2));
+  send(observation(1));
+  EXPECT_EQ(commands_.size(), 3u);
+  EXPECT_EQ(node_->staleIgnored(), 1u);
+}
+
+TEST_F(PlannerNodeTest, ANewEpisodeResetsThePlannerAndForgetsTheCache) {
+  send(observation(1, 1));
+  const int resets_after_first = *resets_;
+  send(observation(1, 2));  // same seq, new episode: a new question
+  EXPECT_EQ(*resets_, resets_after_first + 1);
+  EXPECT_EQ(*plans_, 2);
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(commands_[1].episode, 2);
+  EXPECT_EQ(commands_[1].v, 2.0);
+}
+
+TEST_F(PlannerNodeTest, InvalidObservationsAreDroppedAndCounted) {
+  robot_observation_t obs = observation(1);
+  obs.x = std::numeric_limits<double>::quiet_NaN();
+  send(obs);
+  EXPECT_TRUE(commands_.empty());
+  EXPECT_EQ(bus_.droppedMessages(), 1u);
+  EXPECT_EQ(*plans_, 0);
+
+  obs = observation(1);
+  obs.scan.num_ranges = PlannerNode::kMaxRanges + 1;
+  obs.scan.ranges.assign(static_cast<std::size_t>(obs.scan.num_ranges), 1.0f);
+  send(obs);
+  EXPECT_EQ(bus_.droppedMessages(), 2u);
+
+  obs = observation(1);
+  obs.scan.num_ranges = 1;
+  obs.scan.ranges = {std::numeric_limits<float>::infinity()};
+  send(obs);
+  EXPECT_EQ(bus_.droppedMessages(), 3u);
+  EXPECT_TRUE(commands_.empty());
+
+  send(observation(1));  // the node is still alive
+  EXPECT_EQ(commands_.size(), 1u);
+}
+
+TEST(PlannerNodeValidate, RejectsNonFiniteAndImpossibleValues) {
+  const Scenario s = passing();
+  const robot_observation_t good = makeObservation(s, Vec2(0, 0), 0.0, 0.0, 0.0);
+  EXPECT_NO_THROW(PlannerNode::validate(good));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::function<void(robot_observation_t&)>> breakers = {
+      [&](robot_observation_t& o) { o.yaw = nan; },
+      [&](robot_observation_t& o) { o.max_v = std::numeric_limits<double>::infinity(); },
+      [&](robot_observation_t& o) { o.goal.x = nan; },
+      [&](robot_observation_t& o) { o.radius = 0.0; },
+      [&](robot_observation_t& o) { o.control_period = -0.1; },
+      [&](robot_observation_t& o) { o.min_v = 1.0; },
+      [&](robot_observation_t& o) { o.scan.num_ranges = -1; },
+      [&](robot_observation_t& o) { o.num_people = PlannerNode::kMaxPeople + 1; },
+      [&](robot_observation_t& o) {
+        detected_person_t p{};
+        p.vx = nan;
+        o.people = {p};
+        o.num_people = 1;
+      },
+  };
+  for (std::size_t i = 0; i < breakers.size(); ++i) {
+    robot_observation_t bad = good;
+    breakers[i](bad);
+    EXPECT_THROW(PlannerNode::validate(bad), BadMessage) << "case " << i;
+  }
+  robot_observation_t no_goal = good;  // the goal's numbers do not matter when it is not valid
+  no_goal.goal.valid = false;
+  no_goal.goal.x = nan;
+  EXPECT_NO_THROW(PlannerNode::validate(no_goal));
+}
+
+TEST_F(PlannerNodeTest, CountsEpisodeEndsOnce) {
+  send(observation(1, 1));
+  sendEvent(episode_event_t::END, 1);
+  sendEvent(episode_event_t::END, 1);  // a repeat
+  EXPECT_EQ(node_->episodesEnded(), 1);
+  const int resets = *resets_;
+  sendEvent(episode_event_t::START, 2);
+  EXPECT_EQ(*resets_, resets + 1);
+  sendEvent(episode_event_t::END, 2);
+  EXPECT_EQ(node_->episodesEnded(), 2);
+  sendEvent(42, 3);  // unknown event kind
+  EXPECT_EQ(bus_.droppedMessages(), 1u);
+  EXPECT_EQ(node_->episodesEnded(), 2);
+}
+
+TEST(PlannerNodeDwb, AnswersWithACommandWithinTheLimits) {
+  const Scenario s = passing();
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  PlannerNode node(bus, std::make_unique<DwbPlanner>(s));
+  std::vector<robot_command_t> commands;
+  bus.subscribe<robot_command_t>(channels::kRobotCommand, [&](const robot_command_t& c) { commands.push_back(c); });
+  MiniWorld world(s);
+  bus.publish(channels::kRobotObservation, world.observe());
+  bus.handleAvailable();
+  ASSERT_EQ(commands.size(), 1u);
+  EXPECT_EQ(commands[0].seq, 1);
+  EXPECT_GT(commands[0].v, 0.0);
+  EXPECT_LE(commands[0].v, s.robot.limits.max_v);
+  EXPECT_LE(std::abs(commands[0].w), s.robot.limits.max_w);
+}
