@@ -10,7 +10,7 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"hunav_run: runs one episode of a scenario with the world, the manager, a planner and the "
-               "evaluator in one process on memq:// (no network), writes the result files and prints the "
+               "evaluator in one process on one in-process bus (no network), writes the result files and prints the "
                "metrics. Exit 0: the episode ended (goal reached or time limit); 1: aborted or error; 2: bad "
                "input."};
   std::string scenario_file;
@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   app.add_option("--experiment-tag", options.experiment_tag, "experiment tag in metrics.csv");
   app.add_option("--run-id", options.run_id, "run id (default <scenario>_<planner>_s<seed>)");
   app.add_flag("--quiet", quiet, "do not print the metrics table");
+  app.add_flag("--memq", options.use_memq,
+               "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
   CLI11_PARSE(app, argc, argv);
 
   hunav::Scenario scenario;

@@ -14,10 +14,17 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   std::unique_ptr<YamlReader> planner_config;
   if (!options.planner_config.empty()) planner_config = std::make_unique<YamlReader>(options.planner_config);
 
-  lcm::LCM lcm("memq://");
+  std::unique_ptr<lcm::LCM> memq;
+  std::unique_ptr<Bus> bus_storage;
+  if (options.use_memq) {
+    memq = std::make_unique<lcm::LCM>("memq://");
+    bus_storage = std::make_unique<Bus>(*memq);
+  } else {
+    bus_storage = std::make_unique<Bus>(Bus::InProcess{});
+  }
+  Bus& bus = *bus_storage;
   std::unique_ptr<LogWriter> log;
-  if (!options.record_file.empty()) log = std::make_unique<LogWriter>(lcm, options.record_file);
-  Bus bus(lcm);
+  if (!options.record_file.empty()) log = std::make_unique<LogWriter>(bus, options.record_file);
 
   evaluator::EvaluatorOptions eval_options;
   eval_options.out_dir = options.out_dir;

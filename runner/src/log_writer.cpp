@@ -1,23 +1,23 @@
 #include "hunav/runner/log_writer.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace hunav::runner {
 
-LogWriter::LogWriter(lcm::LCM& lcm, const std::string& path) : lcm_(lcm), log_(path, "w") {
+LogWriter::LogWriter(Bus& bus, const std::string& path) : bus_(bus), log_(path, "w") {
   if (!log_.good()) throw std::runtime_error("cannot write the LCM log " + path);
-  subscription_ = lcm_.subscribe(".*", &LogWriter::onMessage, this);
-  subscription_->setQueueCapacity(0);
+  bus_.setTap([this](const std::string& channel, const void* data, std::size_t size) { write(channel, data, size); });
 }
 
-LogWriter::~LogWriter() { lcm_.unsubscribe(subscription_); }
+LogWriter::~LogWriter() { bus_.setTap(nullptr); }
 
-void LogWriter::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+void LogWriter::write(const std::string& channel, const void* data, std::size_t size) {
   // Every hunav message starts with its 8-byte type hash and then `int64_t utime` (big-endian):
   // stamp events with that simulation time, so lcm-logplayer replays the run at its real pace.
   std::int64_t stamp = last_timestamp_;
-  if (rbuf->data_size >= 16) {
-    const auto* b = static_cast<const std::uint8_t*>(rbuf->data) + 8;
+  if (size >= 16) {
+    const auto* b = static_cast<const std::uint8_t*>(data) + 8;
     std::uint64_t utime = 0;
     for (int i = 0; i < 8; ++i) utime = (utime << 8) | b[i];
     stamp = std::max(last_timestamp_, static_cast<std::int64_t>(utime));
@@ -27,8 +27,8 @@ void LogWriter::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& cha
   ev.eventnum = events_++;
   ev.timestamp = stamp;
   ev.channel = channel;
-  ev.datalen = static_cast<int32_t>(rbuf->data_size);
-  ev.data = rbuf->data;
+  ev.datalen = static_cast<int32_t>(size);
+  ev.data = const_cast<void*>(data);  // LogFile only reads it
   log_.writeEvent(&ev);
 }
 

@@ -17,12 +17,13 @@ namespace {
 
 const std::string kGoldenFile = std::string(HUNAV_SOURCE_DIR) + "/tests/integration/golden/passing_dwb.fingerprint";
 
-hunav::runner::RunOutcome runPassing(const fs::path& out, const std::string& record = "") {
+hunav::runner::RunOutcome runPassing(const fs::path& out, const std::string& record = "", bool memq = false) {
   const hunav::Scenario s = hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
   hunav::runner::RunOptions o;
   o.planner = "dwb";
   o.out_dir = out.string();
   o.record_file = record;
+  o.use_memq = memq;
   return hunav::runner::runInProcess(s, o);
 }
 
@@ -52,7 +53,9 @@ TEST(Golden, RepeatedRunsAreBitIdenticalAndRecordEverything) {
   const fs::path log = fs::temp_directory_path() / "hunav_golden_run.lcmlog";
   const auto a = runPassing(freshDir("b"), log.string());
   const auto b = runPassing(freshDir("c"));
+  const auto c = runPassing(freshDir("d"), "", true);  // LCM's memq:// instead of the in-process queue
   EXPECT_EQ(a.episode.fingerprint, b.episode.fingerprint);
+  EXPECT_EQ(a.episode.fingerprint, c.episode.fingerprint);
   ASSERT_TRUE(a.result.has_value());
   EXPECT_EQ(a.result->info.recorded_ticks, a.episode.ticks);
   EXPECT_EQ(a.result->info.fingerprint, a.episode.fingerprint);

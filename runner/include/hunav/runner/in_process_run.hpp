@@ -20,6 +20,8 @@ struct RunOptions {
   std::string experiment_tag = "exp";
   std::string run_id;            // default <scenario>_<planner>_s<seed>
   std::string record_file;       // LCM log of every message (empty: none)
+  bool use_memq = false;         // run on LCM's memq:// instead of the Bus's own in-process queue
+                                 // (same messages and results; memq costs a pipe round trip each)
   const std::atomic<bool>* stop = nullptr;
 };
 

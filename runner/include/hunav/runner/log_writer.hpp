@@ -1,6 +1,8 @@
 #pragma once
-// Writes every message on an LCM instance to an LCM log file (the format of lcm-logger, readable by
-// lcm-logplayer and the evaluator). In-process runs have no network for lcm-logger to listen on.
+// Writes every message published through a Bus to an LCM log file (the format of lcm-logger, readable
+// by lcm-logplayer and the evaluator). In-process runs have no network for lcm-logger to listen on.
+#include "hunav/transport.hpp"
+
 #include <lcm/lcm-cpp.hpp>
 
 #include <cstdint>
@@ -10,8 +12,8 @@ namespace hunav::runner {
 
 class LogWriter {
  public:
-  // Opens `path` for writing and subscribes to every channel of `lcm`.
-  LogWriter(lcm::LCM& lcm, const std::string& path);
+  // Opens `path` for writing and records every message published through `bus`.
+  LogWriter(Bus& bus, const std::string& path);
   ~LogWriter();
   LogWriter(const LogWriter&) = delete;
   LogWriter& operator=(const LogWriter&) = delete;
@@ -19,11 +21,10 @@ class LogWriter {
   std::int64_t eventsWritten() const { return events_; }
 
  private:
-  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void write(const std::string& channel, const void* data, std::size_t size);
 
-  lcm::LCM& lcm_;
+  Bus& bus_;
   lcm::LogFile log_;
-  lcm::Subscription* subscription_ = nullptr;
   std::int64_t events_ = 0;
   std::int64_t last_timestamp_ = 0;
 };

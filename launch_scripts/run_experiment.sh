@@ -1,0 +1,589 @@
+#!/usr/bin/env bash
+# Runs one HuNav-LCM episode and writes its results into one folder. See --help, and README.md.
+#
+# Modes:
+#   inprocess (default)  build/bin/hunav_run: everything in one process on memq://, no network.
+#   lockstep, realtime   evaluator, manager, planner and world as separate processes over LCM UDP
+#                        multicast, inside a private network namespace made for this run (or on the bus
+#                        given with --shared-bus).
+#
+# Every process this script starts is stopped when the run ends or the script is interrupted; on an
+# interrupt the evaluator is asked to stop first (SIGTERM) so it still writes what it recorded.
+set -euo pipefail
+
+readonly NETNS_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+
+script_path=$(readlink -f "${BASH_SOURCE[0]}")
+repo_root=$(cd "$(dirname "$script_path")/.." && pwd)
+bin_dir=${HUNAV_BIN_DIR:-$repo_root/build/bin}
+ready_timeout=${HUNAV_READY_TIMEOUT:-30}  # s to wait for a process's "ready" line
+eval_grace=${HUNAV_EVAL_GRACE:-60}        # s the evaluator gets to write its files
+stop_grace=${HUNAV_STOP_GRACE:-10}        # s any other process gets to stop after SIGTERM
+
+usage() {
+  cat <<'EOF'
+Usage: launch_scripts/run_experiment.sh --scenario FILE [options]
+
+Runs one episode of a scenario and writes metrics.csv, the per-tick and per-behavior metric CSVs,
+states.csv, run.json (and, with --record, run.lcmlog) into the output folder, then prints the metrics.
+
+Options:
+  --scenario FILE         scenario YAML (scenarios/README.md); required
+  --planner NAME          dwb (default), scl, sfw or none
+  --seed N                seed (integer >= 0); default: the scenario's seed
+  --mode MODE             inprocess (default: one process, no network), lockstep (separate processes,
+                          lock-stepped, bit-identical to inprocess) or realtime (separate processes, the
+                          world paced by the wall clock)
+  --out DIR               output folder; default: results/<scenario>_<planner>_<seed> in the repository
+  --duration SECONDS      simulated time limit; default: the scenario's time_limit
+  --record                also record the LCM traffic into DIR/run.lcmlog
+  --shared-bus URL        lockstep/realtime only: use this LCM URL on the host's network instead of a
+                          private network namespace (needs a multicast route, see below)
+  --profile PROFILE       metrics profile: default or hunav_v1
+  --experiment-tag TAG    free text stored in the experiment_tag column of metrics.csv
+  --timeout SECONDS       wall-clock guard: stop the run (keeping what was recorded) after this long
+  -h, --help              show this help
+
+Exit status: 0 when the episode ran to an end (goal reached or time limit); 1 when it was aborted or
+a process failed; 2 on bad arguments or a bad scenario; 124 when --timeout stopped it; 130/143 when
+interrupted by SIGINT/SIGTERM.
+
+Separate-process modes run inside a private network namespace (unshare --net as root, unshare -rn
+otherwise), so parallel runs cannot hear each other. The script prints the namespace's PID; watch the
+run with: launch_scripts/spy.sh --netns-pid PID. Process logs go to DIR/logs/<name>.log.
+With --shared-bus URL nothing is isolated: give each parallel run its own URL (address or port), and
+make sure multicast has a route, e.g. on loopback only: sudo ip route add 224.0.0.0/4 dev lo
+
+Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_READY_TIMEOUT (30 s),
+HUNAV_EVAL_GRACE (60 s), HUNAV_STOP_GRACE (10 s).
+EOF
+}
+
+log() { printf 'run_experiment: %s\n' "$*"; }
+err() { printf 'run_experiment: error: %s\n' "$*" >&2; }
+usage_error() {
+  err "$*"
+  echo "run_experiment: see: launch_scripts/run_experiment.sh --help" >&2
+  exit 2
+}
+
+is_number() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]]; }
+is_positive() { is_number "$1" && awk -v v="$1" 'BEGIN { exit !(v > 0) }'; }
+
+# ---------------------------------------------------------------------------------------------------
+# Arguments
+# ---------------------------------------------------------------------------------------------------
+orig_args=("$@")
+scenario=""
+planner=dwb
+seed=""
+mode=inprocess
+out=""
+duration=""
+record=0
+shared_bus=""
+profile=""
+tag=""
+timeout=""
+
+while [ "$#" -gt 0 ]; do
+  opt=$1
+  value=""
+  inline=0
+  case "$opt" in
+    --*=*) value=${opt#*=}; opt=${opt%%=*}; inline=1 ;;
+  esac
+  case "$opt" in
+    -h | --help) usage; exit 0 ;;
+    --record)
+      [ "$inline" -eq 0 ] || usage_error "--record takes no value"
+      record=1 ;;
+    --scenario | --planner | --seed | --mode | --out | --duration | --shared-bus | --profile | \
+      --experiment-tag | --timeout)
+      if [ "$inline" -eq 0 ]; then
+        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
+        value=$2
+        case "$value" in --*) usage_error "$opt needs a value (got the option '$value')" ;; esac
+        shift
+      fi
+      [ -n "$value" ] || usage_error "$opt needs a non-empty value"
+      case "$opt" in
+        --scenario) scenario=$value ;;
+        --planner) planner=$value ;;
+        --seed) seed=$value ;;
+        --mode) mode=$value ;;
+        --out) out=$value ;;
+        --duration) duration=$value ;;
+        --shared-bus) shared_bus=$value ;;
+        --profile) profile=$value ;;
+        --experiment-tag) tag=$value ;;
+        --timeout) timeout=$value ;;
+      esac ;;
+    *) usage_error "unknown argument '$1'" ;;
+  esac
+  shift
+done
+
+[ -n "$scenario" ] || usage_error "--scenario FILE is required (e.g. --scenario scenarios/passing.yaml)"
+if [ ! -f "$scenario" ] || [ ! -r "$scenario" ]; then usage_error "--scenario: cannot read the file '$scenario'"; fi
+case "$planner" in dwb | scl | sfw | none) ;; *) usage_error "--planner must be dwb, scl, sfw or none (got '$planner')" ;; esac
+case "$mode" in inprocess | lockstep | realtime) ;; *) usage_error "--mode must be inprocess, lockstep or realtime (got '$mode')" ;; esac
+if [ -n "$seed" ] && ! [[ $seed =~ ^[0-9]+$ ]]; then usage_error "--seed must be an integer >= 0 (got '$seed')"; fi
+if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
+if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
+case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
+case "$tag" in *[,\"$'\n'$'\r']*) usage_error "--experiment-tag must not contain commas, quotes or line breaks" ;; esac
+for v in HUNAV_READY_TIMEOUT:"$ready_timeout" HUNAV_EVAL_GRACE:"$eval_grace" HUNAV_STOP_GRACE:"$stop_grace"; do
+  is_number "${v#*:}" || usage_error "${v%%:*} must be a number of seconds (got '${v#*:}')"
+done
+if [ -n "$shared_bus" ]; then
+  [ "$mode" != inprocess ] || usage_error "--shared-bus needs --mode lockstep or realtime (inprocess uses no network)"
+  [[ $shared_bus == *://* ]] || usage_error "--shared-bus needs an LCM URL such as 'udpm://239.255.76.67:7667?ttl=0' (got '$shared_bus')"
+fi
+
+scenario=$(readlink -f "$scenario")
+# The scenario's name: its top-level `name:` (as the loader reads it), else the file name.
+scenario_name=$(sed -n -E 's/^name:[[:space:]]*["'"'"']?([^"'"'"'#]*[^"'"'"'#[:space:]])["'"'"']?[[:space:]]*(#.*)?$/\1/p' "$scenario" | head -n 1)
+if [ -z "$scenario_name" ]; then
+  scenario_name=$(basename "$scenario")
+  scenario_name=${scenario_name%.yaml}
+  scenario_name=${scenario_name%.yml}
+fi
+scenario_name=${scenario_name//[^A-Za-z0-9._-]/_}
+# The seed that names the default folder: --seed, else the scenario's top-level `seed:` (1 if absent).
+seed_label=$seed
+if [ -z "$seed_label" ]; then
+  seed_label=$(sed -n -E 's/^seed:[[:space:]]*([0-9]+)[[:space:]]*(#.*)?$/\1/p' "$scenario" | head -n 1)
+  [ -n "$seed_label" ] || seed_label=1
+fi
+[ -n "$out" ] || out="$repo_root/results/${scenario_name}_${planner}_${seed_label}"
+
+need_bin() {
+  if [ ! -x "$bin_dir/$1" ]; then
+    err "$bin_dir/$1 is missing: build the project first (bash launch_scripts/setup.sh)"
+    exit 1
+  fi
+}
+if [ "$mode" = inprocess ]; then
+  need_bin hunav_run
+else
+  for b in hunav_worldsim hunav_manager hunav_evaluator; do need_bin "$b"; done
+  [ "$planner" = none ] || need_bin hunav_planner
+fi
+
+# ---------------------------------------------------------------------------------------------------
+# Separate-process modes: re-run this script inside a private network namespace
+# ---------------------------------------------------------------------------------------------------
+current_netns=$(readlink /proc/self/ns/net 2>/dev/null || echo unknown)
+in_private_netns=0
+if [ -n "${HUNAV_NETNS_PARENT:-}" ] && [ "$HUNAV_NETNS_PARENT" != "$current_netns" ]; then
+  in_private_netns=1
+fi
+unset HUNAV_NETNS_PARENT
+
+if [ "$mode" != inprocess ] && [ -z "$shared_bus" ] && [ "$in_private_netns" -eq 0 ]; then
+  for tool in unshare ip; do
+    if ! command -v "$tool" >/dev/null 2>&1; then
+      err "'$tool' is not installed (packages util-linux and iproute2): run bash launch_scripts/setup.sh"
+      exit 1
+    fi
+  done
+  if [ "$(id -u)" -eq 0 ]; then
+    candidates=("--net" "--map-root-user --net")
+  else
+    candidates=("--map-root-user --net")
+  fi
+  unshare_flags=""
+  unshare_error=""
+  for c in "${candidates[@]}"; do
+    # shellcheck disable=SC2086 # $c holds flags
+    if unshare_error=$(unshare $c -- true 2>&1); then
+      unshare_flags=$c
+      break
+    fi
+  done
+  if [ -z "$unshare_flags" ]; then
+    {
+      err "cannot create a private network namespace for this run."
+      echo "  unshare said: ${unshare_error:-nothing}"
+      echo "  Separate-process runs use a namespace of their own so that their multicast traffic stays"
+      echo "  private to the run. Fix one of:"
+      if [ "$(id -u)" -ne 0 ]; then
+        echo "    - run as root: sudo launch_scripts/run_experiment.sh ${orig_args[*]}"
+        echo "    - or allow unprivileged user namespaces (a normal user needs them for unshare -rn):"
+        echo "        sudo sysctl kernel.unprivileged_userns_clone=1"
+        echo "        sudo sysctl user.max_user_namespaces=15000   (where it is 0)"
+      else
+        echo "    - this system refuses namespaces even to root (a container without CAP_SYS_ADMIN, or"
+        echo "      seccomp?): allow them (e.g. docker run --cap-add SYS_ADMIN), or:"
+      fi
+      echo "    - run on a bus you choose, without a namespace: --shared-bus 'udpm://239.255.76.67:7667?ttl=0'"
+      echo "      (multicast then needs a route; on loopback only: sudo ip route add 224.0.0.0/4 dev lo)"
+      echo "    - or use --mode inprocess, which needs no network"
+    } >&2
+    exit 1
+  fi
+  # shellcheck disable=SC2086 # $unshare_flags holds flags
+  HUNAV_NETNS_PARENT=$current_netns exec unshare $unshare_flags -- "$BASH" "$script_path" "${orig_args[@]}"
+fi
+
+# ---------------------------------------------------------------------------------------------------
+# Process bookkeeping and cleanup
+# ---------------------------------------------------------------------------------------------------
+declare -A pid_of=()   # name -> pid of every process started
+declare -A code_of=()  # name -> exit code once collected
+started=()             # names in start order
+cleaning=0
+
+# Each process gets its own session (setsid, so a terminal's Ctrl-C reaches only this script, which
+# then stops them in order) and, where setpriv supports it, SIGTERM when this script dies, even by SIGKILL.
+launcher=(setsid)
+if setpriv --help 2>/dev/null | grep -q -- --pdeathsig; then
+  launcher+=(setpriv --pdeathsig TERM --)
+fi
+
+# start NAME LOGFILE CMD...: starts CMD in the background, output into LOGFILE.
+start() {
+  local name=$1 logfile=$2
+  shift 2
+  : >"$logfile"
+  "${launcher[@]}" "$@" >>"$logfile" 2>&1 </dev/null &
+  pid_of[$name]=$!
+  started+=("$name")
+}
+
+alive() { [ -n "${pid_of[$1]:-}" ] && [ -z "${code_of[$1]:-}" ] && kill -0 "${pid_of[$1]}" 2>/dev/null; }
+
+# collect NAME: reaps NAME once it has exited and records its exit code.
+collect() {
+  local name=$1 rc=0
+  [ -z "${code_of[$name]:-}" ] || return 0
+  wait "${pid_of[$name]}" 2>/dev/null || rc=$?
+  code_of[$name]=$rc
+}
+
+# signal NAME SIG: sends SIG to NAME's process group (it and anything it started).
+signal() {
+  local pid=${pid_of[$1]}
+  kill -s "$2" -- "-$pid" 2>/dev/null || kill -s "$2" "$pid" 2>/dev/null || true
+}
+
+# Wall-clock deadlines in microseconds (EPOCHREALTIME: no fork per check).
+now_us() { local t=${EPOCHREALTIME//[.,]/}; echo "$((10#$t))"; }
+# deadline SECONDS: sets $deadline_us to now + SECONDS (0 = none).
+deadline() {
+  if [ "$1" = 0 ]; then deadline_us=0; return 0; fi
+  deadline_us=$(($(now_us) + $(awk -v s="$1" 'BEGIN { printf "%d", s * 1000000 }')))
+}
+run_started_us=$(now_us)
+# past DEADLINE_US: true once that deadline has passed (never for 0).
+past() { [ "$1" -ne 0 ] && [ "$(now_us)" -ge "$1" ]; }
+
+# wait_exit NAME SECONDS: waits until NAME has exited (SECONDS = 0: forever). Returns 1 on timeout.
+wait_exit() {
+  local name=$1 deadline_us
+  deadline "$2"
+  while alive "$name"; do
+    if past "$deadline_us"; then return 1; fi
+    sleep 0.1
+  done
+  collect "$name"
+}
+
+# stop NAME SIG GRACE: sends SIG, waits GRACE seconds, then SIGKILLs what is left.
+stop() {
+  local name=$1 sig=$2 grace=$3
+  alive "$name" || { [ -z "${pid_of[$name]:-}" ] || collect "$name"; return 0; }
+  signal "$name" "$sig"
+  if ! wait_exit "$name" "$grace"; then
+    err "$name did not stop within ${grace} s of SIG$sig: killing it"
+    signal "$name" KILL
+    wait_exit "$name" 0 || true
+  fi
+}
+
+cleanup() {
+  [ "$cleaning" -eq 0 ] || return 0
+  cleaning=1
+  local name
+  # The evaluator first, so it writes what it recorded, then everything else at once.
+  if alive evaluator; then signal evaluator TERM; fi
+  for name in "${started[@]}"; do
+    if [ "$name" != evaluator ] && alive "$name"; then
+      if [ "$name" = logger ]; then signal "$name" INT; else signal "$name" TERM; fi
+    fi
+  done
+  for name in "${started[@]}"; do
+    if [ "$name" = evaluator ]; then stop "$name" TERM "$eval_grace"; else stop "$name" TERM "$stop_grace"; fi
+  done
+  # Whatever a process left running in its process group (children it started before it exited).
+  local groups=() pg deadline_us
+  for name in "${started[@]}"; do
+    [ "$name" != display ] || continue  # tail, in this script's own group
+    if kill -0 -- "-${pid_of[$name]}" 2>/dev/null; then groups+=("${pid_of[$name]}"); fi
+  done
+  [ "${#groups[@]}" -gt 0 ] || return 0
+  for pg in "${groups[@]}"; do kill -s TERM -- "-$pg" 2>/dev/null || true; done
+  deadline "$stop_grace"
+  for pg in "${groups[@]}"; do
+    while kill -0 -- "-$pg" 2>/dev/null && ! past "$deadline_us"; do sleep 0.1; done
+    kill -s KILL -- "-$pg" 2>/dev/null || true
+  done
+}
+
+# shellcheck disable=SC2317 # called from the traps below
+on_signal() {
+  trap '' INT TERM HUP
+  if [ -n "${pid_of[evaluator]:-}" ]; then
+    log "interrupted by SIG$1: stopping every process of this run (the evaluator first, to keep its results)"
+  else
+    log "interrupted by SIG$1: stopping every process of this run"
+  fi
+  cleanup
+  [ -z "${out_dir:-}" ] || log "what was recorded is in $out_dir"
+  case "$1" in INT) exit 130 ;; TERM) exit 143 ;; *) exit 129 ;; esac
+}
+trap 'on_signal INT' INT
+trap 'on_signal TERM' TERM
+trap 'on_signal HUP' HUP
+trap cleanup EXIT
+
+# tail_log NAME: the last lines of a process's log, for error messages.
+tail_log() {
+  local f="$log_dir/$1.log"
+  [ -s "$f" ] || { echo "  ($f is empty)" >&2; return 0; }
+  echo "  last lines of $f:" >&2
+  tail -n 15 "$f" | sed 's/^/    /' >&2
+}
+
+# wait_ready NAME: waits for the line "ready" in NAME's log.
+wait_ready() {
+  local name=$1 deadline_us
+  deadline "$ready_timeout"
+  while ! grep -q -x -E 'ready\r?' "$log_dir/$name.log" 2>/dev/null; do
+    if ! alive "$name"; then
+      collect "$name"
+      err "$name exited (code ${code_of[$name]}) before it was ready"
+      tail_log "$name"
+      return 1
+    fi
+    if past "$deadline_us"; then
+      err "$name did not print 'ready' within ${ready_timeout} s (set HUNAV_READY_TIMEOUT to wait longer)"
+      tail_log "$name"
+      return 1
+    fi
+    sleep 0.1
+  done
+}
+
+# exit_failed NAME: after NAME failed to start: exit 2 if it rejected its input, else 1.
+exit_failed() {
+  if [ "${code_of[$1]:-}" = 2 ]; then exit 2; fi
+  exit 1
+}
+
+# wait_main NAME: waits for the main process (world or hunav_run), honouring --timeout.
+timed_out=0
+wait_main() {
+  if ! wait_exit "$1" "${timeout:-0}"; then
+    timed_out=1
+    err "wall-clock timeout: $1 still ran after ${timeout} s; stopping the run (the evaluator keeps what it recorded)"
+  fi
+}
+
+# print_metrics FILE RUN_ID: the row of RUN_ID in a metrics CSV as an aligned two-column table
+# (metric, value). Returns 1 when the file has no row for RUN_ID.
+print_metrics() {
+  awk -F, -v id="$2" '
+    NR == 1 { nf = NF; for (i = 1; i <= NF; i++) { head[i] = $i; if (length($i) > w) w = length($i) }; next }
+    { run = $2; gsub(/"/, "", run); if (run == id) { row = $0; found = 1 } }
+    END {
+      if (!found) exit 1
+      split(row, v, ",")
+      for (i = 1; i <= nf; i++) printf "  %-" w "s  %s\n", head[i], (v[i] == "" ? "-" : v[i])
+    }' "$1"
+}
+
+# json_field FILE KEY: a scalar of a flat JSON file (enough for run.json's summary line).
+json_field() {
+  sed -n -E 's/.*"'"$2"'"[[:space:]]*:[[:space:]]*"?([^",}]*)"?.*/\1/p' "$1" | head -n 1
+}
+
+# ---------------------------------------------------------------------------------------------------
+# The run
+# ---------------------------------------------------------------------------------------------------
+mkdir -p "$out" || { err "cannot create the output folder '$out'"; exit 1; }
+out_dir=$(cd "$out" && pwd)
+log_dir="$out_dir/logs"
+mkdir -p "$log_dir"
+if [ -e "$out_dir/metrics.csv" ]; then
+  log "note: $out_dir already holds the results of an earlier run"
+fi
+
+seed_args=()
+[ -z "$seed" ] || seed_args=(--seed "$seed")
+duration_args=()
+[ -z "$duration" ] || duration_args=(--duration "$duration")
+eval_args=()
+[ -z "$profile" ] || eval_args+=(--profile "$profile")
+[ -z "$tag" ] || eval_args+=(--experiment-tag "$tag")
+
+log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
+log "results will be written to $out_dir"
+
+main=""
+if [ "$mode" = inprocess ]; then
+  cmd=("$bin_dir/hunav_run" --scenario "$scenario" --planner "$planner" --out "$out_dir"
+    "${seed_args[@]}" "${duration_args[@]}" "${eval_args[@]}")
+  [ "$record" -eq 0 ] || cmd+=(--record "$out_dir/run.lcmlog")
+  start hunav_run "$log_dir/hunav_run.log" "${cmd[@]}"
+  main=hunav_run
+  # Show its output (the metrics table at the end) as it comes; tail ends once hunav_run has exited.
+  tail -n +1 -s 0.2 -f --pid="${pid_of[hunav_run]}" "$log_dir/hunav_run.log" &
+  pid_of[display]=$!
+  started+=(display)
+  wait_main hunav_run
+  [ "$timed_out" -eq 1 ] || wait_exit display 5 || true
+else
+  if [ -n "$shared_bus" ]; then
+    url=$shared_bus
+    log "LCM bus: $url (shared with the host: other programs on it will hear this run)"
+    if [[ $url =~ ^udpm://([0-9.]+) ]] && command -v ip >/dev/null 2>&1; then
+      group=${BASH_REMATCH[1]}
+      if ! route=$(ip route get "$group" 2>/dev/null); then
+        err "no route to the multicast address $group: add one on loopback only with"
+        echo "  sudo ip route add 224.0.0.0/4 dev lo" >&2
+        exit 1
+      fi
+      if [[ $route =~ dev[[:space:]]+([^[:space:]]+) ]] && [ "${BASH_REMATCH[1]}" != lo ]; then
+        log "warning: multicast to $group goes through interface ${BASH_REMATCH[1]}, not loopback;"
+        log "  to keep it on this host: sudo ip route add 224.0.0.0/4 dev lo (and keep ttl=0 in the URL)"
+      fi
+    fi
+  else
+    url=$NETNS_URL
+    if ! ip link set lo up || ! ip route replace 224.0.0.0/4 dev lo; then
+      err "cannot set up loopback multicast in the run's network namespace"
+      exit 1
+    fi
+    log "private network namespace: PID $$ holds it; watch this run with: launch_scripts/spy.sh --netns-pid $$"
+    log "LCM bus inside it: $url"
+  fi
+  export LCM_DEFAULT_URL=$url
+  run_id="${scenario_name}_${planner}_${seed_label}_$(date +%Y%m%d-%H%M%S)-$$"
+
+  start evaluator "$log_dir/evaluator.log" "$bin_dir/hunav_evaluator" --out "$out_dir" --episodes 1 \
+    --lcm-url "$url" "${eval_args[@]}"
+  wait_ready evaluator || exit_failed evaluator
+  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --lcm-url "$url" --episodes 1
+  if [ "$planner" != none ]; then
+    start planner "$log_dir/planner.log" "$bin_dir/hunav_planner" --planner "$planner" --scenario "$scenario" \
+      --lcm-url "$url" --episodes 1
+  fi
+  wait_ready manager || exit_failed manager
+  if [ "$planner" != none ]; then wait_ready planner || exit_failed planner; fi
+  if [ "$record" -eq 1 ]; then
+    if ! command -v lcm-logger >/dev/null 2>&1; then
+      err "lcm-logger is missing (package liblcm-bin): run bash launch_scripts/setup.sh"
+      exit 1
+    fi
+    start logger "$log_dir/lcm-logger.log" lcm-logger --force --lcm-url="$url" "$out_dir/run.lcmlog"
+    # It prints this line once the log file is open, right after subscribing.
+    deadline "$ready_timeout"
+    until grep -q 'Opening log file' "$log_dir/lcm-logger.log" 2>/dev/null; do
+      if ! alive logger || past "$deadline_us"; then
+        err "lcm-logger did not start"
+        tail_log lcm-logger
+        exit 1
+      fi
+      sleep 0.1
+    done
+    sleep 0.2
+  fi
+  log "processes ready (logs in $log_dir); starting the world"
+  start world "$log_dir/worldsim.log" "$bin_dir/hunav_worldsim" --scenario "$scenario" --planner "$planner" \
+    --mode "$mode" --run-id "$run_id" --lcm-url "$url" "${seed_args[@]}" "${duration_args[@]}"
+  main=world
+  wait_main world
+  if [ "$timed_out" -eq 0 ]; then
+    case "${code_of[world]}" in
+      0 | 1) ;;  # the world published the episode's END event (ended or aborted)
+      *)         # bad input (2) or a crash: no END will come, so the evaluator need not wait for it
+        log "the world exited with ${code_of[world]}: stopping the evaluator (SIGTERM, it writes what it has)"
+        stop evaluator TERM "$eval_grace" ;;
+    esac
+    # The evaluator exits by itself after the episode's END event, once its files are written.
+    if ! wait_exit evaluator "$eval_grace"; then
+      log "the evaluator is still running ${eval_grace} s after the world ended: SIGTERM, so it writes what it has"
+      stop evaluator TERM "$eval_grace"
+    fi
+    [ "$record" -eq 0 ] || stop logger INT "$stop_grace"
+    # They exit by themselves after the END event (--episodes 1); without one, stop them.
+    for name in manager planner; do
+      [ -n "${pid_of[$name]:-}" ] || continue
+      case "${code_of[world]}" in 0 | 1) wait_exit "$name" 3 || stop "$name" TERM "$stop_grace" ;;
+        *) stop "$name" TERM "$stop_grace" ;;
+      esac
+    done
+  fi
+fi
+
+cleanup
+main_code=${code_of[$main]:-1}
+
+echo
+if [ "$timed_out" -eq 1 ]; then
+  status_code=124
+elif [ "$main_code" -eq 0 ]; then
+  status_code=0
+else
+  status_code=$main_code
+  case "$main_code" in
+    1) err "$main exited with 1: the episode was aborted or an error occurred" ;;
+    2) err "$main exited with 2: bad input (scenario or arguments)" ;;
+    *) err "$main exited with $main_code" ;;
+  esac
+  if [ "$main" = world ]; then tail_log worldsim; fi
+fi
+if [ "$mode" != inprocess ] && [ "${code_of[evaluator]:-0}" -ne 0 ]; then
+  err "the evaluator exited with ${code_of[evaluator]}: the results may be incomplete"
+  tail_log evaluator
+  [ "$status_code" -ne 0 ] || status_code=1
+fi
+
+# fresh FILE: FILE was written by this run (not left by an earlier run into the same folder).
+fresh() {
+  local mtime
+  [ -s "$1" ] && mtime=$(stat -c %.6Y "$1") && [ "${mtime//[.,]/}" -ge "$run_started_us" ]
+}
+
+if fresh "$out_dir/run.json"; then
+  log "run: status $(json_field "$out_dir/run.json" status), sim_time $(json_field "$out_dir/run.json" sim_time) s, fingerprint $(json_field "$out_dir/run.json" fingerprint)"
+fi
+if [ "$mode" != inprocess ]; then
+  # The evaluator appends one row per run to DIR/metrics.csv (or, when that file has another header,
+  # to DIR/metrics-<run_id>.csv): show this run's row.
+  shown=0
+  for f in "$out_dir/metrics.csv" "$out_dir"/metrics-*.csv; do
+    [ -s "$f" ] || continue
+    if table=$(print_metrics "$f" "$run_id"); then
+      log "metrics of run $run_id ($f):"
+      printf '%s\n' "$table"
+      shown=1
+      break
+    fi
+  done
+  if [ "$shown" -eq 0 ] && [ "$status_code" -ne 2 ]; then
+    err "no metrics row for run $run_id in $out_dir/metrics*.csv (see $log_dir/evaluator.log)"
+    [ "$status_code" -ne 0 ] || status_code=1
+  fi
+elif ! fresh "$out_dir/metrics.csv" && [ "$status_code" -eq 0 ]; then
+  err "hunav_run wrote no metrics.csv"
+  status_code=1
+fi
+if [ "$status_code" -eq 2 ]; then
+  log "nothing was run (bad input); logs in $log_dir"
+else
+  log "results: $out_dir"
+fi
+exit "$status_code"

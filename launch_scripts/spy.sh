@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# Starts lcm-spy with HuNav-LCM's message types, so it decodes every channel.
+#
+# Debian's /usr/bin/lcm-spy wrapper passes -Xincgc, which Java 17 rejects, so this starts the class
+# lcm.spy.Spy with java directly, with lcm.jar, jchart2d.jar and our generated types jar on the class path.
+set -euo pipefail
+
+readonly DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+
+usage() {
+  cat <<'EOF'
+Usage: launch_scripts/spy.sh [--lcm-url URL] [--netns-pid PID]
+
+Opens lcm-spy on an LCM bus, decoding HuNav-LCM's messages.
+
+  --lcm-url URL     the bus (default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304)
+  --netns-pid PID   join the private network namespace of a running experiment first; PID is the one
+                    launch_scripts/run_experiment.sh prints ("private network namespace: PID ... holds it")
+  -h, --help        show this help
+
+It needs a display (DISPLAY set; for a headless check: xvfb-run -a launch_scripts/spy.sh).
+Environment: HUNAV_TYPES_JAR (default <repo>/build/share/java/hunav_lcmtypes_java.jar), JAVA (default java).
+EOF
+}
+
+err() { printf 'spy.sh: error: %s\n' "$*" >&2; }
+usage_error() {
+  err "$*"
+  echo "spy.sh: see: launch_scripts/spy.sh --help" >&2
+  exit 2
+}
+
+url=${LCM_DEFAULT_URL:-$DEFAULT_URL}
+netns_pid=""
+while [ "$#" -gt 0 ]; do
+  opt=$1
+  value=""
+  inline=0
+  case "$opt" in
+    --*=*) value=${opt#*=}; opt=${opt%%=*}; inline=1 ;;
+  esac
+  case "$opt" in
+    -h | --help) usage; exit 0 ;;
+    --lcm-url | --netns-pid)
+      if [ "$inline" -eq 0 ]; then
+        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
+        value=$2
+        shift
+      fi
+      [ -n "$value" ] || usage_error "$opt needs a non-empty value"
+      if [ "$opt" = --lcm-url ]; then url=$value; else netns_pid=$value; fi ;;
+    *) usage_error "unknown argument '$1'" ;;
+  esac
+  shift
+done
+
+repo_root=$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd)
+java=${JAVA:-java}
+lcm_jar=/usr/share/java/lcm.jar
+jchart_jar=/usr/share/java/jchart2d.jar
+types_jar=${HUNAV_TYPES_JAR:-$repo_root/build/share/java/hunav_lcmtypes_java.jar}
+
+command -v "$java" >/dev/null 2>&1 || { err "java is not installed (package default-jdk-headless): run bash launch_scripts/setup.sh"; exit 1; }
+[ -f "$lcm_jar" ] || { err "$lcm_jar is missing (package liblcm-java): run bash launch_scripts/setup.sh"; exit 1; }
+[ -f "$jchart_jar" ] || { err "$jchart_jar is missing (package libjchart2d-java): run bash launch_scripts/setup.sh"; exit 1; }
+classpath="$lcm_jar:$jchart_jar"
+if [ -f "$types_jar" ]; then
+  classpath="$classpath:$types_jar"
+else
+  echo "spy.sh: warning: $types_jar is missing (build the project: bash launch_scripts/setup.sh);" \
+    "lcm-spy will list the channels but not decode them" >&2
+fi
+if [ -z "${DISPLAY:-}" ]; then
+  err "no display (DISPLAY is not set): run it in a desktop session, with ssh -X, or headless under: xvfb-run -a $0 ..."
+  exit 1
+fi
+
+prefix=()
+if [ -n "$netns_pid" ]; then
+  [[ $netns_pid =~ ^[0-9]+$ ]] || usage_error "--netns-pid must be a process id (got '$netns_pid')"
+  if [ ! -e "/proc/$netns_pid" ]; then
+    err "no process $netns_pid: is the experiment still running? (run_experiment.sh prints the PID to use)"
+    exit 1
+  fi
+  command -v nsenter >/dev/null 2>&1 || { err "nsenter is missing (package util-linux)"; exit 1; }
+  prefix=(nsenter --target "$netns_pid" --net)
+  # A run started by a normal user lives in a user namespace too (unshare -rn): enter it as well.
+  if [ "$(readlink "/proc/$netns_pid/ns/user" 2>/dev/null || true)" != "$(readlink /proc/self/ns/user)" ]; then
+    prefix+=(--user --preserve-credentials)
+  fi
+  if [[ $DISPLAY == localhost:* || $DISPLAY == 127.0.0.1:* ]]; then
+    echo "spy.sh: warning: DISPLAY=$DISPLAY is a TCP display on this host's loopback, which the run's" \
+      "namespace cannot reach; use a local display (e.g. :0) or run the experiment with --shared-bus" >&2
+  fi
+  if ! "${prefix[@]}" true 2>/dev/null; then
+    err "cannot enter the network namespace of process $netns_pid (as root: sudo $0 --netns-pid $netns_pid)"
+    exit 1
+  fi
+  prefix+=(--)
+  echo "spy.sh: watching $url in the network namespace of process $netns_pid"
+else
+  echo "spy.sh: watching $url"
+  if [[ $url =~ ^udpm://([0-9.]+) ]] && command -v ip >/dev/null 2>&1; then
+    group=${BASH_REMATCH[1]}
+    if ! route=$(ip route get "$group" 2>/dev/null); then
+      echo "spy.sh: warning: no route to $group: lcm-spy will see nothing. Watch a run's namespace with" \
+        "--netns-pid PID, or add a loopback route: sudo ip route add 224.0.0.0/4 dev lo" >&2
+    elif [[ $route =~ dev[[:space:]]+([^[:space:]]+) ]] && [ "${BASH_REMATCH[1]}" != lo ]; then
+      echo "spy.sh: warning: multicast to $group goes through ${BASH_REMATCH[1]}, not loopback; to keep" \
+        "it on this host: sudo ip route add 224.0.0.0/4 dev lo (runs in a namespace: use --netns-pid PID)" >&2
+    fi
+  fi
+fi
+
+exec "${prefix[@]}" "$java" -Djava.net.preferIPv4Stack=true -Xmx512m -cp "$classpath" lcm.spy.Spy --lcm-url "$url"
