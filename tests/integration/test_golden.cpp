@@ -38,6 +38,14 @@ fs::path freshDir(const std::string& name) {
 TEST(Golden, PassingWithDwbMatchesTheRecordedFingerprint) {
   const auto outcome = runPassing(freshDir("a"));
   ASSERT_EQ(outcome.episode.status, "goal_reached") << outcome.episode.reason;
+  // Around the people without touching anyone: no contact at all in the episode (Box2D's contact
+  // events), and a positive surface distance to every person at every tick.
+  EXPECT_EQ(outcome.episode.collisions, 0u);
+  ASSERT_TRUE(outcome.result.has_value());
+  for (const auto& m : outcome.result->metrics)
+    if (m.name == "minimum_distance_to_people") {
+      EXPECT_GT(m.value, 0.1);
+    }
   if (const char* update = std::getenv("HUNAV_UPDATE_GOLDEN"); update != nullptr && std::string(update) == "1") {
     std::ofstream(kGoldenFile) << outcome.episode.fingerprint << "\n";
     GTEST_SKIP() << "golden fingerprint rewritten: " << outcome.episode.fingerprint;
