@@ -1,29 +1,30 @@
 // hunav_run: one episode with every component in this process (no network), then a metrics table.
+#include <iostream>
+
+#include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/signals.hpp"
 
-#include <CLI/CLI.hpp>
-
-#include <iostream>
-
 int main(int argc, char** argv) {
-  CLI::App app{"hunav_run: runs one episode of a scenario with the world, the manager, a planner and the "
-               "evaluator in one process on one in-process bus (no network), writes the result files and prints the "
-               "metrics. Exit 0: the episode ended (goal reached or time limit); 1: aborted or error; 2: bad "
-               "input."};
+  CLI::App app{
+      "hunav_run: runs one episode of a scenario with the world, the manager, a planner and the "
+      "evaluator in one process on one in-process bus (no network), writes the result files and prints the "
+      "metrics. Exit 0: the episode ended (goal reached or time limit); 1: aborted or error; 2: bad "
+      "input."};
   std::string scenario_file;
   hunav::runner::RunOptions options;
   long long seed = -1;
   double duration = 0.0;
   bool quiet = false;
   app.add_option("--scenario", scenario_file, "scenario YAML file")->required();
-  app.add_option("--planner", options.planner, "planner: " + [] {
-    std::string names;
-    for (const auto& n : hunav::planners::plannerNames()) names += n + ", ";
-    return names + "or none";
-  }());
+  app.add_option(
+      "--planner", options.planner, "planner: " + [] {
+        std::string names;
+        for (const auto& n : hunav::planners::plannerNames()) names += n + ", ";
+        return names + "or none";
+      }());
   app.add_option("--planner-config", options.planner_config, "YAML file with planner parameters");
   app.add_option("--seed", seed, "override the scenario's seed")->check(CLI::NonNegativeNumber);
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
@@ -36,41 +37,28 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "do not print the metrics table");
   app.add_flag("--memq", options.use_memq,
                "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
-  hunav::Scenario scenario;
-  try {
-    scenario = hunav::loadScenario(scenario_file, seed);
-  } catch (const hunav::ConfigError& e) {
-    std::cerr << e.what() << "\n";
-    return hunav::kExitBadInput;
-  }
-  if (duration > 0.0) scenario.time_limit = duration;
-  if (options.planner != "none" && !hunav::planners::hasPlanner(options.planner)) {
-    std::cerr << "hunav_run: unknown planner '" << options.planner << "'\n";
-    return hunav::kExitBadInput;
-  }
-  if (options.out_dir.empty())
-    options.out_dir = "results/" + scenario.name + "_" + options.planner + "_" + std::to_string(scenario.seed);
-  options.stop = &hunav::installStopSignals();
+  return hunav::cli::run("hunav_run", [&] {
+    const hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
+    if (options.planner != "none" && !hunav::planners::hasPlanner(options.planner)) {
+      std::cerr << "hunav_run: unknown planner '" << options.planner << "'\n";
+      return hunav::kExitBadInput;
+    }
+    if (options.out_dir.empty())
+      options.out_dir = "results/" + scenario.name + "_" + options.planner + "_" + std::to_string(scenario.seed);
+    options.stop = &hunav::installStopSignals();
 
-  try {
     const auto outcome = hunav::runner::runInProcess(scenario, options);
     const auto& ep = outcome.episode;
-    std::cout << "run " << (outcome.result ? outcome.result->info.run_id : options.run_id) << ": " << ep.status
-              << " (" << ep.reason << ") after " << ep.sim_time << " s of simulation in " << ep.wall_time
-              << " s (" << (ep.wall_time > 0 ? ep.sim_time / ep.wall_time : 0.0) << "x real time), " << ep.ticks
+    std::cout << "run " << (outcome.result ? outcome.result->info.run_id : options.run_id) << ": " << ep.status << " ("
+              << ep.reason << ") after " << ep.sim_time << " s of simulation in " << ep.wall_time << " s ("
+              << (ep.wall_time > 0 ? ep.sim_time / ep.wall_time : 0.0) << "x real time), " << ep.ticks
               << " ticks, fingerprint " << ep.fingerprint << "\n";
     if (outcome.result) {
       if (!quiet) std::cout << outcome.result->formatTable();
       std::cout << "results in " << outcome.result->run_dir.string() << "\n";
     }
     return ep.ended() ? 0 : 1;
-  } catch (const hunav::ConfigError& e) {
-    std::cerr << e.what() << "\n";
-    return hunav::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "hunav_run: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

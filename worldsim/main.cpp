@@ -1,16 +1,15 @@
 // hunav_worldsim: the Box2D world. Owns the clock and runs episodes over LCM.
-#include "hunav/config_error.hpp"
+#include <iostream>
+
+#include "hunav/cli.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
-#include <CLI/CLI.hpp>
-
-#include <iostream>
-
 int main(int argc, char** argv) {
-  CLI::App app{"hunav_worldsim: the world simulator. Runs episodes of a scenario in lockstep with the manager "
-               "and the planner (lcmtypes/README.md). Exit 0: every episode ended (goal reached or time "
-               "limit); 1: aborted or error; 2: bad input."};
+  CLI::App app{
+      "hunav_worldsim: the world simulator. Runs episodes of a scenario in lockstep with the manager "
+      "and the planner (lcmtypes/README.md). Exit 0: every episode ended (goal reached or time "
+      "limit); 1: aborted or error; 2: bad input."};
   std::string scenario_file, url, planner = "dwb", mode = "lockstep", run_id;
   long long seed = -1;
   double duration = 0.0;
@@ -30,25 +29,17 @@ int main(int argc, char** argv) {
   app.add_option("--startup-limit", startup_limit, "the same for a component's first answer, s")
       ->check(CLI::PositiveNumber);
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else udpm on this host only)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
-  hunav::Scenario scenario;
-  try {
-    scenario = hunav::loadScenario(scenario_file, seed);
-  } catch (const hunav::ConfigError& e) {
-    std::cerr << e.what() << "\n";
-    return hunav::kExitBadInput;
-  }
-  if (duration > 0.0) scenario.time_limit = duration;
-
-  hunav::worldsim::WorldOptions options;
-  options.planner = planner;
-  options.mode = mode;
-  options.run_id = run_id;
-  options.silence_limit = std::chrono::milliseconds(static_cast<long>(silence_limit * 1000));
-  options.startup_limit = std::chrono::milliseconds(static_cast<long>(startup_limit * 1000));
-  options.stop = &hunav::installStopSignals();
-  try {
+  return hunav::cli::run("hunav_worldsim", [&] {
+    const hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
+    hunav::worldsim::WorldOptions options;
+    options.planner = planner;
+    options.mode = mode;
+    options.run_id = run_id;
+    options.silence_limit = std::chrono::milliseconds(static_cast<long>(silence_limit * 1000));
+    options.startup_limit = std::chrono::milliseconds(static_cast<long>(startup_limit * 1000));
+    options.stop = &hunav::installStopSignals();
     lcm::LCM lcm(hunav::resolveLcmUrl(url));
     hunav::Bus bus(lcm);
     hunav::worldsim::WorldSim world(bus, scenario, options);
@@ -56,13 +47,9 @@ int main(int argc, char** argv) {
     for (int i = 0; i < episodes && !options.stop->load(); ++i) {
       const auto r = world.runEpisode();
       std::cout << "episode " << i + 1 << ": " << r.status << " (" << r.reason << "), " << r.ticks << " ticks, "
-                << r.sim_time << " s simulated in " << r.wall_time << " s, fingerprint " << r.fingerprint
-                << std::endl;
+                << r.sim_time << " s simulated in " << r.wall_time << " s, fingerprint " << r.fingerprint << std::endl;
       all_ended = all_ended && r.ended();
     }
     return all_ended ? 0 : 1;
-  } catch (const std::exception& e) {
-    std::cerr << "hunav_worldsim: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
