@@ -104,6 +104,7 @@ void WorldSim::sense() {
     s.robot_in_sight = physics_->lineOfSight(p, robot_pos);
   }
   robot_obstacles_ = physics_->closestObstaclePoints(robot_pos, scenario_.obstacle_radius);
+  robot_state_ = robotState();
 }
 
 agent_state_t WorldSim::robotState() const {
@@ -139,11 +140,11 @@ agent_state_t WorldSim::robotState() const {
 }
 
 void WorldSim::publishWorldState() {
-  world_state_t ws{};
+  world_state_t& ws = world_state_;
   ws.utime = time_us_;
   ws.tick = tick_;
   ws.episode = episode_;
-  ws.robot = robotState();
+  ws.robot = robot_state_;
   ws.agents = agents_;
   ws.num_agents = static_cast<int32_t>(agents_.size());
   ws.collisions = physics_->newContacts();
@@ -209,18 +210,21 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
 }
 
 bool WorldSim::exchangeWithManager(std::string& failure) {
-  step_request_t req{};
+  step_request_t& req = request_;
   req.utime = time_us_;
   req.seq = ++step_seq_;
   req.episode = episode_;
   req.dt = scenario_.dt;
   req.agents = agents_;
   req.num_agents = static_cast<int32_t>(agents_.size());
-  req.robot = robotState();
+  req.robot = robot_state_;
   reply_arrived_ = false;
-  const std::vector<std::uint8_t> bytes = bus_.encode(req);
-  const bool ok = awaitReply([&] { bus_.publishRaw(channels::kStepRequest, bytes.data(), bytes.size()); },
-                             reply_arrived_, !manager_answered_, "manager", req.seq, failure);
+  // Our own buffer: the bus's encode buffer is reused by whoever publishes while we wait.
+  request_bytes_.resize(static_cast<std::size_t>(req.getEncodedSize()));
+  req.encode(request_bytes_.data(), 0, static_cast<int>(request_bytes_.size()));
+  const bool ok = awaitReply(
+      [&] { bus_.publishRaw(channels::kStepRequest, request_bytes_.data(), request_bytes_.size()); }, reply_arrived_,
+      !manager_answered_, "manager", req.seq, failure);
   manager_answered_ = manager_answered_ || ok;
   return ok;
 }
@@ -284,7 +288,9 @@ robot_observation_t WorldSim::observation() {
 
 bool WorldSim::exchangeWithPlanner(std::string& failure) {
   const robot_observation_t obs = observation();
-  const std::vector<std::uint8_t> bytes = bus_.encode(obs);
+  std::vector<std::uint8_t>& bytes = observation_bytes_;
+  bytes.resize(static_cast<std::size_t>(obs.getEncodedSize()));
+  obs.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   if (options_.mode == "realtime") {
     bus_.publishRaw(channels::kRobotObservation, bytes.data(), bytes.size());
     return true;

@@ -80,6 +80,12 @@ class WorldSim {
 
   std::unique_ptr<PhysicsWorld> physics_;
   std::vector<agent_state_t> agents_;
+  agent_state_t robot_state_;  // as sensed at the current tick
+  // Reused every tick so that steady-state ticks do not allocate.
+  step_request_t request_;
+  world_state_t world_state_;
+  std::vector<std::uint8_t> request_bytes_;
+  std::vector<std::uint8_t> observation_bytes_;
   double robot_v_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at
   double cmd_v_ = 0.0, cmd_w_ = 0.0;      // last command
   std::vector<Vec2> robot_obstacles_;
