@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "hunav/cli.hpp"
+#include "hunav/config_error.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/signals.hpp"
 

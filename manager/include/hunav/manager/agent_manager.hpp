@@ -1,18 +1,25 @@
 #pragma once
 // The human model: given the states of all people and the robot at time t, computes their states at
-// t + dt (social force model, reference section 1). Stateless between steps: everything an agent
-// needs (goal queue, parameters) travels in its agent_state_t, so any request can be answered, and
-// a restarted manager resumes from the next request.
+// t + dt (social force model, reference section 1; behaviors as behavior trees, DESIGN.md section 5).
+// An agent's goal queue and parameters travel in its agent_state_t; the behavior-tree memory
+// (timers, once flags, running nodes) lives here, keyed by (episode, agent id), and evolves with
+// each computed step. A new episode number resets it.
 #include "hunav/geometry.hpp"
+#include "hunav/manager/behavior_tree.hpp"
 #include "hunav/social_force.hpp"
 
 #include <hunav/agent_state_t.hpp>
 #include <hunav/step_reply_t.hpp>
 #include <hunav/step_request_t.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace hunav::manager {
@@ -20,62 +27,163 @@ namespace hunav::manager {
 // How far beyond goal_radius a goal already counts as reached, and the next one is taken
 // (HuNavSim's IsGoalReached uses goal_radius + 0.1 m).
 inline constexpr double kGoalSwitchMargin = 0.1;
+// Default cut-off radius of the social force between people (see manager/README.md: the mean error
+// against all-pairs stays under 1% of the mean social force on random crowds).
+inline constexpr double kDefaultSocialCutoff = 8.0;
+// Half field of view of IsRobotVisible (reference 3.1).
+inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
+// Turn rate of surprised / LookAtRobot (rad/s).
+inline constexpr double kTurnRate = kPi;
+
+// Uniform grid over the snapshot's people, cells of `cell` metres; agents of a cell sorted by id, so
+// a query visits neighbours in an order that does not depend on the request order.
+class NeighborGrid {
+ public:
+  void build(const std::vector<SfmBody>& bodies, const std::vector<int>& order, double cell);
+  // Calls f(j) for every body within `radius` (<= cell) of p, in a fixed order.
+  template <class F>
+  void forEachNear(const Vec2& p, double radius, F&& f) const;
+  // Calls f(i, j) once for every unordered pair within `radius` (<= cell), in a fixed order.
+  template <class F>
+  void forEachPair(double radius, F&& f) const;
+
+ private:
+  double cell_ = 1.0;
+  Vec2 origin_ = Vec2::Zero();
+  int nx_ = 0, ny_ = 0;
+  std::vector<int> start_;    // nx*ny+1 offsets into items_
+  std::vector<int> items_;    // body indices
+  const std::vector<SfmBody>* bodies_ = nullptr;
+};
 
 // A snapshot of one step: every agent's body as it was at time t, so forces do not depend on the
 // order agents are processed in.
 struct StepSnapshot {
   const step_request_t* request = nullptr;
-  std::vector<SfmBody> agents;  // same order as request->agents
+  std::vector<SfmBody> agents;   // same order as request->agents
   SfmBody robot;
+  std::vector<int> by_id;        // agent indices sorted by id (all-pairs order)
+  std::map<int, std::vector<int>> groups;  // group id -> member indices sorted by id
+  // Cut-off mode: per agent, the sum over the people within the cut-off of the social force without
+  // its weight omega_s (computePeopleSocial). Empty: exact all pairs.
+  std::vector<Vec2> people_social;
+  void index();                            // fills by_id and groups from agents
 };
 
-// Everything a behavior may use to move one agent.
-struct AgentStep {
-  const StepSnapshot& snapshot;
-  std::size_t index;          // of the agent in the snapshot
-  const agent_state_t& in;    // state at t
-  agent_state_t& out;         // state at t + dt, pre-filled with `in`
-  double dt;
-};
+class NeighborGrid;
+// Fills snap.people_social from the pairs of `grid` (built on snap.agents) within `cutoff`.
+void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
 
-// A behavior moves one agent for one step. Behaviors are registered by HuNavSim behavior code.
-class Behavior {
- public:
-  virtual ~Behavior() = default;
-  virtual void step(AgentStep& s) = 0;
-};
-
-// Social-force navigation toward the goal queue; the robot is a person to this agent (or an obstacle
-// point when `robot_as_obstacle`, the impassive reaction).
-class RegularNavigation : public Behavior {
- public:
-  explicit RegularNavigation(bool robot_as_obstacle = false) : robot_as_obstacle_(robot_as_obstacle) {}
-  void step(AgentStep& s) override;
-
- private:
-  bool robot_as_obstacle_;
-};
+// How the robot enters an agent's social force model (DESIGN.md section 5).
+enum class RobotAs { Person, Obstacle, Ignored };
 
 // The SFM parameters of an agent, from the weights it carries.
 SfmParams paramsOf(const agent_state_t& a);
-// The forces on agent `index` of the snapshot (robot as a person unless robot_as_obstacle).
-ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a,
-                       const Vec2* goal, bool robot_as_obstacle);
+// The forces on agent `index` of the snapshot toward `goal` (nullptr = none) at `desired_speed`.
+ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                       RobotAs robot, double desired_speed);
+// Compatibility: robot as a person, or as an obstacle point; the agent's own desired speed.
+ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                       bool robot_as_obstacle);
+
+// Per-agent memory of the manager (besides the tree's own node memory).
+struct AgentMemory {
+  std::string tree_source;        // file path, or "builtin:<code>"
+  int behavior = -1;              // what the tree was chosen from
+  std::string tree_file;
+  std::unique_ptr<BtNode> tree;
+  bool stopped = false;           // StopMovement / ResumeMovement
+  bool moved = false;             // a motion action already ran this tick
+};
+
+// What a node sees while ticking one agent.
+struct TickContext {
+  const StepSnapshot& snap;
+  std::size_t index;            // of the agent in the snapshot
+  const agent_state_t& in;      // state at t
+  agent_state_t& out;           // state at t + dt, pre-filled with `in`
+  double dt;
+  std::int64_t episode;
+  std::int64_t seq;
+  AgentMemory& memory;
+  Blackboard bb{};
+};
+
+// Moves the agent with the social force model toward the front goal of out.goals (or `goal` when
+// given) at `speed`, adding `extra` to the force. Shared by RegularNav and the reactions.
+void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal = nullptr,
+             const Vec2& extra = Vec2::Zero(), double goal_radius = -1.0);
+// Turns out.yaw toward `target` by at most kTurnRate*dt (stops exactly on it, no dithering).
+void turnToward(TickContext& c, const Vec2& target, double max_step);
 
 class AgentManager {
  public:
-  using BehaviorFactory = std::function<std::unique_ptr<Behavior>()>;
+  AgentManager();
 
-  AgentManager();  // registers the built-in behaviors
-  // Registers (or replaces) the behavior for a HuNavSim behavior code.
-  void registerBehavior(int code, BehaviorFactory factory);
+  // Social force cut-off radius between people (<= 0: exact all pairs).
+  void setSocialCutoff(double metres) { cutoff_ = metres; }
+  double socialCutoff() const { return cutoff_; }
+  NodeLibrary& nodeLibrary() { return lib_; }
+  // Replaces the built-in tree of a behavior code with this XML (for tests and tools).
+  void setBuiltinTree(int behavior, const std::string& xml);
+  // Parses (and caches) a tree file now; throws ConfigError on any error.
+  void loadTreeFile(const std::string& path);
 
   step_reply_t step(const step_request_t& request);
 
  private:
-  Behavior& behaviorFor(int code);
-  std::map<int, BehaviorFactory> factories_;
-  std::map<int, std::unique_ptr<Behavior>> behaviors_;
+  std::shared_ptr<const TreeDefinition> definitionFor(const agent_state_t& a, std::string& source);
+  AgentMemory& memoryFor(const agent_state_t& a);
+
+  NodeLibrary lib_;
+  double cutoff_ = kDefaultSocialCutoff;
+  std::map<std::string, std::shared_ptr<const TreeDefinition>> definitions_;
+  std::map<int, std::string> builtin_override_;
+  bool have_episode_ = false;
+  std::int64_t episode_ = 0;
+  std::unordered_map<int, AgentMemory> memory_;
+  NeighborGrid grid_;
 };
+
+template <class F>
+void NeighborGrid::forEachNear(const Vec2& p, double radius, F&& f) const {
+  if (nx_ == 0) return;
+  const int cx = static_cast<int>(std::floor((p.x() - origin_.x()) / cell_));
+  const int cy = static_cast<int>(std::floor((p.y() - origin_.y()) / cell_));
+  const double r2 = radius * radius;
+  for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny_ - 1); ++y)
+    for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx_ - 1); ++x) {
+      const int c = y * nx_ + x;
+      for (int k = start_[c]; k < start_[c + 1]; ++k) {
+        const int j = items_[k];
+        if (((*bodies_)[j].position - p).squaredNorm() <= r2) f(j);
+      }
+    }
+}
+
+template <class F>
+void NeighborGrid::forEachPair(double radius, F&& f) const {
+  const double r2 = radius * radius;
+  const auto& b = *bodies_;
+  for (int cy = 0; cy < ny_; ++cy)
+    for (int cx = 0; cx < nx_; ++cx) {
+      const int c = cy * nx_ + cx;
+      for (int k = start_[c]; k < start_[c + 1]; ++k) {
+        const int i = items_[k];
+        const Vec2& pi = b[i].position;
+        for (int m = k + 1; m < start_[c + 1]; ++m)
+          if ((b[items_[m]].position - pi).squaredNorm() <= r2) f(i, items_[m]);
+        // forward half of the 3x3 neighbourhood: (+1,0), (-1,+1), (0,+1), (+1,+1)
+        static constexpr int kOff[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+        for (const auto& o : kOff) {
+          const int x = cx + o[0], y = cy + o[1];
+          if (x < 0 || x >= nx_ || y >= ny_) continue;
+          const int c2 = y * nx_ + x;
+          for (int m = start_[c2]; m < start_[c2 + 1]; ++m)
+            if ((b[items_[m]].position - pi).squaredNorm() <= r2) f(i, items_[m]);
+        }
+      }
+    }
+}
 
 }  // namespace hunav::manager
