@@ -59,6 +59,19 @@ int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string
   return 0;
 }
 
+int runLog(const hunav::evaluator::LogReplayOptions& options) {
+  const auto results = hunav::evaluator::replayLog(options);
+  if (results.empty()) {
+    std::cerr << "hunav_evaluator: " << options.log_file.string() << " holds no episode\n";
+    return 1;
+  }
+  for (const auto& r : results) {
+    std::cout << r.formatTable();
+    report(r);
+  }
+  return 0;
+}
+
 int runOffline(const hunav::evaluator::OfflineOptions& options) {
   const auto result = hunav::evaluator::recomputeFromStates(options);
   std::cout << result.formatTable();
@@ -76,19 +89,25 @@ int main(int argc, char** argv) {
       "Prints one line 'ready' on stdout once subscribed; exits 0 after --episodes episodes ended, or on\n"
       "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status incomplete).\n"
       "Offline: --states FILE recomputes metrics.csv and run.json from a states.csv (provenance taken\n"
-      "from the run.json beside it). Exit codes: 0 done, 1 error, 2 bad command line or input file."};
+      "from the run.json beside it); --log FILE replays an LCM log and writes what the live evaluator\n"
+      "wrote. Metric definitions: docs/metrics.md. Exit codes: 0 done, 1 error, 2 bad command line or\n"
+      "input file."};
   std::string out_dir;
   std::string profile = "default";
   std::string experiment_tag = "exp";
   int episodes = 1;
   std::string lcm_url;
   std::string states_file;
+  std::string log_file;
+  std::string metrics_file;
+  std::string format = "csv";
+  bool no_live = false;
 
   app.add_option("--out", out_dir,
                  "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
       ->required();
   app.add_option("--profile", profile,
-                 "metric profile: 'default' = HuNavSim's metrics with its bugs fixed (evaluator/README.md)")
+                 "metric profile: 'default' = HuNavSim's metrics with its bugs fixed, 'hunav_v1' = HuNavSim v1's numbers (docs/metrics.md)")
       ->check(CLI::IsMember(hunav::evaluator::knownProfiles()))
       ->capture_default_str();
   auto* tag_opt = app.add_option("--experiment-tag", experiment_tag,
@@ -101,7 +120,17 @@ int main(int argc, char** argv) {
                                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
   auto* states_opt = app.add_option("--states", states_file,
                                     "offline: recompute metrics.csv and run.json of this states.csv into --out");
-  states_opt->excludes(episodes_opt)->excludes(url_opt);
+  auto* log_opt = app.add_option("--log", log_file,
+                                 "offline: replay the EPISODE_EVENT and WORLD_STATE events of this LCM log into --out");
+  states_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(log_opt);
+  log_opt->excludes(episodes_opt)->excludes(url_opt);
+  app.add_option("--metrics", metrics_file, "metric selection YAML ('metrics: {name: false}'); default: every metric")
+      ->check(CLI::ExistingFile);
+  app.add_option("--format", format,
+                 "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's tab-separated .txt files")
+      ->check(CLI::IsMember({"csv", "hunav_txt"}))
+      ->capture_default_str();
+  app.add_flag("--no-live-metrics", no_live, "live: do not publish LIVE_METRICS (1 Hz of simulation time)");
 
   try {
     app.parse(argc, argv);
@@ -117,13 +146,28 @@ int main(int argc, char** argv) {
       options.out_dir = out_dir;
       options.profile = profile;
       if (tag_opt->count() > 0) options.experiment_tag = experiment_tag;
+      options.metrics_file = metrics_file;
+      options.hunav_txt = format == "hunav_txt";
       return runOffline(options);
+    }
+    if (!log_file.empty()) {
+      hunav::evaluator::LogReplayOptions options;
+      options.log_file = log_file;
+      options.out_dir = out_dir;
+      options.profile = profile;
+      options.experiment_tag = experiment_tag;
+      options.metrics_file = metrics_file;
+      options.hunav_txt = format == "hunav_txt";
+      return runLog(options);
     }
     hunav::evaluator::EvaluatorOptions options;
     options.out_dir = out_dir;
     options.profile = profile;
     options.experiment_tag = experiment_tag;
     options.episodes = episodes;
+    options.metrics_file = metrics_file;
+    options.hunav_txt = format == "hunav_txt";
+    options.live_metrics = !no_live;
     return runLive(options, lcm_url);
   } catch (const hunav::ConfigError& e) {
     std::cerr << e.what() << "\n";

@@ -2,6 +2,9 @@
 
 #include "hunav/channels.hpp"
 #include "hunav/message_checks.hpp"
+#include "hunav/evaluator/run_outputs.hpp"
+
+#include <hunav/live_metrics_t.hpp>
 
 #include <fmt/format.h>
 
@@ -22,6 +25,7 @@ struct EvaluatorNode::Episode {
   double start_sim_time = 0.0;
   Fingerprint fingerprint;      // over the encoded world states recorded
   std::chrono::steady_clock::time_point started;
+  double next_live = 0.0;       // s, simulation time of the next LIVE_METRICS publication
 };
 
 namespace {
@@ -61,7 +65,7 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
 }  // namespace
 
 EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
-    : options_(std::move(options)), registry_(metricsForProfile(options_.profile)) {
+    : options_(std::move(options)), registry_(metricsFor(options_.profile, options_.metrics_file)), bus_(bus) {
   if (options_.episodes < 0) throw std::invalid_argument("episodes must be >= 0 (0 = no limit)");
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
   bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
@@ -158,6 +162,13 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, ep.recording, points_scratch_));
   ep.recording.addSample(t, robot, agents_scratch_);
   ep.states->write(ep.recording, ep.recording.back());
+  if (options_.live_metrics) {
+    if (ep.recording.size() == 1) ep.next_live = t;
+    if (t >= ep.next_live) {
+      publishLive(t);
+      ep.next_live = std::floor(t - ep.recording.front().t + 1.0) + ep.recording.front().t;
+    }
+  }
 
   const int size = ws.getEncodedSize();
   encode_buffer_.resize(static_cast<std::size_t>(size));
@@ -206,15 +217,22 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     close_error = std::current_exception();
   }
 
-  RunResult result;
-  result.metrics = registry_.evaluate(ep->recording);
-  result.run_dir = ep->run_dir;
-  result.metrics_csv = appendMetricsRow(options_.out_dir / "metrics.csv", info, result.metrics);
-  writeRunJson(ep->run_dir / "run.json", info, result.metrics);
-  result.info = std::move(info);
-  last_result_ = std::move(result);
+  last_result_ = writeRunOutputs(registry_, ep->recording, std::move(info),
+                                 OutputOptions{options_.out_dir, ep->run_dir, options_.hunav_txt});
   ++episodes_ended_;
   if (close_error) std::rethrow_exception(close_error);
+}
+
+void EvaluatorNode::publishLive(double t) {
+  live_metrics_t msg;
+  msg.utime = static_cast<std::int64_t>(std::llround(t * 1e6));
+  msg.episode = current_->info.episode;
+  for (const auto& m : registry_.evaluate(current_->recording)) {
+    msg.names.push_back(m.name);
+    msg.values.push_back(m.value);
+  }
+  msg.num_metrics = static_cast<std::int32_t>(msg.names.size());
+  bus_.publish(channels::kLiveMetrics, msg);
 }
 
 }  // namespace hunav::evaluator

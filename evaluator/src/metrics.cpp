@@ -1,4 +1,5 @@
 #include "hunav/evaluator/metrics.hpp"
+#include "metrics_internal.hpp"
 
 #include <fmt/format.h>
 
@@ -17,11 +18,12 @@ std::string formatMetricValue(const MetricValue& m) {
   return fmt::format("{}", m.value);
 }
 
-void MetricRegistry::add(std::string name, std::string unit, MetricKind kind, MetricFunction compute) {
+void MetricRegistry::add(std::string name, std::string unit, MetricKind kind, MetricFunction compute,
+                         MetricSeries series) {
   if (compute == nullptr) throw std::invalid_argument("metric " + name + " has no function");
   for (const auto& d : definitions_)
     if (d.name == name) throw std::invalid_argument("metric " + name + " is registered twice");
-  definitions_.push_back(MetricDefinition{std::move(name), std::move(unit), kind, compute});
+  definitions_.push_back(MetricDefinition{std::move(name), std::move(unit), kind, compute, series});
 }
 
 std::vector<std::string> MetricRegistry::names() const {
@@ -43,8 +45,26 @@ std::vector<MetricValue> MetricRegistry::evaluate(const Recording& recording) co
   return out;
 }
 
+std::vector<MetricColumn> MetricRegistry::evaluateSeries(const Recording& recording) const {
+  std::vector<MetricColumn> out;
+  for (const auto& d : definitions_) {
+    if (d.series == nullptr) continue;
+    MetricColumn c{d.name, {}};
+    c.values.reserve(recording.size());
+    d.series(recording, c.values);
+    if (c.values.size() != recording.size())
+      throw std::logic_error("per-tick column of " + d.name + " has the wrong length");
+    for (double& v : c.values) {
+      if (!std::isfinite(v)) throw std::logic_error("per-tick value of " + d.name + " is not finite");
+      v += 0.0;
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
 const std::vector<std::string>& knownProfiles() {
-  static const std::vector<std::string> profiles{"default"};
+  static const std::vector<std::string> profiles{"default", "hunav_v1"};
   return profiles;
 }
 
@@ -62,7 +82,15 @@ const MetricRegistry& metricsForProfile(const std::string& profile) {
     }();
     return registry;
   }
-  throw std::invalid_argument("unknown metrics profile '" + profile + "' (known: default)");
+  if (profile == "hunav_v1") {
+    static const MetricRegistry registry = [] {
+      MetricRegistry r;
+      registerHunavV1Metrics(r);
+      return r;
+    }();
+    return registry;
+  }
+  throw std::invalid_argument("unknown metrics profile '" + profile + "' (known: default, hunav_v1)");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -367,31 +395,172 @@ double avgClosestPedestrianVelocity(const Recording& r) {
 
 }  // namespace metrics
 
+namespace series {
+
+namespace {
+template <class F>
+void each(const Recording& r, std::vector<double>& out, F&& f) {
+  out.clear();
+  for (std::size_t k = 0; k < r.size(); ++k) out.push_back(f(k));
+}
+double flag(bool b) { return b ? 1.0 : 0.0; }
+}  // namespace
+
+// |wrap(psi_k - psi_{k-1})|, 0 at the first sample.
+void cumulativeHeadingChanges(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return k == 0 ? 0.0 : std::abs(normalizeAngle(r[k].robot.yaw - r[k - 1].robot.yaw)); });
+}
+// m_k; 10000 at a sample without people.
+void avgDistanceToClosestPerson(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return r[k].agents_count == 0 ? kNoneDistance : closestPersonDistance(r, r[k]); });
+}
+// 1 when m_k is in the band, else 0.
+void intimateSpaceIntrusions(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return flag(r[k].agents_count > 0 && inBand(closestPersonDistance(r, r[k]), Band::Intimate)); });
+}
+void personalSpaceIntrusions(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return flag(r[k].agents_count > 0 && inBand(closestPersonDistance(r, r[k]), Band::Personal)); });
+}
+void socialSpaceIntrusions(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return flag(r[k].agents_count > 0 && inBand(closestPersonDistance(r, r[k]), Band::Social)); });
+}
+// 1 when g_k is in the band, else 0 (0 without groups).
+void groupIntimateSpaceIntrusions(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { double g = 0.0; return flag(closestGroupDistance(r, r[k], g) && inBand(g, Band::Intimate)); });
+}
+void groupPersonalSpaceIntrusions(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { double g = 0.0; return flag(closestGroupDistance(r, r[k], g) && inBand(g, Band::Personal)); });
+}
+void groupSocialSpaceIntrusions(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { double g = 0.0; return flag(closestGroupDistance(r, r[k], g) && inBand(g, Band::Social)); });
+}
+// 1 when the robot is still (|v| < 0.01 and |w| < 0.02), else 0.
+void timeNotMoving(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) {
+    return flag(std::abs(r[k].robot.linear_vel) < kStillLinearSpeed && std::abs(r[k].robot.angular_vel) < kStillAngularSpeed);
+  });
+}
+// |v_k|.
+void avgRobotLinearSpeed(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return std::abs(r[k].robot.linear_vel); });
+}
+// |w_k|.
+void avgRobotAngularSpeed(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) { return std::abs(r[k].robot.angular_vel); });
+}
+// Signed a over the interval ending at k: (v_k - v_{k-1}) / (t_k - t_{k-1}); 0 at the first sample.
+void avgAcceleration(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) {
+    return k == 0 ? 0.0 : (r[k].robot.linear_vel - r[k - 1].robot.linear_vel) / (r[k].t - r[k - 1].t);
+  });
+}
+// Signed jerk j_{k-2} (see avgOveracceleration); 0 at the first two samples.
+void avgOveracceleration(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) {
+    if (k < 2) return 0.0;
+    const double a0 = (r[k - 1].robot.linear_vel - r[k - 2].robot.linear_vel) / (r[k - 1].t - r[k - 2].t);
+    const double a1 = (r[k].robot.linear_vel - r[k - 1].robot.linear_vel) / (r[k].t - r[k - 1].t);
+    return (a1 - a0) / ((r[k].t - r[k - 2].t) / 2.0);
+  });
+}
+// Mean |linear_vel| of the people of sample k; 0 without people.
+void avgPedestrianVelocity(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) {
+    double sum = 0.0;
+    for (const auto& a : r.agents(r[k])) sum += std::abs(a.linear_vel);
+    return r[k].agents_count == 0 ? 0.0 : sum / static_cast<double>(r[k].agents_count);
+  });
+}
+// |linear_vel| of the closest person (surface distance); 0 without people.
+void avgClosestPedestrianVelocity(const Recording& r, std::vector<double>& out) {
+  each(r, out, [&](std::size_t k) {
+    if (r[k].agents_count == 0) return 0.0;
+    const auto agents = r.agents(r[k]);
+    return std::abs(agents[closestAgent(r[k].robot, agents)].linear_vel);
+  });
+}
+
+}  // namespace series
+
 // One line per metric: the order here is the column order of metrics.csv.
 void registerDefaultMetrics(MetricRegistry& r) {
   using K = MetricKind;
   r.add("time_to_reach_goal", "s", K::Real, &metrics::timeToReachGoal);
   r.add("path_length", "m", K::Real, &metrics::pathLength);
-  r.add("cumulative_heading_changes", "rad", K::Real, &metrics::cumulativeHeadingChanges);
-  r.add("avg_distance_to_closest_person", "m", K::Real, &metrics::avgDistanceToClosestPerson);
+  r.add("cumulative_heading_changes", "rad", K::Real, &metrics::cumulativeHeadingChanges, &series::cumulativeHeadingChanges);
+  r.add("avg_distance_to_closest_person", "m", K::Real, &metrics::avgDistanceToClosestPerson, &series::avgDistanceToClosestPerson);
   r.add("minimum_distance_to_people", "m", K::Real, &metrics::minimumDistanceToPeople);
   r.add("maximum_distance_to_people", "m", K::Real, &metrics::maximumDistanceToPeople);
-  r.add("intimate_space_intrusions", "%", K::Real, &metrics::intimateSpaceIntrusions);
-  r.add("personal_space_intrusions", "%", K::Real, &metrics::personalSpaceIntrusions);
-  r.add("social_space_intrusions", "%", K::Real, &metrics::socialSpaceIntrusions);
-  r.add("group_intimate_space_intrusions", "%", K::Real, &metrics::groupIntimateSpaceIntrusions);
-  r.add("group_personal_space_intrusions", "%", K::Real, &metrics::groupPersonalSpaceIntrusions);
-  r.add("group_social_space_intrusions", "%", K::Real, &metrics::groupSocialSpaceIntrusions);
+  r.add("intimate_space_intrusions", "%", K::Real, &metrics::intimateSpaceIntrusions, &series::intimateSpaceIntrusions);
+  r.add("personal_space_intrusions", "%", K::Real, &metrics::personalSpaceIntrusions, &series::personalSpaceIntrusions);
+  r.add("social_space_intrusions", "%", K::Real, &metrics::socialSpaceIntrusions, &series::socialSpaceIntrusions);
+  r.add("group_intimate_space_intrusions", "%", K::Real, &metrics::groupIntimateSpaceIntrusions, &series::groupIntimateSpaceIntrusions);
+  r.add("group_personal_space_intrusions", "%", K::Real, &metrics::groupPersonalSpaceIntrusions, &series::groupPersonalSpaceIntrusions);
+  r.add("group_social_space_intrusions", "%", K::Real, &metrics::groupSocialSpaceIntrusions, &series::groupSocialSpaceIntrusions);
   r.add("completed", "bool", K::Bool, &metrics::completed);
   r.add("minimum_distance_to_target", "m", K::Real, &metrics::minimumDistanceToTarget);
   r.add("final_distance_to_target", "m", K::Real, &metrics::finalDistanceToTarget);
-  r.add("time_not_moving", "s", K::Real, &metrics::timeNotMoving);
-  r.add("avg_robot_linear_speed", "m/s", K::Real, &metrics::avgRobotLinearSpeed);
-  r.add("avg_robot_angular_speed", "rad/s", K::Real, &metrics::avgRobotAngularSpeed);
-  r.add("avg_acceleration", "m/s^2", K::Real, &metrics::avgAcceleration);
-  r.add("avg_overacceleration", "m/s^3", K::Real, &metrics::avgOveracceleration);
-  r.add("avg_pedestrian_velocity", "m/s", K::Real, &metrics::avgPedestrianVelocity);
-  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, &metrics::avgClosestPedestrianVelocity);
+  r.add("robot_on_person_collision", "count", K::Real, &metrics::robotOnPersonCollision, &series::robotOnPersonCollision);
+  r.add("person_on_robot_collision", "count", K::Real, &metrics::personOnRobotCollision, &series::personOnRobotCollision);
+  r.add("time_not_moving", "s", K::Real, &metrics::timeNotMoving, &series::timeNotMoving);
+  r.add("avg_robot_linear_speed", "m/s", K::Real, &metrics::avgRobotLinearSpeed, &series::avgRobotLinearSpeed);
+  r.add("avg_robot_angular_speed", "rad/s", K::Real, &metrics::avgRobotAngularSpeed, &series::avgRobotAngularSpeed);
+  r.add("avg_acceleration", "m/s^2", K::Real, &metrics::avgAcceleration, &series::avgAcceleration);
+  r.add("avg_overacceleration", "m/s^3", K::Real, &metrics::avgOveracceleration, &series::avgOveracceleration);
+  r.add("avg_pedestrian_velocity", "m/s", K::Real, &metrics::avgPedestrianVelocity, &series::avgPedestrianVelocity);
+  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, &metrics::avgClosestPedestrianVelocity, &series::avgClosestPedestrianVelocity);
+  r.add("social_force_on_agents", "m/s", K::Real, &metrics::socialForceOnAgents, &series::socialForceOnAgents);
+  r.add("social_force_on_robot", "m/s", K::Real, &metrics::socialForceOnRobot, &series::socialForceOnRobot);
+  r.add("social_work", "m/s", K::Real, &metrics::socialWork, &series::socialWork);
+  r.add("obstacle_force_on_robot", "m/s", K::Real, &metrics::obstacleForceOnRobot, &series::obstacleForceOnRobot);
+  r.add("obstacle_force_on_agents", "m/s", K::Real, &metrics::obstacleForceOnAgents, &series::obstacleForceOnAgents);
+  r.add("danger_fear_cost", "1", K::Real, &metrics::dangerFearCost, &series::dangerFearCost);
+  r.add("danger_panic_cost", "1", K::Real, &metrics::dangerPanicCost, &series::dangerPanicCost);
+  r.add("surprise_visibility_cost", "rad*s/m", K::Real, &metrics::surpriseVisibilityCost, &series::surpriseVisibilityCost);
+  r.add("surprise_shock_cost", "s/m", K::Real, &metrics::surpriseShockCost, &series::surpriseShockCost);
+  r.add("surprise_react_cost", "s/m", K::Real, &metrics::surpriseReactCost, &series::surpriseReactCost);
+}
+
+// HuNavSim v1's evaluator: same keys and order, its definitions (metrics_v1.cpp). Sum-type metrics
+// are sums over the recorded samples (units: the per-sample unit, summed).
+void registerHunavV1Metrics(MetricRegistry& r) {
+  using K = MetricKind;
+  namespace m = metrics;
+  namespace v1 = metrics_v1;
+  r.add("time_to_reach_goal", "s", K::Real, &m::timeToReachGoal);
+  r.add("path_length", "m", K::Real, &m::pathLength);
+  r.add("cumulative_heading_changes", "rad", K::Real, &m::cumulativeHeadingChanges, &series::cumulativeHeadingChanges);
+  r.add("avg_distance_to_closest_person", "m", K::Real, &v1::avgDistanceToClosestPerson, &series::avgDistanceToClosestPerson);
+  r.add("minimum_distance_to_people", "m", K::Real, &m::minimumDistanceToPeople);
+  r.add("maximum_distance_to_people", "m", K::Real, &v1::maximumDistanceToPeople);
+  r.add("intimate_space_intrusions", "%", K::Real, &m::intimateSpaceIntrusions, &series::intimateSpaceIntrusions);
+  r.add("personal_space_intrusions", "%", K::Real, &m::personalSpaceIntrusions, &series::personalSpaceIntrusions);
+  r.add("social_space_intrusions", "%", K::Real, &m::socialSpaceIntrusions, &series::socialSpaceIntrusions);
+  r.add("group_intimate_space_intrusions", "%", K::Real, &m::groupIntimateSpaceIntrusions, &series::groupIntimateSpaceIntrusions);
+  r.add("group_personal_space_intrusions", "%", K::Real, &m::groupPersonalSpaceIntrusions, &series::groupPersonalSpaceIntrusions);
+  r.add("group_social_space_intrusions", "%", K::Real, &m::groupSocialSpaceIntrusions, &series::groupSocialSpaceIntrusions);
+  r.add("completed", "bool", K::Bool, &v1::completed);
+  r.add("minimum_distance_to_target", "m", K::Real, &m::minimumDistanceToTarget);
+  r.add("final_distance_to_target", "m", K::Real, &m::finalDistanceToTarget);
+  r.add("robot_on_person_collision", "count", K::Real, &v1::robotOnPersonCollision, &series_v1::robotOnPersonCollision);
+  r.add("person_on_robot_collision", "count", K::Real, &v1::personOnRobotCollision, &series_v1::personOnRobotCollision);
+  r.add("time_not_moving", "s", K::Real, &v1::timeNotMoving, &series_v1::timeNotMoving);
+  r.add("avg_robot_linear_speed", "m/s", K::Real, &v1::avgRobotLinearSpeed, &series::avgRobotLinearSpeed);
+  r.add("avg_robot_angular_speed", "rad/s", K::Real, &m::avgRobotAngularSpeed, &series_v1::avgRobotAngularSpeed);
+  r.add("avg_acceleration", "m/s^2", K::Real, &v1::avgAcceleration, &series::avgAcceleration);
+  r.add("avg_overacceleration", "m/s^3", K::Real, &v1::avgOveracceleration, &series_v1::avgOveracceleration);
+  r.add("avg_pedestrian_velocity", "m/s", K::Real, &v1::avgPedestrianVelocity, &series::avgPedestrianVelocity);
+  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, &v1::avgClosestPedestrianVelocity, &series_v1::avgClosestPedestrianVelocity);
+  r.add("social_force_on_agents", "m/s^2", K::Real, &v1::socialForceOnAgents, &series_v1::socialForceOnAgents);
+  r.add("social_force_on_robot", "m/s^2", K::Real, &v1::socialForceOnRobot, &series_v1::socialForceOnRobot);
+  r.add("social_work", "m/s^2", K::Real, &v1::socialWork, &series_v1::socialWork);
+  r.add("obstacle_force_on_robot", "m/s^2", K::Real, &v1::obstacleForceOnRobot, &series_v1::obstacleForceOnRobot);
+  r.add("obstacle_force_on_agents", "m/s^2", K::Real, &v1::obstacleForceOnAgents, &series_v1::obstacleForceOnAgents);
+  r.add("danger_fear_cost", "1/s", K::Real, &v1::dangerFearCost, &series::dangerFearCost);
+  r.add("danger_panic_cost", "1/s", K::Real, &v1::dangerPanicCost, &series::dangerPanicCost);
+  r.add("surprise_visibility_cost", "rad/m", K::Real, &v1::surpriseVisibilityCost, &series::surpriseVisibilityCost);
+  r.add("surprise_shock_cost", "1/m", K::Real, &v1::surpriseShockCost, &series_v1::surpriseShockCost);
+  r.add("surprise_react_cost", "1/m", K::Real, &v1::surpriseReactCost, &series_v1::surpriseReactCost);
 }
 
 }  // namespace hunav::evaluator

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <string_view>
 #include <stdexcept>
 #include <vector>
 
@@ -84,77 +85,77 @@ void StatesCsvWriter::close() {
 
 namespace {
 
+// A row split into views of the line (no allocation per field).
 class RowParser {
  public:
-  RowParser(const fs::path& file, int line, std::vector<std::string> fields)
-      : file_(file.string()), line_(line), fields_(std::move(fields)) {}
+  using Fields = std::array<std::string_view, kColumns>;
+  RowParser(const fs::path& file, int line, const Fields& fields) : file_(file), line_(line), fields_(fields) {}
 
   [[noreturn]] void fail(std::size_t column, const std::string& what) const {
-    throw ConfigError(file_, line_, kColumnNames[column], what);
+    throw ConfigError(file_.string(), line_, kColumnNames[column], what);
   }
-  const std::string& text(std::size_t column) const { return fields_[column]; }
+  std::string_view text(std::size_t column) const { return fields_[column]; }
 
   double real(std::size_t column) const {
-    const std::string& s = fields_[column];
+    const std::string_view s = fields_[column];
     double v = 0.0;
-    if (!parseReal(s, v)) fail(column, "expected a finite number, got '" + s + "'");
+    if (!parseReal(s, v)) fail(column, "expected a finite number, got '" + std::string(s) + "'");
     return v;
   }
 
   template <class Int>
   Int integer(std::size_t column) const {
-    const std::string& s = fields_[column];
+    const std::string_view s = fields_[column];
     long long v = 0;
     const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
     if (s.empty() || res.ec != std::errc() || res.ptr != s.data() + s.size() ||
         v < static_cast<long long>(std::numeric_limits<Int>::min()) ||
         v > static_cast<long long>(std::numeric_limits<Int>::max()))
-      fail(column, "expected an integer, got '" + s + "'");
+      fail(column, "expected an integer, got '" + std::string(s) + "'");
     return static_cast<Int>(v);
   }
 
-  static bool parseReal(const std::string& s, double& v) {
+  static bool parseReal(std::string_view s, double& v) {
     const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
     return !s.empty() && res.ec == std::errc() && res.ptr == s.data() + s.size() && std::isfinite(v);
   }
 
-  // "x:y;x:y" or empty.
-  std::vector<Vec2> obstacles() const {
-    std::vector<Vec2> points;
-    const std::string& s = fields_[kObs];
-    if (s.empty()) return points;
+  // "x:y;x:y" or empty, appended to `points` (cleared first).
+  void obstacles(std::vector<Vec2>& points) const {
+    points.clear();
+    const std::string_view s = fields_[kObs];
+    if (s.empty()) return;
     std::size_t start = 0;
     while (true) {
       const std::size_t end = std::min(s.find(';', start), s.size());
-      const std::string item = s.substr(start, end - start);
+      const std::string_view item = s.substr(start, end - start);
       const std::size_t colon = item.find(':');
       double x = 0.0;
       double y = 0.0;
-      if (colon == std::string::npos || !parseReal(item.substr(0, colon), x) || !parseReal(item.substr(colon + 1), y))
-        fail(kObs, "expected points as x:y;x:y, got '" + item + "'");
+      if (colon == std::string_view::npos || !parseReal(item.substr(0, colon), x) || !parseReal(item.substr(colon + 1), y))
+        fail(kObs, "expected points as x:y;x:y, got '" + std::string(item) + "'");
       points.emplace_back(x, y);
       if (end == s.size()) break;
       start = end + 1;
     }
-    return points;
   }
 
  private:
-  std::string file_;
+  const fs::path& file_;
   int line_;
-  std::vector<std::string> fields_;
+  const Fields& fields_;
 };
 
-std::vector<std::string> splitCsvLine(const std::string& line) {
-  std::vector<std::string> fields;
+// Splits at commas into `fields`; returns the number of fields found (counting past kColumns).
+std::size_t splitCsvLine(std::string_view line, RowParser::Fields& fields) {
+  std::size_t n = 0;
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
-    if (comma == std::string::npos) {
-      fields.push_back(line.substr(start));
-      return fields;
-    }
-    fields.push_back(line.substr(start, comma - start));
+    const std::string_view f = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    if (n < kColumns) fields[n] = f;
+    ++n;
+    if (comma == std::string_view::npos) return n;
     start = comma + 1;
   }
 }
@@ -176,26 +177,41 @@ Recording readStatesCsv(const fs::path& file) {
   double sample_t = 0.0;
   EntityState robot;
   std::vector<EntityState> agents;
+  std::vector<Vec2> obs;
+  RowParser::Fields fields;
   auto commit = [&] {
     if (have_robot) rec.addSample(sample_t, robot, agents);
     agents.clear();
   };
 
+  // After the first rows, reserve for the whole file from the bytes per row seen so far (2 % spare):
+  // growing vectors by doubling would hold two copies of a long recording at once.
+  std::error_code size_error;
+  const auto file_size = fs::file_size(file, size_error);
+  std::uintmax_t bytes_read = line.size() + 1;
+  constexpr int kEstimateAfter = 4096;
+
   int line_no = 1;
   while (std::getline(in, line)) {
     ++line_no;
+    bytes_read += line.size() + 1;
+    if (line_no == kEstimateAfter && !size_error && !rec.empty()) {
+      const double scale = 1.02 * static_cast<double>(file_size) / static_cast<double>(bytes_read);
+      rec.reserve(static_cast<std::size_t>(scale * static_cast<double>(rec.size() + 1)),
+                  static_cast<std::size_t>(scale * static_cast<double>(rec.agentRows() + agents.size())),
+                  static_cast<std::size_t>(scale * static_cast<double>(rec.obstaclePoints())));
+    }
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    auto fields = splitCsvLine(line);
-    if (fields.size() != kColumns)
-      throw ConfigError(file.string(), line_no, "row",
-                        fmt::format("expected {} fields, got {}", kColumns, fields.size()));
-    const RowParser row(file, line_no, std::move(fields));
+    const std::size_t count = splitCsvLine(line, fields);
+    if (count != kColumns)
+      throw ConfigError(file.string(), line_no, "row", fmt::format("expected {} fields, got {}", kColumns, count));
+    const RowParser row(file, line_no, fields);
 
     EntityState e;
     const double t = row.real(kT);
-    const std::string& kind = row.text(kKind);
-    if (kind != "robot" && kind != "agent") row.fail(kKind, "expected robot or agent, got '" + kind + "'");
+    const std::string_view kind = row.text(kKind);
+    if (kind != "robot" && kind != "agent") row.fail(kKind, "expected robot or agent, got '" + std::string(kind) + "'");
     e.id = row.integer<std::int32_t>(kId);
     e.x = row.real(kX);
     e.y = row.real(kY);
@@ -217,7 +233,7 @@ Recording readStatesCsv(const fs::path& file) {
       e.goal_y = row.real(kGoalY);
       e.goal_radius = row.real(kGoalRadius);
     }
-    const std::vector<Vec2> obs = row.obstacles();
+    row.obstacles(obs);
     e.obstacles_begin = rec.addObstacles(obs);
     e.obstacles_count = static_cast<std::uint32_t>(obs.size());
 

@@ -125,7 +125,8 @@ TEST(EvaluatorCli, HelpDocumentsEveryOption) {
   const auto dir = freshDir();
   ASSERT_EQ(run(kBinary + " --help > '" + (dir / "help.txt").string() + "'"), 0);
   const std::string help = readFile(dir / "help.txt");
-  for (const char* opt : {"--out", "--profile", "--experiment-tag", "--episodes", "--lcm-url", "--states"})
+  for (const char* opt : {"--out", "--profile", "--experiment-tag", "--episodes", "--lcm-url", "--states", "--log", "--metrics",
+                          "--format", "--no-live-metrics"})
     EXPECT_NE(help.find(opt), std::string::npos) << opt;
 }
 
@@ -232,4 +233,57 @@ TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
   EXPECT_EQ(info.run_id, "udp-run");
   EXPECT_EQ(readLines(dir / "metrics.csv").size(), 2u);
   EXPECT_EQ(readLines(dir / "states.csv").size(), 1u + 5u * 2u);
+}
+
+TEST(EvaluatorCli, ReplaysAnLcmLogWithProfileSelectionAndTxtFormat) {
+  const auto dir = freshDir();
+  {
+    lcm::LCM lcm("memq://");
+    hunav::Bus enc(lcm);
+    lcm::LogFile log((dir / "run.lcmlog").string(), "w");
+    std::int64_t n = 0;
+    auto write = [&](const std::string& channel, const std::vector<std::uint8_t>& bytes, std::int64_t utime) {
+      lcm::LogEvent ev;
+      ev.eventnum = n++;
+      ev.timestamp = utime;
+      ev.channel = channel;
+      ev.datalen = static_cast<std::int32_t>(bytes.size());
+      ev.data = const_cast<std::uint8_t*>(bytes.data());
+      log.writeEvent(&ev);
+    };
+    write(hunav::channels::kEpisodeEvent, enc.encode(startEvent(1, "logged")), 0);
+    for (int k = 0; k < 5; ++k) {
+      const auto ws = worldState(1, k, 20000 + 10000 * k, robotMsg(0.1 * k, 0, 0, 1.0, 0.0),
+                                 {personMsg(1, 2.0 - 0.1 * k, 0.5, 0.4, 4)});
+      write(hunav::channels::kWorldState, enc.encode(ws), ws.utime);
+      write("SOMETHING_ELSE", {1, 2, 3}, ws.utime);  // other channels are ignored
+    }
+    // No END: the replay writes the episode as incomplete.
+  }
+  writeFile(dir / "sel.yaml", "metrics:\n  social_work: false\n");
+  const auto out = dir / "out";
+  ASSERT_EQ(run(kBinary + " --log '" + (dir / "run.lcmlog").string() + "' --out '" + out.string() +
+                "' --profile hunav_v1 --format hunav_txt --metrics '" + (dir / "sel.yaml").string() +
+                "' >/dev/null 2>&1"),
+            0);
+  const auto rows = readLines(out / "metrics.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].find("social_work"), std::string::npos);
+  EXPECT_NE(rows[1].find(",hunav_v1,"), std::string::npos);
+  const RunInfo info = readRunJson(out / "run.json");
+  EXPECT_EQ(info.status, "incomplete");
+  EXPECT_FALSE(info.complete);
+  EXPECT_EQ(info.recorded_ticks, 5);
+  for (const char* f : {"states.csv", "metrics_steps.csv", "metrics_beh_4.csv", "metrics_beh_4_steps.csv",
+                        "metrics.txt", "metrics_steps_exp.txt", "metrics_beh_4.txt", "metrics_beh_4_steps_exp.txt"})
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+
+  // A selection naming an unknown metric is bad input (2); a missing log is an error (1).
+  writeFile(dir / "bad.yaml", "metrics:\n  nope: false\n");
+  EXPECT_EQ(run(kBinary + " --log '" + (dir / "run.lcmlog").string() + "' --out '" + (dir / "o2").string() +
+                "' --metrics '" + (dir / "bad.yaml").string() + "' >/dev/null 2>&1"),
+            2);
+  EXPECT_EQ(run(kBinary + " --log '" + (dir / "missing.lcmlog").string() + "' --out '" + (dir / "o3").string() +
+                "' >/dev/null 2>&1"),
+            1);
 }

@@ -48,11 +48,19 @@ TEST(MetricRegistry, DefaultProfileFollowsHuNavSimOrder) {
       "minimum_distance_to_people", "maximum_distance_to_people", "intimate_space_intrusions",
       "personal_space_intrusions", "social_space_intrusions", "group_intimate_space_intrusions",
       "group_personal_space_intrusions", "group_social_space_intrusions", "completed", "minimum_distance_to_target",
-      "final_distance_to_target", "time_not_moving", "avg_robot_linear_speed", "avg_robot_angular_speed",
-      "avg_acceleration", "avg_overacceleration", "avg_pedestrian_velocity", "avg_closest_pedestrian_velocity"};
+      "final_distance_to_target", "robot_on_person_collision", "person_on_robot_collision", "time_not_moving",
+      "avg_robot_linear_speed", "avg_robot_angular_speed", "avg_acceleration", "avg_overacceleration",
+      "avg_pedestrian_velocity", "avg_closest_pedestrian_velocity", "social_force_on_agents",
+      "social_force_on_robot", "social_work", "obstacle_force_on_robot", "obstacle_force_on_agents",
+      "danger_fear_cost", "danger_panic_cost", "surprise_visibility_cost", "surprise_shock_cost",
+      "surprise_react_cost"};
+  // The 29 metrics of HuNavSim v1 and the 5 of v2, in both profiles, same columns.
+  EXPECT_EQ(expected.size(), 34u);
   EXPECT_EQ(metricsForProfile("default").names(), expected);
+  EXPECT_EQ(metricsForProfile("hunav_v1").names(), expected);
   EXPECT_THROW(metricsForProfile("nope"), std::invalid_argument);
   EXPECT_TRUE(isKnownProfile("default"));
+  EXPECT_TRUE(isKnownProfile("hunav_v1"));
 }
 
 TEST(Recording, RejectsTimeThatDoesNotIncrease) {

@@ -3,8 +3,10 @@
 //
 //   EPISODE_EVENT START  -> opens <run dir>/states.csv (header written at once)
 //   WORLD_STATE          -> rows appended and flushed at once, sample kept in memory
-//   EPISODE_EVENT END    -> metrics computed; a row appended to <out_dir>/metrics.csv and
-//                           <run dir>/run.json written
+//   EPISODE_EVENT END    -> metrics computed; every result file written (run_outputs.hpp):
+//                           rows appended to <out_dir>/metrics.csv (and per behavior), the
+//                           per-tick files and <run dir>/run.json written
+//   (optionally)         -> LIVE_METRICS published at 1 Hz of simulation time
 // The run dir is out_dir for the first episode the node records and out_dir/<run_id>/ for the
 // following ones (out_dir/<run_id>-<episode>/ when that folder was already used by this node). A world state outside a START/END pair (or of another episode), with a
 // non-finite number, with a tick that does not increase, or with a time that does not increase is
@@ -43,6 +45,12 @@ struct EvaluatorOptions {
   std::string profile = "default";   // metric profile (knownProfiles())
   std::string experiment_tag = "exp";
   int episodes = 1;                  // episodes to record; 0 = no limit
+  std::string metrics_file;          // metric selection YAML (metrics.hpp); empty = every metric
+  bool hunav_txt = false;            // also write HuNavSim v1's tab-separated files (run_outputs.hpp)
+  // Publish the running metric values on LIVE_METRICS (live_metrics_t) once per second of
+  // simulation time. Each publication evaluates the metrics over the recording so far (O(ticks)),
+  // so it is off for the fast in-process runner and on in the hunav_evaluator binary.
+  bool live_metrics = false;
 };
 
 class EvaluatorNode {
@@ -88,8 +96,11 @@ class EvaluatorNode {
   void begin(const episode_event_t& start);
   void finish(const episode_event_t* end, const std::string& incomplete_reason);
 
+  void publishLive(double t);
+
   EvaluatorOptions options_;
-  const MetricRegistry& registry_;
+  MetricRegistry registry_;
+  Bus& bus_;
   std::unique_ptr<Episode> current_;
   int episodes_started_ = 0;
   int episodes_ended_ = 0;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace hunav::evaluator {
 
@@ -14,6 +15,8 @@ struct OfflineOptions {
   std::filesystem::path out_dir;                // created when missing
   std::string profile = "default";
   std::optional<std::string> experiment_tag;    // unset: the source run.json's, else "exp"
+  std::string metrics_file;                     // metric selection YAML; empty = every metric
+  bool hunav_txt = false;                       // also HuNavSim v1's tab-separated files
 };
 
 // Reads `states_file` and, when present, the run.json beside it (scenario, planner, seed, mode,
@@ -22,8 +25,26 @@ struct OfflineOptions {
 // provenance fields stay empty, run_id is "offline" and status "unknown". git_commit is the source's
 // (the code that produced the trajectories), or this evaluator's (gitCommit()) when the source has
 // none or "unknown". Appends a row to out_dir/metrics.csv and
-// writes out_dir/run.json. Throws ConfigError on a malformed states.csv or run.json,
+// writes out_dir/run.json, with the per-tick and per-behavior files of run_outputs.hpp. Throws ConfigError on a malformed states.csv or run.json,
 // std::invalid_argument on an unknown profile, std::runtime_error on I/O errors.
 RunResult recomputeFromStates(const OfflineOptions& options);
+
+struct LogReplayOptions {
+  std::filesystem::path log_file;               // an LCM log (lcm-logger, or the in-process runner's)
+  std::filesystem::path out_dir;
+  std::string profile = "default";
+  std::string experiment_tag = "exp";
+  std::string metrics_file;
+  bool hunav_txt = false;
+};
+
+// Replays the EPISODE_EVENT and WORLD_STATE events of an LCM log, in file order, through an
+// EvaluatorNode on a private memq:// bus: the files are exactly those the live evaluator wrote
+// when it heard the same messages (states.csv, metrics.csv, per-tick, per-behavior, run.json; the
+// first episode in out_dir, the following ones in out_dir/<run_id>/). Other channels are ignored;
+// event timestamps are not used (messages carry their simulation time). An episode the log leaves
+// open is written as incomplete. Returns the results of every episode, in order. Throws
+// std::runtime_error when the log cannot be opened.
+std::vector<RunResult> replayLog(const LogReplayOptions& options);
 
 }  // namespace hunav::evaluator

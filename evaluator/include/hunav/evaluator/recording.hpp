@@ -85,6 +85,15 @@ class Recording {
   }
 
   void clear();
+  // Reserves room for this many samples, agent rows and obstacle points (the reader does it from an
+  // estimate, so that a long recording is not copied while it grows).
+  void reserve(std::size_t samples, std::size_t agents, std::size_t obstacles) {
+    samples_.reserve(samples);
+    agents_.reserve(agents);
+    obstacles_.reserve(obstacles);
+  }
+  std::size_t agentRows() const { return agents_.size(); }
+  std::size_t obstaclePoints() const { return obstacles_.size(); }
 
  private:
   std::vector<Sample> samples_;

@@ -1,0 +1,123 @@
+// bench_evaluator: timing of the evaluator's heavy paths, printed as figures (DESIGN.md section 12).
+//   bench_evaluator [--ticks 360000] [--people 20] [--dir /tmp/bench_evaluator] [--profile default]
+// 1. writes a synthetic states.csv (a 100 Hz recording: people walking in groups of every behavior,
+//    two obstacle points each) with StatesCsvWriter, as the live evaluator does tick by tick, and
+//    reports the cost per tick;
+// 2. evaluates it offline like `hunav_evaluator --states states.csv --out DIR`: reading, all 34
+//    metrics, per-tick and per-behavior files, run.json; reports the wall time and the peak RSS.
+#include "hunav/evaluator/offline.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+using namespace hunav::evaluator;
+namespace fs = std::filesystem;
+
+namespace {
+double seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+double peakRssMiB() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // KiB on Linux
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  long ticks = 360000;
+  int people = 20;
+  std::string dir = "/tmp/bench_evaluator";
+  std::string profile = "default";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--ticks")) ticks = std::atol(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--people")) people = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--dir")) dir = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--profile")) profile = argv[i + 1];
+    else {
+      std::fprintf(stderr, "usage: bench_evaluator [--ticks N] [--people N] [--dir DIR] [--profile P]\n");
+      return 2;
+    }
+  }
+  fs::remove_all(dir);
+  fs::create_directories(dir + "/run");
+  const fs::path states = fs::path(dir) / "run" / "states.csv";
+
+  // 1. The live writer: one sample at a time (kept in a small rolling recording so that the memory
+  // measured in step 2 is the offline evaluation's).
+  double write_s = 0.0;
+  {
+    StatesCsvWriter writer(states);
+    Recording r;
+    std::vector<EntityState> agents(static_cast<std::size_t>(people));
+    for (long k = 0; k < ticks; ++k) {
+      if (r.size() >= 1000) r.clear();
+      const double t = 0.01 * static_cast<double>(k) + 0.01;
+      EntityState robot;
+      robot.id = 1000;
+      robot.x = 0.3 * std::sin(t / 50.0) * 10.0;
+      robot.y = 0.1 * std::cos(t / 30.0);
+      robot.yaw = std::fmod(t / 20.0, 3.0);
+      robot.vx = 0.5 * std::cos(t);
+      robot.vy = 0.1 * std::sin(t);
+      robot.linear_vel = std::hypot(robot.vx, robot.vy);
+      robot.angular_vel = 0.05 * std::sin(t / 3.0);
+      robot.radius = 0.3;
+      robot.has_goal = true;
+      robot.goal_x = 10.0;
+      robot.goal_y = 0.5;
+      robot.goal_radius = 0.3;
+      robot.obstacles_begin = r.addObstacles({hunav::Vec2(robot.x, robot.y + 1.3), hunav::Vec2(robot.x - 2.1, robot.y)});
+      robot.obstacles_count = 2;
+      for (int j = 0; j < people; ++j) {
+        EntityState& a = agents[static_cast<std::size_t>(j)];
+        const double phase = j * 0.7;
+        a.id = j + 1;
+        a.group = j % 5 == 0 ? j / 5 : -1;
+        a.behavior = static_cast<std::int8_t>(1 + j % 6);
+        a.behavior_state = static_cast<std::int8_t>((k / 500 + j) % 3);
+        a.x = 4.0 * std::cos(t / 7.0 + phase) + j * 0.3;
+        a.y = 3.0 * std::sin(t / 9.0 + phase) - 1.0;
+        a.yaw = std::fmod(t / 7.0 + phase, 3.0);
+        a.vx = -4.0 / 7.0 * std::sin(t / 7.0 + phase);
+        a.vy = 3.0 / 9.0 * std::cos(t / 9.0 + phase);
+        a.linear_vel = std::hypot(a.vx, a.vy);
+        a.angular_vel = 1.0 / 7.0;
+        a.radius = 0.35;
+        a.has_goal = true;
+        a.goal_x = j;
+        a.goal_y = -j;
+        a.goal_radius = 0.3;
+        a.obstacles_begin = r.addObstacles({hunav::Vec2(a.x + 0.9, a.y), hunav::Vec2(a.x, a.y - 1.7)});
+        a.obstacles_count = 2;
+      }
+      r.addSample(t, robot, agents);
+      const auto t0 = std::chrono::steady_clock::now();
+      writer.write(r, r.back());
+      write_s += seconds(t0, std::chrono::steady_clock::now());
+    }
+    writer.close();
+  }
+  const double mib = static_cast<double>(fs::file_size(states)) / (1024.0 * 1024.0);
+  std::printf("states.csv writer: %ld ticks x %d people, %.1f MiB: %.2f s, %.2f us per tick\n", ticks, people, mib,
+              write_s, 1e6 * write_s / static_cast<double>(ticks));
+
+  // 2. Offline evaluation.
+  const auto t0 = std::chrono::steady_clock::now();
+  OfflineOptions o;
+  o.states_file = states;
+  o.out_dir = fs::path(dir) / "out";
+  o.profile = profile;
+  const RunResult result = recomputeFromStates(o);
+  const double offline_s = seconds(t0, std::chrono::steady_clock::now());
+  std::printf("offline evaluation (profile %s, %zu metrics, per-tick and per-behavior files): %.2f s, peak RSS %.0f MiB\n",
+              profile.c_str(), result.metrics.size(), offline_s, peakRssMiB());
+  return 0;
+}
