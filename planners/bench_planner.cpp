@@ -1,15 +1,17 @@
-// bench_planner: the cost of one plan() cycle. Runs the dwb planner closed-loop in a scenario (by
+// bench_planner: the cost of one plan() cycle. Runs a planner (dwb, scl, sfw) closed-loop in a scenario (by
 // default the passing corridor, where two people walk toward the robot) with MiniWorld, at the
 // scenario's control rate, and times every plan() call: wall-clock time, and the CPU time of the
 // calling thread (which other processes competing for the cores do not inflate).
-// Usage: bench_planner [SCENARIO] [EPISODES]
+// Usage: bench_planner [SCENARIO] [EPISODES] [PLANNER]
 #include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/planner.hpp"
 #include "hunav/planners/sim_tools.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <time.h>
 #include <vector>
@@ -37,9 +39,13 @@ int main(int argc, char** argv) {
   namespace hp = hunav::planners;
   const std::string scenario_file = argc > 1 ? argv[1] : std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml";
   const int episodes = argc > 2 ? std::atoi(argv[2]) : 20;
+  const std::string planner_name = argc > 3 ? argv[3] : "dwb";
   try {
     const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
-    hp::DwbPlanner planner(scenario);
+    const auto owned = hp::createPlanner(planner_name, scenario);
+    auto* costmap_planner = dynamic_cast<hp::DwbPlanner*>(owned.get());
+    if (costmap_planner == nullptr) throw std::invalid_argument(planner_name + " is not a costmap-based planner");
+    hp::DwbPlanner& planner = *costmap_planner;
     const double sim_dt = scenario.dt;
     const int ticks_per_plan = std::max(1, static_cast<int>(std::lround(1.0 / (scenario.robot.control_rate * sim_dt))));
 
@@ -71,7 +77,7 @@ int main(int argc, char** argv) {
       }
     }
     const Stats wall = summarize(wall_us), cpu = summarize(cpu_us);
-    std::printf("scenario %s: %d episodes (%d reached the goal), %zu plan() calls\n", scenario.name.c_str(), episodes,
+    std::printf("planner %s, scenario %s: %d episodes (%d reached the goal), %zu plan() calls\n", planner_name.c_str(), scenario.name.c_str(), episodes,
                 reached, wall_us.size());
     std::printf("plan() wall time: mean %.1f us, median %.1f us, p99 %.1f us, max %.1f us\n", wall.mean, wall.median,
                 wall.p99, wall.max);

@@ -56,8 +56,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--scenario", scenario_file, "scenario YAML file; its static map feeds the costmap")->required();
   app.add_option("--config", config_file,
-                 "planner parameters (YAML): sections costmap, global_planner and dwb; a key left out keeps "
-                 "its default. planners/config/dwb.yaml lists every key with its default and meaning");
+                 "planner parameters (YAML): sections costmap, global_planner and dwb (every planner), plus "
+                 "scl (scl) or sfw (sfw); a key left out keeps its default. planners/config/<planner>.yaml "
+                 "lists every key with its default and meaning");
   app.add_option("--lcm-url", lcm_url,
                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
   app.add_option("--episodes", episodes, "exit after this many episodes have ended (EPISODE_EVENT END); 0 = run until signalled")

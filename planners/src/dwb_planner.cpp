@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace hunav::planners {
@@ -27,10 +28,11 @@ CostmapParams readCostmapParams(const YamlReader* config) {
   return p;
 }
 
-GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config) {
-  GlobalPlannerParams p;
+GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config, const GlobalPlannerParams& defaults) {
+  GlobalPlannerParams p = defaults;
   ParamSection s(config, "global_planner");
   s.read("cost_weight", p.cost_weight, 0.0, 1000.0);
+  s.read("heuristic_weight", p.heuristic_weight, 1.0, 10.0);
   s.finish();
   return p;
 }
@@ -57,6 +59,7 @@ void DwbParams::readDwbSection(const YamlReader* config) {
   s.read("stopped_rotate_angle", stopped_rotate_angle, 0.0, 4.0);
   s.read("rotate_gain", rotate_gain, 0.0, 100.0);
   s.read("replan_period", replan_period, 0.0, 3600.0);
+  s.read("evade_people", evade_people);
   s.read("mark_scan", mark_scan);
   s.read("mark_people", mark_people);
   s.read("people_prediction_time", people_prediction_time, 0.0, 10.0);
@@ -120,13 +123,19 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
   const VelocityWindow window = VelocityWindow::fromObservation(obs);
   const double heading_error = headingErrorToPath();
   double v, w;
-  if (std::abs(heading_error) > params_.rotate_in_place_angle) {
+  const bool rotate = std::abs(heading_error) > params_.rotate_in_place_angle;
+  if (rotate) {
     // The path lies far to the side or behind: arcs toward it would sweep wide, turn first.
     v = window.clampV(0.0);
     w = window.clampW(params_.rotate_gain * heading_error);
     last_decision_ = Decision::RotateInPlace;
+  }
+  if (rotate && !(params_.evade_people && !ctx_.people.empty() && !admissible(v, w))) {
+    // Turning on the spot (with evade_people: unless a person would walk into the turning robot).
   } else if (sampleBest(window, v, w)) {
     last_decision_ = Decision::Sampled;
+  } else if (params_.evade_people && !ctx_.people.empty() && sampleEvade(window, v, w)) {
+    last_decision_ = Decision::Evade;
   } else {
     // Brake as hard as the window allows; turning toward the path may open a way.
     v = window.clampV(0.0);
@@ -238,6 +247,40 @@ bool DwbPlanner::sampleBest(const VelocityWindow& window, double& v, double& w) 
     }
   }
   return last_admissible_ > 0;
+}
+
+bool DwbPlanner::admissible(double v, double w) {
+  rollout(ctx_.robot, ctx_.robot_yaw, v, w, params_.sim_time, params_.sim_step, trajectory_);
+  for (const auto& critic : critics_)
+    if (critic->score(trajectory_, ctx_) == TrajectoryCritic::kReject) return false;
+  return true;
+}
+
+bool DwbPlanner::sampleEvade(const VelocityWindow& window, double& v, double& w) {
+  const int nv = window.v_max - window.v_min > 1e-9 ? params_.v_samples : 1;
+  const int nw = window.w_max - window.w_min > 1e-9 ? params_.w_samples : 1;
+  const double dv = nv > 1 ? (window.v_max - window.v_min) / (nv - 1) : 0.0;
+  const double dw = nw > 1 ? (window.w_max - window.w_min) / (nw - 1) : 0.0;
+  const ObstacleCritic obstacles(1.0);
+  double best = -std::numeric_limits<double>::infinity();
+  for (int iv = 0; iv < nv; ++iv) {
+    const double sample_v = window.v_max - iv * dv;
+    for (int iw = 0; iw < nw; ++iw) {
+      const double sample_w = window.w_min + iw * dw;
+      rollout(ctx_.robot, ctx_.robot_yaw, sample_v, sample_w, params_.sim_time, params_.sim_step, trajectory_);
+      if (obstacles.score(trajectory_, ctx_) == TrajectoryCritic::kReject) continue;
+      double closest = std::numeric_limits<double>::infinity();
+      for (const PredictedPerson& person : ctx_.people)
+        for (std::size_t k = 0; k < trajectory_.positions.size(); ++k)
+          closest = std::min(closest, (trajectory_.positions[k] - person.at(trajectory_.timeOf(k))).norm() - person.radius);
+      if (closest > best) {
+        best = closest;
+        v = sample_v;
+        w = sample_w;
+      }
+    }
+  }
+  return best > -std::numeric_limits<double>::infinity();
 }
 
 }  // namespace hunav::planners

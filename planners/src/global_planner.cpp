@@ -78,9 +78,11 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
   // then goes straight for the goal instead of widening over cells whose f differ by rounding only.
   // The path is at most 0.1 % longer than the cheapest.
   constexpr double kTieBreak = 1.001;
+  // heuristic_weight > 1: weighted A*, fewer expansions for a path at most that factor costlier.
+  const double h_scale = kTieBreak * params_.heuristic_weight;
   auto heuristic = [&](int cx, int cy) {
     const double dx = std::abs(cx - gx), dy = std::abs(cy - gy);
-    return static_cast<float>(kTieBreak * res * (std::max(dx, dy) + (kSqrt2 - 1.0) * std::min(dx, dy)));
+    return static_cast<float>(h_scale * res * (std::max(dx, dy) + (kSqrt2 - 1.0) * std::min(dx, dy)));
   };
   auto isGoal = [&](int cx, int cy) {
     if (cx == gx && cy == gy) return true;

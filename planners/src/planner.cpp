@@ -1,6 +1,8 @@
 #include "hunav/planners/planner.hpp"
 
 #include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/scl_planner.hpp"
+#include "hunav/planners/sfw_planner.hpp"
 
 #include <map>
 #include <stdexcept>
@@ -16,6 +18,8 @@ std::map<std::string, PlannerFactory>& registry() {
       {"dwb", [](const Scenario& scenario, const YamlReader* config) -> std::unique_ptr<Planner> {
          return std::make_unique<DwbPlanner>(scenario, DwbParams::fromConfig(config));
        }},
+      {"scl", &SclPlanner::create},
+      {"sfw", &SfwPlanner::create},
   };
   return planners;
 }

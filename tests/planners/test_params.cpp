@@ -52,6 +52,7 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   EXPECT_EQ(file.costmap.cost_scaling_factor, d.costmap.cost_scaling_factor);
   EXPECT_EQ(file.costmap.margin, d.costmap.margin);
   EXPECT_EQ(file.global_planner.cost_weight, d.global_planner.cost_weight);
+  EXPECT_EQ(file.global_planner.heuristic_weight, d.global_planner.heuristic_weight);
   const double DwbParams::*doubles[] = {
       &DwbParams::sim_time, &DwbParams::sim_step, &DwbParams::obstacle_weight, &DwbParams::people_weight,
       &DwbParams::path_distance_weight, &DwbParams::path_align_weight, &DwbParams::goal_distance_weight,
@@ -64,10 +65,11 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   EXPECT_EQ(file.w_samples, d.w_samples);
   EXPECT_EQ(file.mark_scan, d.mark_scan);
   EXPECT_EQ(file.mark_people, d.mark_people);
+  EXPECT_EQ(file.evade_people, d.evade_people);
   // Every key of the file is one the code reads (else fromConfig would have thrown): all are listed.
   std::size_t keys = 0;
   for (const auto& section : config.root()) keys += section.second.size();
-  EXPECT_EQ(keys, 4u + 1u + std::size(doubles) + 4u);
+  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 5u);
 }
 
 TEST(DwbParams, ConfigFileOverridesOnlyWhatItNames) {

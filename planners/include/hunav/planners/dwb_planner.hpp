@@ -54,6 +54,11 @@ struct DwbParams {
   // early when an obstacle lands on it or the robot strays 0.5 m from it. After a search that found
   // no path A* waits 1 s before trying again (that search visited every reachable cell).
   double replan_period = 0.0;
+  // When no sample is admissible, instead of braking take the sample (clear of obstacles) whose
+  // closest approach to the predicted people is largest: a robot standing in a person's way steps
+  // aside. Turning on the spot is then also checked with the critics first (a person walking into
+  // the turning robot makes it sample instead). Off for dwb (its recorded behaviour); the scl and sfw planners switch it on.
+  bool evade_people = false;
   bool mark_scan = true;                // laser hits go into the transient costmap layer
   bool mark_people = true;              // detected people go into the transient costmap layer
   // s: where a moving person will be over this time is marked too, with costs capped below lethal,
@@ -69,9 +74,10 @@ struct DwbParams {
   void readDwbSection(const YamlReader* config);
 };
 
-// Reads the `costmap:` and `global_planner:` sections (shared by every costmap-based planner).
+// Reads the `costmap:` and `global_planner:` sections (shared by every costmap-based planner); a
+// key left out keeps its value in `defaults`.
 CostmapParams readCostmapParams(const YamlReader* config);
-GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config);
+GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config, const GlobalPlannerParams& defaults = {});
 
 class DwbPlanner : public Planner {
  public:
@@ -87,7 +93,7 @@ class DwbPlanner : public Planner {
   const GlobalPath& globalPath() const { return path_; }
   const AStarPlanner& globalPlanner() const { return astar_; }
   // What the last plan() did, for tests and diagnostics.
-  enum class Decision { Idle, AtGoal, Sampled, RotateInPlace, NoAdmissible };
+  enum class Decision { Idle, AtGoal, Sampled, RotateInPlace, NoAdmissible, Evade };
   Decision lastDecision() const { return last_decision_; }
   std::size_t lastAdmissible() const { return last_admissible_; }
 
@@ -102,6 +108,10 @@ class DwbPlanner : public Planner {
   double headingErrorToPath() const;
   // Best sample of the window, or false when none is admissible.
   bool sampleBest(const VelocityWindow& window, double& v, double& w);
+  // Whether (v, w) passes every critic.
+  bool admissible(double v, double w);
+  // The obstacle-free sample keeping the largest distance to the people; false when none is free.
+  bool sampleEvade(const VelocityWindow& window, double& v, double& w);
 
   DwbParams params_;
   Costmap costmap_;
