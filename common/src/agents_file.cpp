@@ -2,6 +2,7 @@
 #include "hunav/agents_file.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <random>
 #include <set>
 
@@ -116,6 +117,9 @@ std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc
     if (a.goal_radius < 0.0) yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be >= 0");
     a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
     a.behavior_tree = yr.get<std::string>(m, "behavior_tree", aw, "");
+    if (!a.behavior_tree.empty() && std::filesystem::path(a.behavior_tree).is_relative())
+      // Relative to the file that names it, not to wherever the run was started.
+      a.behavior_tree = (std::filesystem::path(yr.path()).parent_path() / a.behavior_tree).lexically_normal().string();
 
     const YAML::Node pose = yr.child(m, "init_pose", aw, true);
     const std::string posew = YamlReader::join(aw, "init_pose");

@@ -143,6 +143,7 @@ TEST(Scenario, HunavAgentFilesV1AndV15Load) {
         dist: 3.5
         social_force_factor: 7.0
       init_pose: {x: -4.0, y: 0.5, z: 1.25, h: 0.0}
+      behavior_tree: trees/mine.xml
       goals: [ga]
       ga: {x: 4.0, y: 0.5, h: 0.0}
 )");
@@ -154,6 +155,8 @@ TEST(Scenario, HunavAgentFilesV1AndV15Load) {
   EXPECT_FALSE(b[0].params.once);
   EXPECT_DOUBLE_EQ(b[0].params.vel, 1.8);  // clamped to [0, 1.8]
   EXPECT_DOUBLE_EQ(b[0].params.social_force_factor, 7.0);
+  // A relative tree file is found beside the agents file, wherever the run starts.
+  EXPECT_EQ(b[0].behavior_tree, (std::filesystem::path(v15).parent_path() / "trees/mine.xml").string());
 }
 
 TEST(Scenario, RandomConfigurationsAreSeeded) {
