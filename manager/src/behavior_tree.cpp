@@ -43,9 +43,12 @@ void BtNode::haltChildren(std::size_t from) {
 
 namespace {
 
-class SequenceNode : public BtNode {
+// Sequence and Fallback are one loop over the children: a Sequence stops at the first Failure, a
+// Fallback at the first Success; finishing the loop gives the other status. The reactive variants
+// restart from the first child every tick (and halt the children after a running one).
+class CompositeNode : public BtNode {
  public:
-  explicit SequenceNode(bool reactive) : reactive_(reactive) {}
+  CompositeNode(Status stops_on, bool reactive) : stops_on_(stops_on), reactive_(reactive) {}
   void halt() override {
     haltChildren();
     current_ = 0;
@@ -61,50 +64,18 @@ class SequenceNode : public BtNode {
         current_ = i;
         return s;
       }
-      if (s == Status::Failure) {
+      if (s == stops_on_) {
         haltChildren();
         current_ = 0;
         return s;
       }
     }
     current_ = 0;
-    return Status::Success;
+    return stops_on_ == Status::Failure ? Status::Success : Status::Failure;
   }
 
  private:
-  bool reactive_;
-  std::size_t current_ = 0;
-};
-
-class FallbackNode : public BtNode {
- public:
-  explicit FallbackNode(bool reactive) : reactive_(reactive) {}
-  void halt() override {
-    haltChildren();
-    current_ = 0;
-    BtNode::halt();
-  }
-
- protected:
-  Status onTick(TickContext& c) override {
-    for (std::size_t i = reactive_ ? 0 : current_; i < children.size(); ++i) {
-      const Status s = children[i]->tick(c);
-      if (s == Status::Running) {
-        if (reactive_) haltChildren(i + 1);
-        current_ = i;
-        return s;
-      }
-      if (s == Status::Success) {
-        haltChildren();
-        current_ = 0;
-        return s;
-      }
-    }
-    current_ = 0;
-    return Status::Failure;
-  }
-
- private:
+  Status stops_on_;
   bool reactive_;
   std::size_t current_ = 0;
 };
@@ -183,10 +154,10 @@ const NodeLibrary::Entry* NodeLibrary::find(const std::string& name) const {
 
 NodeLibrary NodeLibrary::withBuiltins() {
   NodeLibrary lib;
-  lib.add("Sequence", Kind::Control, {}, [] { return std::make_unique<SequenceNode>(false); });
-  lib.add("ReactiveSequence", Kind::Control, {}, [] { return std::make_unique<SequenceNode>(true); });
-  lib.add("Fallback", Kind::Control, {}, [] { return std::make_unique<FallbackNode>(false); });
-  lib.add("ReactiveFallback", Kind::Control, {}, [] { return std::make_unique<FallbackNode>(true); });
+  lib.add("Sequence", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Failure, false); });
+  lib.add("ReactiveSequence", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Failure, true); });
+  lib.add("Fallback", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Success, false); });
+  lib.add("ReactiveFallback", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Success, true); });
   lib.add("Inverter", Kind::Decorator, {}, [] { return std::make_unique<InverterNode>(); });
   lib.add("ForceSuccess", Kind::Decorator, {}, [] { return std::make_unique<ForceNode>(Status::Success); });
   lib.add("ForceFailure", Kind::Decorator, {}, [] { return std::make_unique<ForceNode>(Status::Failure); });
