@@ -160,3 +160,150 @@ TEST(Transport, TapSeesEveryPublishedMessage) {
   bus.publish("Y", goal(2));
   EXPECT_EQ(channels, (std::vector<std::string>{"X", "Y"}));
 }
+
+namespace {
+hunav::laser_scan_t scan(std::vector<float> ranges) {
+  hunav::laser_scan_t s{};
+  s.utime = 7;
+  s.range_max = 8.0;
+  s.num_ranges = static_cast<int32_t>(ranges.size());
+  s.ranges = std::move(ranges);
+  return s;
+}
+std::vector<std::uint8_t> encoded(const hunav::laser_scan_t& s) {
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(s.getEncodedSize()));
+  s.encode(out.data(), 0, static_cast<int>(out.size()));
+  return out;
+}
+}  // namespace
+
+TEST(Transport, InProcessTypedDeliveryEqualsDecodedBytes) {
+  // The in-process bus hands subscribers a copy of the published object; over memq they get the
+  // decoded bytes. Both must encode to the very bytes published (what fingerprints hash).
+  auto received = [](Bus& bus) {
+    std::vector<std::vector<std::uint8_t>> seen;
+    bus.subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t& s) { seen.push_back(encoded(s)); });
+    bus.publish("SCAN", scan({1.0f, 2.5f, 8.0f}));
+    bus.publish("SCAN", scan({}));
+    bus.publish("SCAN", scan({3.0f}));
+    bus.handleAvailable();
+    return seen;
+  };
+  lcm::LCM lcm("memq://");
+  Bus memq(lcm);
+  Bus direct{Bus::InProcess{}};
+  const auto via_memq = received(memq);
+  ASSERT_EQ(via_memq.size(), 3u);
+  EXPECT_EQ(via_memq[0], encoded(scan({1.0f, 2.5f, 8.0f})));
+  EXPECT_EQ(via_memq[1], encoded(scan({})));
+  EXPECT_EQ(received(direct), via_memq);
+}
+
+TEST(Transport, ConsecutiveMessagesDoNotShareArrays) {
+  // LCM 1.3.1's decoders leave a primitive array untouched when its count is 0, and the in-process
+  // bus recycles the objects it queues: a shorter array after a longer one must arrive whole, as
+  // bytes and as typed messages, on both backends.
+  lcm::LCM lcm("memq://");
+  Bus memq(lcm);
+  Bus direct{Bus::InProcess{}};
+  for (Bus* bus : {&memq, &direct}) {
+    for (const bool typed : {false, true}) {
+      const std::string channel = typed ? "TYPED" : "RAW";
+      std::vector<std::vector<float>> seen;
+      bus->subscribe<hunav::laser_scan_t>(channel, [&](const hunav::laser_scan_t& s) { seen.push_back(s.ranges); });
+      for (const auto& ranges : {std::vector<float>{1, 2, 3}, std::vector<float>{4}, std::vector<float>{}}) {
+        if (typed) {
+          bus->publish(channel, scan(ranges));
+        } else {
+          const auto bytes = encoded(scan(ranges));
+          bus->publishRaw(channel, bytes.data(), bytes.size());
+        }
+        bus->handleAvailable();  // one at a time, so the in-process bus reuses the same object
+      }
+      EXPECT_EQ(seen, (std::vector<std::vector<float>>{{1, 2, 3}, {4}, {}})) << channel;
+    }
+  }
+}
+
+TEST(Transport, InProcessSubscriberOfAnotherTypeGetsBytesAndDropsThem) {
+  // One type per channel; a subscriber that expects another type gets what LCM would give it: bytes
+  // with the wrong fingerprint, dropped and counted. Subscribers of the right type are unaffected.
+  Bus bus{Bus::InProcess{}};
+  int scans = 0, goals = 0;
+  bus.subscribe<hunav::laser_scan_t>("X", [&](const hunav::laser_scan_t&) { ++scans; });
+  bus.subscribe<hunav::nav_goal_t>("X", [&](const hunav::nav_goal_t&) { ++goals; });
+  bus.publish("X", goal(1));
+  bus.handleAvailable();
+  EXPECT_EQ(goals, 1);
+  EXPECT_EQ(scans, 0);
+  EXPECT_EQ(bus.droppedMessages(), 1u);
+}
+
+TEST(Transport, PublishEncodedSendsTheCallersBytes) {
+  // publishEncoded: the bytes the caller hashed are what LCM carries and what the tap records.
+  const hunav::laser_scan_t s = scan({1.0f, 2.0f});
+  const std::vector<std::uint8_t> bytes = encoded(s);
+  lcm::LCM lcm("memq://");
+  Bus memq(lcm);
+  Bus direct{Bus::InProcess{}};
+  for (Bus* bus : {&memq, &direct}) {
+    std::vector<std::uint8_t> tapped;
+    bus->setTap([&](const std::string&, const void* data, std::size_t size) {
+      const auto* b = static_cast<const std::uint8_t*>(data);
+      tapped.assign(b, b + size);
+    });
+    std::vector<std::vector<std::uint8_t>> seen;
+    bus->subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t& m) { seen.push_back(encoded(m)); });
+    bus->publishEncoded("SCAN", s, bytes.data(), bytes.size());
+    bus->handleAvailable();
+    EXPECT_EQ(tapped, bytes);
+    EXPECT_EQ(seen, std::vector<std::vector<std::uint8_t>>{bytes});
+  }
+}
+
+TEST(Transport, InProcessTapSeesTheEncodingOfTypedMessages) {
+  Bus bus{Bus::InProcess{}};
+  std::vector<std::uint8_t> tapped;
+  bus.setTap([&](const std::string&, const void* data, std::size_t size) {
+    const auto* b = static_cast<const std::uint8_t*>(data);
+    tapped.assign(b, b + size);
+  });
+  double x = 0;
+  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { x = g.x; });
+  bus.publish("GOAL", goal(4.25));
+  bus.handleAvailable();
+  EXPECT_EQ(x, 4.25);
+  hunav::nav_goal_t decoded{};
+  ASSERT_GT(decoded.decode(tapped.data(), 0, static_cast<int>(tapped.size())), 0);
+  EXPECT_EQ(decoded.x, 4.25);
+  EXPECT_EQ(decoded.utime, 5);
+}
+
+TEST(Transport, ChannelPortsUrlGivesTheStepProtocolPortsOfTheirOwn) {
+  const std::string url = "udpm://239.255.76.67:7667?ttl=0&channel_ports=1&recv_buf_size=4194304";
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "STEP_REQUEST"), "udpm://239.255.76.67:7668?ttl=0&recv_buf_size=4194304");
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "STEP_REPLY"), "udpm://239.255.76.67:7669?ttl=0&recv_buf_size=4194304");
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "ROBOT_OBSERVATION"), "udpm://239.255.76.67:7670?ttl=0&recv_buf_size=4194304");
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "ROBOT_COMMAND"), "udpm://239.255.76.67:7671?ttl=0&recv_buf_size=4194304");
+  // Everything else stays on the URL's own port, where lcm-spy and lcm-logger listen.
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "WORLD_STATE"), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "SOMETHING_ELSE"), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
+  // LCM's default group and port when the URL leaves them out.
+  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://?channel_ports=1", "STEP_REPLY"), "udpm://239.255.76.67:7669");
+  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.1?channel_ports=1", "STEP_REQUEST"), "udpm://239.255.76.1:7668");
+  // Without the option, or on another provider, the URL is used as it is.
+  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.67:7667?ttl=0", "STEP_REQUEST"), "udpm://239.255.76.67:7667?ttl=0");
+  EXPECT_EQ(hunav::lcmUrlForChannel("memq://", "STEP_REQUEST"), "memq://");
+  EXPECT_THROW(hunav::lcmUrlForChannel("udpm://239.255.76.67:76x7?channel_ports=1", "STEP_REPLY"), std::invalid_argument);
+  EXPECT_THROW(hunav::lcmUrlForChannel("udpm://239.255.76.67:65535?channel_ports=1", "STEP_REPLY"), std::invalid_argument);
+}
+
+TEST(Transport, BusOpensItsOwnLcmFromAUrl) {
+  Bus bus(std::string("memq://"));
+  EXPECT_FALSE(bus.inProcess());
+  double x = 0;
+  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { x = g.x; });
+  bus.publish("GOAL", goal(2.5));
+  EXPECT_TRUE(bus.handleFor(std::chrono::milliseconds(100)));
+  EXPECT_EQ(x, 2.5);
+}

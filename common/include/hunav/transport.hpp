@@ -5,12 +5,23 @@
 //  - A message that does not decode, or whose handler throws BadMessage, is dropped and counted.
 //  - Any other exception thrown by a handler is caught before it crosses LCM's C code and rethrown
 //    from handle*() to the caller.
-// Two backends with the same semantics (FIFO, one message per handle, encoded bytes):
-//  - over an lcm::LCM (any URL: udpm between processes, memq:// in one process);
-//  - in-process (Bus::InProcess): a plain queue in this object, for the one-process runner. It is
-//    memq:// without the pipe write, select and read that memq costs per message (a third of an
-//    in-process tick), so the messages, and the fingerprints, are exactly those of an LCM run.
+// Two backends with the same semantics (FIFO over all channels, one message per handle):
+//  - over an lcm::LCM (any URL: udpm between processes, memq:// in one process): encoded bytes;
+//  - in-process (Bus::InProcess): a plain queue in this object, for the one-process runner. A message
+//    published as a typed object reaches subscribers of its type as a copy of that object, without
+//    encoding or decoding: LCM types round-trip exactly (every field is encoded, arrays as long as
+//    their count fields, which receivers check), so handlers see what decoding would give them and
+//    runs keep the fingerprints of an LCM run. Bytes (publishRaw) are decoded as over LCM.
+// Channel ports: a udpm URL with our option `channel_ports=1` (removed before LCM sees the URL) puts
+// the step protocol's channels on UDP ports of their own (channels::portOffset), one LCM instance per
+// port. On one port every datagram wakes the receive thread of every process on the bus, the
+// sender's own included, and the sender pays for each delivery: that is about half of the CPU and
+// wall time of a lockstep tick (bench/bench_lcm_roundtrip.sh, bench/bench_lockstep.sh). An instance
+// that only publishes never opens a receive socket, so a process no longer hears its own step
+// messages either. Tools on the plain URL (lcm-spy, lcm-logger) then see every other channel.
 #include <lcm/lcm-cpp.hpp>
+
+#include <poll.h>
 
 #include <chrono>
 #include <cstdint>
@@ -20,6 +31,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hunav {
@@ -31,6 +43,11 @@ inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0&r
 // URL precedence: the --lcm-url flag, then LCM_DEFAULT_URL, then kDefaultLcmUrl.
 std::string resolveLcmUrl(const std::string& flag_value);
 
+// The LCM URL a Bus opened on `url` uses for `channel`: `url` itself, or, for a udpm URL with
+// `channel_ports=1`, the URL with the channel's port (the URL's, default 7667, plus
+// channels::portOffset) and without that option. Throws std::invalid_argument for a bad port.
+std::string lcmUrlForChannel(const std::string& url, std::string_view channel);
+
 // Thrown by a handler that rejects a message it cannot use (NaN, impossible sizes, unknown ids).
 struct BadMessage : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -40,7 +57,11 @@ class Bus {
  public:
   static constexpr int kUnbounded = 0;
 
+  // Over an LCM instance the caller owns.
   explicit Bus(lcm::LCM& lcm);
+  // Over LCM instances of its own on `url` (one per port with channel_ports=1). Throws when LCM
+  // cannot be opened (bad URL, no multicast route).
+  explicit Bus(const std::string& url);
   struct InProcess {};
   explicit Bus(InProcess);
   ~Bus();
@@ -48,18 +69,32 @@ class Bus {
   Bus& operator=(const Bus&) = delete;
 
   template <class Msg, class Handler>
-  void subscribe(const std::string& channel, Handler&& handler, int queue_capacity = kUnbounded) {
-    auto sub = std::make_unique<TypedSubscription<Msg>>(this, std::function<void(const Msg&)>(
-                                                                  std::forward<Handler>(handler)));
-    attach(channel, std::move(sub), queue_capacity);
+  void subscribe(std::string_view channel, Handler&& handler, int queue_capacity = kUnbounded) {
+    attach(channel,
+           std::make_unique<TypedSubscription<Msg>>(this, std::function<void(const Msg&)>(std::forward<Handler>(handler))),
+           queue_capacity);
   }
 
+  // Publishes `msg`: encoded over LCM, as a copy of the object in process.
   template <class Msg>
-  void publish(const std::string& channel, const Msg& msg) {
-    const int size = msg.getEncodedSize();
-    buffer_.resize(static_cast<std::size_t>(size));
-    if (msg.encode(buffer_.data(), 0, size) != size) throw std::runtime_error("cannot encode a message for " + channel);
-    publishRaw(channel, buffer_.data(), buffer_.size());
+  void publish(std::string_view channel, const Msg& msg) {
+    Channel& ch = channelFor(channel);
+    if (dropForLossTest()) return;
+    if (lcm_ != nullptr || tap_) {
+      encode(msg);
+      sendBytes(ch, buffer_.data(), buffer_.size());
+    }
+    if (lcm_ == nullptr) enqueueTyped(ch, msg);
+  }
+
+  // Publishes `msg` whose encoding the caller already has in `data` (e.g. from encode(), to hash it):
+  // the bytes go over LCM, a copy of the object in process, as publish() does.
+  template <class Msg>
+  void publishEncoded(std::string_view channel, const Msg& msg, const void* data, std::size_t size) {
+    Channel& ch = channelFor(channel);
+    if (dropForLossTest()) return;
+    sendBytes(ch, data, size);
+    if (lcm_ == nullptr) enqueueTyped(ch, msg);
   }
 
   // Encodes into an internal buffer and returns it (valid until the next encode/publish).
@@ -67,11 +102,12 @@ class Bus {
   const std::vector<std::uint8_t>& encode(const Msg& msg) {
     const int size = msg.getEncodedSize();
     buffer_.resize(static_cast<std::size_t>(size));
-    msg.encode(buffer_.data(), 0, size);
+    if (msg.encode(buffer_.data(), 0, size) != size) throw std::runtime_error("cannot encode a message");
     return buffer_;
   }
 
-  void publishRaw(const std::string& channel, const void* data, std::size_t size);
+  // Publishes encoded bytes; subscribers decode them (a message that does not decode is dropped).
+  void publishRaw(std::string_view channel, const void* data, std::size_t size);
 
   // Waits up to `timeout` for one message and dispatches it. Returns false on timeout.
   bool handleFor(std::chrono::milliseconds timeout);
@@ -81,7 +117,7 @@ class Bus {
   std::uint64_t droppedMessages() const { return dropped_; }
   bool inProcess() const { return lcm_ == nullptr; }
 
-  // Sees every message published through this bus (for recording a log of an in-process run).
+  // Sees every message published through this bus, encoded (for recording a log of an in-process run).
   using Tap = std::function<void(const std::string& channel, const void* data, std::size_t size)>;
   void setTap(Tap tap) { tap_ = std::move(tap); }
 
@@ -91,23 +127,43 @@ class Bus {
   std::uint64_t lostForTesting() const { return lost_for_testing_; }
 
  private:
+  // A typed message waiting in the in-process queue; recycled per channel, so that copying the next
+  // message into it reuses its arrays and strings.
+  struct Box {
+    virtual ~Box() = default;
+    virtual const void* typeTag() const = 0;
+    virtual void encodeTo(std::vector<std::uint8_t>& out) const = 0;
+  };
+  template <class Msg>
+  struct TypedBox final : Box {
+    static constexpr char kTag = 0;  // its address identifies Msg
+    const void* typeTag() const override { return &kTag; }
+    void encodeTo(std::vector<std::uint8_t>& out) const override {
+      out.resize(static_cast<std::size_t>(msg.getEncodedSize()));
+      msg.encode(out.data(), 0, static_cast<int>(out.size()));
+    }
+    Msg msg;
+  };
+
   struct Subscription {
     virtual ~Subscription() = default;
     void onRaw(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+    // Runs the handler; a BadMessage is counted, any other exception kept for the caller.
     void deliver(const void* data, unsigned size);
+    void deliver(const Box& box);
     virtual void dispatch(const void* data, unsigned size) = 0;
+    // False when the box holds another type than this subscription's.
+    virtual bool dispatchBox(const Box& box) = 0;
     Bus* bus = nullptr;
-    lcm::Subscription* handle = nullptr;  // LCM backend
-    std::string channel;                  // in-process backend (exact channel names)
-  };
-  struct Queued {
-    std::string channel;
-    std::vector<std::uint8_t> data;
+    lcm::Subscription* handle = nullptr;  // LCM backend: the subscription and its instance
+    lcm::LCM* lcm = nullptr;
   };
   template <class Msg>
-  struct TypedSubscription : Subscription {
+  struct TypedSubscription final : Subscription {
     TypedSubscription(Bus* b, std::function<void(const Msg&)> h) : handler(std::move(h)) { bus = b; }
     void dispatch(const void* data, unsigned size) override {
+      // A fresh message every time: LCM 1.3.1's decoders leave a primitive array untouched when its
+      // count is 0, so a reused message would keep the previous one's elements.
       Msg msg;
       int decoded = -1;
       try {  // generated decoders throw (length_error, bad_alloc) on absurd array counts
@@ -121,15 +177,65 @@ class Bus {
       }
       handler(msg);
     }
+    bool dispatchBox(const Box& box) override {
+      if (box.typeTag() != &TypedBox<Msg>::kTag) return false;
+      handler(static_cast<const TypedBox<Msg>&>(box).msg);
+      return true;
+    }
     std::function<void(const Msg&)> handler;
   };
 
-  void attach(const std::string& channel, std::unique_ptr<Subscription> sub, int queue_capacity);
+  struct Channel {
+    std::string name;
+    lcm::LCM* lcm = nullptr;                  // LCM backend: the instance of its port
+    std::vector<Subscription*> subscribers;   // in-process backend
+    std::vector<std::unique_ptr<Box>> spare;  // recycled boxes (a channel carries one type)
+  };
+  struct Queued {
+    Channel* channel = nullptr;
+    std::unique_ptr<Box> box;        // a typed message, or
+    std::vector<std::uint8_t> data;  // encoded bytes
+  };
+
+  Channel& channelFor(std::string_view name);
+  void attach(std::string_view channel, std::unique_ptr<Subscription> sub, int queue_capacity);
+  // Draws from the loss test hook: true when this message is to be dropped.
+  bool dropForLossTest();
+  // Shows encoded bytes to the tap and, over LCM, publishes them.
+  void sendBytes(Channel& ch, const void* data, std::size_t size);
+  template <class Msg>
+  void enqueueTyped(Channel& ch, const Msg& msg) {
+    if (ch.subscribers.empty()) return;  // as LCM: a message nobody subscribes to is not queued
+    std::unique_ptr<Box> box;
+    if (!ch.spare.empty() && ch.spare.back()->typeTag() == &TypedBox<Msg>::kTag) {
+      box = std::move(ch.spare.back());
+      ch.spare.pop_back();
+    } else {
+      box = std::make_unique<TypedBox<Msg>>();
+    }
+    static_cast<TypedBox<Msg>&>(*box).msg = msg;
+    Queued q;
+    q.channel = &ch;
+    q.box = std::move(box);
+    queue_.push_back(std::move(q));
+  }
+  void dispatchQueued(Queued& q);
   void rethrowPending();
 
-  lcm::LCM* lcm_ = nullptr;  // null: in-process backend
+  // The instance of `offset`'s port, opened on first use.
+  lcm::LCM& instanceFor(int offset);
+
+  lcm::LCM* lcm_ = nullptr;  // null: in-process backend; else the instance of the URL's port
+  std::string url_;          // with channel ports: the URL the per-port instances derive from
+  bool channel_ports_ = false;
+  std::vector<std::pair<int, std::unique_ptr<lcm::LCM>>> owned_;  // port offset, instance
+  std::vector<lcm::LCM*> receivers_;  // instances with subscriptions: handle*() waits on these
+  std::vector<pollfd> poll_fds_;
+  std::size_t next_receiver_ = 0;     // round robin among ready instances
+  std::vector<std::unique_ptr<Channel>> channels_;
   std::deque<Queued> queue_;
   std::vector<std::vector<std::uint8_t>> spare_buffers_;  // recycled, so queuing does not allocate
+  std::vector<std::uint8_t> convert_buffer_;  // a box encoded for a subscriber of another type
   Tap tap_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<std::uint8_t> buffer_;

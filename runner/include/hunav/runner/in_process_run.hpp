@@ -1,7 +1,7 @@
 #pragma once
 // One episode with every component (world, manager, planner, evaluator) in this process, on one
-// memq:// bus: the same code and the same messages as separate processes in lockstep, so the same
-// fingerprint, without a network.
+// in-process bus (or LCM's memq://): the same code and the same messages as separate processes in
+// lockstep, so the same fingerprint, without a network.
 #include "hunav/evaluator/results.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/worldsim/world_sim.hpp"
