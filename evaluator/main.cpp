@@ -32,6 +32,7 @@ int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string
   while (!node.finished() && !stop.load()) {
     try {
       bus.handleFor(100ms);
+      node.flushIfDue();  // rows of a quiet bus reach the files within a second
     } catch (const std::exception& e) {
       // A signal interrupts LCM's wait, which may then report a failure: not an error when stopping.
       if (stop.load()) break;
@@ -88,10 +89,10 @@ int main(int argc, char** argv) {
       "ones into --out/<run_id>/; metrics.csv (one row per episode) is always in --out.\n"
       "Prints one line 'ready' on stdout once subscribed; exits 0 after --episodes episodes ended, or on\n"
       "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status incomplete).\n"
-      "Offline: --states FILE recomputes metrics.csv and run.json from a states.csv (provenance taken\n"
-      "from the run.json beside it); --log FILE replays an LCM log and writes what the live evaluator\n"
-      "wrote. Metric definitions: docs/metrics.md. Exit codes: 0 done, 1 error, 2 bad command line or\n"
-      "input file."};
+      "Offline: --states FILE recomputes the results of a states.csv into --out (metrics.csv, run.json,\n"
+      "per-tick files and states.csv; provenance taken from the run.json beside it); --log FILE replays an LCM log and writes what the live evaluator\n"
+      "wrote. --sample-rate HZ records and evaluates at most HZ samples per second of simulation time.\n"
+      "Metric definitions: docs/metrics.md. Exit codes: 0 done, 1 error, 2 bad command line or input file."};
   std::string out_dir;
   std::string profile = "default";
   std::string experiment_tag = "exp";
@@ -102,6 +103,7 @@ int main(int argc, char** argv) {
   std::string metrics_file;
   std::string format = "csv";
   bool no_live = false;
+  double sample_rate = 0.0;
 
   app.add_option("--out", out_dir,
                  "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
@@ -131,12 +133,24 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"csv", "hunav_txt"}))
       ->capture_default_str();
   app.add_flag("--no-live-metrics", no_live, "live: do not publish LIVE_METRICS (1 Hz of simulation time)");
+  app.add_option("--sample-rate", sample_rate,
+                 "record and evaluate one sample per 1/HZ s of simulation time (the first world state at or after "
+                 "each step of a grid from the first sample; docs/metrics.md); 0 = every world state or row")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : hunav::kExitBadInput;
+  }
+
+  try {
+    hunav::evaluator::SampleRate{sample_rate};
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "--sample-rate: " << e.what() << "\n";
+    return hunav::kExitBadInput;
   }
 
   try {
@@ -148,6 +162,7 @@ int main(int argc, char** argv) {
       if (tag_opt->count() > 0) options.experiment_tag = experiment_tag;
       options.metrics_file = metrics_file;
       options.hunav_txt = format == "hunav_txt";
+      options.sample_rate = sample_rate;
       return runOffline(options);
     }
     if (!log_file.empty()) {
@@ -158,6 +173,7 @@ int main(int argc, char** argv) {
       options.experiment_tag = experiment_tag;
       options.metrics_file = metrics_file;
       options.hunav_txt = format == "hunav_txt";
+      options.sample_rate = sample_rate;
       return runLog(options);
     }
     hunav::evaluator::EvaluatorOptions options;
@@ -168,6 +184,7 @@ int main(int argc, char** argv) {
     options.metrics_file = metrics_file;
     options.hunav_txt = format == "hunav_txt";
     options.live_metrics = !no_live;
+    options.sample_rate = sample_rate;
     return runLive(options, lcm_url);
   } catch (const hunav::ConfigError& e) {
     std::cerr << e.what() << "\n";

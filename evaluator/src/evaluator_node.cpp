@@ -2,7 +2,6 @@
 
 #include "hunav/channels.hpp"
 #include "hunav/message_checks.hpp"
-#include "hunav/evaluator/run_outputs.hpp"
 
 #include <hunav/live_metrics_t.hpp>
 
@@ -20,13 +19,26 @@ struct EvaluatorNode::Episode {
   RunInfo info;
   fs::path run_dir;
   std::unique_ptr<StatesCsvWriter> states;
-  Recording recording;
+  std::unique_ptr<RunEvaluation> evaluation;
+  SampleRate rate;
+  Recording sample;             // the current sample only (its buffers are reused)
   std::int64_t last_tick = -1;  // highest tick seen (accepted or dropped for bad numbers)
+  bool any_state = false;       // a world state was accepted
+  double last_t = 0.0;          // s, time of the last accepted world state
+  std::int64_t recorded = 0;    // samples recorded (all accepted states, or one per sample period)
+  double first_recorded_t = 0.0;
+  double last_recorded_t = 0.0;
   double start_sim_time = 0.0;
-  Fingerprint fingerprint;      // over the encoded world states recorded
+  Fingerprint fingerprint;      // over the encoded world states accepted
   std::chrono::steady_clock::time_point started;
+  std::chrono::steady_clock::time_point last_flush;
   double next_live = 0.0;       // s, simulation time of the next LIVE_METRICS publication
 };
+
+namespace {
+constexpr std::size_t kFlushBytes = std::size_t{1} << 20;  // buffered states.csv bytes that force a flush
+constexpr std::chrono::seconds kFlushAge{1};
+}  // namespace
 
 namespace {
 
@@ -67,6 +79,7 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
 EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
     : options_(std::move(options)), registry_(metricsFor(options_.profile, options_.metrics_file)), bus_(bus) {
   if (options_.episodes < 0) throw std::invalid_argument("episodes must be >= 0 (0 = no limit)");
+  SampleRate check(options_.sample_rate);  // throws for a bad rate
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
   bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
   bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); });
@@ -117,8 +130,11 @@ void EvaluatorNode::begin(const episode_event_t& start) {
   info.mode = start.mode;
   info.episode = start.episode;
   info.git_commit = gitCommit();
+  info.sample_rate = options_.sample_rate;
+  ep->rate = SampleRate(options_.sample_rate);
   ep->start_sim_time = finite(start.sim_time) ? start.sim_time : 0.0;
   ep->started = std::chrono::steady_clock::now();
+  ep->last_flush = ep->started;
   if (episodes_started_ == 1) {
     ep->run_dir = options_.out_dir;
   } else {
@@ -132,6 +148,8 @@ void EvaluatorNode::begin(const episode_event_t& start) {
   fs::create_directories(ep->run_dir);
   ep->states = std::make_unique<StatesCsvWriter>(ep->run_dir / "states.csv");
   info.states_file = ep->states->path().string();
+  const OutputOptions outputs{options_.out_dir, ep->run_dir, options_.hunav_txt, false};
+  ep->evaluation = std::make_unique<RunEvaluation>(registry_, options_.profile, options_.experiment_tag, outputs);
   current_ = std::move(ep);
 }
 
@@ -154,26 +172,50 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
     reject(fmt::format("tick {}: {}", ws.tick, e.what()));
   }
   const double t = static_cast<double>(ws.utime) / 1e6;
-  if (!ep.recording.empty() && !(t > ep.recording.back().t))
-    reject(fmt::format("world state of tick {} at {} s, not after {} s", ws.tick, t, ep.recording.back().t));
-
-  const EntityState robot = toEntity(ws.robot, ep.recording, points_scratch_);
-  agents_scratch_.clear();
-  for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, ep.recording, points_scratch_));
-  ep.recording.addSample(t, robot, agents_scratch_);
-  ep.states->write(ep.recording, ep.recording.back());
-  if (options_.live_metrics) {
-    if (ep.recording.size() == 1) ep.next_live = t;
-    if (t >= ep.next_live) {
-      publishLive(t);
-      ep.next_live = std::floor(t - ep.recording.front().t + 1.0) + ep.recording.front().t;
-    }
-  }
+  if (ep.any_state && !(t > ep.last_t))
+    reject(fmt::format("world state of tick {} at {} s, not after {} s", ws.tick, t, ep.last_t));
+  ep.any_state = true;
+  ep.last_t = t;
 
   const int size = ws.getEncodedSize();
   encode_buffer_.resize(static_cast<std::size_t>(size));
   ws.encode(encode_buffer_.data(), 0, size);
   ep.fingerprint.add(encode_buffer_.data(), encode_buffer_.size());
+  if (!ep.rate.keep(t)) return;
+
+  ep.sample.clear();
+  const EntityState robot = toEntity(ws.robot, ep.sample, points_scratch_);
+  agents_scratch_.clear();
+  for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, ep.sample, points_scratch_));
+  ep.sample.addSample(t, robot, agents_scratch_);
+  ep.states->write(ep.sample, ep.sample.back());
+  ep.evaluation->add(ep.sample, ep.sample.back());
+  if (ep.recorded == 0) ep.first_recorded_t = t;
+  ep.last_recorded_t = t;
+  ++ep.recorded;
+  if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
+    flush(ep);
+  } else {
+    flushIfDue();
+  }
+  if (options_.live_metrics) {
+    if (ep.recorded == 1) ep.next_live = t;
+    if (t >= ep.next_live) {
+      publishLive(t);
+      ep.next_live = std::floor(t - ep.first_recorded_t + 1.0) + ep.first_recorded_t;
+    }
+  }
+}
+
+void EvaluatorNode::flush(Episode& ep) {
+  ep.states->flush();
+  ep.evaluation->flush();
+  ep.last_flush = std::chrono::steady_clock::now();
+}
+
+void EvaluatorNode::flushIfDue() {
+  if (!current_ || current_->states->bufferedTicks() == 0) return;
+  if (std::chrono::steady_clock::now() - current_->last_flush >= kFlushAge) flush(*current_);
 }
 
 bool EvaluatorNode::finishIncomplete(const std::string& reason) {
@@ -185,7 +227,7 @@ bool EvaluatorNode::finishIncomplete(const std::string& reason) {
 void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomplete_reason) {
   std::unique_ptr<Episode> ep = std::move(current_);
   RunInfo& info = ep->info;
-  info.recorded_ticks = static_cast<std::int64_t>(ep->recording.size());
+  info.recorded_ticks = ep->recorded;
   info.recorded_fingerprint = ep->fingerprint.hex();
   info.dropped_messages = static_cast<std::int64_t>(dropped_total_ - dropped_at_last_end_);
   dropped_at_last_end_ = dropped_total_;
@@ -203,7 +245,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     info.status = "incomplete";
     info.reason = incomplete_reason;
     info.ticks = ep->last_tick + 1;
-    info.sim_time = ep->recording.empty() ? ep->start_sim_time : ep->recording.back().t;
+    info.sim_time = ep->recorded == 0 ? ep->start_sim_time : ep->last_recorded_t;
     info.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - ep->started).count();
     // No END, so no fingerprint from the world: the one of what was recorded is the best there is.
     info.fingerprint = info.recorded_fingerprint;
@@ -217,8 +259,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     close_error = std::current_exception();
   }
 
-  last_result_ = writeRunOutputs(registry_, ep->recording, std::move(info),
-                                 OutputOptions{options_.out_dir, ep->run_dir, options_.hunav_txt});
+  last_result_ = ep->evaluation->finish(std::move(info));
   ++episodes_ended_;
   if (close_error) std::rethrow_exception(close_error);
 }
@@ -227,7 +268,7 @@ void EvaluatorNode::publishLive(double t) {
   live_metrics_t msg;
   msg.utime = static_cast<std::int64_t>(std::llround(t * 1e6));
   msg.episode = current_->info.episode;
-  for (const auto& m : registry_.evaluate(current_->recording)) {
+  for (const auto& m : current_->evaluation->values()) {
     msg.names.push_back(m.name);
     msg.values.push_back(m.value);
   }

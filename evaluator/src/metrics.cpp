@@ -18,12 +18,48 @@ std::string formatMetricValue(const MetricValue& m) {
   return fmt::format("{}", m.value);
 }
 
-void MetricRegistry::add(std::string name, std::string unit, MetricKind kind, MetricFunction compute,
-                         MetricSeries series) {
-  if (compute == nullptr) throw std::invalid_argument("metric " + name + " has no function");
+namespace {
+
+// A metric of the whole recording as an accumulator: it keeps a copy of every sample it sees.
+class WholeRecordingMetric final : public MetricAccumulator {
+ public:
+  explicit WholeRecordingMetric(MetricFunction compute) : compute_(compute) {}
+  std::unique_ptr<MetricAccumulator> clone() const override { return std::make_unique<WholeRecordingMetric>(*this); }
+  double add(const SampleView& s) override {
+    agents_.clear();
+    for (std::size_t j = 0; j < s.size(); ++j) agents_.push_back(withObstacles(s, s.agent(j)));
+    recording_.addSample(s.t(), withObstacles(s, s.robot()), agents_);
+    return 0.0;
+  }
+  double value() const override { return compute_(recording_); }
+
+ private:
+  EntityState withObstacles(const SampleView& s, EntityState e) {
+    const auto pts = s.obstacles(e);
+    points_.assign(pts.begin(), pts.end());
+    e.obstacles_begin = recording_.addObstacles(points_);
+    return e;
+  }
+
+  MetricFunction compute_;
+  Recording recording_;
+  std::vector<EntityState> agents_;
+  std::vector<Vec2> points_;
+};
+
+}  // namespace
+
+void MetricRegistry::add(std::string name, std::string unit, MetricKind kind,
+                         std::unique_ptr<MetricAccumulator> prototype, Column column) {
+  if (prototype == nullptr) throw std::invalid_argument("metric " + name + " has no accumulator");
   for (const auto& d : definitions_)
     if (d.name == name) throw std::invalid_argument("metric " + name + " is registered twice");
-  definitions_.push_back(MetricDefinition{std::move(name), std::move(unit), kind, compute, series});
+  definitions_.push_back(MetricDefinition{std::move(name), std::move(unit), kind, column, std::move(prototype)});
+}
+
+void MetricRegistry::add(std::string name, std::string unit, MetricKind kind, MetricFunction compute) {
+  if (compute == nullptr) throw std::invalid_argument("metric " + name + " has no function");
+  add(std::move(name), std::move(unit), kind, std::make_unique<WholeRecordingMetric>(compute), Column::None);
 }
 
 std::vector<std::string> MetricRegistry::names() const {
@@ -33,32 +69,81 @@ std::vector<std::string> MetricRegistry::names() const {
   return out;
 }
 
-std::vector<MetricValue> MetricRegistry::evaluate(const Recording& recording) const {
-  std::vector<MetricValue> out;
-  out.reserve(definitions_.size());
-  for (const auto& d : definitions_) {
-    const double v = d.compute(recording);
-    if (!std::isfinite(v)) throw std::logic_error("metric " + d.name + " is not finite");
-    // + 0.0 turns -0.0 into 0.0, so no file ever shows "-0".
-    out.push_back(MetricValue{d.name, d.unit, d.kind, v + 0.0});
+namespace {
+// Feeds every sample of `recording` to `set`; `per_sample` (optional) receives each row of per-tick
+// values.
+template <class PerSample>
+void feed(MetricSet& set, const Recording& recording, PerSample&& per_sample) {
+  SampleCache cache;
+  std::vector<double> row(set.columnCount());
+  for (const auto& s : recording.samples()) {
+    cache.reset(s.agents_count);
+    set.add(SampleView(recording, s, cache), row.data());
+    per_sample(row);
   }
-  return out;
+}
+}  // namespace
+
+std::vector<MetricValue> MetricRegistry::evaluate(const Recording& recording) const {
+  MetricSet set(*this);
+  feed(set, recording, [](const std::vector<double>&) {});
+  return set.values();
 }
 
 std::vector<MetricColumn> MetricRegistry::evaluateSeries(const Recording& recording) const {
+  MetricSet set(*this);
   std::vector<MetricColumn> out;
+  for (auto& name : set.columnNames()) {
+    out.push_back(MetricColumn{std::move(name), {}});
+    out.back().values.reserve(recording.size());
+  }
+  feed(set, recording, [&](const std::vector<double>& row) {
+    for (std::size_t c = 0; c < row.size(); ++c) out[c].values.push_back(row[c]);
+  });
+  return out;
+}
+
+MetricSet::MetricSet(const MetricRegistry& registry) : definitions_(registry.definitions()) {
+  accumulators_.reserve(definitions_.size());
   for (const auto& d : definitions_) {
-    if (d.series == nullptr) continue;
-    MetricColumn c{d.name, {}};
-    c.values.reserve(recording.size());
-    d.series(recording, c.values);
-    if (c.values.size() != recording.size())
-      throw std::logic_error("per-tick column of " + d.name + " has the wrong length");
-    for (double& v : c.values) {
-      if (!std::isfinite(v)) throw std::logic_error("per-tick value of " + d.name + " is not finite");
-      v += 0.0;
-    }
-    out.push_back(std::move(c));
+    accumulators_.push_back(d.prototype->clone());
+    if (d.column == Column::PerTick) ++column_count_;
+  }
+}
+
+MetricSet::MetricSet(const MetricSet& other)
+    : definitions_(other.definitions_), column_count_(other.column_count_), samples_(other.samples_) {
+  accumulators_.reserve(other.accumulators_.size());
+  for (const auto& a : other.accumulators_) accumulators_.push_back(a->clone());
+}
+
+void MetricSet::add(const SampleView& s, double* columns) {
+  std::size_t c = 0;
+  for (std::size_t i = 0; i < accumulators_.size(); ++i) {
+    const double v = accumulators_[i]->add(s);
+    if (definitions_[i].column != Column::PerTick) continue;
+    if (!std::isfinite(v)) throw std::logic_error("per-tick value of " + definitions_[i].name + " is not finite");
+    // + 0.0 turns -0.0 into 0.0, so no file ever shows "-0".
+    columns[c++] = v + 0.0;
+  }
+  ++samples_;
+}
+
+std::vector<std::string> MetricSet::columnNames() const {
+  std::vector<std::string> out;
+  for (const auto& d : definitions_)
+    if (d.column == Column::PerTick) out.push_back(d.name);
+  return out;
+}
+
+std::vector<MetricValue> MetricSet::values() const {
+  std::vector<MetricValue> out;
+  out.reserve(definitions_.size());
+  for (std::size_t i = 0; i < accumulators_.size(); ++i) {
+    const auto& d = definitions_[i];
+    const double v = accumulators_[i]->value();
+    if (!std::isfinite(v)) throw std::logic_error("metric " + d.name + " is not finite");
+    out.push_back(MetricValue{d.name, d.unit, d.kind, v + 0.0});
   }
   return out;
 }
@@ -96,39 +181,15 @@ const MetricRegistry& metricsForProfile(const std::string& profile) {
 // ---------------------------------------------------------------------------------------------
 // Definitions of the default profile.
 //
-// Notation: samples k = 1..N with time t_k (strictly increasing, guaranteed by Recording), robot
-// position p_k, heading psi_k, speed v_k (linear_vel), yaw rate w_k (angular_vel), radius r;
-// agents j of sample k with position q_kj and radius r_j.
+// Notation: samples k = 1..N with time t_k (strictly increasing, guaranteed by Recording and by
+// every reader), robot position p_k, heading psi_k, speed v_k (linear_vel), yaw rate w_k
+// (angular_vel), radius r; agents j of sample k with position q_kj and radius r_j.
 // Surface distance d_kj = |p_k - q_kj| - r - r_j (negative when the discs overlap).
 // m_k = max(0, min_j d_kj), defined only for samples with at least one agent.
 // The robot's goal at sample k is g_k (robot row goal columns), when it has one.
+// Each accumulator's add() returns the per-tick column value of the sample.
 
 namespace {
-
-double surfaceDistance(const EntityState& robot, const EntityState& agent) {
-  return (robot.position() - agent.position()).norm() - robot.radius - agent.radius;
-}
-
-// Index of the agent with the smallest surface distance (first one on ties); the sample must have
-// at least one agent.
-std::size_t closestAgent(const EntityState& robot, const Slice<EntityState>& agents) {
-  std::size_t best = 0;
-  double best_d = surfaceDistance(robot, agents[0]);
-  for (std::size_t j = 1; j < agents.size(); ++j) {
-    const double d = surfaceDistance(robot, agents[j]);
-    if (d < best_d) {
-      best_d = d;
-      best = j;
-    }
-  }
-  return best;
-}
-
-// m_k, the clamped surface distance to the closest person; sample must have agents.
-double closestPersonDistance(const Recording& r, const Sample& s) {
-  const auto agents = r.agents(s);
-  return std::max(0.0, surfaceDistance(s.robot, agents[closestAgent(s.robot, agents)]));
-}
 
 enum class Band { Intimate, Personal, Social };
 
@@ -144,423 +205,443 @@ bool inBand(double d, Band band) {
   return false;
 }
 
-// Percentage (0..100) of the N samples where m_k lies in the band. A sample without agents is in
-// no band (HuNavSim sets m_k = 10000 there). N = 0 gives 0.
-double spaceIntrusions(const Recording& r, Band band) {
-  if (r.empty()) return 0.0;
-  std::size_t hits = 0;
-  for (const auto& s : r.samples())
-    if (s.agents_count > 0 && inBand(closestPersonDistance(r, s), band)) ++hits;
-  return 100.0 * static_cast<double>(hits) / static_cast<double>(r.size());
-}
-
-// g_k: for each group id != -1 present in sample k, the group centre c = mean over its members of
-// (x + 1.5 cos yaw, y + 1.5 sin yaw) (a point ahead of each member: HuNavSim's o-space proxy);
-// g_k = min over groups of max(0, |p_k - c| - r). Returns false when the sample has no group.
-bool closestGroupDistance(const Recording& r, const Sample& s, double& out) {
-  std::vector<std::int32_t> groups;
-  for (const auto& a : r.agents(s))
-    if (a.group != -1 && std::find(groups.begin(), groups.end(), a.group) == groups.end())
-      groups.push_back(a.group);
-  if (groups.empty()) return false;
-  double best = std::numeric_limits<double>::max();
-  for (const std::int32_t g : groups) {
-    Vec2 sum = Vec2::Zero();
-    int members = 0;
-    for (const auto& a : r.agents(s)) {
-      if (a.group != g) continue;
-      sum += Vec2(a.x + kGroupCentreAhead * std::cos(a.yaw), a.y + kGroupCentreAhead * std::sin(a.yaw));
-      ++members;
-    }
-    const Vec2 centre = sum / static_cast<double>(members);
-    best = std::min(best, std::max(0.0, (s.robot.position() - centre).norm() - s.robot.radius));
-  }
-  out = best;
-  return true;
-}
-
-// Percentage (0..100) of the N samples where g_k lies in the band. Differences from HuNavSim v1,
-// on purpose: groups are looked up in every sample (v1 only takes the ids of the first sample) and
-// g_k is clamped at 0 (as v2). A sample without groups is in no band; N = 0 gives 0.
-double groupSpaceIntrusions(const Recording& r, Band band) {
-  if (r.empty()) return 0.0;
-  std::size_t hits = 0;
-  for (const auto& s : r.samples()) {
-    double g = 0.0;
-    if (closestGroupDistance(r, s, g) && inBand(g, band)) ++hits;
-  }
-  return 100.0 * static_cast<double>(hits) / static_cast<double>(r.size());
-}
-
-// The robot's navigation goal at the end of the recording: the goal of the last sample, or, when
-// the last sample has none (a world that clears a reached goal), of the latest sample that has one.
-const EntityState* finalGoalCarrier(const Recording& r) {
-  for (auto it = r.samples().rbegin(); it != r.samples().rend(); ++it)
-    if (it->robot.has_goal) return &it->robot;
-  return nullptr;
-}
-
-}  // namespace
-
-namespace metrics {
+double flag(bool b) { return b ? 1.0 : 0.0; }
 
 // [s] t_N - t_1, whether or not the goal was reached (HuNavSim). N <= 1: 0.
-double timeToReachGoal(const Recording& r) { return r.empty() ? 0.0 : r.back().t - r.front().t; }
+struct TimeToReachGoal {
+  bool any = false;
+  double first = 0.0;
+  double last = 0.0;
+  double add(const SampleView& s) {
+    if (!any) first = s.t();
+    last = s.t();
+    any = true;
+    return 0.0;
+  }
+  double value() const { return any ? last - first : 0.0; }
+};
 
 // [m] sum_{k=1}^{N-1} |p_{k+1} - p_k|. N <= 1: 0.
-double pathLength(const Recording& r) {
+struct PathLength {
+  bool any = false;
+  Vec2 previous = Vec2::Zero();
   double sum = 0.0;
-  for (std::size_t k = 1; k < r.size(); ++k) sum += (r[k].robot.position() - r[k - 1].robot.position()).norm();
-  return sum;
-}
+  double add(const SampleView& s) {
+    if (any) sum += (s.robot().position() - previous).norm();
+    previous = s.robot().position();
+    any = true;
+    return 0.0;
+  }
+  double value() const { return sum; }
+};
 
 // [rad] sum_{k=1}^{N-1} |wrap(psi_{k+1} - psi_k)|, wrap into (-pi, pi]: the shortest angular
 // distance between consecutive headings (HuNavSim v2). N <= 1: 0.
-double cumulativeHeadingChanges(const Recording& r) {
+// Per tick: |wrap(psi_k - psi_{k-1})|, 0 at the first sample.
+struct CumulativeHeadingChanges {
+  bool any = false;
+  double previous = 0.0;
   double sum = 0.0;
-  for (std::size_t k = 1; k < r.size(); ++k) sum += std::abs(normalizeAngle(r[k].robot.yaw - r[k - 1].robot.yaw));
-  return sum;
-}
+  double add(const SampleView& s) {
+    double change = 0.0;
+    if (any) {
+      change = std::abs(normalizeAngle(s.robot().yaw - previous));
+      sum += change;
+    }
+    previous = s.robot().yaw;
+    any = true;
+    return change;
+  }
+  double value() const { return sum; }
+};
 
 // [m] mean of m_k over the samples that have at least one agent. HuNavSim divides by all N; we
 // divide by the samples where a closest person exists (same value whenever people are present in
 // every sample). No agent in any sample: 10000 (kNoneDistance, "nobody to be close to").
-double avgDistanceToClosestPerson(const Recording& r) {
+// Per tick: m_k; 10000 at a sample without people.
+struct AvgDistanceToClosestPerson {
   double sum = 0.0;
   std::size_t n = 0;
-  for (const auto& s : r.samples()) {
-    if (s.agents_count == 0) continue;
-    sum += closestPersonDistance(r, s);
+  double add(const SampleView& s) {
+    if (s.empty()) return kNoneDistance;
+    const double m = s.closestPersonDistance();
+    sum += m;
     ++n;
+    return m;
   }
-  return n == 0 ? kNoneDistance : sum / static_cast<double>(n);
-}
+  double value() const { return n == 0 ? kNoneDistance : sum / static_cast<double>(n); }
+};
 
-// [m] min over all k, j of max(0, d_kj). No agent in any sample: 10000.
-double minimumDistanceToPeople(const Recording& r) {
-  double best = kNoneDistance;
+// [m] min (Max = false) or max (Max = true) over all k, j of max(0, d_kj): the surface distance as
+// HuNavSim v2 (v1 forgot the agent radius in the maximum). No agent in any sample: 10000.
+template <bool Max>
+struct ExtremeDistanceToPeople {
   bool any = false;
-  for (const auto& s : r.samples())
-    for (const auto& a : r.agents(s)) {
-      const double d = std::max(0.0, surfaceDistance(s.robot, a));
+  double best = kNoneDistance;
+  double add(const SampleView& s) {
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      const double d = std::max(0.0, s.surfaceDistance(j));
+      best = any ? (Max ? std::max(best, d) : std::min(best, d)) : d;
+      any = true;
+    }
+    return 0.0;
+  }
+  double value() const { return best; }
+};
+
+// [%] 100 * #{k : m_k in the band} / N. A sample without agents is in no band (HuNavSim sets
+// m_k = 10000 there). N = 0: 0. Per tick: 1 when m_k is in the band, else 0.
+struct SpaceIntrusions {
+  Band band = Band::Intimate;
+  std::size_t hits = 0;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    ++n;
+    const bool in = !s.empty() && inBand(s.closestPersonDistance(), band);
+    if (in) ++hits;
+    return flag(in);
+  }
+  double value() const { return n == 0 ? 0.0 : 100.0 * static_cast<double>(hits) / static_cast<double>(n); }
+};
+
+// [%] 100 * #{k : g_k in the band} / N, g_k = SampleView::closestGroupDistance: for each group
+// id != -1 present in sample k, the centre c = mean over its members of (x + 1.5 cos yaw,
+// y + 1.5 sin yaw) (a point ahead of each member: HuNavSim's o-space proxy); g_k = min over groups
+// of max(0, |p_k - c| - r). Differences from HuNavSim v1, on purpose: groups are looked up in every
+// sample (v1 only takes the ids of the first sample) and g_k is clamped at 0 (as v2). A sample
+// without groups is in no band; N = 0: 0. Per tick: 1 when g_k is in the band, else 0.
+struct GroupSpaceIntrusions {
+  Band band = Band::Intimate;
+  std::size_t hits = 0;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    ++n;
+    double g = 0.0;
+    const bool in = s.closestGroupDistance(g) && inBand(g, band);
+    if (in) ++hits;
+    return flag(in);
+  }
+  double value() const { return n == 0 ? 0.0 : 100.0 * static_cast<double>(hits) / static_cast<double>(n); }
+};
+
+// The robot's navigation goal at the end of the recording: the goal of the last sample, or, when
+// the last sample has none (a world that clears a reached goal), of the latest sample that has one;
+// with the robot's final position.
+struct FinalGoal {
+  bool any = false;
+  Vec2 last_position = Vec2::Zero();
+  bool has_goal = false;
+  Vec2 goal = Vec2::Zero();
+  double goal_radius = 0.0;
+  void add(const SampleView& s) {
+    last_position = s.robot().position();
+    any = true;
+    if (s.robot().has_goal) {
+      has_goal = true;
+      goal = s.robot().goal();
+      goal_radius = s.robot().goal_radius;
+    }
+  }
+};
+
+// [bool] |p_N - g| <= goal_radius, g = the final goal (see FinalGoal). The robot's own goal radius
+// is used (HuNavSim v1 forces 0.2, v2 adds a 0.3 m tolerance). No goal or N = 0: false.
+struct Completed {
+  FinalGoal final_goal;
+  double add(const SampleView& s) {
+    final_goal.add(s);
+    return 0.0;
+  }
+  double value() const {
+    if (!final_goal.has_goal) return 0.0;
+    return (final_goal.last_position - final_goal.goal).norm() <= final_goal.goal_radius ? 1.0 : 0.0;
+  }
+};
+
+// [m] min over the samples that have a goal of |p_k - g_k|. No goal in any sample: 10000.
+struct MinimumDistanceToTarget {
+  bool any = false;
+  double best = kNoneDistance;
+  double add(const SampleView& s) {
+    if (s.robot().has_goal) {
+      const double d = (s.robot().position() - s.robot().goal()).norm();
       best = any ? std::min(best, d) : d;
       any = true;
     }
-  return best;
-}
-
-// [m] max over all k, j of max(0, d_kj): the surface distance as HuNavSim v2 (v1 forgot the agent
-// radius). No agent in any sample: 10000.
-double maximumDistanceToPeople(const Recording& r) {
-  double best = kNoneDistance;
-  bool any = false;
-  for (const auto& s : r.samples())
-    for (const auto& a : r.agents(s)) {
-      const double d = std::max(0.0, surfaceDistance(s.robot, a));
-      best = any ? std::max(best, d) : d;
-      any = true;
-    }
-  return best;
-}
-
-// [%] 100 * #{k : m_k < 0.45} / N.
-double intimateSpaceIntrusions(const Recording& r) { return spaceIntrusions(r, Band::Intimate); }
-// [%] 100 * #{k : 0.45 <= m_k < 1.2} / N.
-double personalSpaceIntrusions(const Recording& r) { return spaceIntrusions(r, Band::Personal); }
-// [%] 100 * #{k : 1.2 <= m_k < 3.6} / N.
-double socialSpaceIntrusions(const Recording& r) { return spaceIntrusions(r, Band::Social); }
-
-// [%] 100 * #{k : g_k < 0.45} / N.
-double groupIntimateSpaceIntrusions(const Recording& r) { return groupSpaceIntrusions(r, Band::Intimate); }
-// [%] 100 * #{k : 0.45 <= g_k < 1.2} / N.
-double groupPersonalSpaceIntrusions(const Recording& r) { return groupSpaceIntrusions(r, Band::Personal); }
-// [%] 100 * #{k : 1.2 <= g_k < 3.6} / N.
-double groupSocialSpaceIntrusions(const Recording& r) { return groupSpaceIntrusions(r, Band::Social); }
-
-// [bool] |p_N - g| <= goal_radius, g = the final goal (see finalGoalCarrier). The robot's own goal
-// radius is used (HuNavSim v1 forces 0.2, v2 adds a 0.3 m tolerance). No goal or N = 0: false.
-double completed(const Recording& r) {
-  const EntityState* goal = finalGoalCarrier(r);
-  if (goal == nullptr) return 0.0;
-  return (r.back().robot.position() - goal->goal()).norm() <= goal->goal_radius ? 1.0 : 0.0;
-}
-
-// [m] min over the samples that have a goal of |p_k - g_k|. No goal in any sample: 10000.
-double minimumDistanceToTarget(const Recording& r) {
-  double best = kNoneDistance;
-  bool any = false;
-  for (const auto& s : r.samples()) {
-    if (!s.robot.has_goal) continue;
-    const double d = (s.robot.position() - s.robot.goal()).norm();
-    best = any ? std::min(best, d) : d;
-    any = true;
+    return 0.0;
   }
-  return best;
-}
+  double value() const { return best; }
+};
 
-// [m] |p_N - g|, g = the final goal (see finalGoalCarrier). No goal: 10000.
-double finalDistanceToTarget(const Recording& r) {
-  const EntityState* goal = finalGoalCarrier(r);
-  if (goal == nullptr) return kNoneDistance;
-  return (r.back().robot.position() - goal->goal()).norm();
-}
+// [m] |p_N - g|, g = the final goal (see FinalGoal). No goal: 10000.
+struct FinalDistanceToTarget {
+  FinalGoal final_goal;
+  double add(const SampleView& s) {
+    final_goal.add(s);
+    return 0.0;
+  }
+  double value() const {
+    if (!final_goal.has_goal) return kNoneDistance;
+    return (final_goal.last_position - final_goal.goal).norm();
+  }
+};
 
 // [s] sum_{k=1}^{N-1} (t_{k+1} - t_k) * [|v_k| < 0.01 and |w_k| < 0.02]: each sample stands for
 // the interval up to the next one. Differences from HuNavSim, on purpose: it multiplies the count
 // by (t_N - t_1)/N, and compares the signed yaw rate (so turning clockwise counted as still).
-// N <= 1: 0.
-double timeNotMoving(const Recording& r) {
+// N <= 1: 0. Per tick: 1 when the robot is still, else 0.
+struct TimeNotMoving {
+  bool any = false;
+  bool previous_still = false;
+  double previous_t = 0.0;
   double sum = 0.0;
-  for (std::size_t k = 0; k + 1 < r.size(); ++k) {
-    const auto& robot = r[k].robot;
-    if (std::abs(robot.linear_vel) < kStillLinearSpeed && std::abs(robot.angular_vel) < kStillAngularSpeed)
-      sum += r[k + 1].t - r[k].t;
+  double add(const SampleView& s) {
+    if (any && previous_still) sum += s.t() - previous_t;
+    const bool still =
+        std::abs(s.robot().linear_vel) < kStillLinearSpeed && std::abs(s.robot().angular_vel) < kStillAngularSpeed;
+    previous_still = still;
+    previous_t = s.t();
+    any = true;
+    return flag(still);
   }
-  return sum;
-}
+  double value() const { return sum; }
+};
 
-// [m/s] (1/N) sum_k |v_k|. N = 0: 0.
-double avgRobotLinearSpeed(const Recording& r) {
-  if (r.empty()) return 0.0;
+// [m/s] (1/N) sum_k |v_k|. N = 0: 0. Per tick: |v_k|.
+struct AvgRobotLinearSpeed {
   double sum = 0.0;
-  for (const auto& s : r.samples()) sum += std::abs(s.robot.linear_vel);
-  return sum / static_cast<double>(r.size());
-}
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    const double v = std::abs(s.robot().linear_vel);
+    sum += v;
+    ++n;
+    return v;
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
 
-// [rad/s] (1/N) sum_k |w_k|. N = 0: 0.
-double avgRobotAngularSpeed(const Recording& r) {
-  if (r.empty()) return 0.0;
+// [rad/s] (1/N) sum_k |w_k|. N = 0: 0. Per tick: |w_k|.
+struct AvgRobotAngularSpeed {
   double sum = 0.0;
-  for (const auto& s : r.samples()) sum += std::abs(s.robot.angular_vel);
-  return sum / static_cast<double>(r.size());
-}
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    const double w = std::abs(s.robot().angular_vel);
+    sum += w;
+    ++n;
+    return w;
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
 
-namespace {
-// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k), k = 1..N-1 (t strictly increasing: never a zero step).
-double accelerationAt(const Recording& r, std::size_t k) {
-  return (r[k + 1].robot.linear_vel - r[k].robot.linear_vel) / (r[k + 1].t - r[k].t);
-}
-}  // namespace
+// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) over the interval that ends at the newest sample (t
+// strictly increasing: never a zero step); the history the acceleration metrics keep.
+struct RobotAcceleration {
+  std::size_t n = 0;      // samples seen
+  double v = 0.0;         // speed and time of the newest sample
+  double t = 0.0;
+  double a = 0.0;         // acceleration of the interval ending at the newest sample (n >= 2)
+  double a_before = 0.0;  // of the interval before it (n >= 3)
+  double t_before = 0.0;  // time of the sample before the newest
+  double t_before2 = 0.0;  // and of the one before that
+  void add(const SampleView& s) {
+    const double v_new = s.robot().linear_vel;
+    if (n >= 1) {
+      a_before = a;
+      a = (v_new - v) / (s.t() - t);
+    }
+    t_before2 = t_before;
+    t_before = t;
+    v = v_new;
+    t = s.t();
+    ++n;
+  }
+};
 
 // [m/s^2] (1/(N-1)) sum_{k=1}^{N-1} |a_k|: the mean over the N-1 intervals (HuNavSim divides by N).
-// N <= 1: 0.
-double avgAcceleration(const Recording& r) {
-  if (r.size() < 2) return 0.0;
+// N <= 1: 0. Per tick: signed a of the interval ending at k, 0 at the first sample.
+struct AvgAcceleration {
+  RobotAcceleration acc;
   double sum = 0.0;
-  for (std::size_t k = 0; k + 1 < r.size(); ++k) sum += std::abs(accelerationAt(r, k));
-  return sum / static_cast<double>(r.size() - 1);
-}
+  double add(const SampleView& s) {
+    acc.add(s);
+    if (acc.n < 2) return 0.0;
+    sum += std::abs(acc.a);
+    return acc.a;
+  }
+  double value() const { return acc.n < 2 ? 0.0 : sum / static_cast<double>(acc.n - 1); }
+};
 
 // [m/s^3] mean jerk magnitude. a_k belongs to the interval midpoint (t_k + t_{k+1})/2, so
 // j_k = (a_{k+1} - a_k) / ((t_{k+2} - t_k)/2), k = 1..N-2, value = (1/(N-2)) sum |j_k|.
 // HuNavSim instead divides each acceleration by its time step (a_k / dt, not a derivative).
-// N <= 2: 0.
-double avgOveracceleration(const Recording& r) {
-  if (r.size() < 3) return 0.0;
+// N <= 2: 0. Per tick: signed j_{k-2}, 0 at the first two samples.
+struct AvgOveracceleration {
+  RobotAcceleration acc;
   double sum = 0.0;
-  for (std::size_t k = 0; k + 2 < r.size(); ++k) {
-    const double da = accelerationAt(r, k + 1) - accelerationAt(r, k);
-    sum += std::abs(da / ((r[k + 2].t - r[k].t) / 2.0));
+  double add(const SampleView& s) {
+    acc.add(s);
+    if (acc.n < 3) return 0.0;
+    const double jerk = (acc.a - acc.a_before) / ((acc.t - acc.t_before2) / 2.0);
+    sum += std::abs(jerk);
+    return jerk;
   }
-  return sum / static_cast<double>(r.size() - 2);
-}
+  double value() const { return acc.n < 3 ? 0.0 : sum / static_cast<double>(acc.n - 2); }
+};
 
 // [m/s] mean of |linear_vel| over every (sample, agent) pair. HuNavSim divides the sum by
 // N * (number of agents in the first sample); equal when the crowd does not change. No agent: 0.
-double avgPedestrianVelocity(const Recording& r) {
+// Per tick: mean |linear_vel| of the people of sample k; 0 without people.
+struct AvgPedestrianVelocity {
   double sum = 0.0;
   std::size_t n = 0;
-  for (const auto& s : r.samples())
-    for (const auto& a : r.agents(s)) {
-      sum += std::abs(a.linear_vel);
+  double add(const SampleView& s) {
+    double here = 0.0;
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      const double v = std::abs(s.agent(j).linear_vel);
+      sum += v;
+      here += v;
       ++n;
     }
-  return n == 0 ? 0.0 : sum / static_cast<double>(n);
-}
+    return s.empty() ? 0.0 : here / static_cast<double>(s.size());
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
 
 // [m/s] mean, over the samples with at least one agent, of |linear_vel| of the closest agent (by
 // surface distance d_kj as every other "closest person"; HuNavSim uses the centre distance and
-// divides by N). No agent: 0.
-double avgClosestPedestrianVelocity(const Recording& r) {
+// divides by N). No agent: 0. Per tick: that speed; 0 without people.
+struct AvgClosestPedestrianVelocity {
   double sum = 0.0;
   std::size_t n = 0;
-  for (const auto& s : r.samples()) {
-    if (s.agents_count == 0) continue;
-    const auto agents = r.agents(s);
-    sum += std::abs(agents[closestAgent(s.robot, agents)].linear_vel);
+  double add(const SampleView& s) {
+    std::size_t j = 0;
+    if (!s.closestPerson(j)) return 0.0;
+    const double v = std::abs(s.agent(j).linear_vel);
+    sum += v;
     ++n;
+    return v;
   }
-  return n == 0 ? 0.0 : sum / static_cast<double>(n);
-}
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
 
-}  // namespace metrics
-
-namespace series {
-
-namespace {
-template <class F>
-void each(const Recording& r, std::vector<double>& out, F&& f) {
-  out.clear();
-  for (std::size_t k = 0; k < r.size(); ++k) out.push_back(f(k));
-}
-double flag(bool b) { return b ? 1.0 : 0.0; }
 }  // namespace
 
-// |wrap(psi_k - psi_{k-1})|, 0 at the first sample.
-void cumulativeHeadingChanges(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return k == 0 ? 0.0 : std::abs(normalizeAngle(r[k].robot.yaw - r[k - 1].robot.yaw)); });
-}
-// m_k; 10000 at a sample without people.
-void avgDistanceToClosestPerson(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return r[k].agents_count == 0 ? kNoneDistance : closestPersonDistance(r, r[k]); });
-}
-// 1 when m_k is in the band, else 0.
-void intimateSpaceIntrusions(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return flag(r[k].agents_count > 0 && inBand(closestPersonDistance(r, r[k]), Band::Intimate)); });
-}
-void personalSpaceIntrusions(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return flag(r[k].agents_count > 0 && inBand(closestPersonDistance(r, r[k]), Band::Personal)); });
-}
-void socialSpaceIntrusions(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return flag(r[k].agents_count > 0 && inBand(closestPersonDistance(r, r[k]), Band::Social)); });
-}
-// 1 when g_k is in the band, else 0 (0 without groups).
-void groupIntimateSpaceIntrusions(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { double g = 0.0; return flag(closestGroupDistance(r, r[k], g) && inBand(g, Band::Intimate)); });
-}
-void groupPersonalSpaceIntrusions(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { double g = 0.0; return flag(closestGroupDistance(r, r[k], g) && inBand(g, Band::Personal)); });
-}
-void groupSocialSpaceIntrusions(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { double g = 0.0; return flag(closestGroupDistance(r, r[k], g) && inBand(g, Band::Social)); });
-}
-// 1 when the robot is still (|v| < 0.01 and |w| < 0.02), else 0.
-void timeNotMoving(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) {
-    return flag(std::abs(r[k].robot.linear_vel) < kStillLinearSpeed && std::abs(r[k].robot.angular_vel) < kStillAngularSpeed);
-  });
-}
-// |v_k|.
-void avgRobotLinearSpeed(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return std::abs(r[k].robot.linear_vel); });
-}
-// |w_k|.
-void avgRobotAngularSpeed(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) { return std::abs(r[k].robot.angular_vel); });
-}
-// Signed a over the interval ending at k: (v_k - v_{k-1}) / (t_k - t_{k-1}); 0 at the first sample.
-void avgAcceleration(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) {
-    return k == 0 ? 0.0 : (r[k].robot.linear_vel - r[k - 1].robot.linear_vel) / (r[k].t - r[k - 1].t);
-  });
-}
-// Signed jerk j_{k-2} (see avgOveracceleration); 0 at the first two samples.
-void avgOveracceleration(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) {
-    if (k < 2) return 0.0;
-    const double a0 = (r[k - 1].robot.linear_vel - r[k - 2].robot.linear_vel) / (r[k - 1].t - r[k - 2].t);
-    const double a1 = (r[k].robot.linear_vel - r[k - 1].robot.linear_vel) / (r[k].t - r[k - 1].t);
-    return (a1 - a0) / ((r[k].t - r[k - 2].t) / 2.0);
-  });
-}
-// Mean |linear_vel| of the people of sample k; 0 without people.
-void avgPedestrianVelocity(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) {
-    double sum = 0.0;
-    for (const auto& a : r.agents(r[k])) sum += std::abs(a.linear_vel);
-    return r[k].agents_count == 0 ? 0.0 : sum / static_cast<double>(r[k].agents_count);
-  });
-}
-// |linear_vel| of the closest person (surface distance); 0 without people.
-void avgClosestPedestrianVelocity(const Recording& r, std::vector<double>& out) {
-  each(r, out, [&](std::size_t k) {
-    if (r[k].agents_count == 0) return 0.0;
-    const auto agents = r.agents(r[k]);
-    return std::abs(agents[closestAgent(r[k].robot, agents)].linear_vel);
-  });
-}
+namespace metrics {
+double timeToReachGoal(const Recording& r) { return evaluateOn<TimeToReachGoal>(r); }
+double pathLength(const Recording& r) { return evaluateOn<PathLength>(r); }
+double cumulativeHeadingChanges(const Recording& r) { return evaluateOn<CumulativeHeadingChanges>(r); }
+double avgDistanceToClosestPerson(const Recording& r) { return evaluateOn<AvgDistanceToClosestPerson>(r); }
+double minimumDistanceToPeople(const Recording& r) { return evaluateOn<ExtremeDistanceToPeople<false>>(r); }
+double maximumDistanceToPeople(const Recording& r) { return evaluateOn<ExtremeDistanceToPeople<true>>(r); }
+double intimateSpaceIntrusions(const Recording& r) { return evaluateOn(r, SpaceIntrusions{Band::Intimate}); }
+double personalSpaceIntrusions(const Recording& r) { return evaluateOn(r, SpaceIntrusions{Band::Personal}); }
+double socialSpaceIntrusions(const Recording& r) { return evaluateOn(r, SpaceIntrusions{Band::Social}); }
+double groupIntimateSpaceIntrusions(const Recording& r) { return evaluateOn(r, GroupSpaceIntrusions{Band::Intimate}); }
+double groupPersonalSpaceIntrusions(const Recording& r) { return evaluateOn(r, GroupSpaceIntrusions{Band::Personal}); }
+double groupSocialSpaceIntrusions(const Recording& r) { return evaluateOn(r, GroupSpaceIntrusions{Band::Social}); }
+double completed(const Recording& r) { return evaluateOn<Completed>(r); }
+double minimumDistanceToTarget(const Recording& r) { return evaluateOn<MinimumDistanceToTarget>(r); }
+double finalDistanceToTarget(const Recording& r) { return evaluateOn<FinalDistanceToTarget>(r); }
+double timeNotMoving(const Recording& r) { return evaluateOn<TimeNotMoving>(r); }
+double avgRobotLinearSpeed(const Recording& r) { return evaluateOn<AvgRobotLinearSpeed>(r); }
+double avgRobotAngularSpeed(const Recording& r) { return evaluateOn<AvgRobotAngularSpeed>(r); }
+double avgAcceleration(const Recording& r) { return evaluateOn<AvgAcceleration>(r); }
+double avgOveracceleration(const Recording& r) { return evaluateOn<AvgOveracceleration>(r); }
+double avgPedestrianVelocity(const Recording& r) { return evaluateOn<AvgPedestrianVelocity>(r); }
+double avgClosestPedestrianVelocity(const Recording& r) { return evaluateOn<AvgClosestPedestrianVelocity>(r); }
+}  // namespace metrics
 
-}  // namespace series
+namespace {
+template <class State>
+std::unique_ptr<MetricAccumulator> make(State initial = State()) {
+  return std::make_unique<AccumulatorOf<State>>(std::move(initial));
+}
+}  // namespace
 
 // One line per metric: the order here is the column order of metrics.csv.
 void registerDefaultMetrics(MetricRegistry& r) {
   using K = MetricKind;
-  r.add("time_to_reach_goal", "s", K::Real, &metrics::timeToReachGoal);
-  r.add("path_length", "m", K::Real, &metrics::pathLength);
-  r.add("cumulative_heading_changes", "rad", K::Real, &metrics::cumulativeHeadingChanges, &series::cumulativeHeadingChanges);
-  r.add("avg_distance_to_closest_person", "m", K::Real, &metrics::avgDistanceToClosestPerson, &series::avgDistanceToClosestPerson);
-  r.add("minimum_distance_to_people", "m", K::Real, &metrics::minimumDistanceToPeople);
-  r.add("maximum_distance_to_people", "m", K::Real, &metrics::maximumDistanceToPeople);
-  r.add("intimate_space_intrusions", "%", K::Real, &metrics::intimateSpaceIntrusions, &series::intimateSpaceIntrusions);
-  r.add("personal_space_intrusions", "%", K::Real, &metrics::personalSpaceIntrusions, &series::personalSpaceIntrusions);
-  r.add("social_space_intrusions", "%", K::Real, &metrics::socialSpaceIntrusions, &series::socialSpaceIntrusions);
-  r.add("group_intimate_space_intrusions", "%", K::Real, &metrics::groupIntimateSpaceIntrusions, &series::groupIntimateSpaceIntrusions);
-  r.add("group_personal_space_intrusions", "%", K::Real, &metrics::groupPersonalSpaceIntrusions, &series::groupPersonalSpaceIntrusions);
-  r.add("group_social_space_intrusions", "%", K::Real, &metrics::groupSocialSpaceIntrusions, &series::groupSocialSpaceIntrusions);
-  r.add("completed", "bool", K::Bool, &metrics::completed);
-  r.add("minimum_distance_to_target", "m", K::Real, &metrics::minimumDistanceToTarget);
-  r.add("final_distance_to_target", "m", K::Real, &metrics::finalDistanceToTarget);
-  r.add("robot_on_person_collision", "count", K::Real, &metrics::robotOnPersonCollision, &series::robotOnPersonCollision);
-  r.add("person_on_robot_collision", "count", K::Real, &metrics::personOnRobotCollision, &series::personOnRobotCollision);
-  r.add("time_not_moving", "s", K::Real, &metrics::timeNotMoving, &series::timeNotMoving);
-  r.add("avg_robot_linear_speed", "m/s", K::Real, &metrics::avgRobotLinearSpeed, &series::avgRobotLinearSpeed);
-  r.add("avg_robot_angular_speed", "rad/s", K::Real, &metrics::avgRobotAngularSpeed, &series::avgRobotAngularSpeed);
-  r.add("avg_acceleration", "m/s^2", K::Real, &metrics::avgAcceleration, &series::avgAcceleration);
-  r.add("avg_overacceleration", "m/s^3", K::Real, &metrics::avgOveracceleration, &series::avgOveracceleration);
-  r.add("avg_pedestrian_velocity", "m/s", K::Real, &metrics::avgPedestrianVelocity, &series::avgPedestrianVelocity);
-  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, &metrics::avgClosestPedestrianVelocity, &series::avgClosestPedestrianVelocity);
-  r.add("social_force_on_agents", "m/s", K::Real, &metrics::socialForceOnAgents, &series::socialForceOnAgents);
-  r.add("social_force_on_robot", "m/s", K::Real, &metrics::socialForceOnRobot, &series::socialForceOnRobot);
-  r.add("social_work", "m/s", K::Real, &metrics::socialWork, &series::socialWork);
-  r.add("obstacle_force_on_robot", "m/s", K::Real, &metrics::obstacleForceOnRobot, &series::obstacleForceOnRobot);
-  r.add("obstacle_force_on_agents", "m/s", K::Real, &metrics::obstacleForceOnAgents, &series::obstacleForceOnAgents);
-  r.add("danger_fear_cost", "1", K::Real, &metrics::dangerFearCost, &series::dangerFearCost);
-  r.add("danger_panic_cost", "1", K::Real, &metrics::dangerPanicCost, &series::dangerPanicCost);
-  r.add("surprise_visibility_cost", "rad*s/m", K::Real, &metrics::surpriseVisibilityCost, &series::surpriseVisibilityCost);
-  r.add("surprise_shock_cost", "s/m", K::Real, &metrics::surpriseShockCost, &series::surpriseShockCost);
-  r.add("surprise_react_cost", "s/m", K::Real, &metrics::surpriseReactCost, &series::surpriseReactCost);
+  namespace a = accumulators;
+  const Column tick = Column::PerTick;
+  const Column none = Column::None;
+  r.add("time_to_reach_goal", "s", K::Real, make<TimeToReachGoal>(), none);
+  r.add("path_length", "m", K::Real, make<PathLength>(), none);
+  r.add("cumulative_heading_changes", "rad", K::Real, make<CumulativeHeadingChanges>(), tick);
+  r.add("avg_distance_to_closest_person", "m", K::Real, make<AvgDistanceToClosestPerson>(), tick);
+  r.add("minimum_distance_to_people", "m", K::Real, make<ExtremeDistanceToPeople<false>>(), none);
+  r.add("maximum_distance_to_people", "m", K::Real, make<ExtremeDistanceToPeople<true>>(), none);
+  r.add("intimate_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Intimate}), tick);
+  r.add("personal_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Personal}), tick);
+  r.add("social_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Social}), tick);
+  r.add("group_intimate_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Intimate}), tick);
+  r.add("group_personal_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Personal}), tick);
+  r.add("group_social_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Social}), tick);
+  r.add("completed", "bool", K::Bool, make<Completed>(), none);
+  r.add("minimum_distance_to_target", "m", K::Real, make<MinimumDistanceToTarget>(), none);
+  r.add("final_distance_to_target", "m", K::Real, make<FinalDistanceToTarget>(), none);
+  r.add("robot_on_person_collision", "count", K::Real, a::robotOnPersonCollision(), tick);
+  r.add("person_on_robot_collision", "count", K::Real, a::personOnRobotCollision(), tick);
+  r.add("time_not_moving", "s", K::Real, make<TimeNotMoving>(), tick);
+  r.add("avg_robot_linear_speed", "m/s", K::Real, make<AvgRobotLinearSpeed>(), tick);
+  r.add("avg_robot_angular_speed", "rad/s", K::Real, make<AvgRobotAngularSpeed>(), tick);
+  r.add("avg_acceleration", "m/s^2", K::Real, make<AvgAcceleration>(), tick);
+  r.add("avg_overacceleration", "m/s^3", K::Real, make<AvgOveracceleration>(), tick);
+  r.add("avg_pedestrian_velocity", "m/s", K::Real, make<AvgPedestrianVelocity>(), tick);
+  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, make<AvgClosestPedestrianVelocity>(), tick);
+  r.add("social_force_on_agents", "m/s", K::Real, a::socialForceOnAgents(), tick);
+  r.add("social_force_on_robot", "m/s", K::Real, a::socialForceOnRobot(), tick);
+  r.add("social_work", "m/s", K::Real, a::socialWork(), tick);
+  r.add("obstacle_force_on_robot", "m/s", K::Real, a::obstacleForceOnRobot(), tick);
+  r.add("obstacle_force_on_agents", "m/s", K::Real, a::obstacleForceOnAgents(), tick);
+  r.add("danger_fear_cost", "1", K::Real, a::dangerFearCost(), tick);
+  r.add("danger_panic_cost", "1", K::Real, a::dangerPanicCost(), tick);
+  r.add("surprise_visibility_cost", "rad*s/m", K::Real, a::surpriseVisibilityCost(), tick);
+  r.add("surprise_shock_cost", "s/m", K::Real, a::surpriseShockCost(), tick);
+  r.add("surprise_react_cost", "s/m", K::Real, a::surpriseReactCost(), tick);
 }
 
 // HuNavSim v1's evaluator: same keys and order, its definitions (metrics_v1.cpp). Sum-type metrics
-// are sums over the recorded samples (units: the per-sample unit, summed).
+// are sums over the recorded samples (units: the per-sample unit, summed). Where v1's per-step list
+// is the same quantity, the per-tick column is the default profile's.
 void registerHunavV1Metrics(MetricRegistry& r) {
   using K = MetricKind;
-  namespace m = metrics;
-  namespace v1 = metrics_v1;
-  r.add("time_to_reach_goal", "s", K::Real, &m::timeToReachGoal);
-  r.add("path_length", "m", K::Real, &m::pathLength);
-  r.add("cumulative_heading_changes", "rad", K::Real, &m::cumulativeHeadingChanges, &series::cumulativeHeadingChanges);
-  r.add("avg_distance_to_closest_person", "m", K::Real, &v1::avgDistanceToClosestPerson, &series::avgDistanceToClosestPerson);
-  r.add("minimum_distance_to_people", "m", K::Real, &m::minimumDistanceToPeople);
-  r.add("maximum_distance_to_people", "m", K::Real, &v1::maximumDistanceToPeople);
-  r.add("intimate_space_intrusions", "%", K::Real, &m::intimateSpaceIntrusions, &series::intimateSpaceIntrusions);
-  r.add("personal_space_intrusions", "%", K::Real, &m::personalSpaceIntrusions, &series::personalSpaceIntrusions);
-  r.add("social_space_intrusions", "%", K::Real, &m::socialSpaceIntrusions, &series::socialSpaceIntrusions);
-  r.add("group_intimate_space_intrusions", "%", K::Real, &m::groupIntimateSpaceIntrusions, &series::groupIntimateSpaceIntrusions);
-  r.add("group_personal_space_intrusions", "%", K::Real, &m::groupPersonalSpaceIntrusions, &series::groupPersonalSpaceIntrusions);
-  r.add("group_social_space_intrusions", "%", K::Real, &m::groupSocialSpaceIntrusions, &series::groupSocialSpaceIntrusions);
-  r.add("completed", "bool", K::Bool, &v1::completed);
-  r.add("minimum_distance_to_target", "m", K::Real, &m::minimumDistanceToTarget);
-  r.add("final_distance_to_target", "m", K::Real, &m::finalDistanceToTarget);
-  r.add("robot_on_person_collision", "count", K::Real, &v1::robotOnPersonCollision, &series_v1::robotOnPersonCollision);
-  r.add("person_on_robot_collision", "count", K::Real, &v1::personOnRobotCollision, &series_v1::personOnRobotCollision);
-  r.add("time_not_moving", "s", K::Real, &v1::timeNotMoving, &series_v1::timeNotMoving);
-  r.add("avg_robot_linear_speed", "m/s", K::Real, &v1::avgRobotLinearSpeed, &series::avgRobotLinearSpeed);
-  r.add("avg_robot_angular_speed", "rad/s", K::Real, &m::avgRobotAngularSpeed, &series_v1::avgRobotAngularSpeed);
-  r.add("avg_acceleration", "m/s^2", K::Real, &v1::avgAcceleration, &series::avgAcceleration);
-  r.add("avg_overacceleration", "m/s^3", K::Real, &v1::avgOveracceleration, &series_v1::avgOveracceleration);
-  r.add("avg_pedestrian_velocity", "m/s", K::Real, &v1::avgPedestrianVelocity, &series::avgPedestrianVelocity);
-  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, &v1::avgClosestPedestrianVelocity, &series_v1::avgClosestPedestrianVelocity);
-  r.add("social_force_on_agents", "m/s^2", K::Real, &v1::socialForceOnAgents, &series_v1::socialForceOnAgents);
-  r.add("social_force_on_robot", "m/s^2", K::Real, &v1::socialForceOnRobot, &series_v1::socialForceOnRobot);
-  r.add("social_work", "m/s^2", K::Real, &v1::socialWork, &series_v1::socialWork);
-  r.add("obstacle_force_on_robot", "m/s^2", K::Real, &v1::obstacleForceOnRobot, &series_v1::obstacleForceOnRobot);
-  r.add("obstacle_force_on_agents", "m/s^2", K::Real, &v1::obstacleForceOnAgents, &series_v1::obstacleForceOnAgents);
-  r.add("danger_fear_cost", "1/s", K::Real, &v1::dangerFearCost, &series::dangerFearCost);
-  r.add("danger_panic_cost", "1/s", K::Real, &v1::dangerPanicCost, &series::dangerPanicCost);
-  r.add("surprise_visibility_cost", "rad/m", K::Real, &v1::surpriseVisibilityCost, &series::surpriseVisibilityCost);
-  r.add("surprise_shock_cost", "1/m", K::Real, &v1::surpriseShockCost, &series_v1::surpriseShockCost);
-  r.add("surprise_react_cost", "1/m", K::Real, &v1::surpriseReactCost, &series_v1::surpriseReactCost);
+  namespace v1 = accumulators_v1;
+  const Column tick = Column::PerTick;
+  const Column none = Column::None;
+  r.add("time_to_reach_goal", "s", K::Real, make<TimeToReachGoal>(), none);
+  r.add("path_length", "m", K::Real, make<PathLength>(), none);
+  r.add("cumulative_heading_changes", "rad", K::Real, make<CumulativeHeadingChanges>(), tick);
+  r.add("avg_distance_to_closest_person", "m", K::Real, v1::avgDistanceToClosestPerson(), tick);
+  r.add("minimum_distance_to_people", "m", K::Real, make<ExtremeDistanceToPeople<false>>(), none);
+  r.add("maximum_distance_to_people", "m", K::Real, v1::maximumDistanceToPeople(), none);
+  r.add("intimate_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Intimate}), tick);
+  r.add("personal_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Personal}), tick);
+  r.add("social_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Social}), tick);
+  r.add("group_intimate_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Intimate}), tick);
+  r.add("group_personal_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Personal}), tick);
+  r.add("group_social_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Social}), tick);
+  r.add("completed", "bool", K::Bool, v1::completed(), none);
+  r.add("minimum_distance_to_target", "m", K::Real, make<MinimumDistanceToTarget>(), none);
+  r.add("final_distance_to_target", "m", K::Real, make<FinalDistanceToTarget>(), none);
+  r.add("robot_on_person_collision", "count", K::Real, v1::robotOnPersonCollision(), tick);
+  r.add("person_on_robot_collision", "count", K::Real, v1::personOnRobotCollision(), tick);
+  r.add("time_not_moving", "s", K::Real, v1::timeNotMoving(), tick);
+  r.add("avg_robot_linear_speed", "m/s", K::Real, v1::avgRobotLinearSpeed(), tick);
+  r.add("avg_robot_angular_speed", "rad/s", K::Real, v1::avgRobotAngularSpeed(), tick);
+  r.add("avg_acceleration", "m/s^2", K::Real, v1::avgAcceleration(), tick);
+  r.add("avg_overacceleration", "m/s^3", K::Real, v1::avgOveracceleration(), tick);
+  r.add("avg_pedestrian_velocity", "m/s", K::Real, v1::avgPedestrianVelocity(), tick);
+  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, v1::avgClosestPedestrianVelocity(), tick);
+  r.add("social_force_on_agents", "m/s^2", K::Real, v1::socialForceOnAgents(), tick);
+  r.add("social_force_on_robot", "m/s^2", K::Real, v1::socialForceOnRobot(), tick);
+  r.add("social_work", "m/s^2", K::Real, v1::socialWork(), tick);
+  r.add("obstacle_force_on_robot", "m/s^2", K::Real, v1::obstacleForceOnRobot(), tick);
+  r.add("obstacle_force_on_agents", "m/s^2", K::Real, v1::obstacleForceOnAgents(), tick);
+  r.add("danger_fear_cost", "1/s", K::Real, v1::dangerFearCost(), tick);
+  r.add("danger_panic_cost", "1/s", K::Real, v1::dangerPanicCost(), tick);
+  r.add("surprise_visibility_cost", "rad/m", K::Real, v1::surpriseVisibilityCost(), tick);
+  r.add("surprise_shock_cost", "1/m", K::Real, v1::surpriseShockCost(), tick);
+  r.add("surprise_react_cost", "1/m", K::Real, v1::surpriseReactCost(), tick);
 }
 
 }  // namespace hunav::evaluator

@@ -10,15 +10,9 @@
 #include <algorithm>
 #include <cmath>
 
-namespace hunav::evaluator::metrics_v1 {
+namespace hunav::evaluator {
 
 namespace {
-
-double n(const Recording& r) { return static_cast<double>(r.size()); }
-
-double surface(const EntityState& robot, const EntityState& a) {
-  return (robot.position() - a.position()).norm() - robot.radius - a.radius;
-}
 
 // sfm.py normalize_angle: one wrap only.
 double wrapOnce(double theta) {
@@ -27,72 +21,310 @@ double wrapOnce(double theta) {
   return theta;
 }
 
-SfmParams v1Params() {
-  SfmParams p;
-  p.social_weight = kV1SocialWeight;
-  return p;
-}
+double flag(bool b) { return b ? 1.0 : 0.0; }
 
-// sfm.py: the robot is skipped against a person with its own id (a.id == agent.id).
-template <class F>
-double sumOverSamples(const Recording& r, F&& f) {
+// [m] (sum over samples with people of m_k) / N. N = 0 or nobody ever: 10000 (the original
+// divides 0 by N, or crashes for N = 0; 10000 keeps "nobody to be close to" as in the default).
+// Per tick: m_k, 10000 without people (the default's column).
+struct AvgDistanceToClosestPerson {
   double sum = 0.0;
-  for (const auto& s : r.samples()) sum += f(s);
-  return sum;
-}
+  bool any = false;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    ++n;
+    if (s.empty()) return kNoneDistance;
+    double m = s.surfaceDistance(0);
+    for (std::size_t j = 0; j < s.size(); ++j) m = std::min(m, s.surfaceDistance(j));
+    const double clamped = std::max(0.0, m);
+    sum += clamped;
+    any = true;
+    return clamped;
+  }
+  double value() const { return any ? sum / static_cast<double>(n) : kNoneDistance; }
+};
 
-// Collision counts (reference 5.2, items 16-17): every (sample, person) pair with surface distance
-// < 0.02 m; alpha = bearing of the robot in the person's frame, alpha2 = atan2(x, y) (arguments
-// swapped) of the person in the robot's frame; |alpha| < |alpha2| and v_r != v_a: robot on person;
-// |alpha| > |alpha2| and v_r != v_a: person on robot; |alpha| == |alpha2| and v_r == v_a: both;
-// any other case: nothing.
-double collisions(const Recording& r, bool robot_side, std::vector<double>* per_sample = nullptr) {
+// [m] max over k, j of |p_k - q_kj| - r (the agent radius forgotten, not clamped). Nobody: 10000
+// (the original crashes on max of an empty list).
+struct MaximumDistanceToPeople {
+  bool any = false;
+  double best = kNoneDistance;
+  double add(const SampleView& s) {
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      const double d = (s.robot().position() - s.agent(j).position()).norm() - s.robot().radius;
+      best = any ? std::max(best, d) : d;
+      any = true;
+    }
+    return 0.0;
+  }
+  double value() const { return best; }
+};
+
+// [bool] |p_N - g| - 0.2 < 0: the goal radius forced to 0.2 m. Goal as in the default profile (the
+// latest sample's that has one).
+struct Completed {
+  Vec2 last_position = Vec2::Zero();
+  bool has_goal = false;
+  Vec2 goal = Vec2::Zero();
+  double add(const SampleView& s) {
+    last_position = s.robot().position();
+    if (s.robot().has_goal) {
+      has_goal = true;
+      goal = s.robot().goal();
+    }
+    return 0.0;
+  }
+  double value() const {
+    if (!has_goal) return 0.0;
+    return (last_position - goal).norm() - kV1GoalRadius < 0.0 ? 1.0 : 0.0;
+  }
+};
+
+// [count] Collision counts (reference 5.2, items 16-17): every (sample, person) pair with surface
+// distance < 0.02 m; alpha = bearing of the robot in the person's frame, alpha2 = atan2(x, y)
+// (arguments swapped) of the person in the robot's frame; |alpha| < |alpha2| and v_r != v_a: robot
+// on person; |alpha| > |alpha2| and v_r != v_a: person on robot; |alpha| == |alpha2| and
+// v_r == v_a: both; any other case: nothing. Per tick: the pairs counted at k.
+template <bool RobotSide>
+struct Collisions {
   double count = 0.0;
-  if (per_sample != nullptr) per_sample->clear();
-  for (const auto& s : r.samples()) {
+  double add(const SampleView& s) {
     const double before = count;
-    for (const auto& a : r.agents(s)) {
-      if (!(surface(s.robot, a) < kV1ContactDistance)) continue;
-      const Vec2 ra = s.robot.position() - a.position();
+    const EntityState& robot = s.robot();
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      if (!(s.surfaceDistance(j) < kV1ContactDistance)) continue;
+      const EntityState& a = s.agent(j);
+      const Vec2 ra = robot.position() - a.position();
       const double ca = std::cos(a.yaw), sa = std::sin(a.yaw);
       const double alpha = std::atan2(-sa * ra.x() + ca * ra.y(), ca * ra.x() + sa * ra.y());
       const Vec2 ar = -ra;
-      const double cr = std::cos(s.robot.yaw), sr = std::sin(s.robot.yaw);
+      const double cr = std::cos(robot.yaw), sr = std::sin(robot.yaw);
       const double alpha2 = std::atan2(cr * ar.x() + sr * ar.y(), -sr * ar.x() + cr * ar.y());
       const double x = std::abs(alpha), y = std::abs(alpha2);
-      const bool same_speed = s.robot.linear_vel == a.linear_vel;
+      const bool same_speed = robot.linear_vel == a.linear_vel;
       if (x == y) {
         if (same_speed) count += 1.0;
-      } else if (!same_speed && (x < y) == robot_side) {
+      } else if (!same_speed && (x < y) == RobotSide) {
         count += 1.0;
       }
     }
-    if (per_sample != nullptr) per_sample->push_back(count - before);
+    return count - before;
   }
-  return count;
-}
+  double value() const { return count; }
+};
 
-// linear_vel of the person with the smallest centre distance (first on ties, below 10000 m as the
-// original's initial value); 0 without people.
-double closestByCentreSpeed(const Recording& r, const Sample& s) {
-  double best = kNoneDistance;
+// [s] count * (t_N - t_1) / N, count = #{k : v_k < 0.01 and w_k < 0.02} (signed comparisons).
+// N = 0: 0. Per tick: the signed still flag.
+struct TimeNotMoving {
+  double count = 0.0;
+  std::size_t n = 0;
+  double first = 0.0;
+  double last = 0.0;
+  double add(const SampleView& s) {
+    if (n == 0) first = s.t();
+    last = s.t();
+    ++n;
+    const bool still = s.robot().linear_vel < kStillLinearSpeed && s.robot().angular_vel < kStillAngularSpeed;
+    if (still) count += 1.0;
+    return flag(still);
+  }
+  double value() const { return n == 0 ? 0.0 : count * ((last - first) / static_cast<double>(n)); }
+};
+
+// [m/s] (1/N) sum_k v_k (the field as recorded, no abs). N = 0: 0. Per tick: |v_k| (the default's).
+struct AvgRobotLinearSpeed {
+  double sum = 0.0;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    sum += s.robot().linear_vel;
+    ++n;
+    return std::abs(s.robot().linear_vel);
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
+
+// [rad/s] (1/N) sum_k |w_k| as the default; per tick the signed w_k (v1's per-step list).
+struct AvgRobotAngularSpeed {
+  double sum = 0.0;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    sum += std::abs(s.robot().angular_vel);
+    ++n;
+    return s.robot().angular_vel;
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
+
+// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) with the signed linear_vel, for the interval ending at
+// the newest sample.
+struct LastAcceleration {
+  std::size_t n = 0;
   double v = 0.0;
-  for (const auto& a : r.agents(s)) {
-    const double d = (s.robot.position() - a.position()).norm();
-    if (d < best) {
-      best = d;
-      v = a.linear_vel;
+  double t = 0.0;
+  double a = 0.0;   // valid when n >= 2
+  double dt = 0.0;  // of that interval
+  void add(const SampleView& s) {
+    if (n >= 1) {
+      a = (s.robot().linear_vel - v) / (s.t() - t);
+      dt = s.t() - t;
     }
+    v = s.robot().linear_vel;
+    t = s.t();
+    ++n;
   }
-  return v;
+};
+
+// [m/s^2] (1/N) sum_{k<N} |a_k|. N = 0: 0. Per tick: the signed a of the interval ending at k, 0
+// first (the default's column).
+struct AvgAcceleration {
+  LastAcceleration acc;
+  double sum = 0.0;
+  double add(const SampleView& s) {
+    acc.add(s);
+    if (acc.n < 2) return 0.0;
+    sum += std::abs(acc.a);
+    return acc.a;
+  }
+  double value() const { return acc.n == 0 ? 0.0 : sum / static_cast<double>(acc.n); }
+};
+
+// [m/s^3] (1/N) sum_{k<N} |a_k / (t_{k+1} - t_k)| ("jerk": acceleration divided by dt). N = 0: 0.
+// Per tick: a/dt of the interval ending at k, 0 first.
+struct AvgOveracceleration {
+  LastAcceleration acc;
+  double sum = 0.0;
+  double add(const SampleView& s) {
+    acc.add(s);
+    if (acc.n < 2) return 0.0;
+    const double over = acc.a / acc.dt;
+    sum += std::abs(over);
+    return over;
+  }
+  double value() const { return acc.n == 0 ? 0.0 : sum / static_cast<double>(acc.n); }
+};
+
+// [m/s] sum_k sum_j v_kj / (N * people in the first sample). Nobody in the first sample: 0 (the
+// original divides by zero). Per tick: mean |v| of the people at k (the default's column).
+struct AvgPedestrianVelocity {
+  double sum = 0.0;
+  std::size_t n = 0;
+  std::size_t first_people = 0;
+  double add(const SampleView& s) {
+    if (n == 0) first_people = s.size();
+    ++n;
+    double here = 0.0;
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      sum += s.agent(j).linear_vel;
+      here += std::abs(s.agent(j).linear_vel);
+    }
+    return s.empty() ? 0.0 : here / static_cast<double>(s.size());
+  }
+  double value() const {
+    if (n == 0 || first_people == 0) return 0.0;
+    return sum / (static_cast<double>(n) * static_cast<double>(first_people));
+  }
+};
+
+// [m/s] (1/N) sum_k v of the person with the smallest centre distance (first on ties, below 10000 m
+// as the original's initial value; 0 for a sample without people). N = 0: 0. Per tick: that v.
+struct AvgClosestPedestrianVelocity {
+  double sum = 0.0;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    double best = kNoneDistance;
+    double v = 0.0;
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      const double d = (s.robot().position() - s.agent(j).position()).norm();
+      if (d < best) {
+        best = d;
+        v = s.agent(j).linear_vel;
+      }
+    }
+    sum += v;
+    ++n;
+    return v;
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
+
+// Per-sample quantities of the force metrics (the per-tick columns; the metrics sum them). As
+// sfm.py, a person with the robot's id is skipped in the social forces.
+
+// sum_j |F_v1(robot -> agent_j)|.
+double onAgentsAt(const SampleView& s) {
+  double f = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j)
+    if (s.agent(j).id != s.robot().id) f += s.v1ForceOnPerson(j).norm();
+  return f;
+}
+// sum_j |F_v1(agent_j -> robot)|.
+double onRobotAt(const SampleView& s) {
+  double f = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j)
+    if (s.agent(j).id != s.robot().id) f += s.v1ForceOnRobot(j).norm();
+  return f;
+}
+// The obstacle force averaged over the points (lightsfm-2022): the sum divided by their number.
+Vec2 meanOf(Vec2 sum, std::size_t points) {
+  if (points > 0) sum /= static_cast<double>(points);
+  return sum;
+}
+// |F_obs,mean(robot)|.
+double obstacleOnRobotAt(const SampleView& s) {
+  return meanOf(s.robotObstacleForceSum(), s.obstacles(s.robot()).size()).norm();
+}
+// |sum_j F_v1(agent_j -> robot)| + |F_obs,mean(robot)| + sum_j |F_v1(robot -> agent_j)|.
+double workAt(const SampleView& s) {
+  Vec2 on_robot = Vec2::Zero();
+  double on_agents = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    if (s.agent(j).id == s.robot().id) continue;
+    on_robot += s.v1ForceOnRobot(j);
+    on_agents += s.v1ForceOnPerson(j).norm();
+  }
+  return on_robot.norm() + obstacleOnRobotAt(s) + on_agents;
+}
+// mean_j |F_obs,mean(agent_j)|; a sample without people gives 0 (the original divides by 0).
+double obstacleOnAgentsAt(const SampleView& s) {
+  if (s.empty()) return 0.0;
+  double f = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) f += meanOf(s.obstacleForceSum(j), s.obstacles(s.agent(j)).size()).norm();
+  return f / static_cast<double>(s.size());
+}
+// HuNavSim v2's costs per sample, summed over the people (v1 had none; v2's definitions).
+double fearAt(const SampleView& s) {
+  double c = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) c += s.fear(j);
+  return c;
+}
+double panicAt(const SampleView& s) {
+  double c = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) c += s.panic(j);
+  return c;
+}
+double visibilitySumAt(const SampleView& s) {
+  double c = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    double theta = 0.0, dist = 0.0;
+    if (s.visible(j, theta, dist)) c += kSurpriseAlpha * theta / dist;
+  }
+  return c;
 }
 
-// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) with the signed linear_vel.
-double acceleration(const Recording& r, std::size_t k) {
-  return (r[k + 1].robot.linear_vel - r[k].robot.linear_vel) / (r[k + 1].t - r[k].t);
+// v2 computes its time step as stamp_0 - stamp_1 (negative): the visible time never becomes
+// positive, SR = 1, so the shock and react costs are always 0 (per tick too).
+struct AlwaysZero {
+  double add(const SampleView&) { return 0.0; }
+  double value() const { return 0.0; }
+};
+
+template <class State>
+std::unique_ptr<MetricAccumulator> make() {
+  return std::make_unique<AccumulatorOf<State>>(State());
 }
 
 }  // namespace
+
+namespace metrics_v1 {
 
 Vec2 socialForceV1(const Vec2& me_pos, const Vec2& me_vel, const Vec2& other_pos, const Vec2& other_vel) {
   const Vec2 diff = other_pos - me_pos;
@@ -111,225 +343,55 @@ Vec2 socialForceV1(const Vec2& me_pos, const Vec2& me_vel, const Vec2& other_pos
   return kV1SocialWeight * (fv * t + fth * leftNormal(t));
 }
 
-namespace {
-Vec2 forceOn(const EntityState& me, const EntityState& other) {
-  return socialForceV1(me.position(), Vec2(me.vx, me.vy), other.position(), Vec2(other.vx, other.vy));
-}
-}  // namespace
-
-// [m] (sum over samples with people of m_k) / N. N = 0 or nobody ever: 10000 (the original
-// divides 0 by N, or crashes for N = 0; 10000 keeps "nobody to be close to" as in the default).
-double avgDistanceToClosestPerson(const Recording& r) {
-  double sum = 0.0;
-  bool any = false;
-  for (const auto& s : r.samples()) {
-    const auto agents = r.agents(s);
-    if (agents.empty()) continue;
-    double m = surface(s.robot, agents[0]);
-    for (const auto& a : agents) m = std::min(m, surface(s.robot, a));
-    sum += std::max(0.0, m);
-    any = true;
-  }
-  return any ? sum / n(r) : kNoneDistance;
-}
-
-// [m] max over k, j of |p_k - q_kj| - r (the agent radius forgotten, not clamped). Nobody: 10000
-// (the original crashes on max of an empty list).
-double maximumDistanceToPeople(const Recording& r) {
-  double best = kNoneDistance;
-  bool any = false;
-  for (const auto& s : r.samples())
-    for (const auto& a : r.agents(s)) {
-      const double d = (s.robot.position() - a.position()).norm() - s.robot.radius;
-      best = any ? std::max(best, d) : d;
-      any = true;
-    }
-  return best;
-}
-
-// [bool] |p_N - g| - 0.2 < 0: the goal radius forced to 0.2 m. Goal as in the default profile.
-double completed(const Recording& r) {
-  for (auto it = r.samples().rbegin(); it != r.samples().rend(); ++it)
-    if (it->robot.has_goal)
-      return (r.back().robot.position() - it->robot.goal()).norm() - kV1GoalRadius < 0.0 ? 1.0 : 0.0;
-  return 0.0;
-}
-
-// [count] sampled contact pairs the robot caused (see collisions).
-double robotOnPersonCollision(const Recording& r) { return collisions(r, true); }
-// [count] sampled contact pairs a person caused.
-double personOnRobotCollision(const Recording& r) { return collisions(r, false); }
-
-// [s] count * (t_N - t_1) / N, count = #{k : v_k < 0.01 and w_k < 0.02} (signed comparisons).
-// N = 0: 0.
-double timeNotMoving(const Recording& r) {
-  if (r.empty()) return 0.0;
-  double count = 0.0;
-  for (const auto& s : r.samples())
-    if (s.robot.linear_vel < kStillLinearSpeed && s.robot.angular_vel < kStillAngularSpeed) count += 1.0;
-  return count * ((r.back().t - r.front().t) / n(r));
-}
-
-// [m/s] (1/N) sum_k v_k (the field as recorded, no abs). N = 0: 0.
-double avgRobotLinearSpeed(const Recording& r) {
-  if (r.empty()) return 0.0;
-  return sumOverSamples(r, [](const Sample& s) { return s.robot.linear_vel; }) / n(r);
-}
-
-// [m/s^2] (1/N) sum_{k<N} |a_k|. N = 0: 0.
-double avgAcceleration(const Recording& r) {
-  if (r.empty()) return 0.0;
-  double sum = 0.0;
-  for (std::size_t k = 0; k + 1 < r.size(); ++k) sum += std::abs(acceleration(r, k));
-  return sum / n(r);
-}
-
-// [m/s^3] (1/N) sum_{k<N} |a_k / (t_{k+1} - t_k)| ("jerk": acceleration divided by dt). N = 0: 0.
-double avgOveracceleration(const Recording& r) {
-  if (r.empty()) return 0.0;
-  double sum = 0.0;
-  for (std::size_t k = 0; k + 1 < r.size(); ++k) sum += std::abs(acceleration(r, k) / (r[k + 1].t - r[k].t));
-  return sum / n(r);
-}
-
-// [m/s] sum_k sum_j v_kj / (N * people in the first sample). Nobody in the first sample: 0 (the
-// original divides by zero).
-double avgPedestrianVelocity(const Recording& r) {
-  if (r.empty() || r.front().agents_count == 0) return 0.0;
-  double sum = 0.0;
-  for (const auto& s : r.samples())
-    for (const auto& a : r.agents(s)) sum += a.linear_vel;
-  return sum / (n(r) * static_cast<double>(r.front().agents_count));
-}
-
-// [m/s] (1/N) sum_k v of the person with the smallest centre distance (first on ties; 0 for a
-// sample without people). N = 0: 0.
-double avgClosestPedestrianVelocity(const Recording& r) {
-  if (r.empty()) return 0.0;
-  double sum = 0.0;
-  for (const auto& s : r.samples()) sum += closestByCentreSpeed(r, s);
-  return sum / n(r);
-}
-
-// Per-sample quantities of the force metrics (the per-tick columns; the metrics sum them).
-namespace {
-double onAgentsAt(const Recording& r, const Sample& s) {
-  double f = 0.0;
-  for (const auto& a : r.agents(s))
-    if (a.id != s.robot.id) f += forceOn(a, s.robot).norm();
-  return f;
-}
-double onRobotAt(const Recording& r, const Sample& s) {
-  double f = 0.0;
-  for (const auto& a : r.agents(s))
-    if (a.id != s.robot.id) f += forceOn(s.robot, a).norm();
-  return f;
-}
-double obstacleOnRobotAt(const Recording& r, const Sample& s) {
-  return obstacleForceOf(sfmBody(s.robot), r.obstacles(s.robot), v1Params(), true).norm();
-}
-double workAt(const Recording& r, const Sample& s) {
-  Vec2 on_robot = Vec2::Zero();
-  double on_agents = 0.0;
-  for (const auto& a : r.agents(s)) {
-    if (a.id == s.robot.id) continue;
-    on_robot += forceOn(s.robot, a);
-    on_agents += forceOn(a, s.robot).norm();
-  }
-  return on_robot.norm() + obstacleOnRobotAt(r, s) + on_agents;
-}
-double obstacleOnAgentsAt(const Recording& r, const Sample& s) {
-  const auto agents = r.agents(s);
-  if (agents.empty()) return 0.0;
-  double f = 0.0;
-  for (const auto& a : agents) f += obstacleForceOf(sfmBody(a), r.obstacles(a), v1Params(), true).norm();
-  return f / static_cast<double>(agents.size());
-}
-using SampleFn = double (*)(const Recording&, const Sample&);
-double sumOf(const Recording& r, SampleFn f) {
-  double sum = 0.0;
-  for (const auto& s : r.samples()) sum += f(r, s);
-  return sum;
-}
-void fill(const Recording& r, SampleFn f, std::vector<double>& out) {
-  out.clear();
-  for (const auto& s : r.samples()) out.push_back(f(r, s));
-}
-}  // namespace
-
-// [m/s^2 summed over samples] sum_k sum_j |F_v1(robot -> agent_j)| (people with the robot's id
-// skipped, as sfm.py).
-double socialForceOnAgents(const Recording& r) { return sumOf(r, &onAgentsAt); }
-// sum_k sum_j |F_v1(agent_j -> robot)|.
-double socialForceOnRobot(const Recording& r) { return sumOf(r, &onRobotAt); }
-// sum_k |sum_j F_v1(agent_j -> robot)| + |F_obs,mean(robot)| + sum_j |F_v1(robot -> agent_j)|.
-double socialWork(const Recording& r) { return sumOf(r, &workAt); }
-// sum_k |F_obs,mean(robot)| (obstacle force averaged over the points).
-double obstacleForceOnRobot(const Recording& r) { return sumOf(r, &obstacleOnRobotAt); }
-// sum_k mean_j |F_obs,mean(agent_j)|; a sample without people adds 0 (the original divides by 0).
-double obstacleForceOnAgents(const Recording& r) { return sumOf(r, &obstacleOnAgentsAt); }
-
-// HuNavSim v2's costs, summed over samples and people (v1 had none; v2's definitions with its bugs).
-double dangerFearCost(const Recording& r) {
-  return sumOverSamples(r, [&](const Sample& s) {
-    double c = 0.0;
-    for (const auto& a : r.agents(s)) c += dangerFearAt(s.robot, a);
-    return c;
-  });
-}
-double dangerPanicCost(const Recording& r) {
-  return sumOverSamples(r, [&](const Sample& s) {
-    double c = 0.0;
-    for (const auto& a : r.agents(s)) c += dangerPanicAt(s.robot, a);
-    return c;
-  });
-}
-double surpriseVisibilityCost(const Recording& r) {
-  return sumOverSamples(r, [&](const Sample& s) {
-    double c = 0.0;
-    for (const auto& a : r.agents(s)) c += visibilityAt(s.robot, a);
-    return c;
-  });
-}
-// v2 computes its time step as stamp_0 - stamp_1 (negative): the visible time never becomes
-// positive, SR = 1, so both costs are always 0.
+double avgDistanceToClosestPerson(const Recording& r) { return evaluateOn<AvgDistanceToClosestPerson>(r); }
+double maximumDistanceToPeople(const Recording& r) { return evaluateOn<MaximumDistanceToPeople>(r); }
+double completed(const Recording& r) { return evaluateOn<Completed>(r); }
+double robotOnPersonCollision(const Recording& r) { return evaluateOn<Collisions<true>>(r); }
+double personOnRobotCollision(const Recording& r) { return evaluateOn<Collisions<false>>(r); }
+double timeNotMoving(const Recording& r) { return evaluateOn<TimeNotMoving>(r); }
+double avgRobotLinearSpeed(const Recording& r) { return evaluateOn<AvgRobotLinearSpeed>(r); }
+double avgAcceleration(const Recording& r) { return evaluateOn<AvgAcceleration>(r); }
+double avgOveracceleration(const Recording& r) { return evaluateOn<AvgOveracceleration>(r); }
+double avgPedestrianVelocity(const Recording& r) { return evaluateOn<AvgPedestrianVelocity>(r); }
+double avgClosestPedestrianVelocity(const Recording& r) { return evaluateOn<AvgClosestPedestrianVelocity>(r); }
+// [m/s^2 summed over samples] sum_k onAgentsAt, onRobotAt, workAt, obstacleOnRobotAt,
+// obstacleOnAgentsAt; the v2 costs summed over samples and people.
+double socialForceOnAgents(const Recording& r) { return evaluateOn<SumOf<&onAgentsAt>>(r); }
+double socialForceOnRobot(const Recording& r) { return evaluateOn<SumOf<&onRobotAt>>(r); }
+double socialWork(const Recording& r) { return evaluateOn<SumOf<&workAt>>(r); }
+double obstacleForceOnRobot(const Recording& r) { return evaluateOn<SumOf<&obstacleOnRobotAt>>(r); }
+double obstacleForceOnAgents(const Recording& r) { return evaluateOn<SumOf<&obstacleOnAgentsAt>>(r); }
+double dangerFearCost(const Recording& r) { return evaluateOn<SumOf<&fearAt>>(r); }
+double dangerPanicCost(const Recording& r) { return evaluateOn<SumOf<&panicAt>>(r); }
+double surpriseVisibilityCost(const Recording& r) { return evaluateOn<SumOf<&visibilitySumAt>>(r); }
 double surpriseShockCost(const Recording&) { return 0.0; }
 double surpriseReactCost(const Recording&) { return 0.0; }
 
-}  // namespace hunav::evaluator::metrics_v1
+}  // namespace metrics_v1
 
-namespace hunav::evaluator::series_v1 {
+namespace accumulators_v1 {
+std::unique_ptr<MetricAccumulator> avgDistanceToClosestPerson() { return make<AvgDistanceToClosestPerson>(); }
+std::unique_ptr<MetricAccumulator> maximumDistanceToPeople() { return make<MaximumDistanceToPeople>(); }
+std::unique_ptr<MetricAccumulator> completed() { return make<Completed>(); }
+std::unique_ptr<MetricAccumulator> robotOnPersonCollision() { return make<Collisions<true>>(); }
+std::unique_ptr<MetricAccumulator> personOnRobotCollision() { return make<Collisions<false>>(); }
+std::unique_ptr<MetricAccumulator> timeNotMoving() { return make<TimeNotMoving>(); }
+std::unique_ptr<MetricAccumulator> avgRobotLinearSpeed() { return make<AvgRobotLinearSpeed>(); }
+std::unique_ptr<MetricAccumulator> avgRobotAngularSpeed() { return make<AvgRobotAngularSpeed>(); }
+std::unique_ptr<MetricAccumulator> avgAcceleration() { return make<AvgAcceleration>(); }
+std::unique_ptr<MetricAccumulator> avgOveracceleration() { return make<AvgOveracceleration>(); }
+std::unique_ptr<MetricAccumulator> avgPedestrianVelocity() { return make<AvgPedestrianVelocity>(); }
+std::unique_ptr<MetricAccumulator> avgClosestPedestrianVelocity() { return make<AvgClosestPedestrianVelocity>(); }
+std::unique_ptr<MetricAccumulator> socialForceOnAgents() { return make<SumOf<&onAgentsAt>>(); }
+std::unique_ptr<MetricAccumulator> socialForceOnRobot() { return make<SumOf<&onRobotAt>>(); }
+std::unique_ptr<MetricAccumulator> socialWork() { return make<SumOf<&workAt>>(); }
+std::unique_ptr<MetricAccumulator> obstacleForceOnRobot() { return make<SumOf<&obstacleOnRobotAt>>(); }
+std::unique_ptr<MetricAccumulator> obstacleForceOnAgents() { return make<SumOf<&obstacleOnAgentsAt>>(); }
+std::unique_ptr<MetricAccumulator> dangerFearCost() { return make<SumOf<&fearAt>>(); }
+std::unique_ptr<MetricAccumulator> dangerPanicCost() { return make<SumOf<&panicAt>>(); }
+std::unique_ptr<MetricAccumulator> surpriseVisibilityCost() { return make<SumOf<&visibilitySumAt>>(); }
+std::unique_ptr<MetricAccumulator> surpriseShockCost() { return make<AlwaysZero>(); }
+std::unique_ptr<MetricAccumulator> surpriseReactCost() { return make<AlwaysZero>(); }
+}  // namespace accumulators_v1
 
-using metrics_v1::fill;
-
-// HuNavSim v1's per-step lists: sampled contact pairs at k, the signed still flag, the signed yaw
-// rate, a_k / dt (0 at the first sample), the closest (centre distance) person's speed, forces.
-void robotOnPersonCollision(const Recording& r, std::vector<double>& out) { metrics_v1::collisions(r, true, &out); }
-void personOnRobotCollision(const Recording& r, std::vector<double>& out) { metrics_v1::collisions(r, false, &out); }
-void timeNotMoving(const Recording& r, std::vector<double>& out) {
-  out.clear();
-  for (const auto& s : r.samples())
-    out.push_back(s.robot.linear_vel < kStillLinearSpeed && s.robot.angular_vel < kStillAngularSpeed ? 1.0 : 0.0);
-}
-void avgRobotAngularSpeed(const Recording& r, std::vector<double>& out) {
-  out.clear();
-  for (const auto& s : r.samples()) out.push_back(s.robot.angular_vel);
-}
-void avgOveracceleration(const Recording& r, std::vector<double>& out) {
-  out.clear();
-  for (std::size_t k = 0; k < r.size(); ++k)
-    out.push_back(k == 0 ? 0.0 : metrics_v1::acceleration(r, k - 1) / (r[k].t - r[k - 1].t));
-}
-void avgClosestPedestrianVelocity(const Recording& r, std::vector<double>& out) {
-  out.clear();
-  for (const auto& s : r.samples()) out.push_back(metrics_v1::closestByCentreSpeed(r, s));
-}
-void socialForceOnAgents(const Recording& r, std::vector<double>& out) { fill(r, &metrics_v1::onAgentsAt, out); }
-void socialForceOnRobot(const Recording& r, std::vector<double>& out) { fill(r, &metrics_v1::onRobotAt, out); }
-void socialWork(const Recording& r, std::vector<double>& out) { fill(r, &metrics_v1::workAt, out); }
-void obstacleForceOnRobot(const Recording& r, std::vector<double>& out) { fill(r, &metrics_v1::obstacleOnRobotAt, out); }
-void obstacleForceOnAgents(const Recording& r, std::vector<double>& out) { fill(r, &metrics_v1::obstacleOnAgentsAt, out); }
-void surpriseShockCost(const Recording& r, std::vector<double>& out) { out.assign(r.size(), 0.0); }
-void surpriseReactCost(const Recording& r, std::vector<double>& out) { out.assign(r.size(), 0.0); }
-
-}  // namespace hunav::evaluator::series_v1
+}  // namespace hunav::evaluator

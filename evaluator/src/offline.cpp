@@ -7,26 +7,166 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <condition_variable>
+#include <cstdio>
 #include <cstring>
+#include <deque>
+#include <mutex>
+#include <thread>
 
 namespace hunav::evaluator {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A bounded hand-over of sample chunks between the reading thread and the evaluating one.
+class ChunkQueue {
+ public:
+  void push(std::unique_ptr<Recording> chunk) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      chunks_.push_back(std::move(chunk));
+    }
+    ready_.notify_one();
+  }
+  // Null once the queue is closed and empty (or cancelled).
+  std::unique_ptr<Recording> pop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ready_.wait(lock, [&] { return !chunks_.empty() || closed_; });
+    if (chunks_.empty()) return nullptr;
+    auto chunk = std::move(chunks_.front());
+    chunks_.pop_front();
+    return chunk;
+  }
+  // No more chunks will come; with `discard`, the ones waiting are dropped too.
+  void close(bool discard = false) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closed_ = true;
+      if (discard) chunks_.clear();
+    }
+    ready_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<std::unique_ptr<Recording>> chunks_;
+  bool closed_ = false;
+};
+
+constexpr std::size_t kChunkSamples = 1024;
+constexpr int kChunksInFlight = 4;
+
+// states.csv of the output folder, written under a temporary name until the evaluation succeeded.
+class StatesCopy {
+ public:
+  StatesCopy(const fs::path& target) : target_(target), part_(target.parent_path() / ".states.csv.part") {
+    file_ = std::fopen(part_.c_str(), "wb");
+    if (file_ == nullptr) throw std::runtime_error("cannot write " + part_.string() + ": " + std::strerror(errno));
+  }
+  ~StatesCopy() {
+    if (file_ == nullptr) return;
+    std::fclose(file_);
+    std::error_code ec;
+    fs::remove(part_, ec);
+  }
+  StatesCopy(const StatesCopy&) = delete;
+  StatesCopy& operator=(const StatesCopy&) = delete;
+  std::FILE* file() const { return file_; }
+  void commit() {
+    const int rc = std::fclose(file_);
+    file_ = nullptr;
+    std::error_code ec;
+    if (rc == 0) fs::rename(part_, target_, ec);
+    if (rc != 0 || ec) {
+      fs::remove(part_, ec);
+      throw std::runtime_error("cannot write " + target_.string());
+    }
+  }
+
+ private:
+  fs::path target_;
+  fs::path part_;
+  std::FILE* file_ = nullptr;
+};
+
+bool sameFile(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
+}
+
+// One pass over the file into out_dir: parsing on a second thread, evaluating and writing here.
+RunResult evaluateInto(const OfflineOptions& options, StatesCsvReader& reader, const MetricRegistry& registry,
+                       RunInfo info, bool have_source_json) {
+  std::unique_ptr<StatesCopy> copy;
+  if (!sameFile(options.out_dir / "states.csv", options.states_file)) {
+    copy = std::make_unique<StatesCopy>(options.out_dir / "states.csv");
+    reader.copyKeptRowsTo(copy->file());
+  }
+  RunEvaluation evaluation(registry, info.profile, info.experiment_tag,
+                           OutputOptions{options.out_dir, options.out_dir, options.hunav_txt, true});
+
+  // Reading and parsing on one thread, evaluating and writing on this one.
+  ChunkQueue free_chunks;
+  ChunkQueue full_chunks;
+  for (int i = 0; i < kChunksInFlight; ++i) free_chunks.push(std::make_unique<Recording>());
+  std::exception_ptr read_error;
+  std::thread read_thread([&] {
+    try {
+      while (auto chunk = free_chunks.pop()) {
+        chunk->clear();
+        const bool more = reader.read(*chunk, kChunkSamples);
+        full_chunks.push(std::move(chunk));
+        if (!more) break;
+      }
+    } catch (...) {
+      read_error = std::current_exception();
+    }
+    full_chunks.close();
+  });
+  double last_t = 0.0;
+  try {
+    while (auto chunk = full_chunks.pop()) {
+      for (const auto& s : chunk->samples()) evaluation.add(*chunk, s);
+      if (!chunk->empty()) last_t = chunk->back().t;
+      free_chunks.push(std::move(chunk));
+    }
+  } catch (...) {
+    free_chunks.close(true);
+    read_thread.join();
+    throw;
+  }
+  read_thread.join();
+  if (read_error) std::rethrow_exception(read_error);
+
+  const auto samples = static_cast<std::int64_t>(evaluation.samples());
+  if (!have_source_json) {
+    info.ticks = samples;
+    info.sim_time = samples == 0 ? 0.0 : last_t;
+  }
+  info.recorded_ticks = samples;
+  if (copy) copy->commit();
+  return evaluation.finish(std::move(info));
+}
+
+}  // namespace
+
+
 RunResult recomputeFromStates(const OfflineOptions& options) {
   const MetricRegistry registry = metricsFor(options.profile, options.metrics_file);
-  const Recording recording = readStatesCsv(options.states_file);
+  StatesCsvReader reader(options.states_file, SampleRate(options.sample_rate));
 
   const fs::path source_json = options.states_file.parent_path() / "run.json";
+  const bool have_source_json = fs::is_regular_file(source_json);
   RunInfo info;
-  if (fs::is_regular_file(source_json)) {
+  if (have_source_json) {
     info = readRunJson(source_json);
   } else {
     info.run_id = "offline";
     info.status = "unknown";
     info.reason = "recomputed from a states.csv without run.json";
-    info.ticks = static_cast<std::int64_t>(recording.size());
-    info.sim_time = recording.empty() ? 0.0 : recording.back().t;
     info.git_commit = gitCommit();
   }
   // The commit the trajectories came from; when the source does not know it, this evaluator's.
@@ -34,12 +174,22 @@ RunResult recomputeFromStates(const OfflineOptions& options) {
   info.profile = options.profile;
   if (options.experiment_tag) info.experiment_tag = *options.experiment_tag;
   if (info.experiment_tag.empty()) info.experiment_tag = "exp";
-  info.recorded_ticks = static_cast<std::int64_t>(recording.size());
+  if (options.sample_rate > 0.0) info.sample_rate = options.sample_rate;
   info.states_file = options.states_file.string();
 
-  return writeRunOutputs(registry, recording, std::move(info),
-                         OutputOptions{options.out_dir, options.out_dir, options.hunav_txt});
+  // A folder this call creates is removed again when the evaluation fails (it is then empty).
+  std::error_code exists_error;
+  const bool created_out_dir = !fs::exists(options.out_dir, exists_error);
+  fs::create_directories(options.out_dir);
+  try {
+    return evaluateInto(options, reader, registry, std::move(info), have_source_json);
+  } catch (...) {
+    std::error_code ec;
+    if (created_out_dir) fs::remove(options.out_dir, ec);
+    throw;
+  }
 }
+
 
 std::vector<RunResult> replayLog(const LogReplayOptions& options) {
   lcm::LogFile log(options.log_file.string(), "r");
@@ -56,6 +206,7 @@ std::vector<RunResult> replayLog(const LogReplayOptions& options) {
     eo.episodes = 0;
     eo.metrics_file = options.metrics_file;
     eo.hunav_txt = options.hunav_txt;
+    eo.sample_rate = options.sample_rate;
     EvaluatorNode node(bus, eo);
     int ended = 0;
     while (const lcm::LogEvent* ev = log.readNextEvent()) {

@@ -191,6 +191,7 @@ void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<M
   num("wall_time", info.wall_time);
   integer("ticks", info.ticks);
   integer("recorded_ticks", info.recorded_ticks);
+  num("sample_rate", info.sample_rate);
   integer("lost_ticks", info.lost_ticks);
   integer("dropped_messages", info.dropped_messages);
   str("fingerprint", info.fingerprint);
@@ -238,6 +239,7 @@ RunInfo readRunJson(const fs::path& file) {
   info.wall_time = r.get<double>(root, "wall_time", "", info.wall_time);
   info.ticks = r.get<std::int64_t>(root, "ticks", "", info.ticks);
   info.recorded_ticks = r.get<std::int64_t>(root, "recorded_ticks", "", info.recorded_ticks);
+  info.sample_rate = r.get<double>(root, "sample_rate", "", info.sample_rate);
   info.lost_ticks = r.get<std::int64_t>(root, "lost_ticks", "", info.lost_ticks);
   info.dropped_messages = r.get<std::int64_t>(root, "dropped_messages", "", info.dropped_messages);
   info.fingerprint = r.get<std::string>(root, "fingerprint", "", info.fingerprint);

@@ -1,13 +1,17 @@
 #include "hunav/evaluator/run_outputs.hpp"
 
+#include "hunav/evaluator/number_text.hpp"
+
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
-#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
-#include <exception>
 #include <stdexcept>
-#include <thread>
 
 namespace hunav::evaluator {
 
@@ -58,58 +62,95 @@ std::vector<double> behaviorActive(const Recording& r, int behavior, const std::
 
 namespace {
 
-class File {
+constexpr std::size_t kStepsFlushBytes = std::size_t{1} << 18;
+
+// A per-tick file: header "t" + columns (+ behavior_active), one row per sample. CSV, or HuNavSim
+// txt (first column time_stamps, every field followed by a tab).
+class StepsFile {
  public:
-  explicit File(const fs::path& p) : path_(p), f_(std::fopen(p.c_str(), "wb")) {
-    if (f_ == nullptr) throw std::runtime_error("cannot write " + p.string());
+  StepsFile(fs::path file, bool temporary, bool txt, const std::vector<std::string>& columns, bool active,
+            NumberText& numbers)
+      : final_(std::move(file)), txt_(txt), numbers_(numbers) {
+    path_ = temporary ? final_.parent_path() / ("." + final_.filename().string() + ".part") : final_;
+    file_ = std::fopen(path_.c_str(), "wb");
+    if (file_ == nullptr) throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
+    const char sep = txt_ ? '\t' : ',';
+    const std::string_view first = txt_ ? "time_stamps" : "t";
+    buffer_.append(first.begin(), first.end());
+    for (const auto& c : columns) {
+      buffer_.push_back(sep);
+      buffer_.append(c.data(), c.data() + c.size());
+    }
+    if (active) {
+      const std::string_view a = "behavior_active";
+      buffer_.push_back(sep);
+      buffer_.append(a.begin(), a.end());
+    }
+    if (txt_) buffer_.push_back('\t');
+    buffer_.push_back('\n');
   }
-  ~File() {
-    if (f_ != nullptr) std::fclose(f_);
+  ~StepsFile() {
+    if (file_ != nullptr) std::fclose(file_);
   }
-  File(const File&) = delete;
-  File& operator=(const File&) = delete;
-  void write(const fmt::memory_buffer& b) {
-    if (std::fwrite(b.data(), 1, b.size(), f_) != b.size()) throw std::runtime_error("cannot write " + path_.string());
+  StepsFile(const StepsFile&) = delete;
+  StepsFile& operator=(const StepsFile&) = delete;
+
+  // `time` is the first field, already formatted.
+  void row(const fmt::memory_buffer& time, const double* values, std::size_t n, const double* active) {
+    const char sep = txt_ ? '\t' : ',';
+    buffer_.append(time.data(), time.data() + time.size());
+    for (std::size_t c = 0; c < n; ++c) {
+      buffer_.push_back(sep);
+      numbers_.append(buffer_, values[c]);
+    }
+    if (active != nullptr) {
+      buffer_.push_back(sep);
+      numbers_.append(buffer_, *active);
+    }
+    if (txt_) buffer_.push_back('\t');
+    buffer_.push_back('\n');
+    if (buffer_.size() >= kStepsFlushBytes) flush();
   }
-  void close() {
-    const int rc = std::fclose(f_);
-    f_ = nullptr;
-    if (rc != 0) throw std::runtime_error("cannot write " + path_.string());
+
+  void flush() {
+    if (buffer_.size() == 0) return;
+    if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size() || std::fflush(file_) != 0)
+      throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
+    buffer_.clear();
+  }
+
+  // Closes the file and gives it its name.
+  void finish() {
+    flush();
+    const int rc = std::fclose(file_);
+    file_ = nullptr;
+    if (rc != 0) throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
+    if (path_ != final_) {
+      std::error_code ec;
+      fs::rename(path_, final_, ec);
+      if (ec) throw std::runtime_error("cannot write " + final_.string() + ": " + ec.message());
+    }
+  }
+
+  // Closes the file; a temporary one is removed.
+  void abandon() {
+    if (file_ != nullptr) {
+      if (path_ == final_ && buffer_.size() > 0) std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
+      std::fclose(file_);
+      file_ = nullptr;
+    }
+    std::error_code ec;
+    if (path_ != final_) fs::remove(path_, ec);
   }
 
  private:
+  fs::path final_;
   fs::path path_;
-  std::FILE* f_;
+  bool txt_;
+  NumberText& numbers_;
+  std::FILE* file_ = nullptr;
+  fmt::memory_buffer buffer_;
 };
-
-// A per-tick file: header "t" + columns (+ extra), one row per sample. sep ',' (CSV) or '\t'
-// (HuNavSim txt, every field followed by a tab, first column time_stamps).
-void writeSteps(const fs::path& file, const Recording& r, const std::vector<MetricColumn>& cols,
-                const std::vector<double>* active, char sep) {
-  File f(file);
-  fmt::memory_buffer b;
-  const bool txt = sep == '\t';
-  auto field = [&](const auto& v, bool last) {
-    fmt::format_to(std::back_inserter(b), "{}", v);
-    if (txt || !last) b.push_back(sep);
-  };
-  field(txt ? "time_stamps" : "t", cols.empty() && active == nullptr);
-  for (std::size_t c = 0; c < cols.size(); ++c) field(cols[c].name, c + 1 == cols.size() && active == nullptr);
-  if (active != nullptr) field("behavior_active", true);
-  b.push_back('\n');
-  for (std::size_t k = 0; k < r.size(); ++k) {
-    field(txt ? r[k].t - r.front().t : r[k].t, cols.empty() && active == nullptr);
-    for (std::size_t c = 0; c < cols.size(); ++c) field(cols[c].values[k], c + 1 == cols.size() && active == nullptr);
-    if (active != nullptr) field((*active)[k], true);
-    b.push_back('\n');
-    if (b.size() > (1u << 16)) {
-      f.write(b);
-      b.clear();
-    }
-  }
-  f.write(b);
-  f.close();
-}
 
 // HuNavSim v1 summary .txt (reference 6.1): header "experiment_tag\t" + names each followed by a
 // tab when the file is new; then the row, booleans True/False.
@@ -128,69 +169,207 @@ void appendTxtSummary(const fs::path& file, const std::string& tag, const std::v
   if (!out) throw std::runtime_error("cannot write " + file.string());
 }
 
-// The summary values and the per-tick columns of `r`, computed on two threads (they are pure
-// functions of the recording; the machine has two cores).
-struct Evaluated {
-  std::vector<MetricValue> values;
-  std::vector<MetricColumn> columns;
+// The metrics and per-tick files of the people of one behavior.
+struct BehaviorTrack {
+  explicit BehaviorTrack(const MetricRegistry& registry) : set(registry) {}
+  MetricSet set;
+  std::unique_ptr<StepsFile> csv;
+  std::unique_ptr<StepsFile> txt;
 };
-Evaluated evaluateBoth(const MetricRegistry& registry, const Recording& r) {
-  Evaluated e;
-  std::exception_ptr series_error;
-  std::thread series([&] {
-    try {
-      e.columns = registry.evaluateSeries(r);
-    } catch (...) {
-      series_error = std::current_exception();
-    }
-  });
-  std::exception_ptr values_error;
-  try {
-    e.values = registry.evaluate(r);
-  } catch (...) {
-    values_error = std::current_exception();
-  }
-  series.join();
-  if (values_error) std::rethrow_exception(values_error);
-  if (series_error) std::rethrow_exception(series_error);
-  return e;
-}
 
 }  // namespace
 
-RunResult writeRunOutputs(const MetricRegistry& registry, const Recording& recording, RunInfo info,
-                          const OutputOptions& options) {
-  fs::create_directories(options.out_dir);
-  fs::create_directories(options.run_dir);
-  RunResult result;
-  Evaluated all = evaluateBoth(registry, recording);
-  result.metrics = std::move(all.values);
-  const auto& columns = all.columns;
-  result.run_dir = options.run_dir;
-  result.metrics_csv = appendMetricsRow(options.out_dir / "metrics.csv", info, result.metrics);
-  writeSteps(options.run_dir / "metrics_steps.csv", recording, columns, nullptr, ',');
-  const std::string tag = safeFileName(info.experiment_tag);
-  if (options.hunav_txt) {
-    appendTxtSummary(options.out_dir / "metrics.txt", info.experiment_tag, result.metrics);
-    writeSteps(options.out_dir / ("metrics_steps_" + tag + ".txt"), recording, columns, nullptr, '\t');
+struct RunEvaluation::Impl {
+  Impl(const MetricRegistry& r, const std::string& profile, const std::string& experiment_tag, OutputOptions o)
+      : registry(r),
+        options(std::move(o)),
+        tag(safeFileName(experiment_tag)),
+        active_any_behavior(profile == "hunav_v1"),
+        run(registry),
+        columns(run.columnNames()),
+        row(run.columnCount()) {}
+
+  fs::path stepsCsv(const std::string& stem) const { return options.run_dir / (stem + "_steps.csv"); }
+  fs::path stepsTxt(const std::string& stem) const { return options.out_dir / (stem + "_steps_" + tag + ".txt"); }
+
+  void open(std::unique_ptr<StepsFile>& csv, std::unique_ptr<StepsFile>& txt, const std::string& stem, bool active) {
+    csv = std::make_unique<StepsFile>(stepsCsv(stem), options.replace_at_end, false, columns, active, numbers);
+    if (options.hunav_txt)
+      txt = std::make_unique<StepsFile>(stepsTxt(stem), options.replace_at_end, true, columns, active, numbers);
   }
-  for (const int b : behaviorsPresent(recording)) {
-    const Recording filtered = filterByBehavior(recording, b);
-    const Evaluated beh = evaluateBoth(registry, filtered);
-    const auto& values = beh.values;
-    const auto& cols = beh.columns;
-    const auto active = behaviorActive(recording, b, info.profile);
-    const std::string stem = "metrics_beh_" + std::to_string(b);
-    appendMetricsRow(options.out_dir / (stem + ".csv"), info, values);
-    writeSteps(options.run_dir / (stem + "_steps.csv"), filtered, cols, &active, ',');
+
+  void formatTimes(double t) {
+    time_csv.clear();
+    fmt::format_to(std::back_inserter(time_csv), FMT_COMPILE("{}"), t);
     if (options.hunav_txt) {
-      appendTxtSummary(options.out_dir / (stem + ".txt"), info.experiment_tag, values);
-      writeSteps(options.out_dir / (stem + "_steps_" + tag + ".txt"), filtered, cols, &active, '\t');
+      time_txt.clear();
+      fmt::format_to(std::back_inserter(time_txt), FMT_COMPILE("{}"), t - first_t);
     }
   }
-  writeRunJson(options.run_dir / "run.json", info, result.metrics);
+
+  void writeRows(StepsFile& csv, StepsFile* txt, const double* active) {
+    csv.row(time_csv, row.data(), row.size(), active);
+    if (txt != nullptr) txt->row(time_txt, row.data(), row.size(), active);
+  }
+
+  // Behavior b appears for the first time: its files get the rows of the samples before, where the
+  // behavior had nobody, computed from the robot's trajectory kept so far.
+  void startTrack(int b) {
+    auto track = std::make_unique<BehaviorTrack>(registry);
+    open(track->csv, track->txt, "metrics_beh_" + std::to_string(b), true);
+    SampleCache history_cache;
+    for (std::size_t k = 0; k < robot_history.size(); ++k) {
+      const Sample& s = robot_history[k];
+      history_cache.reset(0);
+      track->set.add(SampleView(robot_history, s, history_cache), row.data());
+      formatTimes(s.t);
+      const double active = active_any_behavior && history_active[k] ? 1.0 : 0.0;
+      writeRows(*track->csv, track->txt.get(), &active);
+    }
+    tracks[static_cast<std::size_t>(b)] = std::move(track);
+    ++started_tracks;
+  }
+
+  void keepRobot(const Recording& r, const Sample& s, bool any_active) {
+    EntityState robot = s.robot;
+    const auto pts = r.obstacles(s.robot);
+    points.assign(pts.begin(), pts.end());
+    robot.obstacles_begin = robot_history.addObstacles(points);
+    robot_history.addSample(s.t, robot, no_agents);
+    history_active.push_back(any_active);
+  }
+
+  void add(const Recording& r, const Sample& s) {
+    if (run.samples() == 0) first_t = s.t;
+    cache.reset(s.agents_count);
+    run.add(SampleView(r, s, cache), row.data());
+    formatTimes(s.t);
+    writeRows(*steps_csv, steps_txt.get(), nullptr);
+
+    // People by behavior, and who is active.
+    bool any_active = false;
+    std::array<bool, 7> active{};
+    for (auto& m : members) m.clear();
+    const auto agents = r.agents(s);
+    for (std::size_t j = 0; j < agents.size(); ++j) {
+      const EntityState& a = agents[j];
+      const bool is_active = a.behavior_state != 0;
+      any_active = any_active || is_active;
+      if (a.behavior < 1 || a.behavior > 6) continue;
+      const auto b = static_cast<std::size_t>(a.behavior);
+      members[b].push_back(static_cast<std::uint32_t>(j));
+      active[b] = active[b] || is_active;
+    }
+    bool started_now = false;
+    for (int b = 1; b <= 6; ++b) {
+      if (members[static_cast<std::size_t>(b)].empty() || tracks[static_cast<std::size_t>(b)]) continue;
+      startTrack(b);
+      started_now = true;
+    }
+    if (started_now) formatTimes(s.t);  // the replay formatted the times of earlier samples
+    for (std::size_t b = 1; b <= 6; ++b) {
+      BehaviorTrack* track = tracks[b].get();
+      if (track == nullptr) continue;
+      track->set.add(SampleView(r, s, cache, members[b]), row.data());
+      const double act = (active_any_behavior ? any_active : active[b]) ? 1.0 : 0.0;
+      writeRows(*track->csv, track->txt.get(), &act);
+    }
+    if (started_tracks < 6) {
+      keepRobot(r, s, any_active);
+    } else if (!robot_history.empty()) {
+      robot_history.clear();
+      history_active.clear();
+    }
+  }
+
+  template <class F>
+  void forEachFile(F&& f) {
+    if (steps_csv) f(*steps_csv);
+    if (steps_txt) f(*steps_txt);
+    for (auto& t : tracks) {
+      if (!t) continue;
+      f(*t->csv);
+      if (t->txt) f(*t->txt);
+    }
+  }
+
+  MetricRegistry registry;
+  OutputOptions options;
+  std::string tag;
+  bool active_any_behavior;  // hunav_v1: behavior_active looks at every person
+  MetricSet run;
+  std::vector<std::string> columns;
+  std::vector<double> row;
+  NumberText numbers;  // shared by the per-tick files: the robot's columns repeat in every one
+  std::unique_ptr<StepsFile> steps_csv;
+  std::unique_ptr<StepsFile> steps_txt;
+  std::array<std::unique_ptr<BehaviorTrack>, 7> tracks;  // by behavior code 1..6
+  int started_tracks = 0;
+  std::array<std::vector<std::uint32_t>, 7> members;
+  SampleCache cache;
+  double first_t = 0.0;
+  fmt::memory_buffer time_csv;
+  fmt::memory_buffer time_txt;
+  // The robot's trajectory (and whether anyone was active), while some behavior has not appeared.
+  Recording robot_history;
+  std::vector<bool> history_active;
+  std::vector<Vec2> points;
+  const std::vector<EntityState> no_agents;
+  bool finished = false;
+};
+
+RunEvaluation::RunEvaluation(const MetricRegistry& registry, const std::string& profile,
+                             const std::string& experiment_tag, OutputOptions options)
+    : impl_(std::make_unique<Impl>(registry, profile, experiment_tag, std::move(options))) {
+  fs::create_directories(impl_->options.out_dir);
+  fs::create_directories(impl_->options.run_dir);
+  impl_->open(impl_->steps_csv, impl_->steps_txt, "metrics", false);
+}
+
+RunEvaluation::~RunEvaluation() {
+  if (!impl_->finished) impl_->forEachFile([](StepsFile& f) { f.abandon(); });
+}
+
+void RunEvaluation::add(const Recording& r, const Sample& s) { impl_->add(r, s); }
+
+std::size_t RunEvaluation::samples() const { return impl_->run.samples(); }
+
+std::vector<MetricValue> RunEvaluation::values() const { return impl_->run.values(); }
+
+void RunEvaluation::flush() {
+  impl_->forEachFile([](StepsFile& f) { f.flush(); });
+}
+
+RunResult RunEvaluation::finish(RunInfo info) {
+  Impl& m = *impl_;
+  RunResult result;
+  result.metrics = m.run.values();
+  std::array<std::vector<MetricValue>, 7> behavior_values;
+  for (std::size_t b = 1; b <= 6; ++b)
+    if (m.tracks[b]) behavior_values[b] = m.tracks[b]->set.values();
+  m.forEachFile([](StepsFile& f) { f.finish(); });
+  m.finished = true;
+
+  const auto& out = m.options.out_dir;
+  result.run_dir = m.options.run_dir;
+  result.metrics_csv = appendMetricsRow(out / "metrics.csv", info, result.metrics);
+  if (m.options.hunav_txt) appendTxtSummary(out / "metrics.txt", info.experiment_tag, result.metrics);
+  for (std::size_t b = 1; b <= 6; ++b) {
+    if (!m.tracks[b]) continue;
+    const std::string stem = "metrics_beh_" + std::to_string(b);
+    appendMetricsRow(out / (stem + ".csv"), info, behavior_values[b]);
+    if (m.options.hunav_txt) appendTxtSummary(out / (stem + ".txt"), info.experiment_tag, behavior_values[b]);
+  }
+  writeRunJson(m.options.run_dir / "run.json", info, result.metrics);
   result.info = std::move(info);
   return result;
+}
+
+RunResult writeRunOutputs(const MetricRegistry& registry, const Recording& recording, RunInfo info,
+                          const OutputOptions& options) {
+  RunEvaluation evaluation(registry, info.profile, info.experiment_tag, options);
+  for (const auto& s : recording.samples()) evaluation.add(recording, s);
+  return evaluation.finish(std::move(info));
 }
 
 }  // namespace hunav::evaluator

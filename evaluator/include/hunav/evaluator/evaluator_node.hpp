@@ -1,12 +1,17 @@
 #pragma once
 // The evaluator as a component: records episodes from the bus and writes their results.
 //
-//   EPISODE_EVENT START  -> opens <run dir>/states.csv (header written at once)
-//   WORLD_STATE          -> rows appended and flushed at once, sample kept in memory
-//   EPISODE_EVENT END    -> metrics computed; every result file written (run_outputs.hpp):
-//                           rows appended to <out_dir>/metrics.csv (and per behavior), the
-//                           per-tick files and <run dir>/run.json written
+//   EPISODE_EVENT START  -> opens <run dir>/states.csv (header written at once) and the per-tick
+//                           files (run_outputs.hpp)
+//   WORLD_STATE          -> (one per sample period with sample_rate) the sample updates every
+//                           metric and adds its rows to states.csv and the per-tick files; rows
+//                           are buffered and reach the files at least every kFlushTicks samples
+//                           and every second of wall time (flushIfDue() covers a quiet bus)
+//   EPISODE_EVENT END    -> everything flushed; rows appended to <out_dir>/metrics.csv (and per
+//                           behavior), <run dir>/run.json written
 //   (optionally)         -> LIVE_METRICS published at 1 Hz of simulation time
+// Nothing of the episode is kept in memory but the metrics' running state: the cost per world
+// state does not grow with the length of the episode.
 // The run dir is out_dir for the first episode the node records and out_dir/<run_id>/ for the
 // following ones (out_dir/<run_id>-<episode>/ when that folder was already used by this node). A world state outside a START/END pair (or of another episode), with a
 // non-finite number, with a tick that does not increase, or with a time that does not increase is
@@ -22,6 +27,8 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/recording.hpp"
 #include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/run_outputs.hpp"
+#include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/transport.hpp"
@@ -48,9 +55,11 @@ struct EvaluatorOptions {
   std::string metrics_file;          // metric selection YAML (metrics.hpp); empty = every metric
   bool hunav_txt = false;            // also write HuNavSim v1's tab-separated files (run_outputs.hpp)
   // Publish the running metric values on LIVE_METRICS (live_metrics_t) once per second of
-  // simulation time. Each publication evaluates the metrics over the recording so far (O(ticks)),
-  // so it is off for the fast in-process runner and on in the hunav_evaluator binary.
+  // simulation time (the running values: cheap; on in the hunav_evaluator binary).
   bool live_metrics = false;
+  // Record and evaluate at most this many samples per second of simulation time (sample_rate.hpp);
+  // 0 = every world state.
+  double sample_rate = 0.0;
 };
 
 class EvaluatorNode {
@@ -58,7 +67,8 @@ class EvaluatorNode {
   // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus`. hunav::Bus cannot drop
   // one subscriber's subscriptions, so the bus must not dispatch after the node is gone: give each
   // node its own Bus (several Buses may share one lcm::LCM) and destroy it before or with the node.
-  // Throws std::invalid_argument for an unknown profile or a negative episode count.
+  // Throws std::invalid_argument for an unknown profile, a negative episode count or a bad sample
+  // rate.
   EvaluatorNode(Bus& bus, EvaluatorOptions options);
   // Closes states.csv of an episode still open without computing anything: call
   // finishIncomplete() first to keep its results.
@@ -79,6 +89,12 @@ class EvaluatorNode {
   // writes nothing) when no episode is open.
   bool finishIncomplete(const std::string& reason);
 
+  // Hands buffered rows to the files when the oldest is a second old (call it when the bus is quiet;
+  // world states call it themselves).
+  void flushIfDue();
+  // Buffered rows reach the files at least every this many samples (and every second).
+  static constexpr std::size_t kFlushTicks = 100;
+
   // Results of the last episode that ended (absent before the first one).
   const std::optional<RunResult>& lastResult() const { return last_result_; }
 
@@ -97,6 +113,7 @@ class EvaluatorNode {
   void finish(const episode_event_t* end, const std::string& incomplete_reason);
 
   void publishLive(double t);
+  void flush(Episode& ep);
 
   EvaluatorOptions options_;
   MetricRegistry registry_;

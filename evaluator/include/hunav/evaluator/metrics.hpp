@@ -1,15 +1,30 @@
 #pragma once
 // Metric registry, the profiles "default" and "hunav_v1", and their metric functions.
 //
-// A metric is a plain function of the recording returning a finite double (optionally with a
-// per-tick column function); it is added to the registry with one line in registerDefaultMetrics()
-// or registerHunavV1Metrics() (metrics.cpp). Metrics are evaluated and written in registration
-// order, which follows HuNavSim's evaluation order (shared/hunav_reference.md section 5.2). Every
-// definition, including the value of each edge case (empty recording, no people, no goal, one
-// sample), is documented beside its function and in docs/metrics.md.
+// Metrics stream: each one is an accumulator that sees every sample once, in time order, and keeps
+// only what it needs of the past (a sum, the previous sample's speed, the people in contact...), so
+// evaluating a run costs one pass and memory independent of its length. A metric is a small copyable
+// struct with two functions, added to the registry with one line in registerDefaultMetrics() or
+// registerHunavV1Metrics() (metrics.cpp):
+//
+//   struct PathLength {
+//     bool any = false;  Vec2 previous;  double sum = 0.0;
+//     double add(const SampleView& s) { ...; return per_tick_value; }  // each sample, in order
+//     double value() const { return sum; }                              // the metric so far
+//   };
+//   r.add<PathLength>("path_length", "m", MetricKind::Real);
+//
+// Metrics are evaluated and written in registration order, which follows HuNavSim's evaluation order
+// (shared/hunav_reference.md section 5.2). Every definition, including the value of each edge case
+// (no sample, no people, no goal, one sample), is documented beside its accumulator and in
+// docs/metrics.md. A metric may also be a plain function of the whole recording (MetricFunction);
+// the evaluation then keeps a copy of every sample for it (simple, but memory grows with the run).
 #include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/sample_view.hpp"
 
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hunav::evaluator {
@@ -19,17 +34,45 @@ enum class MetricKind {
   Bool,  // 1.0 = true, 0.0 = false; written as true/false
 };
 
+// Whether a metric has a column in the per-tick files (HuNavSim's per-step list).
+enum class Column { None, PerTick };
+
+// A metric computed in one pass over the samples.
+class MetricAccumulator {
+ public:
+  virtual ~MetricAccumulator() = default;
+  // A copy with the same state (per-behavior evaluations start from a copy).
+  virtual std::unique_ptr<MetricAccumulator> clone() const = 0;
+  // Sees the next sample (times strictly increasing). Returns the metric's per-tick value at this
+  // sample (ignored for a metric without a column).
+  virtual double add(const SampleView& s) = 0;
+  // The metric over the samples seen so far (also when there were none).
+  virtual double value() const = 0;
+};
+
+// The accumulator of a copyable struct with `double add(const SampleView&)` and
+// `double value() const`.
+template <class State>
+class AccumulatorOf final : public MetricAccumulator {
+ public:
+  explicit AccumulatorOf(State state) : state_(std::move(state)) {}
+  std::unique_ptr<MetricAccumulator> clone() const override { return std::make_unique<AccumulatorOf>(*this); }
+  double add(const SampleView& s) override { return state_.add(s); }
+  double value() const override { return state_.value(); }
+
+ private:
+  State state_;
+};
+
+// A metric of the whole recording (the evaluation keeps every sample for it).
 using MetricFunction = double (*)(const Recording&);
-// The per-tick column of a metric (HuNavSim's per-step list): fills `out` with one finite value per
-// sample of the recording (out.size() == r.size()). Optional.
-using MetricSeries = void (*)(const Recording&, std::vector<double>& out);
 
 struct MetricDefinition {
   std::string name;         // HuNavSim key, the metrics.csv column
   std::string unit;         // "s", "m", "%", "bool", ...
   MetricKind kind = MetricKind::Real;
-  MetricFunction compute = nullptr;
-  MetricSeries series = nullptr;  // per-tick column, or none
+  Column column = Column::None;
+  std::shared_ptr<const MetricAccumulator> prototype;  // cloned for every evaluation
 };
 
 // One column of the per-tick file.
@@ -51,13 +94,23 @@ std::string formatMetricValue(const MetricValue& m);
 
 class MetricRegistry {
  public:
-  // Throws std::invalid_argument on a duplicate name or a null function.
-  void add(std::string name, std::string unit, MetricKind kind, MetricFunction compute,
-           MetricSeries series = nullptr);
+  // A streaming metric whose accumulator is `State` (see the top of this file), starting from
+  // `initial`. Throws std::invalid_argument on a duplicate name.
+  template <class State>
+  void add(std::string name, std::string unit, MetricKind kind, Column column = Column::None,
+           State initial = State()) {
+    add(std::move(name), std::move(unit), kind, std::make_unique<AccumulatorOf<State>>(std::move(initial)), column);
+  }
+  void add(std::string name, std::string unit, MetricKind kind, std::unique_ptr<MetricAccumulator> prototype,
+           Column column);
+  // A metric of the whole recording, without a per-tick column. Throws std::invalid_argument on a
+  // duplicate name or a null function.
+  void add(std::string name, std::string unit, MetricKind kind, MetricFunction compute);
+
   const std::vector<MetricDefinition>& definitions() const { return definitions_; }
   std::vector<std::string> names() const;
-  // Evaluates every metric in registration order. A non-finite result is a bug in a metric:
-  // it throws std::logic_error rather than writing NaN or inf to a file.
+  // Every metric over a recording, in registration order. A non-finite result is a bug in a
+  // metric: it throws std::logic_error rather than writing NaN or inf to a file.
   std::vector<MetricValue> evaluate(const Recording& recording) const;
   // The per-tick columns of the metrics that have one, in registration order. A non-finite value
   // throws std::logic_error.
@@ -73,6 +126,31 @@ class MetricRegistry {
 
  private:
   std::vector<MetricDefinition> definitions_;
+};
+
+// The metrics of a registry over one stream of samples (a run, or the people of one behavior).
+class MetricSet {
+ public:
+  explicit MetricSet(const MetricRegistry& registry);
+  // A copy with the same state.
+  MetricSet(const MetricSet& other);
+  MetricSet& operator=(const MetricSet&) = delete;
+
+  // Adds the next sample and writes the per-tick values (columnCount() of them, registration order)
+  // to `columns`. A non-finite per-tick value throws std::logic_error.
+  void add(const SampleView& s, double* columns);
+  std::size_t columnCount() const { return column_count_; }
+  std::vector<std::string> columnNames() const;
+  std::size_t samples() const { return samples_; }
+  // The metric values so far, in registration order (-0 written as 0). A non-finite value throws
+  // std::logic_error.
+  std::vector<MetricValue> values() const;
+
+ private:
+  std::vector<MetricDefinition> definitions_;
+  std::vector<std::unique_ptr<MetricAccumulator>> accumulators_;
+  std::size_t column_count_ = 0;
+  std::size_t samples_ = 0;
 };
 
 // Profiles the evaluator knows: "default" (our definitions, docs/metrics.md) and "hunav_v1"
@@ -109,7 +187,8 @@ inline constexpr double kReactTime = 0.6;            // s, t_react of the shock/
 inline constexpr double kShockGamma = 4.0;           // t_react / t_recognise = 0.6 / 0.15
 inline constexpr double kShockDistance = 0.45;       // m, numerator of the shock/react costs
 
-// The metric functions of the default profile, exposed for tests and for other profiles to reuse.
+// Each metric of the default profile over a whole recording (its accumulator fed every sample), for
+// tests and tools.
 namespace metrics {
 double timeToReachGoal(const Recording& r);
 double pathLength(const Recording& r);
@@ -147,7 +226,7 @@ double surpriseShockCost(const Recording& r);
 double surpriseReactCost(const Recording& r);
 }  // namespace metrics
 
-// The metric functions of the hunav_v1 profile that differ from the default ones (HuNavSim v1's
+// The same for the metrics of the hunav_v1 profile that differ from the default ones (HuNavSim v1's
 // evaluator, shared/hunav_reference.md section 5; docs/metrics.md lists every difference).
 namespace metrics_v1 {
 double avgDistanceToClosestPerson(const Recording& r);

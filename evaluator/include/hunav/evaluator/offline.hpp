@@ -17,16 +17,23 @@ struct OfflineOptions {
   std::optional<std::string> experiment_tag;    // unset: the source run.json's, else "exp"
   std::string metrics_file;                     // metric selection YAML; empty = every metric
   bool hunav_txt = false;                       // also HuNavSim v1's tab-separated files
+  double sample_rate = 0.0;                     // Hz (sample_rate.hpp); 0 = every sample of the file
 };
 
 // Reads `states_file` and, when present, the run.json beside it (scenario, planner, seed, mode,
 // status, ticks, fingerprint, git_commit... are taken from it; recorded_ticks is recounted, profile
-// comes from the options, experiment_tag from the options when set). Without a run.json the
-// provenance fields stay empty, run_id is "offline" and status "unknown". git_commit is the source's
-// (the code that produced the trajectories), or this evaluator's (gitCommit()) when the source has
-// none or "unknown". Appends a row to out_dir/metrics.csv and
-// writes out_dir/run.json, with the per-tick and per-behavior files of run_outputs.hpp. Throws ConfigError on a malformed states.csv or run.json,
-// std::invalid_argument on an unknown profile, std::runtime_error on I/O errors.
+// comes from the options, experiment_tag from the options when set, sample_rate from the options
+// when set). Without a run.json the provenance fields stay empty, run_id is "offline" and status
+// "unknown". git_commit is the source's (the code that produced the trajectories), or this
+// evaluator's (gitCommit()) when the source has none or "unknown". Appends a row to
+// out_dir/metrics.csv and writes out_dir/run.json, the per-tick and per-behavior files of
+// run_outputs.hpp, and out_dir/states.csv (the rows of the samples evaluated; not when out_dir is
+// the source's folder), so that out_dir is a complete run folder.
+// One pass over the file, in two threads (reading and parsing, evaluating and writing); memory does
+// not grow with the length of the recording. Nothing is written into out_dir when the file turns
+// out to be malformed (the per-tick files and states.csv are written under temporary names first).
+// Throws ConfigError on a malformed states.csv or run.json, std::invalid_argument on an unknown
+// profile or a bad sample rate, std::runtime_error on I/O errors.
 RunResult recomputeFromStates(const OfflineOptions& options);
 
 struct LogReplayOptions {
@@ -36,6 +43,7 @@ struct LogReplayOptions {
   std::string experiment_tag = "exp";
   std::string metrics_file;
   bool hunav_txt = false;
+  double sample_rate = 0.0;                     // Hz; 0 = every world state of the log
 };
 
 // Replays the EPISODE_EVENT and WORLD_STATE events of an LCM log, in file order, through an

@@ -1,7 +1,8 @@
 #pragma once
-// The evaluator's in-memory recording of one episode: one Sample per accepted world state, holding
-// exactly the numbers states.csv holds (so metrics computed live and metrics recomputed offline from
-// states.csv see the same doubles, bit for bit).
+// Samples in memory: one Sample per recorded world state, holding exactly the numbers states.csv
+// holds (so metrics computed live and metrics recomputed offline from states.csv see the same
+// doubles, bit for bit). The evaluator streams (metrics.hpp): live a Recording holds the current
+// sample only, offline a chunk of the file; tools and tests may hold a whole run.
 //
 // Layout: agents and obstacle points of every sample live in two flat pools; a sample refers to its
 // slice by offset and count. This keeps one allocation per pool instead of one per tick and entity.

@@ -27,6 +27,7 @@ struct RunInfo {
   double wall_time = 0.0;       // s
   std::int64_t ticks = 0;       // world states published (END), or seen (incomplete run)
   std::int64_t recorded_ticks = 0;
+  double sample_rate = 0.0;     // Hz the samples were taken at (sample_rate.hpp); 0 = every world state
   std::int64_t lost_ticks = 0;
   std::int64_t dropped_messages = 0;
   std::string fingerprint;           // the world's (END); the recorded one for an incomplete run
