@@ -2,14 +2,18 @@
 // crowd of regular people in a square hall with walls, and the error of the social-force cut-off
 // against all pairs on random crowds.
 //   bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact]
+//                 [--fingerprint] [--social-only]
+#include "hunav/fingerprint.hpp"
 #include "hunav/manager/agent_manager.hpp"
 
-#include <chrono>
+#include <algorithm>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -68,23 +72,94 @@ void wallPoints(step_request_t& r, double hall) {
   }
 }
 
-double timeSteps(int n, double hall, int steps, double cutoff) {
+// CPU time of this thread, s (other processes sharing the cores do not inflate it).
+double threadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+struct StepTimes {
+  double min_ms = 0.0;
+  double median_ms = 0.0;
+};
+
+// Thread CPU time of each step: minimum and median over `steps` steps.
+StepTimes timeSteps(int n, double hall, int steps, double cutoff) {
   AgentManager m;
   m.setSocialCutoff(cutoff);
   step_request_t r = crowd(n, hall, 42);
   wallPoints(r, hall);
   m.step(r);  // warm-up: trees built
-  double total = 0.0;
+  std::vector<double> ms;
+  step_reply_t rep;
   for (int s = 0; s < steps; ++s) {
     r.seq += 1;
-    const auto t0 = std::chrono::steady_clock::now();
-    step_reply_t rep = m.step(r);
-    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.agents = std::move(rep.agents);
+    const double t0 = threadCpuSeconds();
+    m.step(r, rep);  // the manager process reuses its reply the same way
+    ms.push_back((threadCpuSeconds() - t0) * 1e3);
+    std::swap(r.agents, rep.agents);
     r.utime = rep.utime;
     wallPoints(r, hall);
   }
-  return total / steps * 1e3;
+  std::sort(ms.begin(), ms.end());
+  return StepTimes{ms.front(), ms[ms.size() / 2]};
+}
+
+// Thread CPU time of the people-people social force alone (grid build + pair kernel), minimum over
+// `steps` repetitions on one crowd.
+void timeSocialOnly(int n, double hall, int steps, double cutoff) {
+  const step_request_t r = crowd(n, hall, 42);
+  StepSnapshot snap;
+  snap.request = &r;
+  for (const auto& a : r.agents)
+    snap.agents.push_back(SfmBody{a.id, -1, Vec2(a.x, a.y), Vec2(a.vx, a.vy), a.radius});
+  snap.index();
+  NeighborGrid grid;
+  long pairs = 0;
+  grid.build(snap.agents, snap.by_id, cutoff);
+  grid.forEachPair(cutoff, [&](int, int) { ++pairs; });
+  double best = 1e9;
+  for (int s = 0; s < steps; ++s) {
+    const double t0 = threadCpuSeconds();
+    grid.build(snap.agents, snap.by_id, cutoff);
+    computePeopleSocial(snap, grid, cutoff);
+    best = std::min(best, threadCpuSeconds() - t0);
+  }
+  std::printf("%d agents, %.1f m hall, cut-off %.1f m: %ld pairs, social force %.3f ms (min), %.2f ns/pair\n", n,
+              hall, cutoff, pairs, best * 1e3, best * 1e9 / static_cast<double>(pairs));
+}
+
+// Fingerprint of every agent state over `steps` steps of a crowd (mixed behaviors, groups, a moving
+// robot): compares two builds bit for bit.
+std::string fingerprintRun(int n, double hall, int steps, double cutoff) {
+  AgentManager m;
+  m.setSocialCutoff(cutoff);
+  step_request_t r = crowd(n, hall, 7);
+  for (std::size_t i = 0; i < r.agents.size(); ++i) {
+    r.agents[i].behavior = static_cast<int8_t>(1 + i % 6);
+    r.agents[i].behavior_params.dist = 4.0;
+    r.agents[i].behavior_params.duration = 2.0;
+    r.agents[i].behavior_params.vel = 1.0;
+  }
+  Fingerprint fp;
+  auto add = [&](double v) { fp.add(&v, sizeof v); };
+  for (int s = 0; s < steps; ++s) {
+    r.robot.x = hall / 2 + 5.0 * std::cos(0.01 * s);
+    r.robot.y = hall / 2 + 5.0 * std::sin(0.01 * s);
+    r.robot.yaw = 0.01 * s + kPi / 2;
+    wallPoints(r, hall);
+    step_reply_t rep = m.step(r);
+    for (const agent_state_t& a : rep.agents) {
+      for (double v : {a.x, a.y, a.yaw, a.vx, a.vy, a.linear_vel, a.angular_vel}) add(v);
+      fp.add(&a.behavior_state, sizeof a.behavior_state);
+      fp.add(&a.num_goals, sizeof a.num_goals);
+    }
+    r.agents = std::move(rep.agents);
+    r.utime = rep.utime;
+    r.seq += 1;
+  }
+  return fp.hex();
 }
 
 void cutoffError(double cutoff, int crowds, int n, double hall) {
@@ -121,7 +196,7 @@ void cutoffError(double cutoff, int crowds, int n, double hall) {
 int main(int argc, char** argv) {
   int n = 1000, steps = 200;
   double hall = 40.0, cutoff = kDefaultSocialCutoff;
-  bool error = false, exact = true;
+  bool error = false, exact = true, fingerprint = false, social_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s: value missing\n", a.c_str()), std::exit(2), ""); };
@@ -131,22 +206,36 @@ int main(int argc, char** argv) {
     else if (a == "--cutoff") cutoff = std::atof(next());
     else if (a == "--error") error = true;
     else if (a == "--no-exact") exact = false;
+    else if (a == "--fingerprint") fingerprint = true;
+    else if (a == "--social-only") social_only = true;
     else {
-      std::fprintf(stderr, "usage: bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact]\n");
+      std::fprintf(stderr,
+                   "usage: bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact] "
+                   "[--fingerprint] [--social-only]\n");
       return 2;
     }
+  }
+  if (social_only) {
+    timeSocialOnly(n, hall, steps, cutoff);
+    return 0;
+  }
+  if (fingerprint) {
+    const std::string fp = fingerprintRun(n, hall, steps, cutoff);
+    std::printf("fingerprint %s (%d agents, %d steps, cut-off %.1f m)\n", fp.c_str(), n, steps, cutoff);
+    return 0;
   }
   if (error) {
     for (double c : {2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 7.5, 8.0, 10.0}) cutoffError(c, 5, n, hall);
     return 0;
   }
-  const double grid_ms = timeSteps(n, hall, steps, cutoff);
-  if (!exact) {
-    std::printf("%d agents, %.0f x %.0f m hall: %.3f ms/step with cut-off %.1f m\n", n, hall, hall, grid_ms, cutoff);
-    return 0;
-  }
-  const double exact_ms = timeSteps(n, hall, std::max(1, steps / (n >= 5000 ? 20 : 1)), 0.0);
-  std::printf("%d agents, %.0f x %.0f m hall: %.3f ms/step with cut-off %.1f m, %.3f ms/step all pairs\n", n, hall,
-              hall, grid_ms, cutoff, exact_ms);
+  const StepTimes grid = timeSteps(n, hall, steps, cutoff);
+  std::printf("%d agents, %.1f x %.1f m hall, cut-off %.1f m: %.3f ms/step (min), %.3f ms/step (median), "
+              "thread CPU time over %d steps\n",
+              n, hall, hall, cutoff, grid.min_ms, grid.median_ms, steps);
+  if (!exact) return 0;
+  const int exact_steps = std::max(1, steps / (n >= 5000 ? 20 : 4));
+  const StepTimes all = timeSteps(n, hall, exact_steps, 0.0);
+  std::printf("%d agents, %.1f x %.1f m hall, all pairs: %.3f ms/step (min), %.3f ms/step (median) over %d steps\n",
+              n, hall, hall, all.min_ms, all.median_ms, exact_steps);
   return 0;
 }

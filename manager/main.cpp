@@ -1,5 +1,6 @@
 // hunav_manager: moves the simulated people. Answers the world's step requests over LCM.
 #include <iostream>
+#include <optional>
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
@@ -10,18 +11,24 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hunav_manager: the human model (social forces and behaviors). Answers STEP_REQUEST with "
       "STEP_REPLY (lcmtypes/README.md)."};
-  std::string url;
+  std::string url, scenario_file;
   int episodes = 0;
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else udpm on this host only)");
+  app.add_option("--scenario", scenario_file,
+                 "scenario YAML: load every agent's behavior tree at start (a bad one: exit 2 before anything "
+                 "runs); without it, tree files are read at the first step that names them");
   app.add_option("--episodes", episodes, "exit after this many episode END events (0: run until SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   const auto& stop = hunav::installStopSignals();
   return hunav::cli::run("hunav_manager", [&] {
+    std::optional<hunav::Scenario> scenario;
+    if (!scenario_file.empty()) scenario = hunav::loadScenario(scenario_file);
     lcm::LCM lcm(hunav::resolveLcmUrl(url));
     hunav::Bus bus(lcm);
     hunav::manager::ManagerNode node(bus);
+    if (scenario) node.manager().loadTrees(*scenario);  // a bad tree file: exit 2 before "ready"
     std::cout << "ready" << std::endl;
     while (!stop.load() && (episodes == 0 || node.episodesEnded() < static_cast<std::uint64_t>(episodes)))
       bus.handleFor(std::chrono::milliseconds(100));

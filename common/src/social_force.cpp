@@ -4,6 +4,16 @@
 
 namespace hunav {
 
+namespace {
+// normalizeAngle, skipping fmod when |a| < 2 pi (where fmod returns a itself): the same result.
+double wrapAngle(double a) {
+  if (!(std::abs(a) < 2.0 * kPi)) return normalizeAngle(a);
+  if (a <= -kPi) a += 2.0 * kPi;
+  if (a > kPi) a -= 2.0 * kPi;
+  return a;
+}
+}  // namespace
+
 Vec2 desiredForce(const SfmBody& me, const Vec2* goal, double goal_radius, double desired_speed,
                   const SfmParams& p, Vec2* direction) {
   if (goal != nullptr) {
@@ -98,7 +108,7 @@ SfmMotion integrate(const Vec2& position, const Vec2& velocity, double yaw, cons
   m.linear_vel = m.velocity.norm();
   m.yaw = m.linear_vel > 0.0 ? angleOf(m.velocity) : yaw;
   m.position = position + m.velocity * dt;
-  m.angular_vel = dt > 0.0 ? normalizeAngle(m.yaw - yaw) / dt : 0.0;
+  m.angular_vel = dt > 0.0 ? wrapAngle(m.yaw - yaw) / dt : 0.0;
   return m;
 }
 

@@ -18,52 +18,6 @@ SfmBody bodyOf(const agent_state_t& a) {
   return b;
 }
 
-// atan2 without libm: octant reduction, then |a| <= tan(pi/8) and the odd Taylor series of atan to
-// degree 21 (truncation error < 1e-10 rad).
-inline double fastAtan2(double y, double x) {
-  const double ax = std::abs(x), ay = std::abs(y);
-  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
-  if (mx == 0.0) return 0.0;
-  double a = mn / mx, base = 0.0;
-  if (a > 0.41421356237309503) {
-    a = (a - 1.0) / (a + 1.0);
-    base = kPi / 4.0;
-  }
-  const double s = a * a;
-  // atan(a) = a * sum_k (-1)^k s^k / (2k + 1), k = 0..10, Horner from k = 10.
-  double poly = 1.0 / 21;
-  for (int k = 9; k >= 0; --k) poly = poly * s + ((k % 2 == 0) ? 1.0 : -1.0) / (2 * k + 1);
-  double r = base + a * poly;
-  if (ay > ax) r = kPi / 2.0 - r;
-  if (x < 0.0) r = kPi - r;
-  return y < 0.0 ? -r : r;
-}
-
-// The social force of section 1.5 of body j on body i, without the weight omega_s (same formula as
-// hunav::socialForceFrom, atan2 replaced by fastAtan2). The force of i on j is exactly the opposite
-// (D_ji = -D_ij, so t flips and theta is unchanged), so each pair is evaluated once.
-inline Vec2 unitSocial(const SfmBody& me, const SfmBody& o, const SfmParams& p) {
-  const double dx = o.position.x() - me.position.x(), dy = o.position.y() - me.position.y();
-  const double d2 = dx * dx + dy * dy;
-  if (d2 <= 0.0) return Vec2::Zero();
-  const double d = std::sqrt(d2), inv_d = 1.0 / d;
-  const double ex = dx * inv_d, ey = dy * inv_d;
-  const double Dx = p.lambda * (me.velocity.x() - o.velocity.x()) + ex;
-  const double Dy = p.lambda * (me.velocity.y() - o.velocity.y()) + ey;
-  const double len2 = Dx * Dx + Dy * Dy;
-  if (len2 <= 0.0) return Vec2::Zero();
-  const double len = std::sqrt(len2), inv_len = 1.0 / len;
-  const double B = p.gamma * len;
-  const double a = d * inv_len / p.gamma;
-  const double tx = Dx * inv_len, ty = Dy * inv_len;
-  const double theta = fastAtan2(tx * ey - ty * ex, tx * ex + ty * ey);
-  const double q = p.n * B * theta, qp = p.n_prime * B * theta;
-  const double fv = -std::exp(-a - qp * qp);
-  const double sign = theta > 0.0 ? 1.0 : (theta < 0.0 ? -1.0 : 0.0);
-  const double ft = -sign * std::exp(-a - q * q);
-  return Vec2(fv * tx - ft * ty, fv * ty + ft * tx);
-}
-
 ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                     double goal_radius, RobotAs robot, double desired_speed) {
   const SfmParams p = paramsOf(a);
@@ -87,11 +41,14 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
   if (robot == RobotAs::Person) f.social += socialForceFrom(me, snap.robot, p);
 
   if (me.group_id >= 0) {
-    std::vector<const SfmBody*> mates;
-    auto it = snap.groups.find(me.group_id);
-    if (it != snap.groups.end()) {
-      for (int j : it->second)
+    static thread_local std::vector<const SfmBody*> mates;  // reused: no allocation per agent
+    mates.clear();
+    if (snap.group_of.size() == snap.agents.size()) {
+      const int g = snap.group_of[index];
+      for (int k = snap.group_start[g]; k < snap.group_start[g + 1]; ++k) {
+        const int j = snap.group_members[k];
         if (static_cast<std::size_t>(j) != index) mates.push_back(&snap.agents[j]);
+      }
     } else {
       for (std::size_t j = 0; j < snap.agents.size(); ++j)
         if (j != index && snap.agents[j].group_id == me.group_id) mates.push_back(&snap.agents[j]);
@@ -133,27 +90,48 @@ void NeighborGrid::build(const std::vector<SfmBody>& bodies, const std::vector<i
   for (const SfmBody& b : bodies) ++start_[cellOf(b.position) + 1];
   for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
   items_.resize(bodies.size());
-  std::vector<int> fill(start_.begin(), start_.end() - 1);
-  for (int j : order) items_[fill[cellOf(bodies[j].position)]++] = j;  // id order within a cell
-}
-
-void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff) {
-  snap.people_social.assign(snap.agents.size(), Vec2::Zero());
-  const SfmParams p;  // lambda, gamma, n, n' are the same for everybody; omega_s is applied per agent
-  grid.forEachPair(cutoff, [&](int i, int j) {
-    const Vec2 u = unitSocial(snap.agents[i], snap.agents[j], p);
-    snap.people_social[i] += u;
-    snap.people_social[j] -= u;
-  });
+  fill_.assign(start_.begin(), start_.end() - 1);
+  for (int j : order) items_[fill_[cellOf(bodies[j].position)]++] = j;  // id order within a cell
+  x_.resize(items_.size());
+  y_.resize(items_.size());
+  vx_.resize(items_.size());
+  vy_.resize(items_.size());
+  for (std::size_t k = 0; k < items_.size(); ++k) {
+    const SfmBody& b = bodies[items_[k]];
+    x_[k] = b.position.x();
+    y_[k] = b.position.y();
+    vx_[k] = b.velocity.x();
+    vy_[k] = b.velocity.y();
+  }
 }
 
 void StepSnapshot::index() {
-  by_id.resize(agents.size());
-  std::iota(by_id.begin(), by_id.end(), 0);
-  std::sort(by_id.begin(), by_id.end(), [&](int a, int b) { return agents[a].id < agents[b].id; });
-  groups.clear();
+  // The order of the previous step is kept when it still sorts the ids (same people, same order).
+  bool sorted = by_id.size() == agents.size();
+  for (std::size_t k = 0; sorted && k < by_id.size(); ++k)
+    sorted = by_id[k] >= 0 && static_cast<std::size_t>(by_id[k]) < agents.size() &&
+             (k == 0 || agents[by_id[k - 1]].id < agents[by_id[k]].id);
+  if (!sorted) {
+    by_id.resize(agents.size());
+    std::iota(by_id.begin(), by_id.end(), 0);
+    std::sort(by_id.begin(), by_id.end(), [&](int a, int b) { return agents[a].id < agents[b].id; });
+  }
+  // Groups: members sorted by (group id, agent id).
+  group_members.clear();
   for (int j : by_id)
-    if (agents[j].group_id >= 0) groups[agents[j].group_id].push_back(j);
+    if (agents[j].group_id >= 0) group_members.push_back(j);
+  std::sort(group_members.begin(), group_members.end(), [&](int a, int b) {
+    return agents[a].group_id != agents[b].group_id ? agents[a].group_id < agents[b].group_id
+                                                    : agents[a].id < agents[b].id;
+  });
+  group_of.assign(agents.size(), -1);
+  group_start.clear();
+  for (std::size_t k = 0; k < group_members.size(); ++k) {
+    if (k == 0 || agents[group_members[k]].group_id != agents[group_members[k - 1]].group_id)
+      group_start.push_back(static_cast<int>(k));
+    group_of[group_members[k]] = static_cast<int>(group_start.size()) - 1;
+  }
+  group_start.push_back(static_cast<int>(group_members.size()));
 }
 
 SfmParams paramsOf(const agent_state_t& a) {
@@ -211,15 +189,35 @@ void turnToward(TickContext& c, const Vec2& target, double max_step) {
 
 AgentManager::AgentManager() : lib_(NodeLibrary::withBuiltins()) {}
 
+void AgentManager::clearMemory() {
+  memory_.clear();
+  memory_at_.clear();
+}
+
 void AgentManager::setBuiltinTree(int behavior, const std::string& xml) {
   builtin_override_[behavior] = xml;
   definitions_.erase("builtin:" + std::to_string(behavior));
-  memory_.clear();
+  clearMemory();
 }
 
 void AgentManager::loadTreeFile(const std::string& path) {
   if (definitions_.count(path) == 0) definitions_[path] = TreeDefinition::load(path, lib_);
 }
+
+void AgentManager::loadTrees(const Scenario& scenario) {
+  for (const AgentConfig& a : scenario.agents) {
+    if (a.behavior_tree.empty()) continue;  // a built-in tree
+    try {
+      loadTreeFile(a.behavior_tree);
+    } catch (const ConfigError& e) {
+      const std::string agent = a.name.empty() ? "agent " + std::to_string(a.id) : a.name;
+      throw ConfigError(a.source_file.empty() ? scenario.file : a.source_file, a.source_line,
+                        agent + ".behavior_tree", e.what());
+    }
+  }
+}
+
+void checkBehaviorTrees(const Scenario& scenario) { AgentManager().loadTrees(scenario); }
 
 std::shared_ptr<const TreeDefinition> AgentManager::definitionFor(const agent_state_t& a, std::string& source) {
   if (!a.behavior_tree.empty()) {
@@ -237,15 +235,26 @@ std::shared_ptr<const TreeDefinition> AgentManager::definitionFor(const agent_st
   return definitions_[source] = TreeDefinition::parse(xml, std::string("behavior_trees/") + builtinTreeName(code), lib_);
 }
 
+AgentMemory& AgentManager::memoryAt(std::size_t index, const agent_state_t& a) {
+  // The memory found for this request index last step, while the same agent is there: no lookup.
+  AgentMemory* cached = memory_at_[index];
+  if (cached != nullptr && cached->id == a.id && cached->behavior == a.behavior && cached->tree_file == a.behavior_tree)
+    return *cached;
+  AgentMemory& m = memoryFor(a);
+  memory_at_[index] = &m;
+  return m;
+}
+
 AgentMemory& AgentManager::memoryFor(const agent_state_t& a) {
   AgentMemory& m = memory_[a.id];
+  m.id = a.id;
   if (m.tree && m.behavior == a.behavior && m.tree_file == a.behavior_tree) return m;  // unchanged
   m.behavior = a.behavior;
   m.tree_file = a.behavior_tree;
   std::string source;
   auto def = definitionFor(a, source);
   if (!m.tree || m.tree_source != source) {
-    m.tree = def->instantiate(lib_);
+    m.tree = BtTree::instantiate(def, lib_);
     m.tree_source = source;
     m.stopped = false;
   }
@@ -253,34 +262,59 @@ AgentMemory& AgentManager::memoryFor(const agent_state_t& a) {
 }
 
 step_reply_t AgentManager::step(const step_request_t& request) {
+  step_reply_t reply;
+  step(request, reply);
+  return reply;
+}
+
+void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   if (!have_episode_ || request.episode != episode_) {
-    memory_.clear();
+    clearMemory();
     episode_ = request.episode;
     have_episode_ = true;
   }
-  StepSnapshot snap;
+  StepSnapshot& snap = snap_;
   snap.request = &request;
-  snap.agents.reserve(request.agents.size());
-  for (const agent_state_t& a : request.agents) snap.agents.push_back(bodyOf(a));
+  snap.agents.resize(request.agents.size());
+  for (std::size_t i = 0; i < request.agents.size(); ++i) snap.agents[i] = bodyOf(request.agents[i]);
   snap.robot = bodyOf(request.robot);
   snap.index();
   if (cutoff_ > 0.0) {
     grid_.build(snap.agents, snap.by_id, cutoff_);
     computePeopleSocial(snap, grid_, cutoff_);
+  } else {
+    snap.people_social.clear();
   }
 
-  step_reply_t reply;
   reply.utime = request.utime + static_cast<int64_t>(std::llround(request.dt * 1e6));
   reply.seq = request.seq;
   reply.episode = request.episode;
   reply.num_agents = request.num_agents;
-  reply.agents = request.agents;
+  reply.agents.resize(request.agents.size());
+  memory_at_.resize(request.agents.size());
   for (std::size_t i = 0; i < request.agents.size(); ++i) {
+    // What the agent a few places ahead will touch, fetched while this one is ticked: its memory,
+    // tree and goal and obstacle lists live apart on the heap, and thousands of agents do not fit
+    // in the cache.
+    constexpr std::size_t kAhead = 4;
+    if (i + kAhead < request.agents.size()) {
+      const agent_state_t& next_in = request.agents[i + kAhead];
+      const agent_state_t& next_out = reply.agents[i + kAhead];
+      __builtin_prefetch(next_in.goals.data());
+      __builtin_prefetch(next_in.obstacles.data());
+      __builtin_prefetch(next_out.goals.data(), 1);
+      __builtin_prefetch(next_out.obstacles.data(), 1);
+      if (const AgentMemory* next = memory_at_[i + kAhead]; next != nullptr) {
+        __builtin_prefetch(next);
+        next->tree.prefetch();
+      }
+    }
     const agent_state_t& in = request.agents[i];
     agent_state_t& out = reply.agents[i];
+    out = in;  // reuses the strings and vectors of the last reply
     out.utime = reply.utime;
     out.behavior_state = agent_state_t::STATE_INACTIVE;
-    AgentMemory& mem = memoryFor(in);
+    AgentMemory& mem = memoryAt(i, in);
     mem.moved = false;
     TickContext ctx{snap, i, in, out, request.dt, request.episode, request.seq, mem, {}};
     auto set = [&](BbKey k, double v) { ctx.bb[static_cast<std::size_t>(k)] = v; };
@@ -297,9 +331,9 @@ step_reply_t AgentManager::step(const step_request_t& request) {
     set(BbKey::SocialForceFactor, bp.social_force_factor);
     set(BbKey::OtherForceFactor, bp.other_force_factor);
     set(BbKey::MaxVel, in.desired_speed);
-    mem.tree->tick(ctx);
+    mem.tree.tick(ctx);
   }
-  return reply;
+  snap.request = nullptr;
 }
 
 }  // namespace hunav::manager

@@ -4,9 +4,11 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
+#include <utility>
 
 namespace hunav::manager {
 
@@ -28,14 +30,14 @@ Status BtNode::tick(TickContext& ctx) {
   return s;
 }
 
-double BtNode::number(std::size_t port, const TickContext& ctx) const {
-  const PortValue& v = ports[port];
+double BtNode::number(std::size_t i, const TickContext& ctx) const {
+  const PortValue& v = spec_->ports[i];
   return v.from_blackboard ? ctx.bb[static_cast<std::size_t>(v.key)] : v.number;
 }
 
 void BtNode::haltChildren(std::size_t from) {
-  for (std::size_t i = from; i < children.size(); ++i)
-    if (children[i]->running()) children[i]->halt();
+  for (std::size_t i = from; i < num_children_; ++i)
+    if (children_[i]->running()) children_[i]->halt();
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -57,8 +59,8 @@ class CompositeNode : public BtNode {
 
  protected:
   Status onTick(TickContext& c) override {
-    for (std::size_t i = reactive_ ? 0 : current_; i < children.size(); ++i) {
-      const Status s = children[i]->tick(c);
+    for (std::size_t i = reactive_ ? 0 : current_; i < childCount(); ++i) {
+      const Status s = child(i).tick(c);
       if (s == Status::Running) {
         if (reactive_) haltChildren(i + 1);
         current_ = i;
@@ -83,7 +85,7 @@ class CompositeNode : public BtNode {
 class InverterNode : public BtNode {
  protected:
   Status onTick(TickContext& c) override {
-    const Status s = children[0]->tick(c);
+    const Status s = child(0).tick(c);
     if (s == Status::Running) return s;
     return s == Status::Success ? Status::Failure : Status::Success;
   }
@@ -95,7 +97,7 @@ class ForceNode : public BtNode {
 
  protected:
   Status onTick(TickContext& c) override {
-    const Status s = children[0]->tick(c);
+    const Status s = child(0).tick(c);
     return s == Status::Running ? s : result_;
   }
 
@@ -116,7 +118,7 @@ class RepeatNode : public BtNode {
  protected:
   Status onTick(TickContext& c) override {
     const int cycles = static_cast<int>(number(0, c));
-    const Status s = children[0]->tick(c);
+    const Status s = child(0).tick(c);
     if (s == Status::Running) return s;
     if (s == Status::Failure) {
       count_ = 0;
@@ -136,7 +138,7 @@ class RepeatNode : public BtNode {
 
 class SubTreeNode : public BtNode {
  protected:
-  Status onTick(TickContext& c) override { return children[0]->tick(c); }
+  Status onTick(TickContext& c) override { return child(0).tick(c); }
 };
 
 }  // namespace
@@ -144,7 +146,7 @@ class SubTreeNode : public BtNode {
 void registerHunavNodes(NodeLibrary& lib);  // bt_nodes.cpp
 
 void NodeLibrary::add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory) {
-  entries_[name] = Entry{kind, std::move(ports), std::move(factory)};
+  entries_[name] = Entry{kind, std::move(ports), std::move(factory), nullptr, 0, 0};
 }
 
 const NodeLibrary::Entry* NodeLibrary::find(const std::string& name) const {
@@ -154,15 +156,14 @@ const NodeLibrary::Entry* NodeLibrary::find(const std::string& name) const {
 
 NodeLibrary NodeLibrary::withBuiltins() {
   NodeLibrary lib;
-  lib.add("Sequence", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Failure, false); });
-  lib.add("ReactiveSequence", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Failure, true); });
-  lib.add("Fallback", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Success, false); });
-  lib.add("ReactiveFallback", Kind::Control, {}, [] { return std::make_unique<CompositeNode>(Status::Success, true); });
-  lib.add("Inverter", Kind::Decorator, {}, [] { return std::make_unique<InverterNode>(); });
-  lib.add("ForceSuccess", Kind::Decorator, {}, [] { return std::make_unique<ForceNode>(Status::Success); });
-  lib.add("ForceFailure", Kind::Decorator, {}, [] { return std::make_unique<ForceNode>(Status::Failure); });
-  lib.add("Repeat", Kind::Decorator, {{"num_cycles", PortType::Number, true, ""}},
-          [] { return std::make_unique<RepeatNode>(); });
+  lib.addNode<CompositeNode>("Sequence", Kind::Control, {}, Status::Failure, false);
+  lib.addNode<CompositeNode>("ReactiveSequence", Kind::Control, {}, Status::Failure, true);
+  lib.addNode<CompositeNode>("Fallback", Kind::Control, {}, Status::Success, false);
+  lib.addNode<CompositeNode>("ReactiveFallback", Kind::Control, {}, Status::Success, true);
+  lib.addNode<InverterNode>("Inverter", Kind::Decorator, {});
+  lib.addNode<ForceNode>("ForceSuccess", Kind::Decorator, {}, Status::Success);
+  lib.addNode<ForceNode>("ForceFailure", Kind::Decorator, {}, Status::Failure);
+  lib.addNode<RepeatNode>("Repeat", Kind::Decorator, {{"num_cycles", PortType::Number, true, "", {}}});
   registerHunavNodes(lib);
   return lib;
 }
@@ -204,6 +205,14 @@ struct Parser {
       if (text == "true" || text == "True" || text == "1") v.number = 1.0;
       else if (text == "false" || text == "False" || text == "0") v.number = 0.0;
       else fail(line, std::string(e->Name()) + ": port " + spec.name + ": '" + text + "' is not true/false");
+    } else if (!spec.choices.empty()) {
+      const auto it = std::find(spec.choices.begin(), spec.choices.end(), text);
+      if (it == spec.choices.end()) {
+        std::string list;
+        for (const std::string& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
+        fail(line, std::string(e->Name()) + ": port " + spec.name + ": '" + text + "' is not one of " + list);
+      }
+      v.number = static_cast<double>(it - spec.choices.begin());
     }
     return v;
   }
@@ -263,16 +272,10 @@ struct Parser {
   }
 };
 
-std::unique_ptr<BtNode> instantiateSpec(const TreeDefinition::Spec& s, const NodeLibrary& lib, int& counter) {
-  std::unique_ptr<BtNode> n;
-  if (s.name == "SubTree") n = std::make_unique<SubTreeNode>();
-  else n = lib.find(s.name)->factory();
-  n->name = s.name;
-  n->line = s.line;
-  n->ports = s.ports;
-  n->node_index = counter++;
-  for (const auto& c : s.children) n->children.push_back(instantiateSpec(c, lib, counter));
-  return n;
+// Pre-order numbering of the nodes (the order the instances are built and ticked in).
+void numberNodes(BtSpec& s, int& counter) {
+  s.index = counter++;
+  for (BtSpec& c : s.children) numberNodes(c, counter);
 }
 
 }  // namespace
@@ -311,6 +314,8 @@ std::shared_ptr<const TreeDefinition> TreeDefinition::parse(const std::string& x
     throw ConfigError(file, root->GetLineNum(), "", "main_tree_to_execute: no BehaviorTree '" + def->main_ + "'");
   std::set<std::string> stack{def->main_};
   def->root_ = p.buildTreeBody(it->second, stack);
+  int counter = 0;
+  numberNodes(def->root_, counter);
   return def;
 }
 
@@ -325,9 +330,105 @@ std::shared_ptr<const TreeDefinition> TreeDefinition::load(const std::string& pa
   return parse(text, path, lib);
 }
 
-std::unique_ptr<BtNode> TreeDefinition::instantiate(const NodeLibrary& lib) const {
-  int counter = 0;
-  return instantiateSpec(root_, lib, counter);
+// ---------------------------------------------------------------------------------------------------
+// Tree instances
+
+namespace {
+
+// How a node of the spec is made: placed in the tree's block, or by its heap factory.
+struct NodeMaker {
+  const NodeLibrary::Placer* placer = nullptr;
+  const NodeLibrary::Factory* factory = nullptr;
+  std::size_t size = 0, align = 1;
+};
+
+NodeMaker makerOf(const BtSpec& s, const NodeLibrary& lib) {
+  static const NodeLibrary::Placer kSubTree = [](void* where) -> BtNode* { return new (where) SubTreeNode(); };
+  if (s.name == "SubTree") return NodeMaker{&kSubTree, nullptr, sizeof(SubTreeNode), alignof(SubTreeNode)};
+  const NodeLibrary::Entry* e = lib.find(s.name);
+  if (e->placer && e->align <= alignof(std::max_align_t)) return NodeMaker{&e->placer, nullptr, e->size, e->align};
+  return NodeMaker{nullptr, &e->factory, 0, 1};
+}
+
+std::size_t alignUp(std::size_t offset, std::size_t align) { return (offset + align - 1) / align * align; }
+
+// Bytes of the block for the subtree of s (node, then its child list, then the children).
+std::size_t blockSize(const BtSpec& s, const NodeLibrary& lib, std::size_t offset) {
+  const NodeMaker m = makerOf(s, lib);
+  if (m.placer != nullptr) offset = alignUp(offset, m.align) + m.size;
+  offset = alignUp(offset, alignof(BtNode*)) + s.children.size() * sizeof(BtNode*);
+  for (const BtSpec& c : s.children) offset = blockSize(c, lib, offset);
+  return offset;
+}
+
+}  // namespace
+
+BtTree& BtTree::operator=(BtTree&& other) noexcept {
+  if (this != &other) {
+    clear();
+    definition_ = std::move(other.definition_);
+    storage_ = std::move(other.storage_);
+    root_ = std::exchange(other.root_, nullptr);
+  }
+  return *this;
+}
+
+void BtTree::clear() {
+  // Children before parents; a node built by a factory is deleted, one in the block destroyed.
+  struct Destroy {
+    static void run(BtNode* n) {
+      if (n == nullptr) return;
+      for (std::uint32_t i = 0; i < n->num_children_; ++i) run(n->children_[i]);
+      if (n->in_tree_storage_) n->~BtNode();
+      else delete n;
+    }
+  };
+  Destroy::run(root_);
+  root_ = nullptr;
+  storage_.reset();
+  definition_.reset();
+}
+
+BtTree BtTree::instantiate(std::shared_ptr<const TreeDefinition> definition, const NodeLibrary& lib) {
+  BtTree tree;
+  tree.definition_ = std::move(definition);
+  const BtSpec& root = tree.definition_->root();
+  const std::size_t bytes = blockSize(root, lib, 0);
+  const std::size_t blocks = (bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+  tree.storage_ = std::make_unique<std::max_align_t[]>(blocks);
+  auto* base = reinterpret_cast<unsigned char*>(tree.storage_.get());
+  std::size_t offset = 0;
+  // Builds the subtree of s at `offset` (the same layout as blockSize) and stores it in *slot, so
+  // that a throwing constructor leaves a tree clear() can take apart.
+  struct Build {
+    const NodeLibrary& lib;
+    unsigned char* base;
+    std::size_t& offset;
+    void run(const BtSpec& s, BtNode** slot) {
+      const NodeMaker m = makerOf(s, lib);
+      BtNode* node = nullptr;
+      if (m.placer != nullptr) {
+        offset = alignUp(offset, m.align);
+        node = (*m.placer)(base + offset);
+        node->in_tree_storage_ = true;
+        offset += m.size;
+      } else {
+        node = (*m.factory)().release();
+      }
+      node->spec_ = &s;
+      offset = alignUp(offset, alignof(BtNode*));
+      node->children_ = reinterpret_cast<BtNode**>(base + offset);
+      offset += s.children.size() * sizeof(BtNode*);
+      *slot = node;
+      for (std::size_t i = 0; i < s.children.size(); ++i) {
+        node->children_[i] = nullptr;
+        node->num_children_ = static_cast<std::uint32_t>(i + 1);
+        run(s.children[i], &node->children_[i]);
+      }
+    }
+  };
+  Build{lib, base, offset}.run(root, &tree.root_);
+  return tree;
 }
 
 }  // namespace hunav::manager

@@ -36,8 +36,9 @@ class LambdaNode : public BtNode {
   Status onTick(TickContext& c) override { return f_(*this, c) ? Status::Success : Status::Failure; }
 
  public:
-  double port(std::size_t i, const TickContext& c) const { return number(i, c); }
-  const std::string& text(std::size_t i) const { return ports[i].text; }
+  double value(std::size_t i, const TickContext& c) const { return number(i, c); }
+  // A port with choices: the position of its value in the list.
+  int choice(std::size_t i) const { return static_cast<int>(port(i).number); }
 
  private:
   F f_;
@@ -45,12 +46,16 @@ class LambdaNode : public BtNode {
 
 template <class F>
 void addLeaf(NodeLibrary& lib, const std::string& name, std::vector<PortSpec> ports, F f) {
-  lib.add(name, Kind::Leaf, std::move(ports), [f] { return std::make_unique<LambdaNode<F>>(f); });
+  lib.addNode<LambdaNode<F>>(name, Kind::Leaf, std::move(ports), f);
 }
 
-PortSpec num(const std::string& name, const std::string& def) { return PortSpec{name, PortType::Number, false, def}; }
-PortSpec req(const std::string& name) { return PortSpec{name, PortType::Number, true, ""}; }
-PortSpec flag(const std::string& name, const std::string& def) { return PortSpec{name, PortType::Bool, false, def}; }
+PortSpec num(const std::string& name, const std::string& def) {
+  return PortSpec{name, PortType::Number, false, def, {}};
+}
+PortSpec req(const std::string& name) { return PortSpec{name, PortType::Number, true, "", {}}; }
+PortSpec flag(const std::string& name, const std::string& def) {
+  return PortSpec{name, PortType::Bool, false, def, {}};
+}
 
 // TimeExpiredCondition(seconds, only_once): adds dt (simulation time) on every tick; FAILURE until
 // `seconds` have accumulated, then SUCCESS (and restarts unless only_once).
@@ -81,7 +86,7 @@ class RandomChance : public BtNode {
   Status onTick(TickContext& c) override {
     std::uint64_t h = splitmix(static_cast<std::uint64_t>(c.episode));
     h = splitmix(h ^ static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.in.id)));
-    h = splitmix(h ^ static_cast<std::uint64_t>(node_index));
+    h = splitmix(h ^ static_cast<std::uint64_t>(nodeIndex()));
     h = splitmix(h ^ counter_++);
     const double u = static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
     return u < number(0, c) ? Status::Success : Status::Failure;
@@ -98,7 +103,7 @@ void registerHunavNodes(NodeLibrary& lib) {
   addLeaf(lib, "IsRobotVisible", {num("distance", "5.0")}, [](auto& n, TickContext& c) {
     if (!c.in.robot_in_sight) return false;
     const Vec2 d = robotPos(c) - agentPos(c);
-    const double range = n.port(0, c);
+    const double range = n.value(0, c);
     if (d.squaredNorm() > range * range) return false;
     return std::abs(normalizeAngle(angleOf(d) - c.in.yaw)) <= kHalfFieldOfView;
   });
@@ -108,15 +113,14 @@ void registerHunavNodes(NodeLibrary& lib) {
     return std::hypot(g.x - c.out.x, g.y - c.out.y) <= c.out.goal_radius + kGoalSwitchMargin;
   });
   addLeaf(lib, "IsRobotClose", {num("threshold", "1.0")}, [](auto& n, TickContext& c) {
-    return (robotPos(c) - agentPos(c)).norm() < n.port(0, c);
+    return (robotPos(c) - agentPos(c)).norm() < n.value(0, c);
   });
   addLeaf(lib, "IsRobotFacingAgent", {num("angle", "0.3")}, [](auto& n, TickContext& c) {
     const double b = normalizeAngle(angleOf(agentPos(c) - robotPos(c)) - c.snap.request->robot.yaw);
-    return std::abs(b) < n.port(0, c);
+    return std::abs(b) < n.value(0, c);
   });
-  lib.add("TimeExpiredCondition", Kind::Leaf, {num("seconds", "1.0"), flag("only_once", "false")},
-          [] { return std::make_unique<TimeExpired>(); });
-  lib.add("RandomChance", Kind::Leaf, {num("probability", "0.3")}, [] { return std::make_unique<RandomChance>(); });
+  lib.addNode<TimeExpired>("TimeExpiredCondition", Kind::Leaf, {num("seconds", "1.0"), flag("only_once", "false")});
+  lib.addNode<RandomChance>("RandomChance", Kind::Leaf, {num("probability", "0.3")});
 
   // --- goal queue
   addLeaf(lib, "UpdateGoal", {}, [](auto&, TickContext& c) {
@@ -129,7 +133,7 @@ void registerHunavNodes(NodeLibrary& lib) {
   });
   // SetGoal(x, y): makes (x, y) the current goal (put in front of the queue unless already there).
   addLeaf(lib, "SetGoal", {req("x"), req("y")}, [](auto& n, TickContext& c) {
-    const point2d_t g{n.port(0, c), n.port(1, c)};
+    const point2d_t g{n.value(0, c), n.value(1, c)};
     if (c.out.goals.empty() || c.out.goals.front().x != g.x || c.out.goals.front().y != g.y) {
       c.out.goals.insert(c.out.goals.begin(), g);
       c.out.num_goals = static_cast<int32_t>(c.out.goals.size());
@@ -140,15 +144,17 @@ void registerHunavNodes(NodeLibrary& lib) {
   // --- motion
   // RegularNav(robot = auto | person | obstacle): social force navigation; auto = obstacle for
   // impassive agents, a person for everybody else.
-  addLeaf(lib, "RegularNav", {PortSpec{"robot", PortType::String, false, "auto"}}, [](auto& n, TickContext& c) {
-    const std::string& mode = n.text(0);
-    RobotAs as = RobotAs::Person;
-    if (mode == "obstacle" || (mode == "auto" && c.in.behavior == agent_state_t::BEH_IMPASSIVE))
-      as = RobotAs::Obstacle;
-    sfmMove(c, as, c.in.desired_speed);
-    c.out.behavior_state = agent_state_t::STATE_INACTIVE;
-    return true;
-  });
+  enum RobotMode { kAuto, kPerson, kObstacle };
+  addLeaf(lib, "RegularNav", {PortSpec{"robot", PortType::String, false, "auto", {"auto", "person", "obstacle"}}},
+          [](auto& n, TickContext& c) {
+            const int mode = n.choice(0);
+            RobotAs as = RobotAs::Person;
+            if (mode == kObstacle || (mode == kAuto && c.in.behavior == agent_state_t::BEH_IMPASSIVE))
+              as = RobotAs::Obstacle;
+            sfmMove(c, as, c.in.desired_speed);
+            c.out.behavior_state = agent_state_t::STATE_INACTIVE;
+            return true;
+          });
   // SurprisedNav: stop and turn toward the robot at kTurnRate (stops turning once facing it).
   addLeaf(lib, "SurprisedNav", {}, [](auto&, TickContext& c) {
     standStill(c);
@@ -161,12 +167,12 @@ void registerHunavNodes(NodeLibrary& lib) {
   addLeaf(lib, "CuriousNav", {num("stop_distance", "1.5"), num("agent_vel", "1.0")}, [](auto& n, TickContext& c) {
     const Vec2 r = robotPos(c);
     const double d = (r - agentPos(c)).norm();
-    const double stop = n.port(0, c);
+    const double stop = n.value(0, c);
     if (d <= stop) {
       standStill(c);
       turnToward(c, r, kTurnRate * c.dt);
     } else {
-      sfmMove(c, RobotAs::Ignored, n.port(1, c) * d / (d + stop), &r, Vec2::Zero(), c.snap.request->robot.radius);
+      sfmMove(c, RobotAs::Ignored, n.value(1, c) * d / (d + stop), &r, Vec2::Zero(), c.snap.request->robot.radius);
     }
     setActive(c);
     return true;
@@ -180,9 +186,9 @@ void registerHunavNodes(NodeLibrary& lib) {
             Vec2 extra = Vec2::Zero();
             if (len > 0.0) {
               const double d_eff = std::max(len - c.in.radius, 0.01);
-              extra = n.port(1, c) * (SfmParams{}.obstacle_sigma / d_eff) * (away / len);
+              extra = n.value(1, c) * (SfmParams{}.obstacle_sigma / d_eff) * (away / len);
             }
-            sfmMove(c, RobotAs::Ignored, n.port(0, c), nullptr, extra);
+            sfmMove(c, RobotAs::Ignored, n.value(0, c), nullptr, extra);
             setActive(c);
             return true;
           });
@@ -191,8 +197,8 @@ void registerHunavNodes(NodeLibrary& lib) {
   addLeaf(lib, "ThreateningNav", {num("goal_dist", "1.4"), num("speed", "2.0")}, [](auto& n, TickContext& c) {
     const agent_state_t& robot = c.snap.request->robot;
     const Vec2 r = robotPos(c);
-    const Vec2 front = r + n.port(0, c) * Vec2(std::cos(robot.yaw), std::sin(robot.yaw));
-    sfmMove(c, RobotAs::Ignored, n.port(1, c), &front, Vec2::Zero(), 0.05);
+    const Vec2 front = r + n.value(0, c) * Vec2(std::cos(robot.yaw), std::sin(robot.yaw));
+    sfmMove(c, RobotAs::Ignored, n.value(1, c), &front, Vec2::Zero(), 0.05);
     if ((Vec2(c.out.x, c.out.y) - front).norm() <= 0.3) turnToward(c, r, kPi);
     setActive(c);
     return true;

@@ -26,7 +26,8 @@ void ManagerNode::onRequest(const step_request_t& request) {
     }
     if (request.seq < last_reply_.seq) return;  // stale duplicate, already answered
   }
-  last_reply_ = manager_.step(request);
+  have_last_ = false;  // until the new reply is complete
+  manager_.step(request, last_reply_);  // reuses the last reply's storage
   have_last_ = true;
   ++steps_computed_;
   bus_.publish(channels::kStepReply, last_reply_);

@@ -11,6 +11,7 @@
 namespace hunav::runner {
 
 RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
+  manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts
   std::unique_ptr<YamlReader> planner_config;
   if (!options.planner_config.empty()) planner_config = std::make_unique<YamlReader>(options.planner_config);
 

@@ -126,9 +126,62 @@ TEST(BehaviorTreeXml, ErrorsNameFileLineAndWhat) {
   EXPECT_NE(loadError("<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n<Sequence>\n</root>\n").find(": XML:"),
             std::string::npos);
   EXPECT_EQ(loadError(head + "<SubTree ID=\"T\"/>\n</BehaviorTree>\n</root>\n"), ":3: SubTree: 'T' includes itself");
+  EXPECT_EQ(loadError(head + "<RegularNav robot=\"ghost\"/>\n</BehaviorTree>\n</root>\n"),
+            ":3: RegularNav: port robot: 'ghost' is not one of auto, person, obstacle");
   // A missing file.
   AgentManager m;
   EXPECT_THROW(m.loadTreeFile("/nonexistent/tree.xml"), ConfigError);
+}
+
+TEST(BehaviorTreeXml, ScenarioTreesAreCheckedWhenTheScenarioIsLoaded) {
+  // Every agent's behavior_tree file is parsed by loadTrees (hunav_run, hunav_manager --scenario):
+  // the error names the agents file, the agent's line and key, then the tree file's own error.
+  const std::string dir = std::string(HUNAV_BINARY_DIR) + "/";
+  std::ofstream(dir + "bt_check_good.xml") << "<root BTCPP_format=\"4\"><BehaviorTree ID=\"T\"><StopMovement/>"
+                                              "</BehaviorTree></root>";
+  std::ofstream(dir + "bt_check_malformed.xml") << "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n</root>\n";
+  std::ofstream(dir + "bt_check_unknown.xml") << "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n<Dance/>\n"
+                                                 "</BehaviorTree>\n</root>\n";
+  auto check = [&](const std::string& tree) -> std::string {
+    Scenario s;
+    s.file = "scenario.yaml";
+    AgentConfig built_in;  // no file: the built-in tree, nothing to check
+    built_in.name = "alice";
+    AgentConfig a;
+    a.name = "bob";
+    a.source_file = "agents.yaml";
+    a.source_line = 12;
+    a.behavior_tree = tree;
+    s.agents = {built_in, a};
+    AgentManager m;
+    try {
+      m.loadTrees(s);
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.file(), "agents.yaml");
+      EXPECT_EQ(e.line(), 12);
+      EXPECT_EQ(e.key(), "bob.behavior_tree");
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(check(dir + "bt_check_good.xml"), "no error");
+  EXPECT_EQ(check(dir + "bt_check_missing.xml"),
+            "agents.yaml:12: bob.behavior_tree: " + dir + "bt_check_missing.xml: cannot open behavior tree file");
+  EXPECT_EQ(check(dir + "bt_check_unknown.xml"),
+            "agents.yaml:12: bob.behavior_tree: " + dir + "bt_check_unknown.xml:3: unknown node 'Dance'");
+  const std::string malformed = check(dir + "bt_check_malformed.xml");
+  EXPECT_EQ(malformed.rfind("agents.yaml:12: bob.behavior_tree: " + dir + "bt_check_malformed.xml:", 0), 0u)
+      << malformed;
+  EXPECT_NE(malformed.find(": XML: "), std::string::npos) << malformed;
+  // checkBehaviorTrees: the same check with a manager of its own.
+  Scenario s;
+  AgentConfig a;
+  a.name = "carol";
+  a.source_file = "people.yaml";
+  a.source_line = 3;
+  a.behavior_tree = dir + "bt_check_unknown.xml";
+  s.agents = {a};
+  EXPECT_THROW(checkBehaviorTrees(s), ConfigError);
 }
 
 TEST(BehaviorTreeXml, ShippedTreesLoad) {

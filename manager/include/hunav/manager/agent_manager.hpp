@@ -6,6 +6,7 @@
 // each computed step. A new episode number resets it.
 #include "hunav/geometry.hpp"
 #include "hunav/manager/behavior_tree.hpp"
+#include "hunav/scenario.hpp"
 #include "hunav/social_force.hpp"
 
 #include <hunav/agent_state_t.hpp>
@@ -35,24 +36,34 @@ inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
 // Turn rate of surprised / LookAtRobot (rad/s).
 inline constexpr double kTurnRate = kPi;
 
+struct StepSnapshot;
+
 // Uniform grid over the snapshot's people, cells of `cell` metres; agents of a cell sorted by id, so
-// a query visits neighbours in an order that does not depend on the request order.
+// a query visits neighbours in an order that does not depend on the request order. Rebuilding it
+// reuses its storage (no allocation once it has seen the largest crowd).
 class NeighborGrid {
  public:
   void build(const std::vector<SfmBody>& bodies, const std::vector<int>& order, double cell);
   // Calls f(j) for every body within `radius` (<= cell) of p, in a fixed order.
   template <class F>
   void forEachNear(const Vec2& p, double radius, F&& f) const;
-  // Calls f(i, j) once for every unordered pair within `radius` (<= cell), in a fixed order.
+  // Calls f(i, j) once for every unordered pair within `radius` (<= cell), in a fixed order: by
+  // cell, then for each body of the cell the rest of its own cell and the forward half of the 3x3
+  // neighbourhood, (+1,0), (-1,+1), (0,+1), (+1,+1).
   template <class F>
   void forEachPair(double radius, F&& f) const;
 
  private:
+  friend void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
+
   double cell_ = 1.0;
   Vec2 origin_ = Vec2::Zero();
   int nx_ = 0, ny_ = 0;
   std::vector<int> start_;    // nx*ny+1 offsets into items_
-  std::vector<int> items_;    // body indices
+  std::vector<int> items_;    // body indices, cell by cell
+  std::vector<int> fill_;     // build scratch
+  // The bodies in items_ order, structure of arrays (the pair kernel streams through them).
+  std::vector<double> x_, y_, vx_, vy_;
   const std::vector<SfmBody>* bodies_ = nullptr;
 };
 
@@ -63,15 +74,29 @@ struct StepSnapshot {
   std::vector<SfmBody> agents;   // same order as request->agents
   SfmBody robot;
   std::vector<int> by_id;        // agent indices sorted by id (all-pairs order)
-  std::map<int, std::vector<int>> groups;  // group id -> member indices sorted by id
+  // Groups: member indices sorted by (group id, agent id); group_members[group_start[g] ..
+  // group_start[g + 1]) are the members of group g, and group_of[i] is agent i's g (-1: none).
+  std::vector<int> group_members;
+  std::vector<int> group_start;
+  std::vector<int> group_of;
   // Cut-off mode: per agent, the sum over the people within the cut-off of the social force without
   // its weight omega_s (computePeopleSocial). Empty: exact all pairs.
   std::vector<Vec2> people_social;
-  void index();                            // fills by_id and groups from agents
+  // Fills by_id and the groups from agents (keeps the previous step's order when the ids are the same).
+  void index();
 };
 
-class NeighborGrid;
-// Fills snap.people_social from the pairs of `grid` (built on snap.agents) within `cutoff`.
+// The social force of section 1.5 of `other` on `me` without the weight omega_s: the formula of
+// hunav::socialForceFrom with atan2 and exp replaced by polynomials (errors < 1e-10 rad and 1e-15
+// relative) and theta taken from D = lambda (v_me - v_other) + e directly, so that equal
+// velocities give exactly theta = 0 (no sideways force). The force of `me` on `other` is exactly
+// the opposite, so the cut-off mode evaluates each pair once. This scalar form gives the same bits
+// as the batched kernel of computePeopleSocial.
+Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& other, const SfmParams& p);
+
+// Fills snap.people_social from the pairs of `grid` (built on snap.agents) within `cutoff`: the
+// same sums, in the same order, as forEachPair with unweightedSocialForce (people_social[i] += u,
+// people_social[j] -= u), computed in batches (SIMD where the CPU has it).
 void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
 
 // How the robot enters an agent's social force model (DESIGN.md section 5).
@@ -88,10 +113,11 @@ ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_
 
 // Per-agent memory of the manager (besides the tree's own node memory).
 struct AgentMemory {
+  int id = 0;
   std::string tree_source;        // file path, or "builtin:<code>"
   int behavior = -1;              // what the tree was chosen from
   std::string tree_file;
-  std::unique_ptr<BtNode> tree;
+  BtTree tree;
   bool stopped = false;           // StopMovement / ResumeMovement
   bool moved = false;             // a motion action already ran this tick
 };
@@ -128,12 +154,20 @@ class AgentManager {
   void setBuiltinTree(int behavior, const std::string& xml);
   // Parses (and caches) a tree file now; throws ConfigError on any error.
   void loadTreeFile(const std::string& path);
+  // Parses (and caches) the behavior_tree file of every agent of the scenario, so that a missing
+  // file, malformed XML or an unknown node stops a run before it starts. Throws ConfigError
+  // "<agents file>:<line>: <agent>.behavior_tree: <tree file>:<line>: what is wrong".
+  void loadTrees(const Scenario& scenario);
 
   step_reply_t step(const step_request_t& request);
+  // The same into `reply`, reusing its storage (no allocation once the crowd has been seen).
+  void step(const step_request_t& request, step_reply_t& reply);
 
  private:
   std::shared_ptr<const TreeDefinition> definitionFor(const agent_state_t& a, std::string& source);
   AgentMemory& memoryFor(const agent_state_t& a);
+  AgentMemory& memoryAt(std::size_t index, const agent_state_t& a);
+  void clearMemory();
 
   NodeLibrary lib_;
   double cutoff_ = kDefaultSocialCutoff;
@@ -141,9 +175,14 @@ class AgentManager {
   std::map<int, std::string> builtin_override_;
   bool have_episode_ = false;
   std::int64_t episode_ = 0;
-  std::unordered_map<int, AgentMemory> memory_;
+  std::unordered_map<int, AgentMemory> memory_;   // node pointers stay valid while it grows
+  std::vector<AgentMemory*> memory_at_;             // per request index: the memory found last step
   NeighborGrid grid_;
+  StepSnapshot snap_;
 };
+
+// loadTrees with a manager of its own: for a process that only needs the check.
+void checkBehaviorTrees(const Scenario& scenario);
 
 template <class F>
 void NeighborGrid::forEachNear(const Vec2& p, double radius, F&& f) const {

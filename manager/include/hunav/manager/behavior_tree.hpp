@@ -9,10 +9,12 @@
 #include "hunav/config_error.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,9 @@ struct PortSpec {
   PortType type = PortType::Number;
   bool required = false;
   std::string default_value;  // used when not required and absent
+  // String ports: the accepted values (empty: any text). The value's position in this list is
+  // stored in PortValue::number, so a node compares numbers, not text, at each tick.
+  std::vector<std::string> choices;
 };
 
 // A port's value: a literal (checked at load) or a blackboard entry.
@@ -42,6 +47,15 @@ struct PortValue {
   BbKey key = BbKey::Id;
   double number = 0.0;
   std::string text;
+};
+
+// A node as the XML describes it; shared, read-only, by every agent's copy of the tree.
+struct BtSpec {
+  std::string name;              // XML tag
+  int line = 0;                  // in the XML file, for messages
+  int index = 0;                 // position in the tree (pre-order), e.g. to seed RandomChance
+  std::vector<PortValue> ports;  // in the order of the node type's PortSpec list
+  std::vector<BtSpec> children;
 };
 
 struct TickContext;  // defined by the node library user (agent_manager.hpp)
@@ -54,33 +68,53 @@ class BtNode {
   virtual void halt() { running_ = false; }
   bool running() const { return running_; }
 
-  std::string name;                      // XML tag
-  int line = 0;                          // in the XML file, for messages
-  std::vector<PortValue> ports;          // in the order of the node type's PortSpec list
-  std::vector<std::unique_ptr<BtNode>> children;
-  int node_index = 0;                    // position in the tree (pre-order), e.g. to seed RandomChance
+  const std::string& name() const { return spec_->name; }
+  int line() const { return spec_->line; }
+  int nodeIndex() const { return spec_->index; }
+  std::size_t childCount() const { return num_children_; }
+  BtNode& child(std::size_t i) const { return *children_[i]; }
 
  protected:
   virtual Status onTick(TickContext& ctx) = 0;
+  const PortValue& port(std::size_t i) const { return spec_->ports[i]; }
   double number(std::size_t port, const TickContext& ctx) const;
   bool flag(std::size_t port, const TickContext& ctx) const { return number(port, ctx) != 0.0; }
   void haltChildren(std::size_t from = 0);
 
  private:
+  friend class BtTree;
+  const BtSpec* spec_ = nullptr;
+  BtNode** children_ = nullptr;  // in the tree's storage
+  std::uint32_t num_children_ = 0;
   bool running_ = false;
+  bool in_tree_storage_ = false;  // constructed in BtTree's block (else allocated by a Factory)
 };
 
 // The kinds of nodes a tree may use.
 class NodeLibrary {
  public:
   using Factory = std::function<std::unique_ptr<BtNode>()>;
+  // Constructs the node in the given memory (size and alignment of the Entry).
+  using Placer = std::function<BtNode*(void*)>;
   enum class Kind { Leaf, Decorator, Control };
   struct Entry {
     Kind kind = Kind::Leaf;
     std::vector<PortSpec> ports;
     Factory factory;
+    Placer placer;  // optional: nodes constructed in the tree's own block of memory
+    std::size_t size = 0, align = 0;
   };
+  // A node type made by `factory` (each node a heap object).
   void add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory);
+  // A node type T(args...), constructed in the tree's single block of memory.
+  template <class T, class... Args>
+  void addNode(const std::string& name, Kind kind, std::vector<PortSpec> ports, Args... args) {
+    add(name, kind, std::move(ports), [args...] { return std::make_unique<T>(args...); });
+    Entry& e = entries_[name];
+    e.placer = [args...](void* where) -> BtNode* { return new (where) T(args...); };
+    e.size = sizeof(T);
+    e.align = alignof(T);
+  }
   const Entry* find(const std::string& name) const;
   // The control nodes and decorators of the engine, plus the HuNavSim node library (bt_nodes.cpp).
   static NodeLibrary withBuiltins();
@@ -89,28 +123,51 @@ class NodeLibrary {
   std::map<std::string, Entry> entries_;
 };
 
-// A parsed XML document; instantiate() builds an agent's own copy of its main tree.
+// A parsed XML document; BtTree::instantiate builds an agent's own copy of its main tree.
 class TreeDefinition {
  public:
   // Parses XML text; `file` names it in error messages.
   static std::shared_ptr<const TreeDefinition> parse(const std::string& xml, const std::string& file,
                                                      const NodeLibrary& lib);
   static std::shared_ptr<const TreeDefinition> load(const std::string& path, const NodeLibrary& lib);
-  std::unique_ptr<BtNode> instantiate(const NodeLibrary& lib) const;
   const std::string& file() const { return file_; }
   const std::string& mainTree() const { return main_; }
-
-  struct Spec {
-    std::string name;
-    int line = 0;
-    std::vector<PortValue> ports;
-    std::vector<Spec> children;
-  };
+  const BtSpec& root() const { return root_; }
+  using Spec = BtSpec;
 
  private:
   std::string file_;
   std::string main_;
-  Spec root_;
+  BtSpec root_;
+};
+
+// One agent's instance of a tree. Its nodes (and their child lists) live in one block of memory,
+// in tick order, so ticking thousands of agents streams through memory instead of chasing
+// pointers across the heap; the specs (names, ports) are shared with the definition.
+class BtTree {
+ public:
+  BtTree() = default;
+  BtTree(BtTree&& other) noexcept { *this = std::move(other); }
+  BtTree& operator=(BtTree&& other) noexcept;
+  BtTree(const BtTree&) = delete;
+  BtTree& operator=(const BtTree&) = delete;
+  ~BtTree() { clear(); }
+
+  static BtTree instantiate(std::shared_ptr<const TreeDefinition> definition, const NodeLibrary& lib);
+  explicit operator bool() const { return root_ != nullptr; }
+  BtNode& root() const { return *root_; }
+  Status tick(TickContext& ctx) { return root_->tick(ctx); }
+  void clear();
+  // Asks the CPU to start loading the first cache lines of the tree.
+  void prefetch() const {
+    const auto* p = reinterpret_cast<const char*>(storage_.get());
+    for (std::size_t line = 0; line < 4; ++line) __builtin_prefetch(p + 64 * line);
+  }
+
+ private:
+  std::shared_ptr<const TreeDefinition> definition_;  // keeps the specs alive
+  std::unique_ptr<std::max_align_t[]> storage_;
+  BtNode* root_ = nullptr;
 };
 
 // The built-in tree XML of a behavior code (manager/behavior_trees/*.xml, compiled in).

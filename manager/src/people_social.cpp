@@ -1,0 +1,388 @@
+// The social force between people in cut-off mode: all pairs of the neighbour grid within the
+// cut-off, in batches. The loops that compute a batch have no branch and no library call, so the
+// compiler vectorises them (AVX-512 or AVX2 where the CPU has it, else SSE2). The two
+// approximations are polyAtan2 (error < 1e-10 rad) and polyExp (relative error < 1e-15);
+// everything else is the formula of section 1.5 as hunav::socialForceFrom computes it. No FMA
+// (-ffp-contract=off), so the AVX-512, AVX2 and SSE2 paths and the scalar unweightedSocialForce
+// give bit-identical results on any x86-64 CPU (libm's exp does not: glibc picks an FMA variant at
+// run time). Sums are accumulated in forEachPair's order.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "hunav/manager/agent_manager.hpp"
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+namespace hunav::manager {
+
+namespace {
+
+// Polynomials c[0] + c[1] x + ... by Estrin's scheme: pairs of terms combined with x^2, x^4, x^8,
+// so the dependency chain is 4 to 5 multiply-adds long instead of 10 to 12 (Horner).
+inline double estrin10(const double* c, double x) {
+  const double x2 = x * x, x4 = x2 * x2, x8 = x4 * x4;
+  const double p01 = c[0] + c[1] * x, p23 = c[2] + c[3] * x, p45 = c[4] + c[5] * x, p67 = c[6] + c[7] * x;
+  const double p89 = c[8] + c[9] * x;
+  const double p03 = p01 + p23 * x2, p47 = p45 + p67 * x2, p810 = p89 + c[10] * x2;
+  return (p03 + p47 * x4) + p810 * x8;
+}
+inline double estrin12(const double* c, double x) {
+  const double x2 = x * x, x4 = x2 * x2, x8 = x4 * x4;
+  const double p01 = c[0] + c[1] * x, p23 = c[2] + c[3] * x, p45 = c[4] + c[5] * x, p67 = c[6] + c[7] * x;
+  const double p89 = c[8] + c[9] * x, p1011 = c[10] + c[11] * x;
+  const double p03 = p01 + p23 * x2, p47 = p45 + p67 * x2, p811 = p89 + p1011 * x2;
+  return (p03 + p47 * x4) + (p811 + c[12] * x4) * x8;
+}
+
+// atan(a) = a * sum_k (-1)^k s^k / (2k + 1), k = 0..10 (s = a^2, |a| <= tan(pi/8): truncation
+// error < 1e-10 rad).
+constexpr double kAtanCoef[11] = {1.0 / 1,  -1.0 / 3,  1.0 / 5,  -1.0 / 7,  1.0 / 9, -1.0 / 11,
+                                  1.0 / 13, -1.0 / 15, 1.0 / 17, -1.0 / 19, 1.0 / 21};
+constexpr double kTanPiOver8 = 0.41421356237309503;
+
+// atan2 without libm and without branches, so that it vectorises: octant reduction to
+// a = min/max (or (min - max)/(min + max) = tan(angle - pi/4) above pi/8: one division either way),
+// then the series above. Every candidate value is computed, then selected.
+inline double polyAtan2(double y, double x) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double mx = ax < ay ? ay : ax, mn = ax < ay ? ax : ay;
+  const bool reduce = mn > kTanPiOver8 * mx;
+  const double num = reduce ? mn - mx : mn;
+  const double den_reduced = mn + mx;
+  const double den = reduce ? den_reduced : (mx == 0.0 ? 1.0 : mx);
+  const double a = num / den;
+  const double poly = estrin10(kAtanCoef, a * a);
+  const double ap = a * poly, shifted = kPi / 4.0 + ap;
+  const double r1 = reduce ? shifted : ap;
+  const double r1_swapped = kPi / 2.0 - r1;
+  const double r2 = ay > ax ? r1_swapped : r1;
+  const double r2_mirrored = kPi - r2;
+  const double r3 = x < 0.0 ? r2_mirrored : r2;
+  const double r3_negated = -r3;
+  const double r = y < 0.0 ? r3_negated : r3;
+  return mx == 0.0 ? 0.0 : r;
+}
+
+// exp(x) for x <= 709 without libm and without branches: x = n ln2 + r (Cody-Waite: n ln2_hi is
+// exact for |n| < 2^11), |r| <= ln2/2, e^r by its Taylor series to degree 12 (truncation < 2e-16
+// relative), scaled by 2^n built in the exponent bits; measured relative error < 7e-16 against
+// libm. Below -708 the result is 0 (e^-708 = 3e-308).
+constexpr double kLog2e = 1.4426950408889634;
+constexpr double kRoundShift = 6755399441055744.0;  // 1.5 * 2^52: x + it rounds x to an integer
+constexpr double kLn2Hi = 0.693147180369123816490;  // ln 2 in 32 bits
+constexpr double kLn2Lo = 1.90821492927058770002e-10;
+constexpr double kExpCoef[13] = {
+    1.0,        1.0,         1.0 / 2,      1.0 / 6,       1.0 / 24,       1.0 / 120,      1.0 / 720,
+    1.0 / 5040, 1.0 / 40320, 1.0 / 362880, 1.0 / 3628800, 1.0 / 39916800, 1.0 / 479001600};
+inline double polyExp(double x) {
+  const double xc = x < -708.0 ? -708.0 : x;
+  const double shifted = xc * kLog2e + kRoundShift;  // n in the low bits of the mantissa
+  const double n = shifted - kRoundShift;
+  const double r = (xc - n * kLn2Hi) - n * kLn2Lo;
+  const double poly = estrin12(kExpCoef, r);
+  std::uint64_t bits;
+  std::memcpy(&bits, &shifted, sizeof bits);
+  const std::uint64_t scale_bits = (bits + 1023) << 52;  // the biased exponent of 2^n
+  double scale;
+  std::memcpy(&scale, &scale_bits, sizeof scale);
+  const double value = poly * scale;
+  return x < -708.0 ? 0.0 : value;
+}
+
+struct KernelParams {
+  double lambda, gamma, n_angle, n_velocity;
+  double inv_gamma;  // 1 / gamma
+};
+
+// The social force of the other body on me without omega_s (section 1.5), from d = other - me and
+// dv = v_me - v_other, in three stages (the batch runs each stage over all its pairs: short loop
+// bodies, so the CPU overlaps the long dependency chains of the polynomials of many pairs).
+// Stage 1: distance, interaction vector D = lambda dv + e, t = D/|D|, B = gamma |D|, and the two
+// arguments of atan2 (theta = angle from t to e, the same as from D to e).
+inline void pairGeometry(double dx, double dy, double dvx, double dvy, const KernelParams& p, double& tx, double& ty,
+                         double& d_over_b, double& b, double& sin_theta, double& cos_theta) {
+  const double d2 = dx * dx + dy * dy;
+  const double d = std::sqrt(d2 > 0.0 ? d2 : 1.0), inv_d = 1.0 / d;
+  const double ex = dx * inv_d, ey = dy * inv_d;
+  const double Dx = p.lambda * dvx + ex;
+  const double Dy = p.lambda * dvy + ey;
+  const double len2 = Dx * Dx + Dy * Dy;
+  const double len = std::sqrt(len2 > 0.0 ? len2 : 1.0), inv_len = 1.0 / len;
+  b = p.gamma * len;
+  d_over_b = d * inv_len * p.inv_gamma;
+  tx = Dx * inv_len;
+  ty = Dy * inv_len;
+  // theta from D itself (atan2 does not depend on the length): when dv = 0, D is e bit for bit and
+  // the cross product is exactly 0, so theta = 0 and there is no sideways force, as in
+  // hunav::socialForceFrom; from t = D/|D| rounding could leave +-1e-17 and a full sideways push.
+  sin_theta = Dx * ey - Dy * ex;
+  cos_theta = Dx * ex + Dy * ey;
+  // Coincident bodies, or D = 0: no direction, no force (the NaN guard); marked by d/B < 0.
+  d_over_b = (d2 > 0.0 && len2 > 0.0) ? d_over_b : -1.0;
+}
+
+// Stage 3: the force from theta (stage 2 is polyAtan2).
+inline void pairForce(double tx, double ty, double d_over_b, double b, double theta, const KernelParams& p, double& ux,
+                      double& uy) {
+  const double q = p.n_angle * b * theta, qp = p.n_velocity * b * theta;
+  const double fv = -polyExp(-d_over_b - qp * qp);
+  const double sign = theta > 0.0 ? 1.0 : (theta < 0.0 ? -1.0 : 0.0);
+  const double ft = -sign * polyExp(-d_over_b - q * q);
+  const double fx = fv * tx - ft * ty, fy = fv * ty + ft * tx;
+  const bool force = d_over_b >= 0.0;
+  ux = force ? fx : 0.0;
+  uy = force ? fy : 0.0;
+}
+
+constexpr int kBatch = 128;
+constexpr int kBatchSlack = 8;  // appendPairs may store one group of 8 beyond kBatch
+
+// One batch of pairs (i, j): the differences, the intermediate values and the force of j on i.
+struct PairBatch {
+  static constexpr int kSize = kBatch + kBatchSlack;
+  alignas(64) double dx[kSize];  // x_j - x_i
+  alignas(64) double dy[kSize];
+  alignas(64) double dvx[kSize];  // vx_i - vx_j
+  alignas(64) double dvy[kSize];
+  alignas(64) double tx[kSize];
+  alignas(64) double ty[kSize];
+  alignas(64) double d_over_b[kSize];
+  alignas(64) double b[kSize];
+  alignas(64) double sin_theta[kSize];
+  alignas(64) double cos_theta[kSize];
+  alignas(64) double theta[kSize];
+  alignas(64) double ux[kSize];
+  alignas(64) double uy[kSize];
+  alignas(64) int i[kSize];
+  alignas(64) int j[kSize + 8];
+};
+
+__attribute__((always_inline)) inline void batchLoop(PairBatch& s, int n, const KernelParams& p) {
+  for (int l = 0; l < n; ++l)
+    pairGeometry(s.dx[l], s.dy[l], s.dvx[l], s.dvy[l], p, s.tx[l], s.ty[l], s.d_over_b[l], s.b[l], s.sin_theta[l],
+                 s.cos_theta[l]);
+  for (int l = 0; l < n; ++l) s.theta[l] = polyAtan2(s.sin_theta[l], s.cos_theta[l]);
+  for (int l = 0; l < n; ++l) pairForce(s.tx[l], s.ty[l], s.d_over_b[l], s.b[l], s.theta[l], p, s.ux[l], s.uy[l]);
+}
+
+// The bodies in the grid's order (structure of arrays).
+struct Bodies {
+  const double *x, *y, *vx, *vy;
+};
+
+// Appends to the batch the pairs (k, m), m = from, from + 1, ..., within sqrt(r2) of body k (the
+// test dx*dx + dy*dy <= r2, no branch on it), until m reaches `to` or the batch holds kBatch pairs;
+// returns the m it stopped at.
+inline int appendPairsScalar(const Bodies& g, int k, int from, int to, double r2, PairBatch& b, int& n) {
+  const double *x = g.x, *y = g.y, *vx = g.vx, *vy = g.vy;  // locals: the batch stores cannot alias them
+  const double xk = x[k], yk = y[k], vxk = vx[k], vyk = vy[k];
+  int count = n;  // a local: the stores into the batch cannot alias it
+  int m = from;
+  for (; m < to && count < kBatch; ++m) {
+    const double dx = x[m] - xk, dy = y[m] - yk;
+    b.dx[count] = dx;
+    b.dy[count] = dy;
+    b.dvx[count] = vxk - vx[m];
+    b.dvy[count] = vyk - vy[m];
+    b.i[count] = k;
+    b.j[count] = m;
+    count += dx * dx + dy * dy <= r2 ? 1 : 0;
+  }
+  n = count;
+  return m;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define HUNAV_X86_SIMD 1
+// AVX2 only, never FMA: the same roundings as the baseline code.
+__attribute__((target("avx2"))) void batchAvx2(PairBatch& b, int n, const KernelParams& p) { batchLoop(b, n, p); }
+// AVX-512 (8 pairs per instruction; again no FMA).
+__attribute__((target("avx512f,avx512dq,prefer-vector-width=512"))) void batchAvx512(PairBatch& b, int n,
+                                                                                     const KernelParams& p) {
+  batchLoop(b, n, p);
+}
+// What the CPU offers, asked once (after __builtin_cpu_init, whatever the order of static initialisers).
+bool haveAvx512() {
+  static const bool yes =
+      (__builtin_cpu_init(), __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"));
+  return yes;
+}
+bool haveAvx2() {
+  static const bool yes = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
+  return yes;
+}
+
+// appendPairsScalar eight candidates at a time: the lanes that pass are packed by vcompress.
+__attribute__((target("avx512f,avx512dq"))) int appendPairsAvx512(const Bodies& g, int k, int from, int to, double r2,
+                                                                  PairBatch& b, int& n) {
+  const double *x = g.x, *y = g.y, *vx = g.vx, *vy = g.vy;  // locals: the batch stores cannot alias them
+  const __m512d xk = _mm512_set1_pd(x[k]), yk = _mm512_set1_pd(y[k]);
+  const __m512d vxk = _mm512_set1_pd(vx[k]), vyk = _mm512_set1_pd(vy[k]), vr2 = _mm512_set1_pd(r2);
+  const __m256i vk = _mm256_set1_epi32(k);
+  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 0, 0, 0, 0, 0, 0, 0);
+  int count = n;
+  int m = from;
+  for (; m + 8 <= to && count < kBatch; m += 8) {
+    const __m512d dx = _mm512_sub_pd(_mm512_loadu_pd(x + m), xk);
+    const __m512d dy = _mm512_sub_pd(_mm512_loadu_pd(y + m), yk);
+    const __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+    const __mmask8 pass = _mm512_cmp_pd_mask(d2, vr2, _CMP_LE_OQ);
+    _mm512_storeu_pd(b.dx + count, _mm512_maskz_compress_pd(pass, dx));
+    _mm512_storeu_pd(b.dy + count, _mm512_maskz_compress_pd(pass, dy));
+    _mm512_storeu_pd(b.dvx + count, _mm512_maskz_compress_pd(pass, _mm512_sub_pd(vxk, _mm512_loadu_pd(vx + m))));
+    _mm512_storeu_pd(b.dvy + count, _mm512_maskz_compress_pd(pass, _mm512_sub_pd(vyk, _mm512_loadu_pd(vy + m))));
+    const __m512i j = _mm512_maskz_compress_epi32(pass, _mm512_add_epi32(lane, _mm512_set1_epi32(m)));
+    _mm512_storeu_si512(b.j + count, j);  // 16 lanes: j has room for them
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.i + count), vk);
+    count += __builtin_popcount(static_cast<unsigned>(pass));
+  }
+  n = count;
+  return n < kBatch ? appendPairsScalar(g, k, m, to, r2, b, n) : m;
+}
+
+__attribute__((target("avx2"), always_inline)) inline __m256d pack(__m256d v, __m256i order) {
+  return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), order));
+}
+
+// appendPairsScalar four candidates at a time: the lanes that pass the test are packed to the front
+// (a permutation from a table, indexed by the test's bit mask) and stored.
+__attribute__((target("avx2"))) int appendPairsAvx2(const Bodies& g, int k, int from, int to, double r2, PairBatch& b,
+                                                    int& n) {
+  // For each 4-bit mask, the 32-bit lanes of the passing doubles first (the rest: don't care).
+  alignas(32) static const int kPack[16][8] = {
+      {0, 1, 0, 1, 0, 1, 0, 1}, {0, 1, 0, 1, 0, 1, 0, 1}, {2, 3, 0, 1, 0, 1, 0, 1}, {0, 1, 2, 3, 0, 1, 0, 1},
+      {4, 5, 0, 1, 0, 1, 0, 1}, {0, 1, 4, 5, 0, 1, 0, 1}, {2, 3, 4, 5, 0, 1, 0, 1}, {0, 1, 2, 3, 4, 5, 0, 1},
+      {6, 7, 0, 1, 0, 1, 0, 1}, {0, 1, 6, 7, 0, 1, 0, 1}, {2, 3, 6, 7, 0, 1, 0, 1}, {0, 1, 2, 3, 6, 7, 0, 1},
+      {4, 5, 6, 7, 0, 1, 0, 1}, {0, 1, 4, 5, 6, 7, 0, 1}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
+  const double *x = g.x, *y = g.y, *vx = g.vx, *vy = g.vy;  // locals: the batch stores cannot alias them
+  const __m256d xk = _mm256_set1_pd(x[k]), yk = _mm256_set1_pd(y[k]);
+  const __m256d vxk = _mm256_set1_pd(vx[k]), vyk = _mm256_set1_pd(vy[k]), vr2 = _mm256_set1_pd(r2);
+  const __m128i vk = _mm_set1_epi32(k);
+  int count = n;  // a local: the stores into the batch cannot alias it
+  int m = from;
+  for (; m + 4 <= to && count < kBatch; m += 4) {
+    const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(x + m), xk);
+    const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(y + m), yk);
+    const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+    const int mask = _mm256_movemask_pd(_mm256_cmp_pd(d2, vr2, _CMP_LE_OQ));
+    const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack[mask]));
+    _mm256_storeu_pd(b.dx + count, pack(dx, order));
+    _mm256_storeu_pd(b.dy + count, pack(dy, order));
+    _mm256_storeu_pd(b.dvx + count, pack(_mm256_sub_pd(vxk, _mm256_loadu_pd(vx + m)), order));
+    _mm256_storeu_pd(b.dvy + count, pack(_mm256_sub_pd(vyk, _mm256_loadu_pd(vy + m)), order));
+    // j: the lane numbers are the even 32-bit lanes of `order` halved.
+    const __m256i lanes = _mm256_srli_epi32(order, 1);
+    const __m128i j = _mm_add_epi32(
+        _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(lanes, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6))),
+        _mm_set1_epi32(m));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(b.j + count), j);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(b.i + count), vk);
+    count += __builtin_popcount(static_cast<unsigned>(mask));
+  }
+  n = count;
+  return n < kBatch ? appendPairsScalar(g, k, m, to, r2, b, n) : m;
+}
+#endif
+
+void computeBatch(PairBatch& b, int n, const KernelParams& p) {
+#ifdef HUNAV_X86_SIMD
+  if (haveAvx512()) return batchAvx512(b, n, p);
+  if (haveAvx2()) return batchAvx2(b, n, p);
+#endif
+  batchLoop(b, n, p);
+}
+
+int appendPairs(const Bodies& g, int k, int from, int to, double r2, PairBatch& b, int& n) {
+#ifdef HUNAV_X86_SIMD
+  if (haveAvx512()) return appendPairsAvx512(g, k, from, to, r2, b, n);
+  if (haveAvx2()) return appendPairsAvx2(g, k, from, to, r2, b, n);
+#endif
+  return appendPairsScalar(g, k, from, to, r2, b, n);
+}
+
+KernelParams kernelParams(const SfmParams& p) { return KernelParams{p.lambda, p.gamma, p.n, p.n_prime, 1.0 / p.gamma}; }
+
+// Scratch of the kernel, reused from step to step.
+struct Workspace {
+  PairBatch batch;
+  std::vector<double> fx, fy;  // sums, in the grid's order
+};
+
+}  // namespace
+
+Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& o, const SfmParams& p) {
+  const KernelParams kp = kernelParams(p);
+  double tx, ty, d_over_b, b, sin_theta, cos_theta;
+  pairGeometry(o.position.x() - me.position.x(), o.position.y() - me.position.y(), me.velocity.x() - o.velocity.x(),
+               me.velocity.y() - o.velocity.y(), kp, tx, ty, d_over_b, b, sin_theta, cos_theta);
+  Vec2 u;
+  pairForce(tx, ty, d_over_b, b, polyAtan2(sin_theta, cos_theta), kp, u.x(), u.y());
+  return u;
+}
+
+void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff) {
+  static thread_local Workspace ws;
+  const std::size_t count = grid.items_.size();
+  snap.people_social.assign(snap.agents.size(), Vec2::Zero());
+  if (count == 0) return;
+  const SfmParams p;  // lambda, gamma, n, n' are the same for everybody; omega_s is applied per agent
+  const KernelParams kp = kernelParams(p);
+  const double r2 = cutoff * cutoff;
+  const Bodies bodies{grid.x_.data(), grid.y_.data(), grid.vx_.data(), grid.vy_.data()};
+  const int* start = grid.start_.data();
+  ws.fx.assign(count, 0.0);
+  ws.fy.assign(count, 0.0);
+  double* fx = ws.fx.data();
+  double* fy = ws.fy.data();
+  PairBatch& b = ws.batch;
+  int n = 0;
+
+  auto flush = [&] {
+    computeBatch(b, n, kp);
+    // fx[i] += u, fx[j] -= u in pair order. The pairs of one i are consecutive and their j are
+    // later bodies, so i's sum stays in a register for the run (the same additions in the same order).
+    for (int l = 0; l < n;) {
+      const int i = b.i[l];
+      double sx = fx[i], sy = fy[i];
+      for (; l < n && b.i[l] == i; ++l) {
+        sx += b.ux[l];
+        sy += b.uy[l];
+        fx[b.j[l]] -= b.ux[l];
+        fy[b.j[l]] -= b.uy[l];
+      }
+      fx[i] = sx;
+      fy[i] = sy;
+    }
+    n = 0;
+  };
+  auto pairsWith = [&](int k, int from, int to) {
+    for (int m = from; m < to;) {
+      m = appendPairs(bodies, k, m, to, r2, b, n);
+      if (n >= kBatch) flush();
+    }
+  };
+
+  const int nx = grid.nx_, ny = grid.ny_;
+  for (int cy = 0; cy < ny; ++cy)
+    for (int cx = 0; cx < nx; ++cx) {
+      const int c = cy * nx + cx;
+      // The rest of this cell and the cell to the right are contiguous in the grid's order, and so
+      // are the three cells of the next row: forEachPair's order is kept.
+      const int same_to = start[cx + 1 < nx ? c + 2 : c + 1];
+      const bool next_row = cy + 1 < ny;
+      const int row_from = next_row ? start[(cy + 1) * nx + std::max(cx - 1, 0)] : 0;
+      const int row_to = next_row ? start[(cy + 1) * nx + std::min(cx + 1, nx - 1) + 1] : 0;
+      for (int k = start[c]; k < start[c + 1]; ++k) {
+        pairsWith(k, k + 1, same_to);
+        pairsWith(k, row_from, row_to);
+      }
+    }
+  if (n > 0) flush();
+  for (std::size_t k = 0; k < count; ++k) snap.people_social[grid.items_[k]] = Vec2(fx[k], fy[k]);
+}
+
+}  // namespace hunav::manager

@@ -1,0 +1,100 @@
+// The cut-off mode's social force between people: the batched (SIMD) kernel against its scalar
+// form and against hunav::socialForceFrom.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hunav/manager/agent_manager.hpp"
+
+using namespace hunav;
+using namespace hunav::manager;
+
+namespace {
+
+// A deterministic uniform [0, 1) generator (the test must not depend on the library's engines).
+struct Lcg {
+  std::uint64_t state;
+  double operator()() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  }
+};
+
+std::vector<SfmBody> randomCrowd(int n, double side, std::uint64_t seed) {
+  Lcg u{seed};
+  std::vector<SfmBody> bodies;
+  for (int i = 0; i < n; ++i) {
+    const double h = 2 * kPi * u(), s = 1.5 * u();
+    bodies.push_back(SfmBody{i + 1, -1, Vec2(side * u(), side * u()), Vec2(s * std::cos(h), s * std::sin(h)), 0.35});
+  }
+  // The corner cases: two coincident people, and two walking side by side at the same velocity.
+  bodies[1].position = bodies[0].position;
+  bodies[3].position = bodies[2].position + Vec2(0.7, 0.4);
+  bodies[3].velocity = bodies[2].velocity;
+  return bodies;
+}
+
+}  // namespace
+
+TEST(PeopleSocial, BatchedKernelGivesTheScalarFormBitForBit) {
+  // computePeopleSocial (batches, AVX-512/AVX2/SSE2) against forEachPair + unweightedSocialForce:
+  // the same pairs, the same values, summed in the same order, so every bit is equal.
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    StepSnapshot snap;
+    snap.agents = randomCrowd(700, 30.0, seed);
+    snap.index();
+    NeighborGrid grid;
+    grid.build(snap.agents, snap.by_id, kDefaultSocialCutoff);
+    computePeopleSocial(snap, grid, kDefaultSocialCutoff);
+
+    const SfmParams p;
+    std::vector<Vec2> expected(snap.agents.size(), Vec2::Zero());
+    long pairs = 0;
+    grid.forEachPair(kDefaultSocialCutoff, [&](int i, int j) {
+      const Vec2 u = unweightedSocialForce(snap.agents[i], snap.agents[j], p);
+      expected[i] += u;
+      expected[j] -= u;
+      ++pairs;
+    });
+    EXPECT_GT(pairs, 30000);  // 700 people in 30 x 30 m: many batches
+    ASSERT_EQ(snap.people_social.size(), snap.agents.size());
+    for (std::size_t i = 0; i < snap.agents.size(); ++i) {
+      EXPECT_EQ(snap.people_social[i].x(), expected[i].x()) << i;
+      EXPECT_EQ(snap.people_social[i].y(), expected[i].y()) << i;
+    }
+  }
+}
+
+TEST(PeopleSocial, PolynomialFormFollowsSocialForceFrom) {
+  const SfmParams p;  // omega_s = 5, lambda 2, gamma 0.35, n 2, n' 3
+  // By hand: me at rest at the origin, the other at rest at (2, 0): e = D = t = (1, 0), theta = 0,
+  // B = 0.35, so u = -exp(-2/0.35) (1, 0) = (-0.0032985057559390914, 0).
+  const SfmBody me{1, -1, Vec2(0, 0), Vec2(0, 0), 0.35};
+  const Vec2 u = unweightedSocialForce(me, SfmBody{2, -1, Vec2(2, 0), Vec2(0, 0), 0.35}, p);
+  EXPECT_NEAR(u.x(), -std::exp(-2.0 / 0.35), 1e-17);
+  EXPECT_EQ(u.y(), 0.0);
+  // Coincident bodies: no direction, no force.
+  EXPECT_EQ(unweightedSocialForce(me, me, p), Vec2::Zero());
+  // Equal velocities: D = e exactly, theta = 0, so the force is along -e with no sideways part
+  // (a theta of +-1e-17 from rounding would add a full sideways push of the same size).
+  const SfmBody a{1, -1, Vec2(1.3, -0.4), Vec2(0.3, -0.8), 0.35};
+  const SfmBody b{2, -1, Vec2(1.3 + 0.7, -0.4 + 1.4), Vec2(0.3, -0.8), 0.35};
+  const Vec2 side = unweightedSocialForce(a, b, p);
+  const Vec2 e = (b.position - a.position).normalized();
+  EXPECT_NEAR(side.x() * e.y() - side.y() * e.x(), 0.0, 1e-16);
+  EXPECT_NEAR(side.norm(), std::exp(-std::sqrt(0.7 * 0.7 + 1.4 * 1.4) / 0.35), 1e-15);
+  // Random pairs: the same force as socialForceFrom / omega_s, up to the polynomial errors
+  // (atan2: 1e-10 rad, which moves exp(-(n' B theta)^2) by at most ~1e-8 relative; exp: 1e-15).
+  Lcg r{99};
+  int compared = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double h1 = 2 * kPi * r(), h2 = 2 * kPi * r(), s1 = 1.5 * r(), s2 = 1.5 * r();
+    const SfmBody i{1, -1, Vec2(0, 0), Vec2(s1 * std::cos(h1), s1 * std::sin(h1)), 0.35};
+    const SfmBody j{2, -1, Vec2(16 * r() - 8, 16 * r() - 8), Vec2(s2 * std::cos(h2), s2 * std::sin(h2)), 0.35};
+    const Vec2 fast = p.social_weight * unweightedSocialForce(i, j, p);
+    const Vec2 exact = socialForceFrom(i, j, p);
+    EXPECT_LE((fast - exact).norm(), 1e-8 * exact.norm() + 1e-300) << k;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 20000);
+}
