@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace hunav::planners {
@@ -14,6 +15,7 @@ Costmap::Costmap(const Scenario& scenario, double robot_radius, const CostmapPar
   width_ = static_cast<int>(std::ceil((hi.x() - lo.x()) / params_.resolution));
   height_ = static_cast<int>(std::ceil((hi.y() - lo.y()) / params_.resolution));
   buildStaticLayer();
+  clearMarkingWindow();
 }
 
 Costmap::Costmap(std::vector<Shape> shapes, const Vec2& lo, const Vec2& hi, double robot_radius,
@@ -22,11 +24,12 @@ Costmap::Costmap(std::vector<Shape> shapes, const Vec2& lo, const Vec2& hi, doub
   width_ = static_cast<int>(std::ceil((hi.x() - lo.x()) / params_.resolution));
   height_ = static_cast<int>(std::ceil((hi.y() - lo.y()) / params_.resolution));
   buildStaticLayer();
+  clearMarkingWindow();
 }
 
 bool Costmap::worldToCell(const Vec2& p, int& cx, int& cy) const {
-  const double fx = std::floor((p.x() - origin_.x()) / params_.resolution);
-  const double fy = std::floor((p.y() - origin_.y()) / params_.resolution);
+  const double fx = std::floor((p.x() - origin_.x()) * inv_resolution_);
+  const double fy = std::floor((p.y() - origin_.y()) * inv_resolution_);
   // Clamp in double first: a far-away (or huge) coordinate must not overflow the int conversion.
   cx = static_cast<int>(std::clamp(fx, -1.0, static_cast<double>(width_)));
   cy = static_cast<int>(std::clamp(fy, -1.0, static_cast<double>(height_)));
@@ -40,15 +43,6 @@ Vec2 Costmap::cellCenter(int cx, int cy) const {
   return origin_ + Vec2((cx + 0.5) * params_.resolution, (cy + 0.5) * params_.resolution);
 }
 
-std::uint8_t Costmap::costFromDistance(double distance) const {
-  if (distance <= lethal_distance_) return kLethal;
-  if (distance <= robot_radius_) return kInscribed;
-  if (distance >= inflation_) return kFree;
-  const double beyond = distance - robot_radius_;
-  const auto step = static_cast<std::size_t>(beyond / decay_step_);
-  return step < decay_.size() ? decay_[step] : kFree;
-}
-
 void Costmap::setRobotRadius(double robot_radius) {
   if (robot_radius == robot_radius_) return;
   robot_radius_ = robot_radius;
@@ -58,6 +52,7 @@ void Costmap::setRobotRadius(double robot_radius) {
 void Costmap::buildStaticLayer() {
   const double res = params_.resolution;
   if (!(res > 0.0) || width_ <= 0 || height_ <= 0) throw std::invalid_argument("costmap: empty grid");
+  inv_resolution_ = 1.0 / res;
   if (!(robot_radius_ > 0.0)) throw std::invalid_argument("costmap: robot radius must be > 0");
   lethal_distance_ = 0.5 * std::sqrt(2.0) * res * (1.0 + 1e-9);  // a point on a cell corner is in it
   // The decaying cost must reach at least one cell past the robot radius.
@@ -65,12 +60,15 @@ void Costmap::buildStaticLayer() {
 
   // Cost beyond the robot radius (nav2's inflation formula), tabulated every 1/8 cell.
   decay_step_ = res / 8.0;
+  inv_decay_step_ = 1.0 / decay_step_;
   const auto decay_steps = static_cast<std::size_t>(std::ceil((inflation_ - robot_radius_) / decay_step_));
   decay_.resize(decay_steps);
   for (std::size_t k = 0; k < decay_steps; ++k) {
     const double c = kMaxInflated * std::exp(-params_.cost_scaling_factor * static_cast<double>(k) * decay_step_);
     decay_[k] = static_cast<std::uint8_t>(std::clamp(c, 1.0, static_cast<double>(kMaxInflated)));
   }
+
+  distance_costs_.clear();  // they depend on the inflation
 
   const std::size_t cells = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
   static_distance_.assign(cells, static_cast<float>(inflation_));
@@ -92,20 +90,78 @@ void Costmap::buildStaticLayer() {
   touched_.clear();
 }
 
+const Costmap::SquaredDistanceCosts& Costmap::squaredDistanceCosts(double radius) {
+  for (auto it = distance_costs_.rbegin(); it != distance_costs_.rend(); ++it)
+    if (it->radius == radius) return *it;
+  constexpr std::size_t kMaxTables = 8;
+  if (distance_costs_.size() == kMaxTables) distance_costs_.erase(distance_costs_.begin());
+  SquaredDistanceCosts table;
+  table.radius = radius;
+  const double reach = radius + inflation_;
+  table.reach2 = reach * reach;
+  const auto cost = [&](double x) { return costFromDistance(std::max(0.0, std::sqrt(x) - radius)); };
+  // Where the cost can change, as squared distances: the lethal and inscribed limits, each step of
+  // the decay table, the end of the inflation.
+  std::vector<double> steps;
+  const auto addStep = [&](double distance) { steps.push_back((radius + distance) * (radius + distance)); };
+  addStep(lethal_distance_);
+  addStep(robot_radius_);
+  for (std::size_t k = 1; k < decay_.size(); ++k)
+    if (decay_[k] != decay_[k - 1]) addStep(robot_radius_ + static_cast<double>(k) * decay_step_);
+  addStep(inflation_);
+  std::sort(steps.begin(), steps.end());
+  double narrowest = table.reach2;
+  for (std::size_t k = 1; k < steps.size(); ++k)
+    if (steps[k] > steps[k - 1]) narrowest = std::min(narrowest, steps[k] - steps[k - 1]);
+  const double width = narrowest / 2.0;
+  constexpr double kMaxBins = 1 << 20;  // only a very fine grid with a tiny robot needs more
+  if (table.reach2 / width > kMaxBins) {
+    table.bins_per_x = 0.0;  // computed per cell instead
+    distance_costs_.push_back(std::move(table));
+    return distance_costs_.back();
+  }
+  const auto bins = static_cast<std::size_t>(std::ceil(table.reach2 / width)) + 1;
+  table.bins_per_x = 1.0 / width;
+  table.boundary.assign(bins, std::numeric_limits<double>::infinity());
+  table.before.resize(bins);
+  table.after.resize(bins);
+  std::size_t next = 0;  // the first step beyond the bin's start
+  for (std::size_t i = 0; i < bins; ++i) {
+    const double start = static_cast<double>(i) * width, end = start + width;
+    while (next < steps.size() && steps[next] <= start) ++next;
+    table.before[i] = table.after[i] = cost(start);
+    if (next < steps.size() && steps[next] < end) {
+      const double after_step = next + 1 < steps.size() ? std::min(steps[next + 1], end) : end;
+      table.boundary[i] = steps[next];
+      table.after[i] = cost(0.5 * (steps[next] + after_step));
+    }
+  }
+  distance_costs_.push_back(std::move(table));
+  return distance_costs_.back();
+}
+
 void Costmap::clearTransient() {
   for (int i : touched_) transient_[static_cast<std::size_t>(i)] = kFree;
   touched_.clear();
 }
 
-void Costmap::raiseTransientIndex(int i, std::uint8_t cost) {
-  std::uint8_t& cell = transient_[static_cast<std::size_t>(i)];
-  if (cost <= cell) return;
-  if (cell == kFree) touched_.push_back(i);
-  cell = cost;
+void Costmap::setMarkingWindow(const Vec2& lo, const Vec2& hi) {
+  worldToCell(lo, win_x0_, win_y0_);
+  worldToCell(hi, win_x1_, win_y1_);
 }
 
-void Costmap::raiseTransient(int cx, int cy, std::uint8_t cost) {
-  if (inBounds(cx, cy)) raiseTransientIndex(index(cx, cy), cost);
+void Costmap::clearMarkingWindow() {
+  win_x0_ = win_y0_ = 0;
+  win_x1_ = width_ - 1;
+  win_y1_ = height_ - 1;
+}
+
+bool Costmap::clipToMarkingWindow(int& x0, int& y0, int& x1, int& y1) const {
+  x0 = std::max(x0, win_x0_);
+  y0 = std::max(y0, win_y0_);
+  x1 = std::min(x1, win_x1_);
+  y1 = std::min(y1, win_y1_);
+  return x0 <= x1 && y0 <= y1;
 }
 
 void Costmap::markCircle(const Vec2& center, double radius, std::uint8_t max_cost) {
@@ -117,37 +173,89 @@ void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint
   int x0, y0, x1, y1;
   worldToCell(a.cwiseMin(b) - Vec2(reach, reach), x0, y0);
   worldToCell(a.cwiseMax(b) + Vec2(reach, reach), x1, y1);
+  if (!clipToMarkingWindow(x0, y0, x1, y1)) return;
+  const SquaredDistanceCosts& costs = squaredDistanceCosts(radius);
   const Vec2 ab = b - a;
   const double length2 = ab.squaredNorm();
-  for (int cy = y0; cy <= y1; ++cy)
+  const double inv_length2 = length2 > 0.0 ? 1.0 / length2 : 0.0;
+  const double res = params_.resolution;
+  for (int cy = y0; cy <= y1; ++cy) {
+    const double py = (origin_.y() + (cy + 0.5) * res) - a.y();
     for (int cx = x0; cx <= x1; ++cx) {
-      // Distance from the cell centre to the segment ab (closest point at parameter t).
-      const Vec2 ap = cellCenter(cx, cy) - a;
-      const double t = length2 > 0.0 ? std::clamp(ap.dot(ab) / length2, 0.0, 1.0) : 0.0;
-      const double d = std::max(0.0, (ap - t * ab).norm() - radius);
-      const std::uint8_t cost = std::min(costFromDistance(d), max_cost);
+      // Squared distance from the cell centre to the segment ab (closest point at parameter t).
+      const double px = (origin_.x() + (cx + 0.5) * res) - a.x();
+      const double t = std::clamp((px * ab.x() + py * ab.y()) * inv_length2, 0.0, 1.0);
+      const double qx = px - t * ab.x(), qy = py - t * ab.y();
+      const double d2 = qx * qx + qy * qy;
+      if (d2 >= costs.reach2) continue;  // beyond the inflation: free
+      const std::uint8_t cost = std::min(squaredDistanceCost(costs, d2), max_cost);
       if (cost != kFree) raiseTransientIndex(index(cx, cy), cost);
     }
+  }
+}
+
+void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius) {
+  const double reach = radius + inflation_;
+  int x0, y0, x1, y1;
+  worldToCell(from.cwiseMin(to) - Vec2(reach, reach), x0, y0);
+  worldToCell(from.cwiseMax(to) + Vec2(reach, reach), x1, y1);
+  if (!clipToMarkingWindow(x0, y0, x1, y1)) return;
+  const SquaredDistanceCosts& costs = squaredDistanceCosts(radius);
+  const Vec2 ab = to - from;
+  const double length2 = ab.squaredNorm();
+  const double inv_length2 = length2 > 0.0 ? 1.0 / length2 : 0.0;
+  // Within this distance of `from` the circle's own cost is inscribed or lethal, above the cap.
+  const double blocking2 = (radius + robot_radius_) * (radius + robot_radius_);
+  const double res = params_.resolution;
+  for (int cy = y0; cy <= y1; ++cy) {
+    const double py = (origin_.y() + (cy + 0.5) * res) - from.y();
+    for (int cx = x0; cx <= x1; ++cx) {
+      const double px = (origin_.x() + (cx + 0.5) * res) - from.x();
+      const double t = std::clamp((px * ab.x() + py * ab.y()) * inv_length2, 0.0, 1.0);
+      const double qx = px - t * ab.x(), qy = py - t * ab.y();
+      const double d2 = qx * qx + qy * qy;
+      if (d2 >= costs.reach2) continue;
+      const double from2 = px * px + py * py;
+      // The capsule's cost never exceeds the circle's (its distance is never larger), so only the
+      // circle's lethal and inscribed cells differ from the capped capsule.
+      const std::uint8_t cost =
+          from2 <= blocking2 ? squaredDistanceCost(costs, from2) : std::min(squaredDistanceCost(costs, d2), kMaxInflated);
+      if (cost != kFree) raiseTransientIndex(index(cx, cy), cost);
+    }
+  }
 }
 
 void Costmap::markPoint(const Vec2& p) { markCircle(p, 0.0); }
 
 void Costmap::markScan(const laser_scan_t& scan, const std::vector<Circle>& already_marked) {
   const Vec2 sensor(scan.sensor_x, scan.sensor_y);
+  // A hit farther than the inflation radius from the marking window cannot reach into it.
+  const double res = params_.resolution;
+  const Vec2 win_lo = cellCenter(win_x0_, win_y0_) - Vec2::Constant(0.5 * res + inflation_);
+  const Vec2 win_hi = cellCenter(win_x1_, win_y1_) + Vec2::Constant(0.5 * res + inflation_);
+  const double far = std::max({(win_lo - sensor).norm(), (win_hi - sensor).norm(),
+                               (Vec2(win_lo.x(), win_hi.y()) - sensor).norm(), (Vec2(win_hi.x(), win_lo.y()) - sensor).norm()});
   int last_marked = -1;
   const int beams = std::min(scan.num_ranges, static_cast<int>(scan.ranges.size()));
+  // Beam directions by rotating the first one beam after beam: no trigonometry per beam.
+  const double a0 = scan.sensor_yaw + scan.angle_min;
+  const double step_c = std::cos(scan.angle_increment), step_s = std::sin(scan.angle_increment);
+  double dir_c = std::cos(a0), dir_s = std::sin(a0);
   for (int i = 0; i < beams; ++i) {
+    const double c = dir_c, s = dir_s;
+    dir_c = c * step_c - s * step_s;
+    dir_s = s * step_c + c * step_s;
     const double r = scan.ranges[static_cast<std::size_t>(i)];
-    if (!(r >= scan.range_min && r < scan.range_max)) continue;  // no return
-    const double a = scan.sensor_yaw + scan.angle_min + i * scan.angle_increment;
-    const Vec2 hit = sensor + r * Vec2(std::cos(a), std::sin(a));
+    if (!(r >= scan.range_min && r < scan.range_max) || r > far) continue;  // no return, or too far to matter
+    const Vec2 hit = sensor + r * Vec2(c, s);
+    if (hit.x() < win_lo.x() || hit.y() < win_lo.y() || hit.x() > win_hi.x() || hit.y() > win_hi.y()) continue;
     int cx, cy;
     if (!worldToCell(hit, cx, cy)) continue;
     const int cell = index(cx, cy);
     if (cell == last_marked) continue;  // neighbouring beams often hit the same cell
-    if (staticDistance(cx, cy) <= params_.resolution) continue;  // the map already has it
-    const bool covered = std::any_of(already_marked.begin(), already_marked.end(), [&](const Circle& c) {
-      return (hit - c.center).norm() <= c.radius + params_.resolution;
+    if (staticDistance(cx, cy) <= res) continue;  // the map already has it
+    const bool covered = std::any_of(already_marked.begin(), already_marked.end(), [&](const Circle& circle) {
+      return (hit - circle.center).norm() <= circle.radius + res;
     });
     if (covered) continue;
     markPoint(hit);

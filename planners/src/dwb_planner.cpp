@@ -54,11 +54,13 @@ void DwbParams::readDwbSection(const YamlReader* config) {
   s.read("people_safety_margin", people_safety_margin, 0.0, 10.0);
   s.read("people_sigma", people_sigma, 0.01, 10.0);
   s.read("oscillation_reset_distance", oscillation_reset_distance, 0.0, 10.0);
+  s.read("oscillation_reset_angle", oscillation_reset_angle, 0.0, 4.0);
   s.read("lookahead_distance", lookahead_distance, 0.0, 10.0);
   s.read("rotate_in_place_angle", rotate_in_place_angle, 0.0, 4.0);
   s.read("stopped_rotate_angle", stopped_rotate_angle, 0.0, 4.0);
   s.read("rotate_gain", rotate_gain, 0.0, 100.0);
   s.read("replan_period", replan_period, 0.0, 3600.0);
+  s.read("replan_cost_rise", replan_cost_rise, 0, 253);
   s.read("evade_people", evade_people);
   s.read("mark_scan", mark_scan);
   s.read("mark_people", mark_people);
@@ -80,13 +82,16 @@ DwbPlanner::DwbPlanner(const Scenario& scenario, const DwbParams& params)
   if (!(params_.sim_time > 0.0) || !(params_.sim_step > 0.0) || params_.v_samples < 1 || params_.w_samples < 1 ||
       !(params_.people_sigma > 0.0))
     throw std::invalid_argument("dwb: sim_time, sim_step, people_sigma must be > 0 and the sample counts >= 1");
-  // Rejecting critics first: the order is also the order of evaluation.
-  addCritic(std::make_unique<ObstacleCritic>(params_.obstacle_weight));
-  addCritic(std::make_unique<PeopleCritic>(params_.people_weight, params_.people_safety_margin, params_.people_sigma));
+  astar_.reserve(static_cast<std::size_t>(costmap_.width()) * static_cast<std::size_t>(costmap_.height()));
+  // Critics judging only the end pose (the path and goal ones, oscillation) score every sample;
+  // those walking the whole rollout (obstacle, people) only the samples that can still win.
+  addCritic(std::make_unique<GoalDistanceCritic>(params_.goal_distance_weight));
   addCritic(std::make_unique<PathDistanceCritic>(params_.path_distance_weight));
   addCritic(std::make_unique<PathAlignCritic>(params_.path_align_weight, params_.forward_point_distance));
-  addCritic(std::make_unique<GoalDistanceCritic>(params_.goal_distance_weight));
-  addCritic(std::make_unique<OscillationCritic>(params_.oscillation_weight, params_.oscillation_reset_distance));
+  addCritic(std::make_unique<OscillationCritic>(params_.oscillation_weight, params_.oscillation_reset_distance,
+                                                params_.oscillation_reset_angle));
+  addCritic(std::make_unique<ObstacleCritic>(params_.obstacle_weight));
+  addCritic(std::make_unique<PeopleCritic>(params_.people_weight, params_.people_safety_margin, params_.people_sigma));
 }
 
 void DwbPlanner::reset() {
@@ -96,11 +101,13 @@ void DwbPlanner::reset() {
   for (auto& critic : critics_) critic->reset();
   last_decision_ = Decision::Idle;
   last_admissible_ = 0;
+  last_command_.reset();
 }
 
 robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
   robot_command_t cmd = stopCommand(obs);
   last_admissible_ = 0;
+  last_replanned_ = false;
   const Vec2 robot(obs.x, obs.y);
   const Vec2 goal(obs.goal.x, obs.goal.y);
   if (!obs.goal.valid || (goal - robot).norm() <= obs.goal.radius) {
@@ -110,13 +117,29 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
     return cmd;
   }
 
+  const bool map_changed = obs.radius != costmap_.robotRadius();  // the inflation changes with it
   costmap_.setRobotRadius(obs.radius);
-  costmap_.clearTransient();
-  people_marked_.clear();
-  if (params_.mark_people) markPeople(obs);
-  if (params_.mark_scan) costmap_.markScan(obs.scan, people_marked_);
-  updateLayers(obs, costmap_);
-  updateGlobalPath(obs, robot, goal);
+  // Every rollout stays within sim_time * max speed of the robot: the costmap is only read there,
+  // so only that neighbourhood is marked, unless the global path is replanned this cycle.
+  const double reach = params_.sim_time * maxSpeed(obs) + costmap_.resolution();
+  costmap_.setMarkingWindow(robot - Vec2::Constant(reach), robot + Vec2::Constant(reach));
+  updateTransientLayer(obs);
+  const Replan replan = map_changed ? Replan::Required : needsReplan(obs, robot, goal);
+  if (replan != Replan::No) {
+    costmap_.clearMarkingWindow();
+    updateTransientLayer(obs);
+    // A periodic replan on the very map the path was planned on (nothing transient then or now)
+    // would find the same path.
+    if (replan == Replan::Required || !costmap_.transientEmpty() || !path_map_static_) {
+      astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);  // an empty path when there is none
+      path_map_static_ = costmap_.transientEmpty();
+      path_costs_.resize(path_.size());
+      for (std::size_t k = 0; k < path_.size(); ++k) path_costs_[k] = costmap_.costAt(path_[k]);
+      path_goal_ = goal;
+      last_replanned_ = true;
+    }
+    path_utime_ = obs.utime;
+  }
   prepareContext(obs);
   for (auto& critic : critics_) critic->prepare(ctx_);
 
@@ -144,9 +167,20 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
     last_decision_ = Decision::NoAdmissible;
   }
   for (auto& critic : critics_) critic->commit(v, w, ctx_);
+  last_command_ = Vec2(v, w);
   cmd.v = v;
   cmd.w = w;
   return cmd;
+}
+
+double DwbPlanner::maxSpeed(const robot_observation_t& obs) { return std::max(std::abs(obs.max_v), std::abs(obs.min_v)); }
+
+void DwbPlanner::updateTransientLayer(const robot_observation_t& obs) {
+  costmap_.clearTransient();
+  people_marked_.clear();
+  if (params_.mark_people) markPeople(obs);
+  if (params_.mark_scan) costmap_.markScan(obs.scan, people_marked_);
+  updateLayers(obs, costmap_);
 }
 
 void DwbPlanner::markPeople(const robot_observation_t& obs) {
@@ -154,31 +188,45 @@ void DwbPlanner::markPeople(const robot_observation_t& obs) {
   for (const detected_person_t& person : obs.people) {
     const Vec2 position(person.x, person.y), velocity(person.vx, person.vy);
     people_marked_.push_back({position, person.radius});
-    costmap_.markCircle(position, person.radius);
-    if (velocity.norm() < kMovingSpeed || params_.people_prediction_time <= 0.0) continue;
-    costmap_.markCapsule(position, position + params_.people_prediction_time * velocity, person.radius,
-                         Costmap::kMaxInflated);
+    if (velocity.norm() < kMovingSpeed || params_.people_prediction_time <= 0.0)
+      costmap_.markCircle(position, person.radius);
+    else
+      costmap_.markWalkingCircle(position, position + params_.people_prediction_time * velocity, person.radius);
   }
 }
 
-void DwbPlanner::updateGlobalPath(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal) {
+DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal) const {
   const double since_last_plan = static_cast<double>(obs.utime - path_utime_) * 1e-6;
-  bool replan;
-  if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0) {
-    replan = true;  // first plan for this goal (or the clock went back)
-  } else if (path_.empty()) {
-    replan = since_last_plan >= kFailedPlanRetryPeriod;
-  } else if (params_.replan_period <= 0.0 || since_last_plan >= params_.replan_period) {
-    replan = true;
-  } else {
-    double off_path;
-    const std::size_t i = path_.nearest(robot, 0, path_.size(), &off_path);
-    replan = off_path > kMaxPathDeviation || path_.blocked(costmap_, i);
+  if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0) return Replan::Required;  // a new goal (or the clock went back)
+  if (path_.empty()) return since_last_plan >= kFailedPlanRetryPeriod ? Replan::Required : Replan::No;
+  double off_path;
+  const std::size_t i = path_.nearest(robot, 0, path_.size(), &off_path);
+  if (off_path > kMaxPathDeviation || pathBlocked(obs, i)) return Replan::Required;
+  if (params_.replan_cost_rise > 0 && path_costs_.size() == path_.size()) {
+    // Near the robot (where the costmap is marked every cycle), the path has become costlier than
+    // when it was planned: someone is walking into it.
+    const double reach = params_.sim_time * maxSpeed(obs);
+    for (std::size_t k = i; k < path_.size() && path_.remaining(i) - path_.remaining(k) <= reach; ++k)
+      if (costmap_.costAt(path_[k]) > path_costs_[k] + params_.replan_cost_rise) return Replan::Required;
   }
-  if (!replan) return;
-  astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);  // an empty path when there is none
-  path_utime_ = obs.utime;
-  path_goal_ = goal;
+  return params_.replan_period <= 0.0 || since_last_plan >= params_.replan_period ? Replan::Periodic : Replan::No;
+}
+
+bool DwbPlanner::pathBlocked(const robot_observation_t& obs, std::size_t from) const {
+  // Lethal cells of the map and of what is marked near the robot...
+  if (path_.blocked(costmap_, from)) return true;
+  // ...and, anywhere ahead, the cells a detected person makes lethal (those the robot centre
+  // cannot enter without touching the person), which the marking window may leave out.
+  if (!params_.mark_people) return false;
+  const std::vector<Vec2>& points = path_.points();
+  for (const detected_person_t& person : obs.people) {
+    const Vec2 center(person.x, person.y);
+    const double contact = person.radius + obs.radius;
+    const double contact2 = contact * contact;
+    for (std::size_t k = from; k < points.size(); ++k)
+      if ((points[k] - center).squaredNorm() <= contact2) return true;
+  }
+  return false;
 }
 
 void DwbPlanner::prepareContext(const robot_observation_t& obs) {
@@ -186,10 +234,11 @@ void DwbPlanner::prepareContext(const robot_observation_t& obs) {
   ctx_.robot = Vec2(obs.x, obs.y);
   ctx_.robot_yaw = obs.yaw;
   ctx_.robot_radius = obs.radius;
+  start_ = RolloutStart(ctx_.robot, ctx_.robot_yaw);
   ctx_.goal = Vec2(obs.goal.x, obs.goal.y);
   ctx_.costmap = &costmap_;
   ctx_.path = &path_;
-  const double max_speed = std::max(std::abs(obs.max_v), std::abs(obs.min_v));
+  const double max_speed = maxSpeed(obs);
   if (!path_.empty()) {
     ctx_.robot_path_index = path_.nearest(ctx_.robot, 0, path_.size());
     const double reach = params_.sim_time * max_speed + params_.forward_point_distance + kPathWindowMargin;
@@ -221,36 +270,85 @@ bool DwbPlanner::sampleBest(const VelocityWindow& window, double& v, double& w) 
   const int nw = window.w_max - window.w_min > 1e-9 ? params_.w_samples : 1;
   const double dv = nv > 1 ? (window.v_max - window.v_min) / (nv - 1) : 0.0;
   const double dw = nw > 1 ? (window.w_max - window.w_min) / (nw - 1) : 0.0;
+  // The cheapest admissible sample (fastest speeds first: on equal cost the earlier one in that
+  // order wins), found by branch and bound without scoring most samples in full (scores are >= 0).
   double best = TrajectoryCritic::kReject;
-  // Fastest speeds first: on equal cost the faster sample wins.
-  for (int iv = 0; iv < nv; ++iv) {
-    const double sample_v = window.v_max - iv * dv;
-    for (int iw = 0; iw < nw; ++iw) {
-      const double sample_w = window.w_min + iw * dw;
-      rollout(ctx_.robot, ctx_.robot_yaw, sample_v, sample_w, params_.sim_time, params_.sim_step, trajectory_);
-      double total = 0.0;
+  int best_order = std::numeric_limits<int>::max();
+  const auto beats = [&](double total, int order) { return total < best || (total == best && order < best_order); };
+  // Adds weight * score on trajectory_ of the critics that judge the end pose (end_critics) or of
+  // those that need the positions; false when one rejects or the total stops beating the best.
+  const auto addScores = [&](bool end_critics, int order, double& total) {
+    for (const auto& critic : critics_) {
+      if (critic->needsPositions() == end_critics) continue;
+      const double s = critic->score(trajectory_, ctx_);
+      if (s == TrajectoryCritic::kReject) return false;
+      total += critic->weight() * s;
+      if (!beats(total, order)) return false;
+    }
+    return true;
+  };
+  // 1. A first bound: the sample nearest to the previous command (the best is usually close).
+  if (last_command_) {
+    const int iv = nv > 1 ? static_cast<int>(std::lround((window.v_max - window.clampV(last_command_->x())) / dv)) : 0;
+    const int iw = nw > 1 ? static_cast<int>(std::lround((window.clampW(last_command_->y()) - window.w_min) / dw)) : 0;
+    const double guess_v = window.v_max - iv * dv, guess_w = window.w_min + iw * dw;
+    rollout(start_, guess_v, guess_w, params_.sim_time, params_.sim_step, trajectory_);
+    double total = 0.0;
+    if (addScores(true, iv * nw + iw, total) && addScores(false, iv * nw + iw, total)) {
+      ++last_admissible_;
+      best = total;
+      best_order = iv * nw + iw;
+      v = guess_v;
+      w = guess_w;
+    }
+  }
+  // 2. Every sample's end pose, the critics that judge only it, and the lower bounds the others
+  //    give from it: cheap, and most samples already cost more than the bound.
+  candidates_.clear();
+  for (int iw = 0; iw < nw; ++iw) {
+    const double sample_w = window.w_min + iw * dw;
+    const RolloutArc arc(start_, sample_w, params_.sim_time, params_.sim_step);
+    for (int iv = 0; iv < nv; ++iv) {
+      const int order = iv * nw + iw;
+      if (order == best_order) continue;  // the first bound, scored already
+      const double sample_v = window.v_max - iv * dv;
+      rolloutEnd(start_, sample_v, arc, trajectory_);
+      double end_cost = 0.0;
+      if (!addScores(true, order, end_cost)) continue;
+      double bound = end_cost;
+      bool hopeless = false;
       for (const auto& critic : critics_) {
-        const double s = critic->score(trajectory_, ctx_);
-        if (s == TrajectoryCritic::kReject) {
-          total = TrajectoryCritic::kReject;
+        if (!critic->needsPositions()) continue;
+        bound += critic->weight() * critic->lowerBound(trajectory_, ctx_);
+        if (!beats(bound, order)) {
+          hopeless = true;
           break;
         }
-        total += critic->weight() * s;
       }
-      if (total == TrajectoryCritic::kReject) continue;
-      ++last_admissible_;
-      if (total < best) {
-        best = total;
-        v = sample_v;
-        w = sample_w;
-      }
+      if (!hopeless) candidates_.push_back({bound, end_cost, order, sample_v, sample_w});
     }
+  }
+  // 3. The critics over the full rollout, lowest bound first: once the bound of a sample no
+  //    longer beats the best total, neither can any after it.
+  std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& a, const Candidate& b) {
+    return a.bound < b.bound || (a.bound == b.bound && a.order < b.order);
+  });
+  for (const Candidate& c : candidates_) {
+    if (!beats(c.bound, c.order)) break;
+    rollout(start_, c.v, c.w, params_.sim_time, params_.sim_step, trajectory_);
+    double total = c.end_cost;
+    if (!addScores(false, c.order, total)) continue;
+    ++last_admissible_;
+    best = total;
+    best_order = c.order;
+    v = c.v;
+    w = c.w;
   }
   return last_admissible_ > 0;
 }
 
 bool DwbPlanner::admissible(double v, double w) {
-  rollout(ctx_.robot, ctx_.robot_yaw, v, w, params_.sim_time, params_.sim_step, trajectory_);
+  rollout(start_, v, w, params_.sim_time, params_.sim_step, trajectory_);
   for (const auto& critic : critics_)
     if (critic->score(trajectory_, ctx_) == TrajectoryCritic::kReject) return false;
   return true;
@@ -267,7 +365,7 @@ bool DwbPlanner::sampleEvade(const VelocityWindow& window, double& v, double& w)
     const double sample_v = window.v_max - iv * dv;
     for (int iw = 0; iw < nw; ++iw) {
       const double sample_w = window.w_min + iw * dw;
-      rollout(ctx_.robot, ctx_.robot_yaw, sample_v, sample_w, params_.sim_time, params_.sim_step, trajectory_);
+      rollout(start_, sample_v, sample_w, params_.sim_time, params_.sim_step, trajectory_);
       if (obstacles.score(trajectory_, ctx_) == TrajectoryCritic::kReject) continue;
       double closest = std::numeric_limits<double>::infinity();
       for (const PredictedPerson& person : ctx_.people)

@@ -42,6 +42,47 @@ bool GlobalPath::blocked(const Costmap& costmap, std::size_t from) const {
   return false;
 }
 
+namespace {
+int cellOf(std::uint64_t key) { return static_cast<int>(key & 0xffffffffu); }
+}  // namespace
+
+void AStarPlanner::siftUp(std::size_t i, std::uint64_t key) {
+  while (i > 0) {
+    const std::size_t parent = (i - 1) / 4;
+    if (open_[parent] <= key) break;
+    open_[i] = open_[parent];
+    nodes_[static_cast<std::size_t>(cellOf(open_[i]))].heap_pos = static_cast<std::int32_t>(i);
+    i = parent;
+  }
+  open_[i] = key;
+  nodes_[static_cast<std::size_t>(cellOf(key))].heap_pos = static_cast<std::int32_t>(i);
+}
+
+void AStarPlanner::siftDown(std::size_t i, std::uint64_t key) {
+  const std::size_t n = open_.size();
+  for (;;) {
+    const std::size_t first = 4 * i + 1;
+    if (first >= n) break;
+    const std::size_t end = std::min(first + 4, n);
+    std::size_t smallest = first;
+    for (std::size_t c = first + 1; c < end; ++c)
+      if (open_[c] < open_[smallest]) smallest = c;
+    if (key <= open_[smallest]) break;
+    open_[i] = open_[smallest];
+    nodes_[static_cast<std::size_t>(cellOf(open_[i]))].heap_pos = static_cast<std::int32_t>(i);
+    i = smallest;
+  }
+  open_[i] = key;
+  nodes_[static_cast<std::size_t>(cellOf(key))].heap_pos = static_cast<std::int32_t>(i);
+}
+
+void AStarPlanner::reserve(std::size_t cells) {
+  if (nodes_.size() == cells) return;
+  nodes_.assign(cells, Node());
+  stamp_ = 0;
+  open_.reserve(1024);
+}
+
 bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& goal, double goal_tolerance,
                         GlobalPath& path) {
   path = GlobalPath();
@@ -53,16 +94,9 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
   const int width = costmap.width();
   const int height = costmap.height();
   const auto cells = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  if (g_.size() != cells) {
-    g_.assign(cells, 0.0f);
-    parent_.assign(cells, -1);
-    seen_stamp_.assign(cells, 0);
-    closed_stamp_.assign(cells, 0);
-    stamp_ = 0;
-  }
+  reserve(cells);
   if (++stamp_ == 0) {  // the counter wrapped: forget every old stamp
-    std::fill(seen_stamp_.begin(), seen_stamp_.end(), 0);
-    std::fill(closed_stamp_.begin(), closed_stamp_.end(), 0);
+    for (Node& n : nodes_) n.seen = 0;
     stamp_ = 1;
   }
 
@@ -88,49 +122,78 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
     if (cx == gx && cy == gy) return true;
     return !goal_cell_free && (costmap.cellCenter(cx, cy) - goal).squaredNorm() <= tolerance2;
   };
-  auto pushOpen = [this](float f, int cell) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    open_.push_back(static_cast<std::uint64_t>(bits) << 32 | static_cast<std::uint32_t>(cell));
-    std::push_heap(open_.begin(), open_.end(), std::greater<>());
-  };
+  // A step into a cell of cost c costs its length times this factor (c below lethal).
+  double step_factor[Costmap::kInscribed];
+  for (int c = 0; c < Costmap::kInscribed; ++c) step_factor[c] = 1.0 + params_.cost_weight * c / Costmap::kMaxInflated;
 
   open_.clear();
+  auto key = [](float f, int cell) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return static_cast<std::uint64_t>(bits) << 32 | static_cast<std::uint32_t>(cell);
+  };
+  // Queues a cell, or lowers its key when it is queued already.
+  auto push = [&](float f, int cell) {
+    const std::int32_t pos = nodes_[static_cast<std::size_t>(cell)].heap_pos;
+    if (pos >= 0) {
+      siftUp(static_cast<std::size_t>(pos), key(f, cell));
+    } else {
+      open_.push_back(0);
+      siftUp(open_.size() - 1, key(f, cell));
+    }
+  };
+  auto pop = [&]() -> int {
+    if (open_.empty()) return -1;
+    const int top = cellOf(open_.front());
+    nodes_[static_cast<std::size_t>(top)].heap_pos = kNotOpen;
+    const std::uint64_t last = open_.back();
+    open_.pop_back();
+    if (!open_.empty()) siftDown(0, last);
+    return top;
+  };
+
   const int start_cell = costmap.index(sx, sy);
-  g_[static_cast<std::size_t>(start_cell)] = 0.0f;
-  parent_[static_cast<std::size_t>(start_cell)] = -1;
-  seen_stamp_[static_cast<std::size_t>(start_cell)] = stamp_;
-  pushOpen(heuristic(sx, sy), start_cell);
+  Node& start_node = nodes_[static_cast<std::size_t>(start_cell)];
+  start_node.g = 0.0f;
+  start_node.parent = -1;
+  start_node.seen = stamp_;
+  start_node.heap_pos = kNotOpen;
+  push(heuristic(sx, sy), start_cell);
 
   static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  double step_length[8];
+  int offset[8];
+  for (int k = 0; k < 8; ++k) {
+    step_length[k] = k < 4 ? res : res * kSqrt2;
+    offset[k] = kDy[k] * width + kDx[k];
+  }
   int reached = -1;
-  while (!open_.empty()) {
-    std::pop_heap(open_.begin(), open_.end(), std::greater<>());
-    const int top_cell = static_cast<int>(open_.back() & 0xffffffffu);
-    open_.pop_back();
-    const auto top_index = static_cast<std::size_t>(top_cell);
-    if (closed_stamp_[top_index] == stamp_) continue;  // a stale duplicate of a cell already expanded
-    closed_stamp_[top_index] = stamp_;
+  for (;;) {
+    const int top_cell = pop();
+    if (top_cell < 0) break;  // the open list is empty
+    Node& top = nodes_[static_cast<std::size_t>(top_cell)];
+    top.heap_pos = kClosed;
     ++expansions_;
     const int cx = top_cell % width, cy = top_cell / width;
     if (isGoal(cx, cy)) {
       reached = top_cell;
       break;
     }
-    const float g_here = g_[top_index];
+    const float g_here = top.g;
     // Away from the grid's edge every neighbour exists: no bounds checks.
     const bool interior = cx > 0 && cy > 0 && cx < width - 1 && cy < height - 1;
     for (int k = 0; k < 8; ++k) {
       const int nx = cx + kDx[k], ny = cy + kDy[k];
       if (!interior && !costmap.inBounds(nx, ny)) continue;
-      const int next = top_cell + kDy[k] * width + kDx[k];
-      const auto next_index = static_cast<std::size_t>(next);
-      if (closed_stamp_[next_index] == stamp_) continue;
+      const int next = top_cell + offset[k];
+      Node& node = nodes_[static_cast<std::size_t>(next)];
+      const bool seen = node.seen == stamp_;
+      if (seen && node.heap_pos == kClosed) continue;
       const std::uint8_t c = costmap.cost(next);
       double factor;
       if (!Costmap::isLethal(c)) {
-        factor = 1.0 + params_.cost_weight * c / Costmap::kMaxInflated;
+        factor = step_factor[c];
       } else if (start_trapped && c == Costmap::kInscribed &&
                  (costmap.cellCenter(nx, ny) - start).squaredNorm() <= escape_radius2) {
         // Too close to an obstacle, but not in it: the way out of where the robot already is.
@@ -138,19 +201,19 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
       } else {
         continue;
       }
-      const double step = k < 4 ? res : res * kSqrt2;
-      const auto g_next = static_cast<float>(g_here + step * factor);
-      if (seen_stamp_[next_index] == stamp_ && g_[next_index] <= g_next) continue;
-      seen_stamp_[next_index] = stamp_;
-      g_[next_index] = g_next;
-      parent_[next_index] = top_cell;
-      pushOpen(g_next + heuristic(nx, ny), next);
+      const auto g_next = static_cast<float>(g_here + step_length[k] * factor);
+      if (seen && node.g <= g_next) continue;
+      if (!seen) node.heap_pos = kNotOpen;  // left over from an earlier search
+      node.seen = stamp_;
+      node.g = g_next;
+      node.parent = top_cell;
+      push(g_next + heuristic(nx, ny), next);
     }
   }
   if (reached < 0) return false;
 
   std::vector<Vec2> points;
-  for (int cell = reached; cell >= 0; cell = parent_[static_cast<std::size_t>(cell)])
+  for (int cell = reached; cell >= 0; cell = nodes_[static_cast<std::size_t>(cell)].parent)
     points.push_back(costmap.cellCenter(cell % width, cell / width));
   std::reverse(points.begin(), points.end());
   points.front() = start;

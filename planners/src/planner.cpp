@@ -46,7 +46,7 @@ std::unique_ptr<Planner> createPlanner(const std::string& name, const Scenario& 
 }
 
 robot_command_t stopCommand(const robot_observation_t& obs) {
-  robot_command_t cmd;
+  robot_command_t cmd{};  // every field zero: vy too, which a differential planner never sets
   cmd.utime = obs.utime;
   cmd.seq = obs.seq;
   cmd.episode = obs.episode;

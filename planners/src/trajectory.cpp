@@ -36,25 +36,57 @@ VelocityWindow VelocityWindow::fromObservation(const robot_observation_t& obs) {
   return win;
 }
 
-void rollout(const Vec2& start, double start_yaw, double v, double w, double horizon, double step, Trajectory& out) {
-  const auto steps = static_cast<std::size_t>(std::max(1.0, std::round(horizon / step)));
+RolloutStart::RolloutStart(const Vec2& p, double heading)
+    : position(p), yaw(heading), cos_yaw(std::cos(heading)), sin_yaw(std::sin(heading)) {}
+
+RolloutArc::RolloutArc(const RolloutStart& start, double yaw_rate, double horizon, double step_time)
+    : w(yaw_rate), step(step_time), steps(static_cast<std::size_t>(std::max(1.0, std::round(horizon / step_time)))) {
+  const double duration = step * static_cast<double>(steps);
+  unit_chord = rotate(arcChord(1.0, w, duration), start.cos_yaw, start.sin_yaw);
+  end_yaw = normalizeAngle(start.yaw + w * duration);
+}
+
+void rolloutEnd(const RolloutStart& start, double v, const RolloutArc& arc, Trajectory& out) {
+  out.steps = arc.steps;
   out.v = v;
-  out.w = w;
-  out.step = step;
-  out.positions.resize(steps);
+  out.w = arc.w;
+  out.step = arc.step;
+  out.positions.clear();
+  out.end_on_path_known = false;
+  out.end_position = start.position + v * arc.unit_chord;
+  out.end_yaw = arc.end_yaw;
+}
+
+void rolloutEnd(const RolloutStart& start, double v, double w, double horizon, double step, Trajectory& out) {
+  rolloutEnd(start, v, RolloutArc(start, w, horizon, step), out);
+}
+
+void rolloutPositions(const RolloutStart& start, Trajectory& out) {
+  out.positions.resize(out.steps);
   // Each step is the same arc turned by the heading reached so far: one rotation per step, no trig.
-  const Vec2 chord = arcChord(v, w, step);
-  const double turn_c = std::cos(w * step), turn_s = std::sin(w * step);
-  double heading_c = std::cos(start_yaw), heading_s = std::sin(start_yaw);
-  Vec2 p = start;
-  for (std::size_t k = 0; k < steps; ++k) {
+  const Vec2 chord = arcChord(out.v, out.w, out.step);
+  const double turn_c = std::cos(out.w * out.step), turn_s = std::sin(out.w * out.step);
+  double heading_c = start.cos_yaw, heading_s = start.sin_yaw;
+  Vec2 p = start.position;
+  for (std::size_t k = 0; k < out.steps; ++k) {
     p += rotate(chord, heading_c, heading_s);
     out.positions[k] = p;
     const double c = heading_c * turn_c - heading_s * turn_s;
     heading_s = heading_s * turn_c + heading_c * turn_s;
     heading_c = c;
   }
-  out.end_yaw = normalizeAngle(start_yaw + w * step * static_cast<double>(steps));
+  // The closed-form end, so that the end pose is exactly the last position (bounds computed from
+  // the end hold for the positions).
+  out.positions.back() = out.end_position;
+}
+
+void rollout(const RolloutStart& start, double v, double w, double horizon, double step, Trajectory& out) {
+  rolloutEnd(start, v, w, horizon, step, out);
+  rolloutPositions(start, out);
+}
+
+void rollout(const Vec2& start, double start_yaw, double v, double w, double horizon, double step, Trajectory& out) {
+  rollout(RolloutStart(start, start_yaw), v, w, horizon, step, out);
 }
 
 }  // namespace hunav::planners

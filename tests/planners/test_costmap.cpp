@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace hunav;
@@ -156,4 +157,84 @@ TEST(Costmap, ScanHitsAreMarkedButNotMissesOrStaticObstacles) {
   map.markScan(scan, {Circle{Vec2(3.6, -1.0), 0.2}});
   map.worldToCell(Vec2(3.5, -1.0), cx, cy);
   EXPECT_EQ(map.transientCost(cx, cy), Costmap::kFree);
+}
+
+namespace {
+// Distance from p to the segment ab.
+double segmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double t = ab.squaredNorm() > 0.0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - a - t * ab).norm();
+}
+}  // namespace
+
+// Marking looks costs up by squared distance (no square root per cell); every cell must still get
+// costFromDistance() of its exact distance, as written in costmap.hpp.
+TEST(Costmap, MarkedCostsFollowTheDistanceOfEveryCell) {
+  Costmap map = wallMap();
+  const Vec2 a(1.013, -1.237), b(2.371, -0.894);  // off the cell grid
+  struct Mark {
+    Vec2 from, to;
+    double radius;
+    std::uint8_t cap;
+  };
+  for (const Mark& m : {Mark{a, a, 0.35, Costmap::kLethal}, Mark{a, b, 0.35, Costmap::kMaxInflated},
+                        Mark{b, b, 0.0, Costmap::kLethal}, Mark{a, b, 0.27, Costmap::kLethal}}) {
+    map.clearTransient();
+    map.markCapsule(m.from, m.to, m.radius, m.cap);
+    int differing = 0, marked = 0;
+    for (int cy = 0; cy < map.height(); ++cy)
+      for (int cx = 0; cx < map.width(); ++cx) {
+        const double d = std::max(0.0, segmentDistance(map.cellCenter(cx, cy), m.from, m.to) - m.radius);
+        const std::uint8_t expected = std::min(map.costFromDistance(d), m.cap);
+        differing += map.transientCost(cx, cy) != expected;
+        marked += expected != Costmap::kFree;
+      }
+    EXPECT_EQ(differing, 0) << "radius " << m.radius;
+    EXPECT_GT(marked, 1000);  // at least the disc of the inflation radius, 1 m: 1250 cells
+  }
+}
+
+TEST(Costmap, AWalkingCircleIsItsCircleAndItsCappedCapsuleInOnePass) {
+  Costmap two_passes = wallMap(), one_pass = wallMap();
+  const Vec2 from(3.02, -1.13), to(1.71, -0.62);
+  two_passes.markCircle(from, 0.35);
+  two_passes.markCapsule(from, to, 0.35, Costmap::kMaxInflated);
+  one_pass.markWalkingCircle(from, to, 0.35);
+  int differing = 0, marked = 0;
+  for (int cy = 0; cy < one_pass.height(); ++cy)
+    for (int cx = 0; cx < one_pass.width(); ++cx) {
+      differing += one_pass.transientCost(cx, cy) != two_passes.transientCost(cx, cy);
+      marked += one_pass.transientCost(cx, cy) != Costmap::kFree;
+    }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(marked, 3000);  // about (2 * 1.35 m + 1.4 m) * 2.7 m of 5 cm cells
+}
+
+TEST(Costmap, MarkingWindowLimitsTheMarksButKeepsTheInflationReachingIn) {
+  Costmap full = wallMap(), windowed = wallMap();
+  const Vec2 lo(1.0, -1.6), hi(2.0, -0.6);
+  windowed.setMarkingWindow(lo, hi);
+  EXPECT_FALSE(windowed.markingWholeGrid());
+  const Vec2 person(2.6, -1.1);  // outside the window, its inflation reaches in
+  for (Costmap* map : {&full, &windowed}) {
+    map->markCircle(person, 0.35);
+    map->raiseTransient(0, 0, 100);  // a corner cell, outside the window
+  }
+  int lo_x, lo_y, hi_x, hi_y;
+  windowed.worldToCell(lo, lo_x, lo_y);
+  windowed.worldToCell(hi, hi_x, hi_y);
+  int inside_marked = 0;
+  for (int cy = 0; cy < full.height(); ++cy)
+    for (int cx = 0; cx < full.width(); ++cx) {
+      const bool inside = cx >= lo_x && cx <= hi_x && cy >= lo_y && cy <= hi_y;
+      EXPECT_EQ(windowed.transientCost(cx, cy), inside ? full.transientCost(cx, cy) : Costmap::kFree) << cx << " " << cy;
+      inside_marked += inside && windowed.transientCost(cx, cy) != Costmap::kFree;
+    }
+  EXPECT_GT(inside_marked, 0);
+  windowed.clearMarkingWindow();
+  EXPECT_TRUE(windowed.markingWholeGrid());
+  EXPECT_FALSE(windowed.transientEmpty());
+  windowed.clearTransient();
+  EXPECT_TRUE(windowed.transientEmpty());
 }

@@ -1,5 +1,6 @@
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/sim_tools.hpp"
+#include "exhaustive_search.hpp"
 
 #include <gtest/gtest.h>
 
@@ -125,7 +126,10 @@ TEST(Dwb, DrivesTowardTheGoalAlongTheCorridor) {
   const robot_command_t cmd = planner.plan(makeObservation(s, Vec2(0, 0), 0.0, 0.6, 0.0));
   EXPECT_EQ(planner.lastDecision(), DwbPlanner::Decision::Sampled);
   EXPECT_DOUBLE_EQ(cmd.v, 0.6);
-  EXPECT_NEAR(cmd.w, 0.0, 0.03);
+  // Straight on, or the next yaw rate sampled (the path runs along cell centres 2.5 cm off the axis):
+  // the window spans 2 * 2.5 rad/s^2 * 0.1 s over the samples.
+  const double w_spacing = 2.0 * s.robot.limits.max_acc_w * 0.1 / (planner.params().w_samples - 1);
+  EXPECT_LE(std::abs(cmd.w), w_spacing + 1e-9);
   ASSERT_FALSE(planner.globalPath().empty());
   EXPECT_NEAR(planner.globalPath().length(), 15.0, 0.1);
 }
@@ -287,7 +291,7 @@ TEST(Critics, PeopleCriticRejectsContactButLetsTheRobotMoveAway) {
 }
 
 TEST(Critics, OscillationCriticPenalisesReversingTheTurnUntilTheRobotHasMoved) {
-  OscillationCritic critic(1.0, 0.1);
+  OscillationCritic critic(1.0, 0.1, 0.2);
   PlanningContext ctx;
   ctx.robot = Vec2(0, 0);
   Trajectory left, right;
@@ -301,6 +305,12 @@ TEST(Critics, OscillationCriticPenalisesReversingTheTurnUntilTheRobotHasMoved) {
   EXPECT_EQ(critic.score(right, ctx), 0.0);
   critic.reset();
   ctx.robot = Vec2(0, 0);
+  EXPECT_EQ(critic.score(right, ctx), 0.0);
+  // Turning on the spot frees the other turn once the robot has turned the reset angle.
+  critic.commit(0.0, 0.5, ctx);
+  ctx.robot_yaw = 0.15;
+  EXPECT_EQ(critic.score(right, ctx), 1.0);
+  ctx.robot_yaw = 0.25;
   EXPECT_EQ(critic.score(right, ctx), 0.0);
 }
 
@@ -333,4 +343,98 @@ TEST(DwbClosedLoop, PassesTwoPeopleWalkingTheOtherWay) {
   EXPECT_TRUE(r.reached);
   EXPECT_GT(r.min_wall_clearance, 0.0);
   EXPECT_GT(r.min_person_gap, 0.0);
+}
+
+// The branch and bound (bounds from the end pose, the most promising samples first) must choose
+// exactly what scoring every sample would, here along a closed loop past two people.
+TEST(Dwb, BranchAndBoundPicksTheSampleAnExhaustiveSearchPicks) {
+  const Scenario s = passing();
+  DwbParams params;
+  params.oscillation_weight = 0.0;  // its memory moves on with each command sent: out of the comparison
+  DwbPlanner planner(s, params);
+  MiniWorld world(s);
+  robot_command_t cmd{};
+  int compared = 0, with_people = 0;
+  for (int tick = 0; world.time() < 40.0; ++tick) {
+    if (tick % 10 == 0) {
+      const robot_observation_t obs = world.observe();
+      cmd = planner.plan(obs);
+      if (planner.lastDecision() == DwbPlanner::Decision::AtGoal) break;
+      if (planner.lastDecision() == DwbPlanner::Decision::Sampled) {
+        double v = 0.0, w = 0.0;
+        ASSERT_TRUE(exhaustiveBest(planner, obs, v, w));
+        EXPECT_EQ(cmd.v, v) << "t " << world.time();
+        EXPECT_EQ(cmd.w, w) << "t " << world.time();
+        ++compared;
+        with_people += !planner.context().people.empty();
+      }
+    }
+    world.step(cmd.v, cmd.w, 0.01);
+  }
+  EXPECT_GT(compared, 150);
+  EXPECT_GT(with_people, 30);
+}
+
+TEST(Critics, LowerBoundsFromTheEndNeverExceedTheScore) {
+  const Scenario s = passing();
+  Costmap map(s, 0.3);
+  map.markCircle(Vec2(2.6, 0.5), 0.35);
+  GlobalPath path({Vec2(1.5, 0.0), Vec2(8.0, 0.0)});
+  PlanningContext ctx;
+  ctx.robot = Vec2(1.5, 0.0);
+  ctx.robot_radius = 0.3;
+  ctx.costmap = &map;
+  ctx.path = &path;
+  ctx.path_end = path.size();
+  ctx.people = {PredictedPerson{1, Vec2(3.5, -0.3), Vec2(-0.8, 0.1), 0.35}};
+  const ObstacleCritic obstacle(1.0);
+  const PeopleCritic people(1.0, 0.1, 0.3);
+  const GoalDistanceCritic goal(1.0);
+  int compared = 0;
+  Trajectory t;
+  for (double yaw = -3.0; yaw <= 3.0; yaw += 0.5)
+    for (double v = 0.0; v <= 0.6; v += 0.15)
+      for (double w = -1.2; w <= 1.2; w += 0.3) {
+        rollout(ctx.robot, yaw, v, w, 1.7, 0.05, t);
+        for (const TrajectoryCritic* critic : {static_cast<const TrajectoryCritic*>(&obstacle),
+                                               static_cast<const TrajectoryCritic*>(&people)}) {
+          const double score = critic->score(t, ctx);
+          if (score == TrajectoryCritic::kReject) continue;
+          EXPECT_LE(critic->lowerBound(t, ctx), score) << critic->name() << " yaw " << yaw << " v " << v << " w " << w;
+          ++compared;
+        }
+        EXPECT_EQ(goal.lowerBound(t, ctx), goal.score(t, ctx));  // a critic of the end is its own bound
+      }
+  EXPECT_GT(compared, 500);
+}
+
+TEST(Dwb, KeepsItsPathOnAnUnchangedMapAndReplansWhenSomeoneComesNearItByTheRobot) {
+  const Scenario s = passing();
+  DwbParams never_on_cost;
+  never_on_cost.replan_cost_rise = 0;
+  DwbPlanner planner(s), other(s, never_on_cost);
+  for (DwbPlanner* p : {&planner, &other}) {
+    robot_observation_t obs = makeObservation(s, Vec2(0, 0), 0.0, 0.6, 0.0, 0);
+    p->plan(obs);
+    EXPECT_EQ(p->globalPlanner().searches(), 1u);
+    obs.utime = 1500000;  // past replan_period, but nothing transient then or now: the same map
+    p->plan(obs);
+    EXPECT_FALSE(p->lastReplanned());
+    EXPECT_EQ(p->globalPlanner().searches(), 1u);
+    // Someone standing 0.975 m beside the path near the robot: not within contact (0.65 m), but
+    // their inflation raises the path's cost there from 0 to 252 exp(-3 (0.975 - 0.35 - 0.3)) = 95.
+    detected_person_t person{};
+    person.id = 1;
+    person.x = 0.8;
+    person.y = 0.025 + 0.975;  // the path runs along the cell centres at y = 0.025
+    person.radius = 0.35;
+    obs.people = {person};
+    obs.num_people = 1;
+    obs.utime = 1600000;
+    p->plan(obs);
+  }
+  EXPECT_TRUE(planner.lastReplanned());
+  EXPECT_EQ(planner.globalPlanner().searches(), 2u);
+  EXPECT_FALSE(other.lastReplanned());  // replan_cost_rise 0: it waits for the period
+  EXPECT_EQ(other.globalPlanner().searches(), 1u);
 }

@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <queue>
+#include <utility>
+#include <vector>
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -127,4 +131,83 @@ TEST(AStar, GoalInsideAnObstacleIsApproachedWithinTolerance) {
   ASSERT_TRUE(astar.plan(map, Vec2(2, 3), Vec2(8, 3), 1.0, path));
   EXPECT_LE((path.points().back() - Vec2(8, 3)).norm(), 1.0);
   expectPassable(map, path);
+}
+
+namespace {
+// What A* minimises, over the cells a path visits: each step's length times 1 + cost_weight c / 252
+// for the cell it enters.
+double stepFactor(const Costmap& map, int cell, double cost_weight) {
+  return 1.0 + cost_weight * map.cost(cell) / Costmap::kMaxInflated;
+}
+
+double pathCost(const Costmap& map, const GlobalPath& path, double cost_weight) {
+  double total = 0.0;
+  int px = -1, py = -1;
+  for (const Vec2& p : path.points()) {
+    int cx, cy;
+    map.worldToCell(p, cx, cy);
+    if (px >= 0 && (cx != px || cy != py)) {
+      const double step = (cx != px && cy != py ? std::sqrt(2.0) : 1.0) * map.resolution();
+      total += step * stepFactor(map, map.index(cx, cy), cost_weight);
+    }
+    px = cx;
+    py = cy;
+  }
+  return total;
+}
+
+// The cheapest cost from start to goal cell by Dijkstra's algorithm (8-connected, lethal cells barred).
+double cheapestCost(const Costmap& map, const Vec2& start, const Vec2& goal, double cost_weight) {
+  int sx, sy, gx, gy;
+  map.worldToCell(start, sx, sy);
+  map.worldToCell(goal, gx, gy);
+  std::vector<double> best(static_cast<std::size_t>(map.width() * map.height()), 1e300);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  best[static_cast<std::size_t>(map.index(sx, sy))] = 0.0;
+  open.push({0.0, map.index(sx, sy)});
+  while (!open.empty()) {
+    const auto [g, cell] = open.top();
+    open.pop();
+    if (g > best[static_cast<std::size_t>(cell)]) continue;
+    const int cx = cell % map.width(), cy = cell / map.width();
+    if (cx == gx && cy == gy) return g;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx == 0 && dy == 0) || !map.inBounds(cx + dx, cy + dy)) continue;
+        const int next = map.index(cx + dx, cy + dy);
+        if (Costmap::isLethal(map.cost(next))) continue;
+        const double step = (dx != 0 && dy != 0 ? std::sqrt(2.0) : 1.0) * map.resolution();
+        const double g_next = g + step * stepFactor(map, next, cost_weight);
+        if (g_next < best[static_cast<std::size_t>(next)]) {
+          best[static_cast<std::size_t>(next)] = g_next;
+          open.push({g_next, next});
+        }
+      }
+  }
+  return 1e300;
+}
+}  // namespace
+
+// The path is the cheapest up to the 0.1 % of the heuristic's tie-break (global_planner.cpp), and
+// search buffers reused across searches change nothing.
+TEST(AStar, FindsTheCheapestPathAndReusesItsBuffersCleanly) {
+  Costmap map = splitRoom(1.6);
+  map.markCircle(Vec2(3.5, 4.0), 0.35);
+  map.markCapsule(Vec2(7.0, 5.0), Vec2(7.0, 3.5), 0.35, Costmap::kMaxInflated);
+  AStarPlanner reused;
+  GlobalPath first, path;
+  ASSERT_TRUE(reused.plan(map, Vec2(8.5, 1.5), Vec2(1.5, 1.5), 0.3, first));  // another search first
+  ASSERT_TRUE(reused.plan(map, Vec2(1.5, 1.5), Vec2(8.5, 1.5), 0.3, path));
+  const double cost_weight = reused.params().cost_weight;
+  const double cheapest = cheapestCost(map, Vec2(1.5, 1.5), Vec2(8.5, 1.5), cost_weight);
+  const double found = pathCost(map, path, cost_weight);
+  EXPECT_GE(found, cheapest - 1e-6);
+  EXPECT_LE(found, 1.001 * cheapest + 1e-6);
+
+  AStarPlanner fresh;
+  GlobalPath again;
+  ASSERT_TRUE(fresh.plan(map, Vec2(1.5, 1.5), Vec2(8.5, 1.5), 0.3, again));
+  EXPECT_EQ(again.points(), path.points());
+  EXPECT_EQ(fresh.lastExpansions(), reused.lastExpansions());
 }

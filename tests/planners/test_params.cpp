@@ -57,19 +57,21 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
       &DwbParams::sim_time, &DwbParams::sim_step, &DwbParams::obstacle_weight, &DwbParams::people_weight,
       &DwbParams::path_distance_weight, &DwbParams::path_align_weight, &DwbParams::goal_distance_weight,
       &DwbParams::oscillation_weight, &DwbParams::forward_point_distance, &DwbParams::people_safety_margin,
-      &DwbParams::people_sigma, &DwbParams::oscillation_reset_distance, &DwbParams::lookahead_distance,
+      &DwbParams::people_sigma, &DwbParams::oscillation_reset_distance, &DwbParams::oscillation_reset_angle,
+      &DwbParams::lookahead_distance,
       &DwbParams::rotate_in_place_angle, &DwbParams::stopped_rotate_angle, &DwbParams::rotate_gain,
       &DwbParams::replan_period, &DwbParams::people_prediction_time};
   for (auto member : doubles) EXPECT_EQ(file.*member, d.*member);
   EXPECT_EQ(file.v_samples, d.v_samples);
   EXPECT_EQ(file.w_samples, d.w_samples);
+  EXPECT_EQ(file.replan_cost_rise, d.replan_cost_rise);
   EXPECT_EQ(file.mark_scan, d.mark_scan);
   EXPECT_EQ(file.mark_people, d.mark_people);
   EXPECT_EQ(file.evade_people, d.evade_people);
   // Every key of the file is one the code reads (else fromConfig would have thrown): all are listed.
   std::size_t keys = 0;
   for (const auto& section : config.root()) keys += section.second.size();
-  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 5u);
+  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 6u);
 }
 
 TEST(DwbParams, ConfigFileOverridesOnlyWhatItNames) {

@@ -5,10 +5,12 @@
 #include "hunav/planners/scl_planner.hpp"
 #include "hunav/planners/sfw_planner.hpp"
 #include "hunav/planners/sim_tools.hpp"
+#include "exhaustive_search.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 
 using namespace hunav;
@@ -227,3 +229,72 @@ TEST_P(SocialClosedLoop, CrossingReachesTheGoal) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Planners, SocialClosedLoop, ::testing::Values("dwb", "scl", "sfw"));
+
+// The social layer, marked with the exponent tabulated and row by row within a bound of the
+// cutoff contour, holds in every cell what socialCost() gives (truncated, and 0 below the cutoff).
+TEST(Scl, TheSocialLayerIsTheSocialCostInEveryCell) {
+  const Scenario s = passing();
+  DwbParams dwb;
+  dwb.mark_people = false;  // the social layer alone
+  dwb.mark_scan = false;
+  const SclParams scl;
+  SclPlanner planner(s, dwb, scl);
+  robot_observation_t obs = makeObservation(s, Vec2(0, 0), 0.0, 0.0, 0.0);
+  obs.people = {person(8.03, 0.41, -0.7, 0.25), person(4.21, -1.13, 0.0, 0.0, 2.5)};  // walking, standing
+  obs.people[1].id = 2;
+  obs.num_people = 2;
+  planner.plan(obs);
+  ASSERT_TRUE(planner.lastReplanned());  // the first plan marks the whole map
+  const Costmap& map = planner.costmap();
+  int differing = 0, marked = 0;
+  for (int cy = 0; cy < map.height(); ++cy)
+    for (int cx = 0; cx < map.width(); ++cx) {
+      std::uint8_t expected = 0;
+      for (const detected_person_t& p : obs.people) {
+        const Vec2 velocity(p.vx, p.vy);
+        const double speed = velocity.norm();
+        const bool moving = speed >= scl.moving_speed;
+        const Vec2 heading = moving ? Vec2(velocity / speed) : Vec2(std::cos(p.yaw), std::sin(p.yaw));
+        const double c = socialCost(scl, Vec2(p.x, p.y), p.radius, heading, moving ? speed : 0.0, map.cellCenter(cx, cy));
+        if (c >= scl.cutoff) expected = std::max(expected, static_cast<std::uint8_t>(std::min(c, 252.0)));
+      }
+      differing += map.transientCost(cx, cy) != expected;
+      marked += expected != 0;
+    }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(marked, 5000);
+}
+
+class SocialBranchAndBound : public ::testing::TestWithParam<const char*> {};
+
+// As Dwb.BranchAndBoundPicksTheSampleAnExhaustiveSearchPicks, with the social layer (scl) and the
+// social work critic (sfw), among the four people of the crossing scenario.
+TEST_P(SocialBranchAndBound, PicksTheSampleAnExhaustiveSearchPicks) {
+  const Scenario s = crossing();
+  const std::string config = writeConfig("no_oscillation.yaml", "dwb:\n  oscillation_weight: 0.0\n");
+  YamlReader reader(config);
+  const auto owned = createPlanner(GetParam(), s, &reader);
+  auto& planner = dynamic_cast<DwbPlanner&>(*owned);
+  MiniWorld world(s);
+  robot_command_t cmd{};
+  int compared = 0, with_people = 0;
+  for (int tick = 0; world.time() < 40.0; ++tick) {
+    if (tick % 10 == 0) {
+      const robot_observation_t obs = world.observe();
+      cmd = planner.plan(obs);
+      if (planner.lastDecision() == DwbPlanner::Decision::AtGoal) break;
+      if (planner.lastDecision() == DwbPlanner::Decision::Sampled) {
+        double v = 0.0, w = 0.0;
+        ASSERT_TRUE(exhaustiveBest(planner, obs, v, w));
+        EXPECT_EQ(cmd.v, v) << "t " << world.time();
+        EXPECT_EQ(cmd.w, w) << "t " << world.time();
+        ++compared;
+        with_people += !planner.context().people.empty();
+      }
+    }
+    world.step(cmd.v, cmd.w, 0.01);
+  }
+  EXPECT_GT(compared, 100);
+  EXPECT_GT(with_people, 30);
+}
+INSTANTIATE_TEST_SUITE_P(Planners, SocialBranchAndBound, ::testing::Values("scl", "sfw"));

@@ -2,7 +2,10 @@
 // A 2-D cost grid in the style of nav2's layered costmap, shared by every planner:
 //  - a static layer rasterised from the scenario's shapes (exact distances from each cell centre);
 //  - a transient layer rebuilt every cycle from the laser scan and the detected people, which other
-//    planners can extend (the social costmap of `scl` raises cells with raiseTransient());
+//    planners can extend (the social costmap of `scl` raises cells with raiseTransient()). Marking
+//    can be limited to a window (setMarkingWindow): a planner whose trajectories only reach a
+//    few metres marks just that neighbourhood each cycle, and the whole map only when the global
+//    path is replanned (marking costs grow with the area, and people inflate a lot of it);
 //  - both inflated: lethal where the robot centre would make the robot touch an obstacle
 //    (distance <= robot radius), then a cost decaying exponentially up to the inflation radius.
 // The cost of a cell is the maximum of the two layers. Cells outside the grid count as lethal.
@@ -11,6 +14,8 @@
 
 #include <hunav/laser_scan_t.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -64,8 +69,8 @@ class Costmap {
   std::uint8_t cost(int cx, int cy) const { return inBounds(cx, cy) ? cost(index(cx, cy)) : kLethal; }
   // Cost of the cell containing p (inline: trajectory scoring calls it thousands of times a cycle).
   std::uint8_t costAt(const Vec2& p) const {
-    const double fx = (p.x() - origin_.x()) / params_.resolution;
-    const double fy = (p.y() - origin_.y()) / params_.resolution;
+    const double fx = (p.x() - origin_.x()) * inv_resolution_;
+    const double fy = (p.y() - origin_.y()) * inv_resolution_;
     // Written so that NaN lands in the "outside" branch too.
     if (!(fx >= 0.0 && fy >= 0.0 && fx < width_ && fy < height_)) return kLethal;
     return cost(index(static_cast<int>(fx), static_cast<int>(fy)));
@@ -76,29 +81,73 @@ class Costmap {
   double staticDistance(int cx, int cy) const { return static_distance_[static_cast<std::size_t>(index(cx, cy))]; }
 
   // Cost of a cell whose centre lies `distance` from the nearest obstacle surface.
-  std::uint8_t costFromDistance(double distance) const;
+  std::uint8_t costFromDistance(double distance) const {
+    if (distance <= lethal_distance_) return kLethal;
+    if (distance <= robot_radius_) return kInscribed;
+    if (distance >= inflation_) return kFree;
+    const auto step = static_cast<std::size_t>((distance - robot_radius_) * inv_decay_step_);
+    return step < decay_.size() ? decay_[step] : kFree;
+  }
 
   // Rebuilds the inflation when the robot radius changes (the observation carries it).
   void setRobotRadius(double robot_radius);
 
   // Transient layer: cleared each cycle, then marked.
   void clearTransient();
+  bool transientEmpty() const { return touched_.empty(); }  // nothing marked since the last clear
   void markPoint(const Vec2& p);                        // an obstacle point (a laser hit)
   // A round obstacle (a detected person). With max_cost below kInscribed the circle only discourages
   // (a place a person is predicted to be) and never blocks.
   void markCircle(const Vec2& center, double radius, std::uint8_t max_cost = kLethal);
   // The area a circle sweeps moving from a to b (a person's predicted walk), like markCircle.
   void markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint8_t max_cost = kLethal);
+  // A walking person in one pass: markCircle(from, radius) and markCapsule(from, to, radius,
+  // kMaxInflated) (the costs of the circle are the capsule's, but for the cells it makes lethal).
+  void markWalkingCircle(const Vec2& from, const Vec2& to, double radius);
   // Marks every hit of the scan (beams outside [range_min, range_max) hit nothing). Hits on static
   // obstacles are already in the static layer, and hits inside one of `already_marked` (people
   // marked with markCircle) add nothing: both are skipped.
   void markScan(const laser_scan_t& scan, const std::vector<Circle>& already_marked = {});
   // Raises one cell of the transient layer to at least `cost` (for planner-specific layers).
-  void raiseTransient(int cx, int cy, std::uint8_t cost);
+  // Cells outside the marking window are left alone.
+  void raiseTransient(int cx, int cy, std::uint8_t cost) {
+    if (cx >= win_x0_ && cy >= win_y0_ && cx <= win_x1_ && cy <= win_y1_) raiseTransientIndex(index(cx, cy), cost);
+  }
+
+  // The transient layer is only marked inside the cells covering [lo, hi] (clamped to the grid);
+  // outside it, it stays as it is (free after clearTransient()). Marks of obstacles outside the
+  // window still land on the cells inside it that their inflation reaches.
+  void setMarkingWindow(const Vec2& lo, const Vec2& hi);
+  void clearMarkingWindow();  // the whole grid (the default)
+  bool markingWholeGrid() const { return win_x0_ == 0 && win_y0_ == 0 && win_x1_ == width_ - 1 && win_y1_ == height_ - 1; }
+  // Clips the cell box [x0, x1] x [y0, y1] to the marking window; false when nothing is left.
+  bool clipToMarkingWindow(int& x0, int& y0, int& x1, int& y1) const;
 
  private:
+  // The cost of a cell whose centre lies sqrt(x) from the centre (or the axis) of a round obstacle
+  // of `radius`, tabulated over the squared distance x: marking then takes no square root. Each bin
+  // is narrower than the gap between two cost steps, so it holds at most one step, at `boundary`.
+  struct SquaredDistanceCosts {
+    double radius = -1.0;
+    double reach2 = 0.0;      // from this x on the cost is kFree
+    double bins_per_x = 0.0;  // 0: no table (it would be too large), computed per call
+    std::vector<double> boundary;  // where the cost drops within the bin (infinity: it does not)
+    std::vector<std::uint8_t> before, after;
+  };
+  std::uint8_t squaredDistanceCost(const SquaredDistanceCosts& table, double x) const {
+    if (table.bins_per_x == 0.0) return costFromDistance(std::max(0.0, std::sqrt(x) - table.radius));
+    const auto bin = static_cast<std::size_t>(x * table.bins_per_x);
+    return x < table.boundary[bin] ? table.before[bin] : table.after[bin];
+  }
+  // The table for `radius`, built on first use (people share a few radii; rebuilt with the inflation).
+  const SquaredDistanceCosts& squaredDistanceCosts(double radius);
   void buildStaticLayer();
-  void raiseTransientIndex(int index, std::uint8_t cost);
+  void raiseTransientIndex(int i, std::uint8_t cost) {
+    std::uint8_t& cell = transient_[static_cast<std::size_t>(i)];
+    if (cost <= cell) return;
+    if (cell == kFree) touched_.push_back(i);
+    cell = cost;
+  }
 
   CostmapParams params_;
   std::vector<Shape> shapes_;
@@ -106,14 +155,18 @@ class Costmap {
   double inflation_ = 0.0;  // effective inflation radius (at least one cell past the robot radius)
   double lethal_distance_ = 0.0;  // half a cell diagonal: a surface this close to a centre crosses the cell
   Vec2 origin_;
+  double inv_resolution_ = 0.0;  // cells per metre (a product is cheaper than a division)
   int width_ = 0;
   int height_ = 0;
   std::vector<float> static_distance_;
   std::vector<std::uint8_t> static_;
   std::vector<std::uint8_t> transient_;
   std::vector<int> touched_;         // transient cells to clear
+  int win_x0_ = 0, win_y0_ = 0, win_x1_ = -1, win_y1_ = -1;  // marking window, inclusive cell box
+  std::vector<SquaredDistanceCosts> distance_costs_;  // a few radii, most recent last
   std::vector<std::uint8_t> decay_;  // cost beyond the robot radius, sampled every decay_step_
   double decay_step_ = 0.0;
+  double inv_decay_step_ = 0.0;
 };
 
 }  // namespace hunav::planners

@@ -52,8 +52,17 @@ class TrajectoryCritic {
 
   // Once per cycle, before any score().
   virtual void prepare(const PlanningContext& /*ctx*/) {}
+  // Whether score() reads trajectory.positions; critics that only judge the end pose say no, and
+  // the planner then scores them before rolling the trajectory out in full.
+  virtual bool needsPositions() const { return true; }
   // The trajectory's cost (>= 0), or kReject when it must not be taken.
   virtual double score(const Trajectory& trajectory, const PlanningContext& ctx) const = 0;
+  // A lower bound of score() (never kReject) from the end pose alone (trajectory.end(), end_yaw,
+  // steps; no positions): the planner ranks the samples by it before rolling any out in full.
+  // Critics that need no positions are their own bound.
+  virtual double lowerBound(const Trajectory& trajectory, const PlanningContext& ctx) const {
+    return needsPositions() ? 0.0 : score(trajectory, ctx);
+  }
   // The command finally sent this cycle (critics with memory update it here).
   virtual void commit(double /*v*/, double /*w*/, const PlanningContext& /*ctx*/) {}
   virtual void reset() {}
@@ -69,6 +78,7 @@ class ObstacleCritic : public TrajectoryCritic {
  public:
   explicit ObstacleCritic(double weight) : TrajectoryCritic("obstacle", weight) {}
   double score(const Trajectory& trajectory, const PlanningContext& ctx) const override;
+  double lowerBound(const Trajectory& trajectory, const PlanningContext& ctx) const override;  // the end's cell
 };
 
 // Detected people as circles moving at constant velocity. Rejects a trajectory that brings the
@@ -80,6 +90,8 @@ class PeopleCritic : public TrajectoryCritic {
   PeopleCritic(double weight, double safety_margin, double sigma)
       : TrajectoryCritic("people", weight), safety_margin_(safety_margin), sigma_(sigma) {}
   double score(const Trajectory& trajectory, const PlanningContext& ctx) const override;
+  // The closeness at the end (the closest approach is no farther).
+  double lowerBound(const Trajectory& trajectory, const PlanningContext& ctx) const override;
 
  private:
   double safety_margin_;
@@ -90,6 +102,7 @@ class PeopleCritic : public TrajectoryCritic {
 class PathDistanceCritic : public TrajectoryCritic {
  public:
   explicit PathDistanceCritic(double weight) : TrajectoryCritic("path_distance", weight) {}
+  bool needsPositions() const override { return false; }
   double score(const Trajectory& trajectory, const PlanningContext& ctx) const override;
 };
 
@@ -101,6 +114,7 @@ class PathAlignCritic : public TrajectoryCritic {
   PathAlignCritic(double weight, double forward_distance)
       : TrajectoryCritic("path_align", weight), forward_distance_(forward_distance) {}
   void prepare(const PlanningContext& ctx) override;
+  bool needsPositions() const override { return false; }
   double score(const Trajectory& trajectory, const PlanningContext& ctx) const override;
 
  private:
@@ -113,15 +127,19 @@ class PathAlignCritic : public TrajectoryCritic {
 class GoalDistanceCritic : public TrajectoryCritic {
  public:
   explicit GoalDistanceCritic(double weight) : TrajectoryCritic("goal_distance", weight) {}
+  bool needsPositions() const override { return false; }
   double score(const Trajectory& trajectory, const PlanningContext& ctx) const override;
 };
 
 // 1 for a trajectory that reverses the sign of the turn (or of the forward speed) before the robot
-// has travelled `reset_distance` since the current direction was taken, else 0: stops dithering.
+// has travelled `reset_distance` or turned `reset_angle` since the current direction was taken,
+// else 0: stops dithering. (Without the angle, a robot turning on the spot would never be free to
+// turn the other way: after a slow turn it could stay stuck below the turn's dead band.)
 class OscillationCritic : public TrajectoryCritic {
  public:
-  OscillationCritic(double weight, double reset_distance)
-      : TrajectoryCritic("oscillation", weight), reset_distance_(reset_distance) {}
+  OscillationCritic(double weight, double reset_distance, double reset_angle)
+      : TrajectoryCritic("oscillation", weight), reset_distance_(reset_distance), reset_angle_(reset_angle) {}
+  bool needsPositions() const override { return false; }
   double score(const Trajectory& trajectory, const PlanningContext& ctx) const override;
   void commit(double v, double w, const PlanningContext& ctx) override;
   void reset() override;
@@ -130,11 +148,13 @@ class OscillationCritic : public TrajectoryCritic {
   struct Direction {
     int sign = 0;               // -1, 0 (none yet) or +1
     Vec2 since = Vec2::Zero();  // where the robot was when this sign was taken
+    double since_yaw = 0.0;     // and its heading
   };
-  bool flips(const Direction& d, double value, double epsilon, const Vec2& robot) const;
-  static void update(Direction& d, double value, double epsilon, const Vec2& robot);
+  bool flips(const Direction& d, double value, double epsilon, const PlanningContext& ctx) const;
+  static void update(Direction& d, double value, double epsilon, const PlanningContext& ctx);
 
   double reset_distance_;
+  double reset_angle_;
   Direction turn_;
   Direction drive_;
 };

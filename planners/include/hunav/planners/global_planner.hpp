@@ -55,21 +55,35 @@ class AStarPlanner {
   // search. Returns false (and an empty path) when no path exists.
   bool plan(const Costmap& costmap, const Vec2& start, const Vec2& goal, double goal_tolerance, GlobalPath& path);
 
+  // Sizes the search buffers for a grid of `cells` cells (else the first plan() does, paying for
+  // the memory's first use within that call).
+  void reserve(std::size_t cells);
+
   std::size_t lastExpansions() const { return expansions_; }
   std::size_t searches() const { return searches_; }  // plan() calls so far
   const GlobalPlannerParams& params() const { return params_; }
 
  private:
   GlobalPlannerParams params_;
-  // Search buffers, kept between calls: a cell's g and parent are valid when its stamp is current.
-  std::vector<float> g_;
-  std::vector<int> parent_;
-  std::vector<std::uint32_t> seen_stamp_;
-  std::vector<std::uint32_t> closed_stamp_;
+  // Search state per cell, kept between calls (one array: a cell's fields share a cache line).
+  // g, parent and heap_pos are valid when `seen` is the current stamp. 16 bytes: four per cache line.
+  struct Node {
+    float g = 0.0f;
+    std::int32_t parent = -1;
+    std::uint32_t seen = 0;
+    std::int32_t heap_pos = kNotOpen;  // where the cell sits in open_, else kNotOpen or kClosed
+  };
+  static constexpr std::int32_t kNotOpen = -1;
+  static constexpr std::int32_t kClosed = -2;  // expanded (valid when `seen` is the current stamp)
+  std::vector<Node> nodes_;
   std::uint32_t stamp_ = 0;
-  // Open list as a binary min-heap of (f, cell) packed in one integer: f's float bits in the high
-  // half (non-negative floats order like their bit patterns), the cell in the low half.
+  // Open list: a 4-ary min-heap of (f, cell) packed in one integer (f's float bits in the high half:
+  // non-negative floats order like their bit patterns; the cell breaks ties), each open cell once:
+  // a cell reached more cheaply has its key lowered in place. The heap stays as small as the search
+  // frontier, instead of piling up stale duplicates that every sift walks through.
   std::vector<std::uint64_t> open_;
+  void siftUp(std::size_t i, std::uint64_t key);
+  void siftDown(std::size_t i, std::uint64_t key);
   std::size_t expansions_ = 0;
   std::size_t searches_ = 0;
 };

@@ -43,7 +43,14 @@ class SclPlanner : public DwbPlanner {
   void updateLayers(const robot_observation_t& obs, Costmap& costmap) override;
 
  private:
+  // floor(amplitude * exp(-e)) (at most `top`), from the thresholds.
+  std::uint8_t exponentCost(double e, int top) const;
+
   SclParams scl_;
+  double max_exponent_ = 0.0;              // log(amplitude / cutoff): beyond it the cost is below the cutoff
+  double bins_per_exponent_ = 0.0;
+  std::vector<double> cost_threshold_;     // [c]: the largest exponent whose cost is still >= c
+  std::vector<std::uint8_t> bin_cost_;     // the cost at the start of each bin of exponents
 };
 
 }  // namespace hunav::planners

@@ -13,7 +13,10 @@ namespace hunav::planners {
 
 // Section `sfw:` of --config (planners/config/sfw.yaml lists every key with its default).
 struct SfwParams {
-  double social_work_weight = 1.0;  // weight of the social work (m/s: force magnitudes * s)
+  // Weight of the social work (m/s: force magnitudes * s) against goal_distance (weight 1, m): 3,
+  // the ratio of social_weight to distance_weight in the original planner
+  // (robotics-upo/social_force_window_planner, config/local_planner.yaml).
+  double social_work_weight = 3.0;
   double prediction_step = 0.1;     // s between the predicted poses (a multiple of dwb.sim_step is best)
   double people_forces = 1.0;       // factor on the forces of and on people in the work
   double obstacle_forces = 0.2;     // factor on the obstacle force on the robot in the work
