@@ -17,13 +17,17 @@ int main(int argc, char** argv) {
   double silence_limit = 1.0, startup_limit = 10.0;
   app.add_option("--scenario", scenario_file, "scenario YAML file")->required();
   app.add_option("--planner", planner, "planner name reported in events; 'none' runs without a planner");
-  app.add_option("--seed", seed, "override the scenario's seed")->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", seed, "override the scenario's seed (episode k of --episodes uses seed + k - 1)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
       ->check(CLI::PositiveNumber);
   app.add_option("--mode", mode, "lockstep (wait for every answer) or realtime (wall-clock paced)")
       ->check(CLI::IsMember({"lockstep", "realtime", "inprocess"}));
-  app.add_option("--run-id", run_id, "run id (default <scenario>_<planner>_s<seed>)");
-  app.add_option("--episodes", episodes, "episodes to run back to back")->check(CLI::PositiveNumber);
+  app.add_option("--run-id", run_id,
+                 "run id (default <scenario>_<planner>_s<seed>); with several episodes, episode k is <run-id>_e<k>");
+  app.add_option("--episodes", episodes,
+                 "episodes to run back to back, each from a fresh world with the next seed and its own run id")
+      ->check(CLI::PositiveNumber);
   app.add_option("--silence-limit", silence_limit, "abort when a component is silent this long, s (wall clock)")
       ->check(CLI::PositiveNumber);
   app.add_option("--startup-limit", startup_limit, "the same for a component's first answer, s")
@@ -32,7 +36,11 @@ int main(int argc, char** argv) {
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   return hunav::cli::run("hunav_worldsim", [&] {
-    const hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
+    // Every episode's scenario is loaded (and checked) before anything starts; the seed also draws the
+    // random agent parameters, so each episode loads the file with its own seed.
+    std::vector<hunav::Scenario> scenarios{hunav::cli::loadScenarioFor(scenario_file, seed, duration)};
+    const auto first_seed = static_cast<long long>(scenarios.front().seed);
+    for (int k = 1; k < episodes; ++k) scenarios.push_back(hunav::cli::loadScenarioFor(scenario_file, first_seed + k, duration));
     hunav::worldsim::WorldOptions options;
     options.planner = planner;
     options.mode = mode;
@@ -42,12 +50,15 @@ int main(int argc, char** argv) {
     options.stop = &hunav::installStopSignals();
     lcm::LCM lcm(hunav::resolveLcmUrl(url));
     hunav::Bus bus(lcm);
-    hunav::worldsim::WorldSim world(bus, scenario, options);
+    hunav::worldsim::WorldSim world(bus, scenarios.front(), options);
     bool all_ended = true;
     for (int i = 0; i < episodes && !options.stop->load(); ++i) {
-      const auto r = world.runEpisode();
-      std::cout << "episode " << i + 1 << ": " << r.status << " (" << r.reason << "), " << r.ticks << " ticks, "
-                << r.sim_time << " s simulated in " << r.wall_time << " s, fingerprint " << r.fingerprint << std::endl;
+      const std::string id = run_id.empty() || episodes == 1 ? run_id : run_id + "_e" + std::to_string(i + 1);
+      const auto r = world.runEpisode(scenarios[static_cast<std::size_t>(i)], id);
+      std::cout << "episode " << i + 1 << " (run " << r.run_id << ", seed " << r.seed << "): " << r.status << " ("
+                << r.reason << "), " << r.ticks << " ticks, " << r.sim_time << " s simulated in " << r.wall_time
+                << " s, " << r.collisions << " contacts, " << world.resends() << " resends so far, fingerprint "
+                << r.fingerprint << std::endl;
       all_ended = all_ended && r.ended();
     }
     return all_ended ? 0 : 1;

@@ -3,11 +3,150 @@
 #include "hunav/agents_file.hpp"
 #include "hunav/yaml_reader.hpp"
 
+#include <cctype>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace hunav {
 
 namespace {
+
+// ---------------------------------------------------------------------------------------------------
+// ROS map_server maps
+// ---------------------------------------------------------------------------------------------------
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  int maxval = 0;
+  std::vector<int> pixels;  // row-major, row 0 = the top line of the picture
+};
+
+// A netpbm grey map, binary (P5, 8 or 16 bit) or plain (P2). Errors are reported at the map yaml's
+// `image:` line (a PGM has no keys).
+Image readPgm(const std::string& path, const std::string& yaml_path, int yaml_line) {
+  auto fail = [&](const std::string& what) -> Image {
+    throw ConfigError(yaml_path, yaml_line, "image", path + ": " + what);
+  };
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail("cannot open the image");
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t pos = 0;
+  auto skipSpaceAndComments = [&] {
+    while (pos < data.size()) {
+      if (std::isspace(static_cast<unsigned char>(data[pos]))) {
+        ++pos;
+      } else if (data[pos] == '#') {
+        while (pos < data.size() && data[pos] != '\n') ++pos;
+      } else {
+        break;
+      }
+    }
+  };
+  // A decimal header or plain-raster number, at most `max`.
+  auto number = [&](const char* what, long max) -> long {
+    skipSpaceAndComments();
+    if (pos >= data.size() || !std::isdigit(static_cast<unsigned char>(data[pos])))
+      fail(std::string("expected ") + what + (pos >= data.size() ? " (the file ends early)" : ""));
+    long v = 0;
+    while (pos < data.size() && std::isdigit(static_cast<unsigned char>(data[pos]))) {
+      v = v * 10 + (data[pos++] - '0');
+      if (v > max) fail(std::string(what) + " is larger than " + std::to_string(max));
+    }
+    return v;
+  };
+  if (data.size() < 2 || data[0] != 'P' || (data[1] != '5' && data[1] != '2'))
+    return fail("not a PGM image (expected the magic number P5 or P2; convert PNG maps with e.g. `convert map.png map.pgm`)");
+  const bool binary = data[1] == '5';
+  pos = 2;
+  constexpr long kMaxSide = 20000;  // cells; 1 km at 5 cm
+  Image img;
+  img.width = static_cast<int>(number("the width", kMaxSide));
+  img.height = static_cast<int>(number("the height", kMaxSide));
+  img.maxval = static_cast<int>(number("the maximum grey value", 65535));
+  if (img.width < 1 || img.height < 1) fail("the width and height must be >= 1");
+  if (img.maxval < 1) fail("the maximum grey value must be >= 1");
+  const std::size_t count = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  // The file must be large enough for the raster before anything is allocated for it.
+  if (binary) {
+    // Exactly one whitespace character separates the header from the raster.
+    if (pos >= data.size() || !std::isspace(static_cast<unsigned char>(data[pos])))
+      fail("expected one whitespace character after the header");
+    ++pos;
+    const std::size_t bytes_per_pixel = img.maxval > 255 ? 2 : 1;
+    if (data.size() - pos < count * bytes_per_pixel)
+      fail("the raster is truncated: " + std::to_string((data.size() - pos) / bytes_per_pixel) + " of " +
+           std::to_string(count) + " pixels");
+    img.pixels.resize(count);
+    const auto* raster = reinterpret_cast<const unsigned char*>(data.data() + pos);
+    for (std::size_t i = 0; i < count; ++i) {
+      const int v = bytes_per_pixel == 2 ? (raster[2 * i] << 8) | raster[2 * i + 1] : raster[i];
+      if (v > img.maxval) fail("pixel " + std::to_string(i) + " exceeds the maximum grey value");
+      img.pixels[i] = v;
+    }
+  } else {
+    if (data.size() - pos < 2 * count - 1)  // a digit and a separator per pixel at least
+      fail("the raster is truncated: too short for " + std::to_string(count) + " pixels");
+    img.pixels.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      const long v = number("a pixel value", 65535);
+      if (v > img.maxval) fail("pixel " + std::to_string(i) + " exceeds the maximum grey value");
+      img.pixels[i] = static_cast<int>(v);
+    }
+  }
+  return img;
+}
+
+// map_server's `negate`: 0/1 or true/false.
+bool readNegate(const YamlReader& yr, const YAML::Node& root) {
+  const YAML::Node n = root["negate"];
+  if (!n) return false;
+  if (n.IsScalar()) {
+    const std::string v = n.Scalar();
+    if (v == "0" || v == "false") return false;
+    if (v == "1" || v == "true") return true;
+  }
+  yr.fail(n, "negate", "expected 0 or 1");
+}
+
+// Greedy merge of occupied cells into rectangles: from the lowest row up and left to right, an unused
+// occupied cell starts a rectangle that grows right as far as the row allows, then up while every cell
+// of its span is occupied and unused. `occupied` is row-major with row 0 at the bottom (+y up).
+struct CellRect {
+  int col0, row0, col1, row1;  // inclusive
+};
+std::vector<CellRect> mergeCells(const std::vector<char>& occupied, int width, int height) {
+  std::vector<char> used(occupied.size(), 0);
+  auto free_to_take = [&](int c, int r) {
+    const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(width) + static_cast<std::size_t>(c);
+    return occupied[i] && !used[i];
+  };
+  std::vector<CellRect> rects;
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      if (!free_to_take(c, r)) continue;
+      int c1 = c;
+      while (c1 + 1 < width && free_to_take(c1 + 1, r)) ++c1;
+      int r1 = r;
+      for (bool grow = true; grow && r1 + 1 < height;) {
+        for (int x = c; x <= c1 && grow; ++x) grow = free_to_take(x, r1 + 1);
+        if (grow) ++r1;
+      }
+      for (int y = r; y <= r1; ++y)
+        for (int x = c; x <= c1; ++x)
+          used[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = 1;
+      rects.push_back(CellRect{c, r, c1, r1});
+    }
+  }
+  return rects;
+}
+
+std::filesystem::path relativeTo(const std::string& file, const std::string& name) {
+  std::filesystem::path p = name;
+  if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+  return p;
+}
 
 Vec2 readXY(const YamlReader& yr, const YAML::Node& n, const std::string& key) {
   if (n.IsSequence()) {
@@ -27,6 +166,21 @@ std::vector<Vec2> readPoints(const YamlReader& yr, const YAML::Node& n, const st
 }
 
 void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
+  if (const YAML::Node ms = yr.child(map, "map_server", "map", false)) {
+    // One map file, or a list of them; relative to the scenario file.
+    std::vector<YAML::Node> files;
+    if (ms.IsSequence()) {
+      for (const YAML::Node& f : ms) files.push_back(f);
+    } else {
+      files.push_back(ms);
+    }
+    for (const YAML::Node& f : files) {
+      const std::string name = yr.convert<std::string>(f, "map.map_server");
+      const std::filesystem::path p = relativeTo(yr.path(), name);
+      if (!std::filesystem::is_regular_file(p)) yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'");
+      for (Shape& sh : loadOccupancyMap(p.string())) s.shapes.push_back(std::move(sh));
+    }
+  }
   auto list = [&](const char* key) -> YAML::Node {
     const YAML::Node n = yr.child(map, key, "map", false);
     if (n && !n.IsSequence()) yr.fail(n, std::string("map.") + key, "expected a list");
@@ -69,8 +223,28 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
 
 void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   robot.id = yr.get<int>(r, "id", "robot", robot.id);
-  robot.radius = yr.get<double>(r, "radius", "robot", robot.radius);
-  if (robot.radius <= 0.0) yr.fail(r["radius"], "robot.radius", "must be > 0");
+  const std::string shape = yr.get<std::string>(r, "shape", "robot", "circle");
+  if (shape == "circle") {
+    robot.shape = RobotShape::Circle;
+    robot.radius = yr.get<double>(r, "radius", "robot", robot.radius);
+    if (robot.radius <= 0.0) yr.fail(r["radius"], "robot.radius", "must be > 0");
+    for (const char* key : {"length", "width"})
+      if (r[key]) yr.fail(r[key], std::string("robot.") + key, "only for shape: box");
+  } else if (shape == "box") {
+    robot.shape = RobotShape::Box;
+    robot.length = yr.get<double>(r, "length", "robot");
+    robot.width = yr.get<double>(r, "width", "robot");
+    if (robot.length <= 0.0) yr.fail(r["length"], "robot.length", "must be > 0");
+    if (robot.width <= 0.0) yr.fail(r["width"], "robot.width", "must be > 0");
+    if (r["radius"]) yr.fail(r["radius"], "robot.radius", "a box robot's radius is its half diagonal: leave radius out");
+    robot.radius = 0.5 * std::hypot(robot.length, robot.width);
+  } else {
+    yr.fail(r["shape"], "robot.shape", "expected circle or box, got '" + shape + "'");
+  }
+  const std::string drive = yr.get<std::string>(r, "drive", "robot", "differential");
+  if (drive == "differential") robot.drive = RobotDrive::Differential;
+  else if (drive == "holonomic") robot.drive = RobotDrive::Holonomic;
+  else yr.fail(r["drive"], "robot.drive", "expected differential or holonomic, got '" + drive + "'");
   const YAML::Node start = yr.child(r, "start", "robot", true);
   robot.start = readXY(yr, start, "robot.start");
   robot.start_yaw = yr.get<double>(start, "yaw", "robot.start", 0.0);
@@ -88,6 +262,14 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     lim.max_w = yr.get<double>(l, "max_w", "robot.limits", lim.max_w);
     lim.max_acc_v = yr.get<double>(l, "max_acc_v", "robot.limits", lim.max_acc_v);
     lim.max_acc_w = yr.get<double>(l, "max_acc_w", "robot.limits", lim.max_acc_w);
+    // Lateral limits of a holonomic base: by default those of the forward axis.
+    lim.max_vy = yr.get<double>(l, "max_vy", "robot.limits", lim.max_v);
+    lim.max_acc_vy = yr.get<double>(l, "max_acc_vy", "robot.limits", lim.max_acc_v);
+    if (robot.drive != RobotDrive::Holonomic)
+      for (const char* key : {"max_vy", "max_acc_vy"})
+        if (l[key]) yr.fail(l[key], std::string("robot.limits.") + key, "only for drive: holonomic");
+    if (lim.max_vy < 0.0) yr.fail(l["max_vy"], "robot.limits.max_vy", "must be >= 0");
+    if (lim.max_acc_vy <= 0.0) yr.fail(l["max_acc_vy"], "robot.limits.max_acc_vy", "must be > 0");
     if (lim.max_v <= 0.0) yr.fail(l["max_v"], "robot.limits.max_v", "must be > 0");
     if (lim.min_v > lim.max_v) yr.fail(l["min_v"], "robot.limits.min_v", "must be <= max_v");
     if (lim.max_w <= 0.0) yr.fail(l["max_w"], "robot.limits.max_w", "must be > 0");
@@ -108,6 +290,11 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (las.noise_std < 0.0) yr.fail(l["noise_std"], "robot.laser.noise_std", "must be >= 0");
   }
   robot.perception_range = yr.get<double>(r, "perception_range", "robot", robot.perception_range);
+  robot.perception_fov = yr.get<double>(r, "perception_fov", "robot", robot.perception_fov);
+  if (robot.perception_fov <= 0.0 || robot.perception_fov > 2.0 * kPi)
+    yr.fail(r["perception_fov"], "robot.perception_fov", "must be in (0, 2*pi]");
+  robot.perception_noise_std = yr.get<double>(r, "perception_noise_std", "robot", robot.perception_noise_std);
+  if (robot.perception_noise_std < 0.0) yr.fail(r["perception_noise_std"], "robot.perception_noise_std", "must be >= 0");
   robot.control_rate = yr.get<double>(r, "control_rate", "robot", robot.control_rate);
   if (robot.control_rate <= 0.0) yr.fail(r["control_rate"], "robot.control_rate", "must be > 0");
 }
@@ -120,6 +307,64 @@ void checkClear(const YamlReader& yr, const Scenario& s, const YAML::Node& at, c
 }
 
 }  // namespace
+
+std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
+  YamlReader yr(yaml_path);
+  const YAML::Node& root = yr.root();
+  const YAML::Node image_node = yr.child(root, "image", "", true);
+  const std::string image = yr.convert<std::string>(image_node, "image");
+  const double resolution = yr.get<double>(root, "resolution", "");
+  if (resolution <= 0.0) yr.fail(root["resolution"], "resolution", "must be > 0 (m per cell)");
+  const YAML::Node origin_node = yr.child(root, "origin", "", true);
+  if (!origin_node.IsSequence() || (origin_node.size() != 3 && origin_node.size() != 2))
+    yr.fail(origin_node, "origin", "expected [x, y, yaw]");
+  const Vec2 origin(yr.convert<double>(origin_node[0], "origin"), yr.convert<double>(origin_node[1], "origin"));
+  const double yaw = origin_node.size() == 3 ? yr.convert<double>(origin_node[2], "origin") : 0.0;
+  const bool negate = readNegate(yr, root);
+  const double occupied_thresh = yr.get<double>(root, "occupied_thresh", "", 0.65);
+  const double free_thresh = yr.get<double>(root, "free_thresh", "", 0.196);
+  if (occupied_thresh < 0.0 || occupied_thresh > 1.0) yr.fail(root["occupied_thresh"], "occupied_thresh", "must be in [0, 1]");
+  if (free_thresh < 0.0 || free_thresh > occupied_thresh)
+    yr.fail(root["free_thresh"], "free_thresh", "must be in [0, occupied_thresh]");
+  const std::string mode = yr.get<std::string>(root, "mode", "", "trinary");
+  if (mode != "trinary" && mode != "scale" && mode != "raw")
+    yr.fail(root["mode"], "mode", "expected trinary, scale or raw, got '" + mode + "'");
+
+  const Image img = readPgm(relativeTo(yaml_path, image).string(), yaml_path, YamlReader::lineOf(image_node));
+  // map_server's rule: occupancy p = (maxval - value) / maxval (value / maxval with negate), occupied when
+  // p > occupied_thresh. In raw mode the value is the occupancy in percent. Free and unknown cells are
+  // both free space for the world.
+  std::vector<char> occupied(img.pixels.size(), 0);
+  for (int row = 0; row < img.height; ++row) {
+    const int map_row = img.height - 1 - row;  // the picture's top line is the map's highest y
+    for (int col = 0; col < img.width; ++col) {
+      const int v = img.pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(col)];
+      bool occ;
+      if (mode == "raw") {
+        occ = v <= 100 && v > occupied_thresh * 100.0;
+      } else {
+        const double p = negate ? static_cast<double>(v) / img.maxval : static_cast<double>(img.maxval - v) / img.maxval;
+        occ = p > occupied_thresh;
+      }
+      occupied[static_cast<std::size_t>(map_row) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(col)] = occ;
+    }
+  }
+
+  const double cs = std::cos(yaw), sn = std::sin(yaw);
+  auto corner = [&](int col, int row) {  // lower left corner of cell (col, row); the map turns by yaw about origin
+    const double x = col * resolution, y = row * resolution;
+    return Vec2(origin.x() + cs * x - sn * y, origin.y() + sn * x + cs * y);
+  };
+  std::vector<Shape> shapes;
+  for (const CellRect& r : mergeCells(occupied, img.width, img.height)) {
+    Shape sh;
+    sh.kind = Shape::Kind::Polygon;
+    sh.points = {corner(r.col0, r.row0), corner(r.col1 + 1, r.row0), corner(r.col1 + 1, r.row1 + 1),
+                 corner(r.col0, r.row1 + 1)};
+    shapes.push_back(std::move(sh));
+  }
+  return shapes;
+}
 
 void Scenario::bounds(Vec2& lo, Vec2& hi, double margin) const {
   lo = hi = robot.start;
@@ -166,7 +411,7 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
       s.agents = loadAgentsFile(p.string(), s.seed);
     } else {
-      s.agents = parseAgents(yr, people, "people", s.seed);
+      s.agents = parseAgents(yr, people, "people", s.seed, s.shapes);
     }
   }
 

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 using namespace hunav;
 using hunav::worldsim::PhysicsWorld;
+using hunav::worldsim::toVec;
 
 namespace {
 // A 10 x 4 room, robot at the origin facing +x, one person at (3, 1).
@@ -89,4 +92,148 @@ TEST(PhysicsWorld, PeoplePushedAgainstAWallStayOut) {
     w.step(0.01);
   }
   EXPECT_LE(w.person(0).GetPosition().y, 2.0f - 0.35f + 0.01f);
+}
+
+TEST(PhysicsWorld, BoxRobotBlocksRaysAtItsFaces) {
+  Scenario s = room();
+  s.agents.clear();
+  s.robot.shape = RobotShape::Box;
+  s.robot.length = 0.8;  // along the heading
+  s.robot.width = 0.4;
+  s.robot.start_yaw = kPi / 2;  // facing +y: the long side lies along y
+  PhysicsWorld w(s);
+  // From (2, 0) toward the robot: its side face x = 0.2 (half the width), 1.8 m away.
+  EXPECT_NEAR(w.rayDistance(Vec2(2, 0), kPi, 8.0, false), 1.8, 1e-5);
+  // From (0, 1.5) downward: its front face y = 0.4 (half the length), 1.1 m away.
+  EXPECT_NEAR(w.rayDistance(Vec2(0, 1.5), -kPi / 2, 8.0, false), 1.1, 1e-5);
+  // The robot's own scan passes through it.
+  EXPECT_NEAR(w.rayDistance(Vec2(0, 0), 0.0, 8.0, true), 5.0, 1e-5);
+}
+
+TEST(PhysicsWorld, SlidingAlongAWallOfSeveralEdgesIsOneContact) {
+  Scenario s = room();
+  s.shapes.clear();
+  Shape wall;  // three collinear edges at y = 1, joints at x = -1 and x = 1
+  wall.kind = Shape::Kind::Polyline;
+  wall.points = {Vec2(-4, 1), Vec2(-1, 1), Vec2(1, 1), Vec2(4, 1)};
+  s.shapes.push_back(wall);
+  s.robot.start = Vec2(0, -3);
+  s.agents[0].position = Vec2(-2.5, 0.5);  // 0.15 m below the wall's underside
+  PhysicsWorld w(s);
+  std::vector<collision_t> events;
+  for (int i = 0; i < 400; ++i) {  // 4 s: up into the wall, then along it across both joints
+    w.person(0).SetLinearVelocity(b2Vec2(1.2f, 0.3f));
+    w.step(0.01);
+    events.insert(events.end(), w.newContacts().begin(), w.newContacts().end());
+  }
+  EXPECT_GT(w.person(0).GetPosition().x, 1.5f);  // it did cross both joints
+  EXPECT_LE(w.person(0).GetPosition().y, 1.0f - 0.35f + 0.01f);
+  ASSERT_EQ(events.size(), 1u);
+  const collision_t& c = events[0];
+  const bool person_a = c.kind_a == collision_t::BODY_PERSON;
+  const int stat = collision_t::BODY_STATIC, by_a = collision_t::BY_A, by_b = collision_t::BY_B;
+  EXPECT_EQ(person_a ? c.kind_b : c.kind_a, stat);
+  EXPECT_EQ(person_a ? c.id_a : c.id_b, 1);
+  EXPECT_EQ(person_a ? c.id_b : c.id_a, -1);
+  EXPECT_EQ(c.caused_by, person_a ? by_a : by_b);  // the person moved into the wall
+  EXPECT_NEAR(c.y, 1.0, 0.02);
+  EXPECT_NEAR(c.normal_speed, 0.3, 0.02);
+}
+
+namespace {
+// A cluttered room for the equivalence tests: walls, a box, pillars, and people scattered (seeded).
+Scenario clutter(std::uint64_t seed, int people) {
+  Scenario s = room();
+  s.agents.clear();
+  Shape inner;
+  inner.kind = Shape::Kind::Polyline;
+  inner.points = {Vec2(-2, -1), Vec2(-2, 1.2), Vec2(-0.5, 1.2)};
+  s.shapes.push_back(inner);
+  Shape box;
+  box.kind = Shape::Kind::Polygon;
+  box.points = {Vec2(2, -1.5), Vec2(3, -1.5), Vec2(3, -0.8), Vec2(2, -0.8)};
+  s.shapes.push_back(box);
+  for (const Vec2& c : {Vec2(1.0, 1.3), Vec2(-3.5, -1.0), Vec2(4.0, 0.5)}) {
+    Shape pillar;
+    pillar.kind = Shape::Kind::Circle;
+    pillar.center = c;
+    pillar.radius = 0.25;
+    s.shapes.push_back(pillar);
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> x(-4.7, 4.7), y(-1.7, 1.7);
+  while (static_cast<int>(s.agents.size()) < people) {
+    AgentConfig a;
+    a.id = static_cast<int>(s.agents.size()) + 1;
+    a.position = Vec2(x(rng), y(rng));
+    a.radius = 0.2;
+    if ((a.position - s.robot.start).norm() < 0.6) continue;
+    s.agents.push_back(a);
+  }
+  return s;
+}
+}  // namespace
+
+TEST(PhysicsWorld, RayFanEqualsSingleRaysBitForBit) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    Scenario s = clutter(seed, 25);
+    std::mt19937_64 rng(seed + 100);
+    s.robot.start = Vec2(std::uniform_real_distribution<double>(-4.5, 4.5)(rng), std::uniform_real_distribution<double>(-1.7, 1.7)(rng));
+    PhysicsWorld w(s);
+    const Vec2 p = toVec(w.robot().GetPosition());
+    const double first = std::uniform_real_distribution<double>(-kPi, kPi)(rng);
+    for (const auto& [beams, fov] : {std::pair{360, 2 * kPi}, std::pair{181, 4.0}, std::pair{7, 0.5}}) {
+      const double inc = fov / (fov >= 2 * kPi ? beams : beams - 1);
+      std::vector<double> fan;
+      w.rayFan(p, first, inc, beams, 6.0, fan);
+      ASSERT_EQ(fan.size(), static_cast<std::size_t>(beams));
+      for (int i = 0; i < beams; ++i)
+        ASSERT_EQ(fan[static_cast<std::size_t>(i)], w.rayDistance(p, first + i * inc, 6.0, true))
+            << "seed " << seed << ", beam " << i << " of " << beams;
+    }
+  }
+}
+
+TEST(PhysicsWorld, LinesOfSightToOnePointEqualSingleLinesBitForBit) {
+  std::size_t blocked = 0, total = 0;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const Scenario s = clutter(seed, 200);
+    PhysicsWorld w(s);
+    std::vector<Vec2> from;
+    for (std::size_t i = 0; i < w.personCount(); ++i) from.push_back(toVec(w.person(i).GetPosition()));
+    from.push_back(Vec2(-2.0, 0.0));   // on the inner wall
+    from.push_back(Vec2(0.0, 0.0));    // the target itself
+    std::vector<char> visible;
+    const Vec2 target = toVec(w.robot().GetPosition());
+    w.linesOfSightTo(target, from, visible);
+    ASSERT_EQ(visible.size(), from.size());
+    for (std::size_t i = 0; i < from.size(); ++i) {
+      ASSERT_EQ(visible[i] != 0, w.lineOfSight(from[i], target)) << "seed " << seed << ", point " << i;
+      blocked += visible[i] ? 0 : 1;
+      ++total;
+    }
+  }
+  EXPECT_GT(blocked, total / 10);  // the clutter hides a good share
+  EXPECT_LT(blocked, total);
+}
+
+TEST(PhysicsWorld, ObstaclePointsFromTheGridEqualEveryShapeChecked) {
+  const Scenario s = clutter(3, 0);
+  PhysicsWorld w(s);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> x(-9.0, 9.0), y(-6.0, 6.0);
+  std::vector<Vec2> got;
+  for (int k = 0; k < 5000; ++k) {
+    const Vec2 p(x(rng), y(rng));  // inside and well outside the room
+    for (const double radius : {3.0, 1.0, 5.0}) {  // 5 m exceeds the grid's radius: the tree answers
+      std::vector<Vec2> expected;
+      for (const Shape& sh : s.shapes) {
+        const Vec2 c = sh.closestPoint(p);
+        if ((c - p).squaredNorm() <= radius * radius) expected.push_back(c);
+      }
+      w.closestObstaclePoints(p, radius, got);
+      ASSERT_EQ(got.size(), expected.size()) << p.transpose() << " r " << radius;
+      for (std::size_t i = 0; i < got.size(); ++i) ASSERT_EQ(got[i], expected[i]);
+    }
+  }
 }

@@ -1,6 +1,8 @@
 // The world and the manager in one process on memq://, driven through the step protocol.
 #include "hunav/channels.hpp"
 #include "hunav/manager/manager_node.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/planner_node.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
 #include <gtest/gtest.h>
@@ -9,11 +11,21 @@
 #include <hunav/robot_observation_t.hpp>
 #include <hunav/world_state_t.hpp>
 
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include <unistd.h>
 
 using namespace hunav;
 using hunav::worldsim::WorldOptions;
 using hunav::worldsim::WorldSim;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -175,4 +187,269 @@ TEST(WorldSim, StopFlagEndsTheEpisodeAsAborted) {
   const auto r = world.runEpisode();
   EXPECT_EQ(r.status, "aborted");
   EXPECT_EQ(r.ticks, 1);  // the initial state is still published
+}
+
+namespace {
+
+// A test-only manager: every person keeps the velocity given here (default: stands still).
+class FixedVelocityManager {
+ public:
+  explicit FixedVelocityManager(Bus& bus, Vec2 velocity = Vec2::Zero()) : bus_(bus), velocity_(std::move(velocity)) {
+    bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) {
+      step_reply_t reply{};
+      reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
+      reply.seq = r.seq;
+      reply.episode = r.episode;
+      reply.agents = r.agents;
+      reply.num_agents = r.num_agents;
+      for (agent_state_t& a : reply.agents) {
+        a.utime = reply.utime;
+        a.vx = velocity_.x();
+        a.vy = velocity_.y();
+      }
+      bus_.publish(channels::kStepReply, reply);
+    });
+  }
+
+ private:
+  Bus& bus_;
+  Vec2 velocity_;
+};
+
+// A test-only planner that sends one fixed command and keeps the observations it answered.
+class FixedCommand {
+ public:
+  FixedCommand(Bus& bus, double v, double vy, double w) : bus_(bus) {
+    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, v, vy, w](const robot_observation_t& o) {
+      observations.push_back(o);
+      robot_command_t c{};
+      c.utime = o.utime;
+      c.seq = o.seq;
+      c.episode = o.episode;
+      c.v = v;
+      c.vy = vy;
+      c.w = w;
+      bus_.publish(channels::kRobotCommand, c);
+    });
+  }
+  std::vector<robot_observation_t> observations;
+
+ private:
+  Bus& bus_;
+};
+
+AgentConfig person(int id, const Vec2& at) {
+  AgentConfig a;
+  a.id = id;
+  a.name = "p" + std::to_string(id);
+  a.position = at;
+  a.radius = 0.3;
+  return a;
+}
+
+}  // namespace
+
+TEST(WorldSim, HolonomicRobotStrafesWithinItsLimits) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  FixedCommand planner(bus, 0.0, 0.3, 0.0);  // sideways to the left at 0.3 m/s
+  Collector out(bus);
+  Scenario s = passing();
+  s.agents.clear();
+  s.robot.drive = RobotDrive::Holonomic;
+  s.robot.limits.max_vy = 0.6;
+  s.robot.limits.max_acc_vy = 1.0;
+  s.time_limit = 1.0;
+  WorldSim world(bus, s, fastOptions("test"));
+  const auto r = world.runEpisode();
+  bus.handleAvailable();
+  ASSERT_EQ(r.status, "time_limit") << r.reason;
+  ASSERT_EQ(out.states.size(), 101u);
+  // vy grows by max_acc_vy * dt = 0.01 m/s per tick up to 0.3 at tick 30, then holds: after 100 ticks
+  // y = 0.01 * (0.01 + 0.02 + ... + 0.30) + 70 * 0.3 * 0.01 = 0.0465 + 0.21 = 0.2565 m.
+  const agent_state_t& robot = out.states.back().robot;
+  EXPECT_NEAR(robot.y, 0.2565, 1e-4);
+  EXPECT_NEAR(robot.x, 0.0, 1e-6);
+  EXPECT_NEAR(robot.yaw, 0.0, 1e-6);
+  EXPECT_NEAR(robot.vy, 0.3, 1e-5);
+  // A differential drive ignores vy.
+  Collector out_diff(bus);
+  s.robot.drive = RobotDrive::Differential;
+  WorldSim diff(bus, s, fastOptions("test"));
+  EXPECT_EQ(diff.runEpisode().status, "time_limit");
+  bus.handleAvailable();
+  EXPECT_NEAR(out_diff.states.back().robot.y, 0.0, 1e-9);
+}
+
+TEST(WorldSim, PeopleBehindWallsOrOutsideTheFieldOfViewAreNotDetected) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  FixedVelocityManager manager(bus);
+  FixedCommand planner(bus, 0.0, 0.0, 0.0);
+  Scenario s = passing();
+  s.agents = {person(1, Vec2(3, 0)),       // ahead: seen
+              person(2, Vec2(-1.5, 0)),    // behind the robot: outside +-45 deg
+              person(3, Vec2(2, 1.8)),     // 42 deg: inside, seen
+              person(4, Vec2(4, 1.5)),     // 20.6 deg, but the segment to it crosses the wall below
+              person(5, Vec2(9.5, -0.5))}; // 9.5 m: beyond the range
+  Shape wall;  // x = 3, y 0.8..1.6: the line from (0, 0) to (4, 1.5) crosses it at y = 1.125
+  wall.kind = Shape::Kind::Polyline;
+  wall.points = {Vec2(3, 0.8), Vec2(3, 1.6)};
+  s.shapes.push_back(wall);
+  s.robot.perception_fov = kPi / 2;
+  s.robot.perception_range = 8.0;
+  s.time_limit = 0.05;
+  WorldSim world(bus, s, fastOptions("test"));
+  ASSERT_EQ(world.runEpisode().status, "time_limit");
+  ASSERT_FALSE(planner.observations.empty());
+  const robot_observation_t& o = planner.observations.front();
+  std::set<int> seen;
+  for (const detected_person_t& p : o.people) seen.insert(p.id);
+  EXPECT_EQ(seen, (std::set<int>{1, 3}));
+  ASSERT_EQ(o.num_people, 2);
+  EXPECT_DOUBLE_EQ(o.people[0].x, 3.0 + 0.0 * o.people[0].y);  // no noise by default
+  EXPECT_NEAR(o.people[0].x, 3.0, 1e-6);
+
+  // Seeded noise on the detections: the same seed gives the same noise, the truth is off by it.
+  auto noisy = [&](std::uint64_t seed) {
+    lcm::LCM lcm2("memq://");
+    Bus bus2(lcm2);
+    FixedVelocityManager manager2(bus2);
+    FixedCommand planner2(bus2, 0.0, 0.0, 0.0);
+    Scenario n = s;
+    n.seed = seed;
+    n.robot.perception_noise_std = 0.1;
+    WorldSim w(bus2, n, fastOptions("test"));
+    w.runEpisode();
+    return planner2.observations.front().people.front();
+  };
+  const detected_person_t a = noisy(7), b = noisy(7), c = noisy(8);
+  EXPECT_EQ(a.x, b.x);
+  EXPECT_EQ(a.vy, b.vy);
+  EXPECT_NE(a.x, c.x);
+  EXPECT_NE(a.x, 3.0);
+  EXPECT_LT(std::abs(a.x - 3.0), 0.5);  // 5 standard deviations
+}
+
+TEST(WorldSim, ContactsAreCountedPerEpisode) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  FixedVelocityManager manager(bus, Vec2(-1.0, 0.0));  // everybody walks -x at 1 m/s
+  FixedCommand planner(bus, 0.0, 0.0, 0.0);            // the robot stands
+  Collector out(bus);
+  Scenario s = passing();
+  s.agents = {person(1, Vec2(2.0, 0.1)), person(2, Vec2(6.0, 1.2))};  // 1 runs into the robot, 2 passes by
+  s.time_limit = 3.0;  // person 1 touches after 1.4 s and keeps pushing: still one contact
+  WorldSim world(bus, s, fastOptions("test"));
+  const auto first = world.runEpisode();
+  bus.handleAvailable();
+  ASSERT_EQ(first.status, "time_limit") << first.reason;
+  std::uint64_t in_states = 0;
+  for (const world_state_t& w : out.states) {
+    in_states += static_cast<std::uint64_t>(w.num_collisions);
+    for (const collision_t& c : w.collisions) {
+      const std::set<int> kinds{c.kind_a, c.kind_b}, ids{c.id_a, c.id_b};
+      EXPECT_EQ(kinds, (std::set<int>{collision_t::BODY_ROBOT, collision_t::BODY_PERSON}));
+      EXPECT_EQ(ids, (std::set<int>{0, 1}));
+      const int by_person = c.kind_a == collision_t::BODY_PERSON ? int{collision_t::BY_A} : int{collision_t::BY_B};
+      EXPECT_EQ(c.caused_by, by_person);  // the person walked into the standing robot
+      EXPECT_NEAR(c.normal_speed, 1.0, 0.05);
+    }
+  }
+  EXPECT_EQ(first.collisions, 1u);
+  EXPECT_EQ(in_states, first.collisions);
+  // The next episode counts from zero.
+  const auto second = world.runEpisode();
+  EXPECT_EQ(second.collisions, 1u);
+}
+
+namespace {
+
+// The passing scenario with random uniform agent parameters, so the seed changes the people's walk.
+fs::path seededPassing() {
+  std::ifstream in(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (std::size_t at; (at = text.find("configuration: 0")) != std::string::npos;) text.replace(at, 16, "configuration: 3");
+  const fs::path p = fs::temp_directory_path() / ("hunav_seeded_passing_" + std::to_string(getpid()) + ".yaml");
+  std::ofstream(p) << text;
+  return p;
+}
+
+Scenario seededPassing(long long seed) {
+  const fs::path file = seededPassing();
+  Scenario s = loadScenario(file.string(), seed);
+  fs::remove(file);
+  s.time_limit = 3.0;
+  return s;
+}
+
+// The encoded world states of one episode with the episode counter blanked.
+std::vector<std::vector<std::uint8_t>> streamOf(Bus& bus, const std::vector<world_state_t>& states, std::int64_t episode) {
+  std::vector<std::vector<std::uint8_t>> out;
+  for (world_state_t w : states) {
+    if (w.episode != episode) continue;
+    w.episode = 0;
+    out.push_back(bus.encode(w));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(WorldSim, SecondEpisodeOfARunEqualsAFreshEpisodeWithItsSeed) {
+  std::vector<std::vector<std::uint8_t>> second, fresh;
+  worldsim::EpisodeResult r1, r2, rf;
+  {
+    lcm::LCM lcm("memq://");
+    Bus bus(lcm);
+    manager::ManagerNode manager(bus);
+    PointAtGoal planner(bus);
+    Collector out(bus);
+    WorldSim world(bus, seededPassing(5), fastOptions("test"));
+    r1 = world.runEpisode();
+    r2 = world.runEpisode(seededPassing(6), "");
+    bus.handleAvailable();
+    second = streamOf(bus, out.states, 2);
+  }
+  {
+    lcm::LCM lcm("memq://");
+    Bus bus(lcm);
+    manager::ManagerNode manager(bus);
+    PointAtGoal planner(bus);
+    Collector out(bus);
+    WorldSim world(bus, seededPassing(6), fastOptions("test"));
+    rf = world.runEpisode();
+    bus.handleAvailable();
+    fresh = streamOf(bus, out.states, 1);
+  }
+  EXPECT_EQ(r1.run_id, "passing_test_s5");
+  EXPECT_EQ(r2.run_id, "passing_test_s6");
+  EXPECT_EQ(r2.seed, 6u);
+  EXPECT_NE(r1.fingerprint, r2.fingerprint);  // the seed matters to this scenario
+  ASSERT_EQ(second.size(), 301u);
+  ASSERT_EQ(second.size(), fresh.size());
+  for (std::size_t i = 0; i < second.size(); ++i) ASSERT_EQ(second[i], fresh[i]) << "tick " << i;
+  EXPECT_EQ(r2.ticks, rf.ticks);
+  EXPECT_EQ(r2.collisions, rf.collisions);
+}
+
+TEST(WorldSim, PassingRunWithDwbKeepsItsFingerprintUnderOnePercentLoss) {
+  auto run = [](double loss) {
+    Bus bus(Bus::InProcess{});
+    bus.setOutgoingLossForTesting(loss, 2024);
+    const Scenario s = passing();
+    manager::ManagerNode manager(bus);
+    planners::PlannerNode planner(bus, planners::createPlanner("dwb", s, nullptr));
+    WorldOptions o = fastOptions("dwb");
+    o.resend_after = std::chrono::milliseconds(1);
+    WorldSim world(bus, s, o);
+    const auto r = world.runEpisode();
+    EXPECT_EQ(r.status, "goal_reached") << r.reason;
+    if (loss > 0) {
+      EXPECT_GT(bus.lostForTesting(), 20u);  // about 1% of some 6000 requests and replies
+      EXPECT_GT(world.resends(), 0u);
+    }
+    return r.fingerprint;
+  };
+  EXPECT_EQ(run(0.0), run(0.01));
 }

@@ -3,6 +3,7 @@
 #include "hunav/channels.hpp"
 #include "hunav/message_checks.hpp"
 #include "hunav/worldsim/diff_drive.hpp"
+#include "hunav/worldsim/sensors.hpp"
 
 #include <hunav/episode_event_t.hpp>
 #include <hunav/nav_goal_t.hpp>
@@ -47,34 +48,43 @@ agent_state_t initialAgentState(const AgentConfig& a) {
 }
 
 void setObstacles(agent_state_t& s, const std::vector<Vec2>& points) {
-  s.obstacles.clear();
-  for (const Vec2& p : points) s.obstacles.push_back(point2d_t{p.x(), p.y()});
+  s.obstacles.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) s.obstacles[i] = point2d_t{points[i].x(), points[i].y()};
   s.num_obstacles = static_cast<int32_t>(s.obstacles.size());
+}
+
+// One random stream per purpose, seeded by the scenario seed and the purpose's tag.
+void seedStream(std::mt19937_64& rng, std::uint64_t seed, std::uint32_t purpose) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), purpose};
+  rng.seed(seq);
 }
 
 }  // namespace
 
-WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
-    : bus_(bus), scenario_(std::move(scenario)), options_(std::move(options)) {
-  dt_us_ = static_cast<std::int64_t>(std::llround(scenario_.dt * 1e6));
-  control_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (scenario_.robot.control_rate * scenario_.dt))));
-  if (options_.run_id.empty())
-    options_.run_id = scenario_.name + "_" + options_.planner + "_s" + std::to_string(scenario_.seed);
+WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options) : bus_(bus), options_(std::move(options)) {
+  configure(std::move(scenario), options_.run_id);
   bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
   bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
 }
 
 WorldSim::~WorldSim() = default;
 
+void WorldSim::configure(Scenario scenario, std::string run_id) {
+  physics_.reset();  // it refers to the scenario being replaced
+  scenario_ = std::move(scenario);
+  dt_us_ = static_cast<std::int64_t>(std::llround(scenario_.dt * 1e6));
+  control_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (scenario_.robot.control_rate * scenario_.dt))));
+  options_.run_id = run_id.empty() ? scenario_.name + "_" + options_.planner + "_s" + std::to_string(scenario_.seed)
+                                   : std::move(run_id);
+}
+
 void WorldSim::reset() {
   physics_ = std::make_unique<PhysicsWorld>(scenario_);
   agents_.clear();
   for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a));
-  robot_v_ = robot_w_ = cmd_v_ = cmd_w_ = 0.0;
-  // One random stream per purpose, seeded by the scenario seed.
-  std::seed_seq laser_seed{static_cast<std::uint32_t>(scenario_.seed), static_cast<std::uint32_t>(scenario_.seed >> 32),
-                           0x6c61u /* "la": laser noise stream */};
-  laser_rng_.seed(laser_seed);
+  robot_v_ = robot_vy_ = robot_w_ = cmd_v_ = cmd_vy_ = cmd_w_ = 0.0;
+  seedStream(laser_rng_, scenario_.seed, 0x6c61u /* "la": laser noise */);
+  seedStream(perception_rng_, scenario_.seed, 0x7065u /* "pe": people detection noise */);
   tick_ = 0;
   time_us_ = 0;
   step_seq_ = 0;
@@ -86,6 +96,9 @@ void WorldSim::reset() {
 
 void WorldSim::sense() {
   const Vec2 robot_pos = toVec(physics_->robot().GetPosition());
+  positions_.resize(agents_.size());
+  for (std::size_t i = 0; i < agents_.size(); ++i) positions_[i] = toVec(physics_->person(i).GetPosition());
+  physics_->linesOfSightTo(robot_pos, positions_, in_sight_);
   for (std::size_t i = 0; i < agents_.size(); ++i) {
     agent_state_t& s = agents_[i];
     const b2Body& body = physics_->person(i);
@@ -100,10 +113,11 @@ void WorldSim::sense() {
     s.vyaw = body.GetAngularVelocity();
     s.linear_vel = v.norm();
     s.angular_vel = s.vyaw;
-    setObstacles(s, physics_->closestObstaclePoints(p, scenario_.obstacle_radius));
-    s.robot_in_sight = physics_->lineOfSight(p, robot_pos);
+    physics_->closestObstaclePoints(p, scenario_.obstacle_radius, obstacle_scratch_);
+    setObstacles(s, obstacle_scratch_);
+    s.robot_in_sight = in_sight_[i] != 0;
   }
-  robot_obstacles_ = physics_->closestObstaclePoints(robot_pos, scenario_.obstacle_radius);
+  physics_->closestObstaclePoints(robot_pos, scenario_.obstacle_radius, robot_obstacles_);
   robot_state_ = robotState();
 }
 
@@ -169,9 +183,13 @@ void WorldSim::onCommand(const robot_command_t& cmd) {
   if (cmd.episode != episode_) return;
   checkFinite(cmd.v, "v", "robot command");
   checkFinite(cmd.w, "w", "robot command");
+  // vy only moves a holonomic base; a differential-drive planner may leave it unset.
+  const bool holonomic = scenario_.robot.drive == RobotDrive::Holonomic;
+  if (holonomic) checkFinite(cmd.vy, "vy", "robot command");
   // Lockstep: only the answer to the pending observation. Realtime: the latest command wins.
   if (options_.mode != "realtime" && (cmd.seq != obs_seq_ || command_arrived_)) return;
   cmd_v_ = cmd.v;
+  cmd_vy_ = holonomic ? cmd.vy : 0.0;
   cmd_w_ = cmd.w;
   command_arrived_ = true;
 }
@@ -257,30 +275,25 @@ robot_observation_t WorldSim::observation() {
   obs.goal.yaw = rc.goal_yaw;
   obs.goal.radius = rc.goal_radius;
 
-  const LaserConfig& laser = rc.laser;
-  laser_scan_t& scan = obs.scan;
-  scan.utime = time_us_;
-  scan.sensor_x = p.x();
-  scan.sensor_y = p.y();
-  scan.sensor_yaw = yaw;
-  const bool full_circle = laser.fov >= 2.0 * kPi - 1e-9;
-  scan.angle_min = full_circle ? -kPi : -laser.fov / 2.0;
-  scan.angle_increment = laser.beams > 1 ? laser.fov / (full_circle ? laser.beams : laser.beams - 1) : 0.0;
-  scan.range_min = laser.range_min;
-  scan.range_max = laser.range_max;
-  scan.num_ranges = laser.beams;
-  scan.ranges.resize(static_cast<std::size_t>(laser.beams));
-  std::normal_distribution<double> noise(0.0, laser.noise_std);
-  for (int i = 0; i < laser.beams; ++i) {
-    double r = physics_->rayDistance(p, yaw + scan.angle_min + i * scan.angle_increment, laser.range_max, true);
-    if (laser.noise_std > 0.0 && r < laser.range_max) r += noise(laser_rng_);
-    scan.ranges[static_cast<std::size_t>(i)] = static_cast<float>(std::clamp(r, laser.range_min, laser.range_max));
-  }
+  obs.scan.utime = time_us_;
+  laserScan(*physics_, p, yaw, rc.laser, laser_rng_, obs.scan);
 
+  // People within range and field of view, and not hidden behind static geometry (the line of sight
+  // sensed this tick between the person and the robot).
+  const bool full_circle = rc.perception_fov >= 2.0 * kPi - 1e-9;
+  std::normal_distribution<double> noise(0.0, rc.perception_noise_std);
   for (const agent_state_t& a : agents_) {
     const Vec2 ap(a.x, a.y);
     if ((ap - p).norm() > rc.perception_range || !a.robot_in_sight) continue;
-    obs.people.push_back(detected_person_t{a.id, a.x, a.y, a.yaw, a.vx, a.vy, a.radius});
+    if (!full_circle && std::abs(normalizeAngle(angleOf(ap - p) - yaw)) > rc.perception_fov / 2.0) continue;
+    detected_person_t d{a.id, a.x, a.y, a.yaw, a.vx, a.vy, a.radius};
+    if (rc.perception_noise_std > 0.0) {
+      d.x += noise(perception_rng_);
+      d.y += noise(perception_rng_);
+      d.vx += noise(perception_rng_);
+      d.vy += noise(perception_rng_);
+    }
+    obs.people.push_back(d);
   }
   obs.num_people = static_cast<int32_t>(obs.people.size());
   return obs;
@@ -320,10 +333,17 @@ void WorldSim::applyReply(const step_reply_t& reply) {
 }
 
 void WorldSim::driveRobot() {
-  applyLimits(scenario_.robot.limits, scenario_.dt, cmd_v_, cmd_w_, robot_v_, robot_w_);
+  const RobotConfig& rc = scenario_.robot;
   b2Body& body = physics_->robot();
   const Pose2 now{body.GetPosition().x, body.GetPosition().y, body.GetAngle()};
-  const Pose2 next = driveArc(now, robot_v_, robot_w_, scenario_.dt);
+  Pose2 next;
+  if (rc.drive == RobotDrive::Holonomic) {
+    applyHolonomicLimits(rc.limits, scenario_.dt, cmd_v_, cmd_vy_, cmd_w_, robot_v_, robot_vy_, robot_w_);
+    next = driveHolonomic(now, robot_v_, robot_vy_, robot_w_, scenario_.dt);
+  } else {
+    applyLimits(rc.limits, scenario_.dt, cmd_v_, cmd_w_, robot_v_, robot_w_);
+    next = driveArc(now, robot_v_, robot_w_, scenario_.dt);
+  }
   // Box2D integrates position += v * dt: this velocity lands the body on the exact arc.
   body.SetLinearVelocity(b2Vec2(static_cast<float>((next.x - now.x) / scenario_.dt),
                                 static_cast<float>((next.y - now.y) / scenario_.dt)));
@@ -334,6 +354,11 @@ bool WorldSim::robotAtGoal() const {
   const RobotConfig& rc = scenario_.robot;
   if (!rc.has_goal) return false;
   return (toVec(physics_->robot().GetPosition()) - rc.goal).norm() <= rc.goal_radius;
+}
+
+EpisodeResult WorldSim::runEpisode(Scenario scenario, std::string run_id) {
+  configure(std::move(scenario), std::move(run_id));
+  return runEpisode();
 }
 
 EpisodeResult WorldSim::runEpisode() {
@@ -403,6 +428,8 @@ EpisodeResult WorldSim::runEpisode() {
   result.wall_time = std::chrono::duration<double>(Clock::now() - wall_start).count();
   result.fingerprint = fingerprint_.hex();
   result.collisions = collisions_;
+  result.run_id = options_.run_id;
+  result.seed = scenario_.seed;
 
   ev.utime = time_us_;
   ev.event = episode_event_t::END;

@@ -45,11 +45,13 @@ struct AgentConfig {
 };
 
 struct RobotLimits {
-  double max_v = 0.6;      // m/s
-  double min_v = 0.0;      // m/s
+  double max_v = 0.6;      // m/s, forward (x of the robot frame)
+  double min_v = 0.0;      // m/s (negative allows reversing)
   double max_w = 1.2;      // rad/s
   double max_acc_v = 1.0;  // m/s^2
   double max_acc_w = 2.5;  // rad/s^2
+  double max_vy = 0.6;     // m/s, lateral (y of the robot frame), holonomic drive only: |vy| <= max_vy
+  double max_acc_vy = 1.0; // m/s^2, holonomic drive only
 };
 
 struct LaserConfig {
@@ -60,9 +62,16 @@ struct LaserConfig {
   double noise_std = 0.0;   // m, Gaussian, seeded
 };
 
+enum class RobotShape { Circle, Box };
+enum class RobotDrive { Differential, Holonomic };
+
 struct RobotConfig {
   int id = 0;
-  double radius = 0.3;
+  RobotShape shape = RobotShape::Circle;
+  double radius = 0.3;  // m; for a box, its half diagonal (the circle that contains it)
+  double length = 0.0;  // m, box only: extent along the heading
+  double width = 0.0;   // m, box only: extent across the heading
+  RobotDrive drive = RobotDrive::Differential;
   Vec2 start = Vec2::Zero();
   double start_yaw = 0.0;
   bool has_goal = false;
@@ -71,8 +80,10 @@ struct RobotConfig {
   double goal_radius = 0.3;
   RobotLimits limits;
   LaserConfig laser;
-  double perception_range = 8.0;  // m, people detections
-  double control_rate = 10.0;     // Hz of simulation time
+  double perception_range = 8.0;      // m, people detections
+  double perception_fov = 2.0 * kPi;  // rad, centred on the robot heading
+  double perception_noise_std = 0.0;  // m (position) and m/s (velocity) of a detection, Gaussian, seeded
+  double control_rate = 10.0;         // Hz of simulation time
 };
 
 struct Scenario {
@@ -82,7 +93,7 @@ struct Scenario {
   double time_limit = 60.0;    // s of simulation time
   std::uint64_t seed = 1;
   double obstacle_radius = 3.0;  // m, static shapes closer than this feed an agent's obstacle force
-  std::vector<Shape> shapes;   // static geometry
+  std::vector<Shape> shapes;   // static geometry (map_server maps become rectangles here)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
 
@@ -93,6 +104,11 @@ struct Scenario {
 // Loads and validates a scenario file. Throws ConfigError("file:line: key: what").
 // `seed_override` >= 0 replaces the file's seed (it drives the random agent parameters too).
 Scenario loadScenario(const std::string& path, long long seed_override = -1);
+
+// Reads a ROS map_server map (`.yaml` with image, resolution, origin, negate, occupied_thresh,
+// free_thresh, mode + a PGM image, P5 or P2, relative to the yaml) and returns its occupied cells merged
+// into rectangles (closed polygons, counter-clockwise from the lower left corner). Throws ConfigError.
+std::vector<Shape> loadOccupancyMap(const std::string& yaml_path);
 
 // Loads a HuNavSim agents file (v1 integer behavior or v1.5 behavior mapping).
 // `seed` drives the random configuration modes (with each agent's id).

@@ -39,7 +39,9 @@ struct EpisodeResult {
   double sim_time = 0.0;   // s
   double wall_time = 0.0;  // s
   std::string fingerprint;
-  std::uint64_t collisions = 0;
+  std::uint64_t collisions = 0;  // contact events of the episode (the sum over its world states)
+  std::string run_id;
+  std::uint64_t seed = 0;
   bool ended() const { return status == "goal_reached" || status == "time_limit"; }
 };
 
@@ -51,11 +53,16 @@ class WorldSim {
   // Runs one episode from the scenario's initial state; every call is a fresh world and a new
   // episode number.
   EpisodeResult runEpisode();
+  // Runs the next episode on another scenario (typically the same file loaded with the next seed) under
+  // its own run id (empty: <scenario>_<planner>_s<seed>). Nothing of earlier episodes carries over but
+  // the episode counter.
+  EpisodeResult runEpisode(Scenario scenario, std::string run_id);
 
   const Scenario& scenario() const { return scenario_; }
   std::uint64_t resends() const { return resends_; }
 
  private:
+  void configure(Scenario scenario, std::string run_id);
   void reset();
   void sense();
   agent_state_t robotState() const;
@@ -86,10 +93,14 @@ class WorldSim {
   world_state_t world_state_;
   std::vector<std::uint8_t> request_bytes_;
   std::vector<std::uint8_t> observation_bytes_;
-  double robot_v_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at
-  double cmd_v_ = 0.0, cmd_w_ = 0.0;      // last command
+  double robot_v_ = 0.0, robot_vy_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at (robot frame)
+  double cmd_v_ = 0.0, cmd_vy_ = 0.0, cmd_w_ = 0.0;        // last command
   std::vector<Vec2> robot_obstacles_;
+  std::vector<Vec2> obstacle_scratch_;
+  std::vector<Vec2> positions_;  // of the people, this tick
+  std::vector<char> in_sight_;
   std::mt19937_64 laser_rng_;
+  std::mt19937_64 perception_rng_;
 
   std::int64_t episode_ = 0;
   std::int64_t tick_ = 0;

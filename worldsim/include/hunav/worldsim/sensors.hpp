@@ -1,0 +1,19 @@
+#pragma once
+// The robot's laser, by ray casts in the physics world (static geometry and people).
+#include "hunav/scenario.hpp"
+#include "hunav/worldsim/physics_world.hpp"
+
+#include <hunav/laser_scan_t.hpp>
+
+#include <random>
+
+namespace hunav::worldsim {
+
+// Fills `scan` (utime left to the caller) for a sensor at `position` facing `yaw`, the robot's own
+// body ignored. A full circle spreads the beams over [-pi, pi); a narrower field of view spans
+// [-fov/2, fov/2] with both ends included. Hits get Gaussian noise (laser.noise_std, drawn from `rng`
+// in beam order), then every range is clamped to [range_min, range_max].
+void laserScan(const PhysicsWorld& physics, const Vec2& position, double yaw, const LaserConfig& laser,
+               std::mt19937_64& rng, laser_scan_t& scan);
+
+}  // namespace hunav::worldsim
