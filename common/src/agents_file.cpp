@@ -1,10 +1,13 @@
-// HuNavSim's agents YAML (reference section 4): v1 (integer `behavior`) and v1.5 (`behavior:` mapping).
+// HuNavSim's agents YAML (reference section 4): v1 (integer `behavior`) and v1.5 (`behavior:` mapping),
+// plus our seeded people generator (`generate:`) for crowds.
 #include "hunav/agents_file.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <set>
+#include <unordered_map>
 
 namespace hunav {
 
@@ -84,96 +87,321 @@ Vec2 readPoint(const YamlReader& yr, const YAML::Node& map, const std::string& w
   return Vec2(yr.get<double>(map, "x", where), yr.get<double>(map, "y", where));
 }
 
+
+// An agent's `behavior` key (absent: regular with its defaults), into a.behavior and a.params.
+// Reads a.max_vel and a.id, so those must be set first.
+void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& aw, std::uint64_t seed, AgentConfig& a) {
+  // behavior: v1 integer, v1.5 mapping, v2 type string
+  const YAML::Node beh = yr.child(m, "behavior", aw, false);
+  const std::string bw = YamlReader::join(aw, "behavior");
+  // (Initialised once: assigning one YAML::Node to another overwrites the node it refers to.)
+  const bool beh_is_map = beh && beh.IsMap();
+  const YAML::Node type_node = beh_is_map ? yr.child(beh, "type", bw, true) : beh;
+  const std::string type_key = beh_is_map ? YamlReader::join(bw, "type") : bw;
+  if (type_node) {
+    int code = 0;
+    try {
+      code = type_node.as<int>();
+    } catch (const YAML::BadConversion&) {
+      code = type_node.IsScalar() ? behaviorFromName(type_node.Scalar()) : 0;
+    }
+    if (code < 1 || code > 6) yr.fail(type_node, type_key, "behavior must be 1..6 or a behavior name");
+    a.behavior = code;
+  }
+  a.params = defaultParams(a.behavior, a.max_vel);
+  if (beh_is_map) {
+    BehaviorParams& p = a.params;
+    p.configuration = yr.get<int>(beh, "configuration", bw, 0);
+    if (p.configuration < 0 || p.configuration > 3)
+      yr.fail(beh["configuration"], YamlReader::join(bw, "configuration"), "must be 0..3");
+    if (p.configuration == 1) {  // custom: the file's values
+      p.duration = yr.get<double>(beh, "duration", bw, p.duration);
+      p.once = yr.get<bool>(beh, "once", bw, p.once);
+      p.vel = std::clamp(yr.get<double>(beh, "vel", bw, p.vel), 0.0, 1.8);
+      p.dist = yr.get<double>(beh, "dist", bw, p.dist);
+      p.goal_force_factor = yr.get<double>(beh, "goal_force_factor", bw, p.goal_force_factor);
+      p.obstacle_force_factor = yr.get<double>(beh, "obstacle_force_factor", bw, p.obstacle_force_factor);
+      p.social_force_factor = yr.get<double>(beh, "social_force_factor", bw, p.social_force_factor);
+      p.other_force_factor = yr.get<double>(beh, "other_force_factor", bw, p.other_force_factor);
+    } else if (p.configuration >= 2) {
+      p.once = yr.get<bool>(beh, "once", bw, p.once);
+      drawRandomParams(p, a.behavior, seed, a.id);
+    }
+    if (p.duration < 0.0) yr.fail(beh["duration"], YamlReader::join(bw, "duration"), "must be >= 0");
+  }
+}
+
+// `behavior_tree`, relative to the file that names it, not to wherever the run was started.
+std::string readTreePath(const YamlReader& yr, const YAML::Node& m, const std::string& aw) {
+  std::string tree = yr.get<std::string>(m, "behavior_tree", aw, "");
+  if (!tree.empty() && std::filesystem::path(tree).is_relative())
+    tree = (std::filesystem::path(yr.path()).parent_path() / tree).lexically_normal().string();
+  return tree;
+}
+
+AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, const std::string& pw,
+                            const std::string& name, std::uint64_t seed, std::set<int>& ids) {
+  AgentConfig a;
+  a.name = name;
+  const YAML::Node m = yr.child(params, a.name, pw, true);
+  const std::string aw = YamlReader::join(pw, a.name);
+  a.source_file = yr.path();
+  a.source_line = YamlReader::lineOf(m);
+  a.id = yr.get<int>(m, "id", aw);
+  if (a.id < 0) yr.fail(m["id"], YamlReader::join(aw, "id"), "must be >= 0");
+  if (!ids.insert(a.id).second) yr.fail(m["id"], YamlReader::join(aw, "id"), "id used by another agent");
+  a.skin = yr.get<int>(m, "skin", aw, 0);
+  a.group_id = yr.get<int>(m, "group_id", aw, -1);
+  a.max_vel = yr.get<double>(m, "max_vel", aw, 1.0);
+  if (a.max_vel < 0.0) yr.fail(m["max_vel"], YamlReader::join(aw, "max_vel"), "must be >= 0");
+  a.radius = yr.get<double>(m, "radius", aw, 0.35);
+  if (a.radius <= 0.0) yr.fail(m["radius"], YamlReader::join(aw, "radius"), "must be > 0");
+  a.goal_radius = yr.get<double>(m, "goal_radius", aw, 0.0);
+  if (a.goal_radius < 0.0) yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be >= 0");
+  a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
+  a.behavior_tree = readTreePath(yr, m, aw);
+
+  const YAML::Node pose = yr.child(m, "init_pose", aw, true);
+  const std::string posew = YamlReader::join(aw, "init_pose");
+  a.position = readPoint(yr, pose, posew);
+  a.yaw = yr.get<double>(pose, "h", posew, 0.0);
+
+  readBehavior(yr, m, aw, seed, a);
+
+  const YAML::Node goal_names = yr.child(m, "goals", aw, false);
+  if (goal_names) {
+    if (!goal_names.IsSequence()) yr.fail(goal_names, YamlReader::join(aw, "goals"), "expected a list of goal names");
+    for (const YAML::Node& g : goal_names) {
+      const std::string gname = yr.convert<std::string>(g, YamlReader::join(aw, "goals"));
+      a.goals.push_back(readPoint(yr, yr.child(m, gname, aw, true), YamlReader::join(aw, gname)));
+    }
+  }
+  return a;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The people generator (`generate:`): seeded random people, for crowds that no one writes by hand.
+// ---------------------------------------------------------------------------------------------------
+
+// A closed interval [lo, hi], written as a number (lo = hi) or as [lo, hi].
+struct Interval {
+  double lo = 0.0, hi = 0.0;
+};
+
+Interval readInterval(const YamlReader& yr, const YAML::Node& n, const std::string& key) {
+  Interval r;
+  if (n.IsSequence()) {
+    if (n.size() != 2) yr.fail(n, key, "expected a number or [low, high]");
+    r.lo = yr.convert<double>(n[0], key);
+    r.hi = yr.convert<double>(n[1], key);
+    if (r.lo > r.hi) yr.fail(n, key, "low must be <= high");
+  } else {
+    r.lo = r.hi = yr.convert<double>(n, key);
+  }
+  return r;
+}
+
+// An axis-aligned box {x: [x_lo, x_hi], y: [y_lo, y_hi]}; a single number pins that coordinate.
+struct Box {
+  Interval x, y;
+};
+
+Box readBox(const YamlReader& yr, const YAML::Node& n, const std::string& key) {
+  if (!n.IsMap()) yr.fail(n, key, "expected a box {x: [low, high], y: [low, high]}");
+  const Box b{readInterval(yr, yr.child(n, "x", key, true), YamlReader::join(key, "x")),
+              readInterval(yr, yr.child(n, "y", key, true), YamlReader::join(key, "y"))};
+  constexpr double kFar = 1e6;  // m: a world is not larger; keeps the placement grid's indices small
+  for (const double v : {b.x.lo, b.x.hi, b.y.lo, b.y.hi})
+    if (std::abs(v) > kFar) yr.fail(n, key, "coordinates must be within +-1e6 m");
+  return b;
+}
+
+std::vector<Box> readRoute(const YamlReader& yr, const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() == 0) yr.fail(n, key, "expected a non-empty list of boxes");
+  std::vector<Box> route;
+  for (const YAML::Node& b : n) route.push_back(readBox(yr, b, key));
+  return route;
+}
+
+// A circle people must not start in (the robot's start, a doorway...).
+struct KeepClear {
+  Vec2 center;
+  double radius;
+};
+
+// Bodies placed so far, in a uniform grid, so that a candidate is checked against its neighbours only.
+class PlacedBodies {
+ public:
+  void add(const Vec2& p, double radius) {
+    bodies_.push_back({p, radius});
+    cells_[key(cellOf(p.x()), cellOf(p.y()))].push_back(bodies_.size() - 1);
+    max_radius_ = std::max(max_radius_, radius);
+  }
+  // True when a body of `radius` at p keeps a gap >= spacing to every body placed.
+  bool clear(const Vec2& p, double radius, double spacing) const {
+    const double reach = radius + max_radius_ + spacing;
+    const long r = static_cast<long>(std::ceil(reach / kCell));
+    const long cx = cellOf(p.x()), cy = cellOf(p.y());
+    for (long ix = cx - r; ix <= cx + r; ++ix)
+      for (long iy = cy - r; iy <= cy + r; ++iy) {
+        const auto it = cells_.find(key(ix, iy));
+        if (it == cells_.end()) continue;
+        for (const std::size_t i : it->second) {
+          const double gap = (bodies_[i].first - p).norm() - bodies_[i].second - radius;
+          if (gap < spacing) return false;
+        }
+      }
+    return true;
+  }
+
+ private:
+  static constexpr double kCell = 1.0;  // m
+  static long cellOf(double v) { return static_cast<long>(std::floor(v / kCell)); }
+  static std::uint64_t key(long ix, long iy) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
+  }
+  std::vector<std::pair<Vec2, double>> bodies_;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells_;
+  double max_radius_ = 0.0;
+};
+
+// One `generate:` entry: `count` people with seeded start positions, goals and speeds. Appends them
+// to `agents`. `index` numbers the entries (each has its own random stream).
+void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string& gw, std::size_t index,
+                    std::uint64_t seed, const std::vector<Shape>& static_shapes, std::set<int>& ids,
+                    PlacedBodies& placed, std::vector<AgentConfig>& agents) {
+  if (!g.IsMap()) yr.fail(g, gw, "expected a mapping (count, region, goals or routes, ...)");
+  const int count = yr.get<int>(g, "count", gw);
+  if (count < 0 || count > 100000) yr.fail(g["count"], YamlReader::join(gw, "count"), "must be 0..100000");
+  const int first_id = yr.get<int>(g, "first_id", gw, ids.empty() ? 1 : *ids.rbegin() + 1);
+  if (first_id < 0) yr.fail(g["first_id"], YamlReader::join(gw, "first_id"), "must be >= 0");
+  const std::string prefix = yr.get<std::string>(g, "name_prefix", gw, "person");
+  const Box region = readBox(yr, yr.child(g, "region", gw, true), YamlReader::join(gw, "region"));
+
+  std::vector<std::vector<Box>> routes;
+  const YAML::Node goals = yr.child(g, "goals", gw, false);
+  const YAML::Node route_list = yr.child(g, "routes", gw, false);
+  if (goals && route_list) yr.fail(route_list, YamlReader::join(gw, "routes"), "give either goals or routes, not both");
+  if (goals) routes.push_back(readRoute(yr, goals, YamlReader::join(gw, "goals")));
+  if (route_list) {
+    if (!route_list.IsSequence() || route_list.size() == 0)
+      yr.fail(route_list, YamlReader::join(gw, "routes"), "expected a non-empty list of routes (lists of boxes)");
+    for (const YAML::Node& r : route_list) routes.push_back(readRoute(yr, r, YamlReader::join(gw, "routes")));
+  }
+
+  const YAML::Node vel_node = yr.child(g, "max_vel", gw, false);
+  const Interval max_vel = vel_node ? readInterval(yr, vel_node, YamlReader::join(gw, "max_vel")) : Interval{1.0, 1.0};
+  if (max_vel.lo < 0.0) yr.fail(vel_node, YamlReader::join(gw, "max_vel"), "must be >= 0");
+  const double radius = yr.get<double>(g, "radius", gw, 0.35);
+  if (radius <= 0.0 || radius > 10.0) yr.fail(g["radius"], YamlReader::join(gw, "radius"), "must be in (0, 10] m");
+  const double goal_radius = yr.get<double>(g, "goal_radius", gw, 0.3);
+  if (goal_radius < 0.0) yr.fail(g["goal_radius"], YamlReader::join(gw, "goal_radius"), "must be >= 0");
+  const double spacing = yr.get<double>(g, "min_spacing", gw, 0.1);
+  if (spacing < 0.0 || spacing > 100.0) yr.fail(g["min_spacing"], YamlReader::join(gw, "min_spacing"), "must be in [0, 100] m");
+  const bool cyclic = yr.get<bool>(g, "cyclic_goals", gw, true);
+  const int group_id = yr.get<int>(g, "group_id", gw, -1);
+  const int skin = yr.get<int>(g, "skin", gw, 0);
+  const std::string tree = readTreePath(yr, g, gw);
+
+  std::vector<KeepClear> keep_clear;
+  if (const YAML::Node kc = yr.child(g, "keep_clear", gw, false)) {
+    const std::string kw = YamlReader::join(gw, "keep_clear");
+    if (!kc.IsSequence()) yr.fail(kc, kw, "expected a list of circles {x, y, radius}");
+    for (const YAML::Node& c : kc) {
+      const double r = yr.get<double>(c, "radius", kw);
+      if (r < 0.0) yr.fail(c["radius"], YamlReader::join(kw, "radius"), "must be >= 0");
+      keep_clear.push_back({readPoint(yr, c, kw), r});
+    }
+  }
+
+  // One stream per entry, from the scenario seed: the same seed places the same crowd.
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                    static_cast<std::uint32_t>(index), 0x67656eu /* "gen": people generator stream */};
+  std::mt19937_64 rng(seq);
+  auto uniform = [&](const Interval& i) {
+    return i.lo == i.hi ? i.lo : std::uniform_real_distribution<double>(i.lo, i.hi)(rng);
+  };
+  auto pointIn = [&](const Box& b) {
+    const double x = uniform(b.x);
+    return Vec2(x, uniform(b.y));
+  };
+  auto startIsFree = [&](const Vec2& p) {
+    for (const KeepClear& c : keep_clear)
+      if ((p - c.center).norm() < c.radius + radius + spacing) return false;
+    for (const Shape& sh : static_shapes)
+      if (sh.distance(p) < radius + spacing) return false;
+    return placed.clear(p, radius, spacing);
+  };
+
+  constexpr int kAttempts = 10000;  // per person: a region this crowded is a mistake in the file
+  for (int k = 0; k < count; ++k) {
+    AgentConfig a;
+    a.id = first_id + k;
+    a.name = prefix + std::to_string(a.id);
+    a.source_file = yr.path();
+    a.source_line = YamlReader::lineOf(g);
+    if (!ids.insert(a.id).second)
+      yr.fail(g, YamlReader::join(gw, "first_id"), "generated id " + std::to_string(a.id) + " is used by another agent");
+    int attempt = 0;
+    do {
+      if (++attempt > kAttempts)
+        yr.fail(g["region"], YamlReader::join(gw, "region"),
+                "no free start for person " + std::to_string(k + 1) + " of " + std::to_string(count) +
+                    " after " + std::to_string(kAttempts) + " tries: enlarge the region or lower count, radius or min_spacing");
+      a.position = pointIn(region);
+    } while (!startIsFree(a.position));
+    a.radius = radius;
+    placed.add(a.position, a.radius);
+    if (!routes.empty()) {
+      const std::vector<Box>& route =
+          routes[routes.size() == 1 ? 0 : std::uniform_int_distribution<std::size_t>(0, routes.size() - 1)(rng)];
+      for (const Box& b : route) a.goals.push_back(pointIn(b));
+    }
+    a.max_vel = uniform(max_vel);
+    // Facing the first goal: nobody starts by turning around.
+    a.yaw = a.goals.empty() ? 0.0 : angleOf(a.goals.front() - a.position);
+    a.goal_radius = goal_radius;
+    a.cyclic_goals = cyclic;
+    a.group_id = group_id;
+    a.skin = skin;
+    a.behavior_tree = tree;
+    readBehavior(yr, g, gw, seed, a);
+    agents.push_back(std::move(a));
+  }
+}
+
 }  // namespace
 
 std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc, const std::string& where,
-                                     std::uint64_t seed) {
-  const YAML::Node loader = yr.child(doc, "hunav_loader", where, true);
-  const std::string lw = YamlReader::join(where, "hunav_loader");
-  const YAML::Node params = yr.child(loader, "ros__parameters", lw, true);
-  const std::string pw = YamlReader::join(lw, "ros__parameters");
-  const YAML::Node names = yr.child(params, "agents", pw, true);
-  if (!names.IsSequence()) yr.fail(names, YamlReader::join(pw, "agents"), "expected a list of agent names");
-
+                                     std::uint64_t seed, const std::vector<Shape>& static_shapes) {
+  if (!doc.IsMap()) yr.fail(doc, where, "expected a mapping (hunav_loader: and/or generate:)");
+  const YAML::Node generate = yr.child(doc, "generate", where, false);
   std::vector<AgentConfig> agents;
   std::set<int> ids;
-  for (const YAML::Node& name_node : names) {
-    AgentConfig a;
-    a.name = yr.convert<std::string>(name_node, YamlReader::join(pw, "agents"));
-    const YAML::Node m = yr.child(params, a.name, pw, true);
-    const std::string aw = YamlReader::join(pw, a.name);
-    a.source_file = yr.path();
-    a.source_line = YamlReader::lineOf(m);
-    a.id = yr.get<int>(m, "id", aw);
-    if (a.id < 0) yr.fail(m["id"], YamlReader::join(aw, "id"), "must be >= 0");
-    if (!ids.insert(a.id).second) yr.fail(m["id"], YamlReader::join(aw, "id"), "id used by another agent");
-    a.skin = yr.get<int>(m, "skin", aw, 0);
-    a.group_id = yr.get<int>(m, "group_id", aw, -1);
-    a.max_vel = yr.get<double>(m, "max_vel", aw, 1.0);
-    if (a.max_vel < 0.0) yr.fail(m["max_vel"], YamlReader::join(aw, "max_vel"), "must be >= 0");
-    a.radius = yr.get<double>(m, "radius", aw, 0.35);
-    if (a.radius <= 0.0) yr.fail(m["radius"], YamlReader::join(aw, "radius"), "must be > 0");
-    a.goal_radius = yr.get<double>(m, "goal_radius", aw, 0.0);
-    if (a.goal_radius < 0.0) yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be >= 0");
-    a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
-    a.behavior_tree = yr.get<std::string>(m, "behavior_tree", aw, "");
-    if (!a.behavior_tree.empty() && std::filesystem::path(a.behavior_tree).is_relative())
-      // Relative to the file that names it, not to wherever the run was started.
-      a.behavior_tree = (std::filesystem::path(yr.path()).parent_path() / a.behavior_tree).lexically_normal().string();
-
-    const YAML::Node pose = yr.child(m, "init_pose", aw, true);
-    const std::string posew = YamlReader::join(aw, "init_pose");
-    a.position = readPoint(yr, pose, posew);
-    a.yaw = yr.get<double>(pose, "h", posew, 0.0);
-
-    // behavior: v1 integer, v1.5 mapping, v2 type string
-    const YAML::Node beh = yr.child(m, "behavior", aw, false);
-    const std::string bw = YamlReader::join(aw, "behavior");
-    // (Initialised once: assigning one YAML::Node to another overwrites the node it refers to.)
-    const bool beh_is_map = beh && beh.IsMap();
-    const YAML::Node type_node = beh_is_map ? yr.child(beh, "type", bw, true) : beh;
-    const std::string type_key = beh_is_map ? YamlReader::join(bw, "type") : bw;
-    if (type_node) {
-      int code = 0;
-      try {
-        code = type_node.as<int>();
-      } catch (const YAML::BadConversion&) {
-        code = type_node.IsScalar() ? behaviorFromName(type_node.Scalar()) : 0;
+  // Without a generator, the HuNavSim layout is required; with one, it is optional.
+  if (const YAML::Node loader = yr.child(doc, "hunav_loader", where, !generate)) {
+    const std::string lw = YamlReader::join(where, "hunav_loader");
+    const YAML::Node params = yr.child(loader, "ros__parameters", lw, true);
+    const std::string pw = YamlReader::join(lw, "ros__parameters");
+    const YAML::Node names = yr.child(params, "agents", pw, true);
+    if (!names.IsSequence()) yr.fail(names, YamlReader::join(pw, "agents"), "expected a list of agent names");
+    for (const YAML::Node& name_node : names)
+      agents.push_back(
+          readListedAgent(yr, params, pw, yr.convert<std::string>(name_node, YamlReader::join(pw, "agents")), seed, ids));
+  }
+  if (generate) {
+    const std::string gw = YamlReader::join(where, "generate");
+    PlacedBodies placed;
+    for (const AgentConfig& a : agents) placed.add(a.position, a.radius);
+    if (generate.IsSequence()) {
+      std::size_t index = 0;
+      for (const YAML::Node& g : generate) {
+        generatePeople(yr, g, gw + "[" + std::to_string(index) + "]", index, seed, static_shapes, ids, placed, agents);
+        ++index;
       }
-      if (code < 1 || code > 6) yr.fail(type_node, type_key, "behavior must be 1..6 or a behavior name");
-      a.behavior = code;
+    } else {
+      generatePeople(yr, generate, gw, 0, seed, static_shapes, ids, placed, agents);
     }
-    a.params = defaultParams(a.behavior, a.max_vel);
-    if (beh && beh.IsMap()) {
-      BehaviorParams& p = a.params;
-      p.configuration = yr.get<int>(beh, "configuration", bw, 0);
-      if (p.configuration < 0 || p.configuration > 3)
-        yr.fail(beh["configuration"], YamlReader::join(bw, "configuration"), "must be 0..3");
-      if (p.configuration == 1) {  // custom: the file's values
-        p.duration = yr.get<double>(beh, "duration", bw, p.duration);
-        p.once = yr.get<bool>(beh, "once", bw, p.once);
-        p.vel = std::clamp(yr.get<double>(beh, "vel", bw, p.vel), 0.0, 1.8);
-        p.dist = yr.get<double>(beh, "dist", bw, p.dist);
-        p.goal_force_factor = yr.get<double>(beh, "goal_force_factor", bw, p.goal_force_factor);
-        p.obstacle_force_factor = yr.get<double>(beh, "obstacle_force_factor", bw, p.obstacle_force_factor);
-        p.social_force_factor = yr.get<double>(beh, "social_force_factor", bw, p.social_force_factor);
-        p.other_force_factor = yr.get<double>(beh, "other_force_factor", bw, p.other_force_factor);
-      } else if (p.configuration >= 2) {
-        p.once = yr.get<bool>(beh, "once", bw, p.once);
-        drawRandomParams(p, a.behavior, seed, a.id);
-      }
-      if (p.duration < 0.0) yr.fail(beh["duration"], YamlReader::join(bw, "duration"), "must be >= 0");
-    }
-
-    const YAML::Node goal_names = yr.child(m, "goals", aw, false);
-    if (goal_names) {
-      if (!goal_names.IsSequence()) yr.fail(goal_names, YamlReader::join(aw, "goals"), "expected a list of goal names");
-      for (const YAML::Node& g : goal_names) {
-        const std::string gname = yr.convert<std::string>(g, YamlReader::join(aw, "goals"));
-        a.goals.push_back(readPoint(yr, yr.child(m, gname, aw, true), YamlReader::join(aw, gname)));
-      }
-    }
-    agents.push_back(std::move(a));
   }
   return agents;
 }

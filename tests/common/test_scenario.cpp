@@ -1,6 +1,8 @@
 #include "hunav/config_error.hpp"
 #include "hunav/scenario.hpp"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -14,7 +16,8 @@ std::string source(const std::string& rel) { return std::string(HUNAV_SOURCE_DIR
 
 // Writes `text` to a fresh file and returns its path.
 std::string writeFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "hunav_test_scenario";
+  // One folder per test process: ctest runs the tests of this binary in parallel.
+  const auto dir = std::filesystem::temp_directory_path() / ("hunav_test_scenario_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   const auto path = (dir / name).string();
   std::ofstream(path) << text;
@@ -63,7 +66,10 @@ TEST(Scenario, LoadsThePassingScenario) {
   EXPECT_FALSE(s.agents[0].cyclic_goals);
   ASSERT_EQ(s.agents[0].goals.size(), 1u);
   EXPECT_DOUBLE_EQ(s.agents[0].goals[0].x(), 0.0);
-  EXPECT_DOUBLE_EQ(s.agents[0].params.social_force_factor, 5.0);
+  // Random uniform configuration (the seed draws it): social factor U(2.1, 15).
+  EXPECT_EQ(s.agents[0].params.configuration, 3);
+  EXPECT_GE(s.agents[0].params.social_force_factor, 2.1);
+  EXPECT_LE(s.agents[0].params.social_force_factor, 15.0);
 }
 
 TEST(Scenario, MalformedFilesNameFileLineAndKey) {

@@ -1,0 +1,51 @@
+#pragma once
+// The aggregated files of a batch folder (the layout the HTML report reads; keep it stable):
+//   summary.csv        one row per run: scenario,planner,seed,status,sim_time,wall_time,run_dir, then
+//                      the metric columns of metrics.csv (HuNavSim keys, same order)
+//   summary_stats.csv  scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high
+//                      (behavior "all": whole-run metrics; else a behavior name, from the per-behavior files)
+//   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
+//   summary.md         the tables of the HuNavSim paper (II-IV) per scenario, and the paired comparisons
+// Undefined numbers (a standard deviation of one value, ...) are empty fields.
+#include "hunav/experiments/batch.hpp"
+#include "hunav/experiments/statistics.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hunav::experiments {
+
+struct StatRow {
+  std::string scenario, planner, behavior, metric;
+  Estimate estimate;
+};
+
+struct PairedRow {
+  std::string scenario, planner_a, planner_b, metric;
+  PairedDifference difference;  // a - b over the seeds both ran with a value
+};
+
+// Statistics of every metric per scenario and planner over the seeds ("all"), and per behavior.
+// Values that are not numbers (missing, failed runs) are left out, so n may be below the run count.
+std::vector<StatRow> summaryStats(const Batch& batch);
+
+// Every pair of planners of a scenario (in name order, a before b), every whole-run metric, over the
+// seeds where both have a value.
+std::vector<PairedRow> pairedComparisons(const Batch& batch);
+
+std::string summaryCsv(const Batch& batch);
+std::string statsCsv(const std::vector<StatRow>& stats);
+std::string pairedCsv(const std::vector<PairedRow>& paired);
+// `scenario_order`: scenarios in the order to show (the batch's order); others follow by name.
+std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
+                            const std::vector<std::string>& scenario_order = {});
+
+// The scenarios in the order of the batch's matrix.tsv (written by run_batch.sh), if there is one.
+std::vector<std::string> scenarioOrder(const std::filesystem::path& batch_dir);
+
+// Reads batch_dir and writes the four files into it (each atomically: a temporary file, then rename).
+// Returns the batch read (its warnings say what could not be read). Throws std::runtime_error.
+Batch writeBatchSummary(const std::filesystem::path& batch_dir);
+
+}  // namespace hunav::experiments

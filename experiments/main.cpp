@@ -1,0 +1,28 @@
+// hunav_summary: aggregates a batch folder (run_batch.sh, slurm_batch.sh) into summary.csv,
+// summary_stats.csv, paired.csv and summary.md.
+#include <iostream>
+
+#include "hunav/cli.hpp"
+#include "hunav/experiments/summary.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hunav_summary: reads every run folder under DIR/runs/ (<scenario>__<planner>__seed<N>, each the output "
+      "folder of run_experiment.sh) and writes DIR/summary.csv (one row per run), DIR/summary_stats.csv (mean, "
+      "standard deviation, 95% Student-t confidence interval per scenario, planner, behavior and metric), "
+      "DIR/paired.csv (paired differences between planners over the same seeds) and DIR/summary.md (the tables). "
+      "Exit 0: written; 1: error; 2: bad arguments."};
+  std::string dir;
+  bool quiet = false;
+  app.add_option("DIR", dir, "batch folder")->required();
+  app.add_flag("--quiet", quiet, "print nothing but warnings and errors");
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+  return hunav::cli::run("hunav_summary", [&] {
+    const auto batch = hunav::experiments::writeBatchSummary(dir);
+    for (const auto& w : batch.warnings) std::cerr << "hunav_summary: warning: " << w << "\n";
+    if (!quiet)
+      std::cout << "hunav_summary: " << batch.runs.size() << " runs, " << batch.metric_names.size()
+                << " metrics -> " << dir << "/summary.csv, summary_stats.csv, paired.csv, summary.md\n";
+    return 0;
+  });
+}

@@ -1,0 +1,366 @@
+#include "hunav/experiments/summary.hpp"
+
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+namespace hunav::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Shortest text that reads back as the same double; empty when undefined.
+std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
+
+// For people: about three significant figures, no exponent for the values metrics take.
+std::string show(double v) {
+  if (!std::isfinite(v)) return "–";
+  const double a = std::abs(v);
+  if (a == 0.0) return "0";
+  if (a >= 100.0) return fmt::format("{:.1f}", v);
+  if (a >= 0.1) return fmt::format("{:.2f}", v);
+  if (a >= 0.001) return fmt::format("{:.3f}", v);
+  return fmt::format("{:.2e}", v);
+}
+
+std::vector<std::string> uniqueInOrder(const std::vector<std::string>& xs) {
+  std::vector<std::string> out;
+  for (const auto& x : xs)
+    if (std::find(out.begin(), out.end(), x) == out.end()) out.push_back(x);
+  return out;
+}
+
+std::vector<std::string> scenariosOf(const Batch& b) {
+  std::vector<std::string> s;
+  for (const auto& r : b.runs) s.push_back(r.key.scenario);
+  return uniqueInOrder(s);  // runs are sorted: name order
+}
+
+std::vector<std::string> plannersOf(const Batch& b, const std::string& scenario) {
+  std::set<std::string> p;
+  for (const auto& r : b.runs)
+    if (r.key.scenario == scenario) p.insert(r.key.planner);
+  return {p.begin(), p.end()};
+}
+
+// Behaviors in HuNavSim code order (regular, impassive, surprised, scared, curious, threatening).
+std::vector<std::string> behaviorsOf(const Batch& b, const std::string& scenario) {
+  std::set<std::string> seen;
+  for (const auto& r : b.runs)
+    if (r.key.scenario == scenario)
+      for (const auto& [name, row] : r.by_behavior) seen.insert(name);
+  std::vector<std::string> out;
+  for (int code = 1; code <= 6; ++code)
+    if (seen.count(behaviorName(code)) != 0) out.push_back(behaviorName(code));
+  return out;
+}
+
+const MetricRow* rowOf(const BatchRun& r, const std::string& behavior) {
+  if (behavior == "all") return &r.metrics;
+  const auto it = r.by_behavior.find(behavior);
+  return it == r.by_behavior.end() ? nullptr : &it->second;
+}
+
+std::optional<double> valueOf(const BatchRun& r, const std::string& behavior, const std::string& metric) {
+  const MetricRow* row = rowOf(r, behavior);
+  if (row == nullptr) return std::nullopt;
+  const auto it = row->find(metric);
+  return it == row->end() ? std::nullopt : metricNumber(it->second);
+}
+
+void writeAtomically(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, file);
+}
+
+std::string unitOf(const std::string& metric) {
+  for (const auto& d : evaluator::metricsForProfile("default").definitions())
+    if (d.name == metric) return d.unit;
+  return "";
+}
+
+}  // namespace
+
+std::vector<StatRow> summaryStats(const Batch& batch) {
+  std::vector<StatRow> out;
+  for (const std::string& scenario : scenariosOf(batch)) {
+    std::vector<std::string> behaviors = {"all"};
+    for (const auto& b : behaviorsOf(batch, scenario)) behaviors.push_back(b);
+    for (const std::string& planner : plannersOf(batch, scenario))
+      for (const std::string& behavior : behaviors)
+        for (const std::string& metric : batch.metric_names) {
+          std::vector<double> values;
+          for (const auto& r : batch.runs)
+            if (r.key.scenario == scenario && r.key.planner == planner)
+              if (const auto v = valueOf(r, behavior, metric)) values.push_back(*v);
+          if (values.empty()) continue;
+          out.push_back(StatRow{scenario, planner, behavior, metric, estimate(values)});
+        }
+  }
+  return out;
+}
+
+std::vector<PairedRow> pairedComparisons(const Batch& batch) {
+  std::vector<PairedRow> out;
+  for (const std::string& scenario : scenariosOf(batch)) {
+    const auto planners = plannersOf(batch, scenario);
+    // seed -> run, per planner
+    std::map<std::string, std::map<long long, const BatchRun*>> by_planner;
+    for (const auto& r : batch.runs)
+      if (r.key.scenario == scenario) by_planner[r.key.planner][r.key.seed] = &r;
+    for (std::size_t i = 0; i < planners.size(); ++i)
+      for (std::size_t j = i + 1; j < planners.size(); ++j)
+        for (const std::string& metric : batch.metric_names) {
+          std::vector<double> a, b;
+          for (const auto& [seed, run_a] : by_planner[planners[i]]) {
+            const auto it = by_planner[planners[j]].find(seed);
+            if (it == by_planner[planners[j]].end()) continue;
+            const auto va = valueOf(*run_a, "all", metric), vb = valueOf(*it->second, "all", metric);
+            if (va && vb) {
+              a.push_back(*va);
+              b.push_back(*vb);
+            }
+          }
+          if (a.empty()) continue;
+          out.push_back(PairedRow{scenario, planners[i], planners[j], metric, pairedDifference(a, b)});
+        }
+  }
+  return out;
+}
+
+std::string summaryCsv(const Batch& batch) {
+  std::string s = "scenario,planner,seed,status,sim_time,wall_time,run_dir";
+  for (const auto& m : batch.metric_names) s += "," + evaluator::csvField(m);
+  s += "\n";
+  for (const auto& r : batch.runs) {
+    s += evaluator::csvField(r.key.scenario) + "," + evaluator::csvField(r.key.planner) + "," + std::to_string(r.key.seed) +
+         "," + evaluator::csvField(r.status) + "," + r.sim_time + "," + r.wall_time + "," + evaluator::csvField(r.run_dir);
+    for (const auto& m : batch.metric_names) {
+      const auto it = r.metrics.find(m);
+      s += "," + (it == r.metrics.end() ? std::string() : evaluator::csvField(it->second));
+    }
+    s += "\n";
+  }
+  return s;
+}
+
+std::string statsCsv(const std::vector<StatRow>& stats) {
+  std::string s = "scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high\n";
+  for (const auto& r : stats) {
+    const Estimate& e = r.estimate;
+    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario), evaluator::csvField(r.planner),
+                     evaluator::csvField(r.behavior), evaluator::csvField(r.metric), e.n, num(e.mean), num(e.std),
+                     num(e.ci_low), num(e.ci_high));
+  }
+  return s;
+}
+
+std::string pairedCsv(const std::vector<PairedRow>& paired) {
+  std::string s = "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant\n";
+  for (const auto& r : paired) {
+    const Estimate& e = r.difference.diff;
+    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario), evaluator::csvField(r.planner_a),
+                     evaluator::csvField(r.planner_b), evaluator::csvField(r.metric), e.n, num(e.mean), num(e.ci_low),
+                     num(e.ci_high), r.difference.significant ? "true" : "false");
+  }
+  return s;
+}
+
+std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
+                            const std::vector<std::string>& scenario_order) {
+  auto find = [&](const std::string& sc, const std::string& pl, const std::string& beh, const std::string& m) -> const Estimate* {
+    for (const auto& r : stats)
+      if (r.scenario == sc && r.planner == pl && r.behavior == beh && r.metric == m) return &r.estimate;
+    return nullptr;
+  };
+  std::vector<std::string> scenarios;
+  for (const auto& s : scenario_order) scenarios.push_back(s);
+  for (const auto& s : scenariosOf(batch)) scenarios.push_back(s);
+  scenarios = uniqueInOrder(scenarios);
+  const auto present = scenariosOf(batch);
+
+  std::map<std::string, int> status_count;
+  for (const auto& r : batch.runs) ++status_count[r.status];
+  std::string md = "# Batch summary\n\n";
+  md += fmt::format("{} runs", batch.runs.size());
+  if (!status_count.empty()) {
+    md += " (";
+    bool first = true;
+    for (const auto& [status, n] : status_count) {
+      md += fmt::format("{}{}: {}", first ? "" : ", ", status, n);
+      first = false;
+    }
+    md += ")";
+  }
+  md += ".\n\n";
+  md += "Cells: mean ± sample standard deviation over the seeds, and below it the 95% confidence interval of the "
+        "mean, mean ± t(0.975, n−1)·s/√n (Student's t, n runs with a value; \"n=k\" is shown when some runs have "
+        "none). Booleans count as 1 (true) and 0 (false), so `completed` is the success rate. Metric definitions: "
+        "docs/metrics.md. Per-run values: summary.csv; every number of these tables: summary_stats.csv and "
+        "paired.csv.\n";
+  for (const auto& w : batch.warnings) md += "\n> warning: " + w + "\n";
+
+  for (const std::string& scenario : scenarios) {
+    if (std::find(present.begin(), present.end(), scenario) == present.end()) continue;
+    const auto planners = plannersOf(batch, scenario);
+    std::map<std::string, std::size_t> runs_of;
+    std::map<std::string, std::map<std::string, int>> statuses_of;
+    for (const auto& r : batch.runs)
+      if (r.key.scenario == scenario) {
+        ++runs_of[r.key.planner];
+        ++statuses_of[r.key.planner][r.status];
+      }
+    md += fmt::format("\n## Scenario `{}`\n\nRuns:", scenario);
+    for (const auto& p : planners) {
+      md += fmt::format(" {} {} (", p, runs_of[p]);
+      bool first = true;
+      for (const auto& [st, n] : statuses_of[p]) {
+        md += fmt::format("{}{} {}", first ? "" : ", ", n, st);
+        first = false;
+      }
+      md += ");";
+    }
+    md.back() = '.';
+    md += "\n\n";
+
+    // Table II/III: metrics x planners.
+    md += "| metric | unit |";
+    for (const auto& p : planners) md += " " + p + " |";
+    md += "\n|---|---|";
+    for (std::size_t i = 0; i < planners.size(); ++i) md += "---|";
+    md += "\n";
+    for (const auto& m : batch.metric_names) {
+      std::string line = "| " + m + " | " + unitOf(m) + " |";
+      bool any = false;
+      for (const auto& p : planners) {
+        const Estimate* e = find(scenario, p, "all", m);
+        if (e == nullptr) {
+          line += " – |";
+          continue;
+        }
+        any = true;
+        line += " " + show(e->mean);
+        if (e->n >= 2) line += " ± " + show(e->std) + "<br>[" + show(e->ci_low) + ", " + show(e->ci_high) + "]";
+        if (e->n != runs_of[p]) line += fmt::format(" (n={})", e->n);
+        line += " |";
+      }
+      if (any) md += line + "\n";
+    }
+
+    // Table IV: metrics x behaviors, planners in one cell.
+    const auto behaviors = behaviorsOf(batch, scenario);
+    if (!behaviors.empty()) {
+      std::string names;
+      for (const auto& p : planners) names += (names.empty() ? "" : " / ") + p;
+      md += fmt::format("\n### `{}` per behavior\n\nMetrics of the people of each behavior only (the per-behavior "
+                        "files); each cell is the mean of {}.\n\n| metric |",
+                        scenario, names);
+      for (const auto& b : behaviors) md += " " + b + " |";
+      md += "\n|---|";
+      for (std::size_t i = 0; i < behaviors.size(); ++i) md += "---|";
+      md += "\n";
+      for (const auto& m : batch.metric_names) {
+        std::string line = "| " + m + " |";
+        bool any = false;
+        for (const auto& b : behaviors) {
+          std::string cell;
+          for (const auto& p : planners) {
+            const Estimate* e = find(scenario, p, b, m);
+            any = any || e != nullptr;
+            cell += (cell.empty() ? "" : " / ") + (e == nullptr ? std::string("–") : show(e->mean));
+          }
+          line += " " + cell + " |";
+        }
+        if (any) md += line + "\n";
+      }
+    }
+
+    // Paired comparisons.
+    std::vector<std::pair<std::string, std::string>> pairs;
+    for (const auto& r : paired)
+      if (r.scenario == scenario && std::find(pairs.begin(), pairs.end(), std::make_pair(r.planner_a, r.planner_b)) == pairs.end())
+        pairs.emplace_back(r.planner_a, r.planner_b);
+    if (!pairs.empty()) {
+      md += fmt::format("\n### `{}` paired comparisons\n\nDifference a − b over the seeds both planners ran (paired "
+                        "t test): mean difference, its 95% confidence interval and the two-sided p value. **n.s.**: "
+                        "not significant at 5% (the interval contains 0).\n\n| metric |",
+                        scenario);
+      for (const auto& [a, b] : pairs) md += " " + a + " − " + b + " |";
+      md += "\n|---|";
+      for (std::size_t i = 0; i < pairs.size(); ++i) md += "---|";
+      md += "\n";
+      for (const auto& m : batch.metric_names) {
+        std::string line = "| " + m + " |";
+        bool any = false;
+        for (const auto& [a, b] : pairs) {
+          const PairedRow* row = nullptr;
+          for (const auto& r : paired)
+            if (r.scenario == scenario && r.planner_a == a && r.planner_b == b && r.metric == m) row = &r;
+          if (row == nullptr) {
+            line += " – |";
+            continue;
+          }
+          any = true;
+          const Estimate& e = row->difference.diff;
+          line += " " + show(e.mean);
+          if (e.n >= 2) {
+            line += " [" + show(e.ci_low) + ", " + show(e.ci_high) + "]";
+            line += std::isfinite(row->difference.p_value) ? " p=" + show(row->difference.p_value) : "";
+          }
+          if (!row->difference.significant) line += " **n.s.**";
+          line += " |";
+        }
+        if (any) md += line + "\n";
+      }
+    }
+  }
+  return md;
+}
+
+std::vector<std::string> scenarioOrder(const fs::path& batch_dir) {
+  std::vector<std::string> order;
+  std::ifstream in(batch_dir / "matrix.tsv");
+  std::string line;
+  while (std::getline(in, line)) {
+    // index, scenario file, scenario, planner, seed
+    std::vector<std::string> f;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t tab = line.find('\t', start);
+      f.push_back(line.substr(start, tab == std::string::npos ? std::string::npos : tab - start));
+      if (tab == std::string::npos) break;
+      start = tab + 1;
+    }
+    if (f.size() >= 3 && std::find(order.begin(), order.end(), f[2]) == order.end()) order.push_back(f[2]);
+  }
+  return order;
+}
+
+Batch writeBatchSummary(const fs::path& batch_dir) {
+  Batch batch = loadBatch(batch_dir);
+  const auto stats = summaryStats(batch);
+  const auto paired = pairedComparisons(batch);
+  writeAtomically(batch_dir / "summary.csv", summaryCsv(batch));
+  writeAtomically(batch_dir / "summary_stats.csv", statsCsv(stats));
+  writeAtomically(batch_dir / "paired.csv", pairedCsv(paired));
+  writeAtomically(batch_dir / "summary.md", summaryMarkdown(batch, stats, paired, scenarioOrder(batch_dir)));
+  return batch;
+}
+
+}  // namespace hunav::experiments

@@ -1,0 +1,296 @@
+#!/usr/bin/env bash
+# Runs a matrix of episodes (scenarios x planners x seeds) in parallel with GNU parallel, one
+# run_experiment.sh per run, each into its own folder; skips runs already finished (resumable); then
+# aggregates the batch with hunav_summary. See --help.
+set -euo pipefail
+
+script_path=$(readlink -f "${BASH_SOURCE[0]}")
+repo_root=$(cd "$(dirname "$script_path")/.." && pwd)
+bin_dir=${HUNAV_BIN_DIR:-$repo_root/build/bin}
+
+usage() {
+  cat <<'EOF'
+Usage: launch_scripts/run_batch.sh --scenarios LIST --planners LIST --seeds SEEDS --out DIR [options]
+
+Runs every (scenario, planner, seed) of the matrix with launch_scripts/run_experiment.sh, several at a
+time (GNU parallel), then writes the batch summary (hunav_summary DIR).
+
+  --scenarios LIST   comma-separated scenario names (scenarios/NAME.yaml) or YAML files
+  --planners LIST    comma-separated planners: dwb, scl, sfw, none
+  --seeds SEEDS      seeds: A-B, N, or a comma-separated mix (1-10 or 1-5,8,20-22)
+  --out DIR          the batch folder
+  --jobs N           runs at a time (default: the number of CPUs)
+  --mode MODE        inprocess (default), lockstep or realtime (separate processes, each run in its own
+                     private network namespace, made by run_experiment.sh)
+  --duration S       simulated time limit of every run (default: each scenario's time_limit)
+  --timeout S        wall-clock limit of every run (run_experiment.sh --timeout)
+  --profile P        metrics profile: default or hunav_v1
+  --print-matrix     print the matrix (index, scenario file, scenario, planner, seed; tab-separated)
+                     and exit; the index order is scenario, then planner, then seed
+  -h, --help         show this help
+
+Layout of DIR:
+  runs/<scenario>__<planner>__seed<N>/   the output folder of each run (run_experiment.sh --out),
+                                         with its console output in logs/run_experiment.log
+  matrix.tsv                             the matrix (as --print-matrix)
+  batch.log                              one line per invocation: arguments, duration, counts
+  summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
+
+A run is finished when its folder holds a metrics.csv and a run.json with "complete": true; a second
+invocation with the same DIR runs only the others (an interrupted or failed run starts again from
+an empty folder). Exit status: 0 when every run finished and the summary was written; 1 when some
+run did not finish (the summary covers the others) or exited non-zero after writing complete results
+(they are kept and count as finished); 2 on bad arguments.
+
+Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), and what run_experiment.sh reads.
+EOF
+}
+
+err() { printf 'run_batch: error: %s\n' "$*" >&2; }
+usage_error() {
+  err "$*"
+  echo "run_batch: see: launch_scripts/run_batch.sh --help" >&2
+  exit 2
+}
+is_positive() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]] && awk -v v="$1" 'BEGIN { exit !(v > 0) }'; }
+
+# finished RUN_DIR: the run ended and its results were written.
+finished() {
+  [ -s "$1/metrics.csv" ] && [ -s "$1/run.json" ] && grep -q -E '"complete"[[:space:]]*:[[:space:]]*true' "$1/run.json"
+}
+
+# ---------------------------------------------------------------------------------------------------
+# One run (what each parallel job executes): --run-one DIR FILE SCENARIO PLANNER SEED [run_experiment options]
+# ---------------------------------------------------------------------------------------------------
+if [ "${1:-}" = --run-one ]; then
+  shift
+  out=$1 file=$2 scenario=$3 planner=$4 seed=$5
+  shift 5
+  run_dir="$out/runs/${scenario}__${planner}__seed${seed}"
+  label="$scenario $planner seed $seed"
+  if finished "$run_dir"; then
+    result="skipped (finished before)"
+    rc=0
+  else
+    rm -rf "$run_dir"
+    mkdir -p "$run_dir/logs"
+    rc=0
+    "$repo_root/launch_scripts/run_experiment.sh" --scenario "$file" --planner "$planner" --seed "$seed" \
+      --out "$run_dir" "$@" >"$run_dir/logs/run_experiment.log" 2>&1 </dev/null || rc=$?
+    if finished "$run_dir" && [ "$rc" -ne 0 ]; then
+      # Complete results, but the run did not exit cleanly (a crash at exit?): keep them, say so.
+      result="results complete, but run_experiment.sh exited $rc (see $run_dir/logs/run_experiment.log)"
+      printf '%s\n' "${scenario}__${planner}__seed${seed}" >>"$out/.exited_nonzero"
+    elif finished "$run_dir"; then
+      status=$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
+      sim=$(sed -n -E 's/.*"sim_time"[[:space:]]*:[[:space:]]*([^,}]*).*/\1/p' "$run_dir/run.json" | head -n 1)
+      result="$status after $(awk -v t="$sim" 'BEGIN { printf "%.2f", t }') s of simulation"
+    else
+      result="FAILED (exit $rc, see $run_dir/logs/run_experiment.log)"
+      [ "$rc" -ne 0 ] || rc=1
+    fi
+  fi
+  if [ -n "${HUNAV_BATCH_TOTAL:-}" ]; then
+    # The progress counter, shared by the parallel jobs of this host.
+    {
+      flock 9
+      done_count=$(($(cat "$out/.progress" 2>/dev/null || echo 0) + 1))
+      echo "$done_count" >"$out/.progress"
+      printf 'run_batch: [%d/%s] %s: %s\n' "$done_count" "$HUNAV_BATCH_TOTAL" "$label" "$result"
+    } 9>"$out/.progress.lock"
+  else
+    printf 'run_batch: %s: %s\n' "$label" "$result"
+  fi
+  exit "$rc"
+fi
+
+# ---------------------------------------------------------------------------------------------------
+# Arguments
+# ---------------------------------------------------------------------------------------------------
+scenarios="" planners="" seeds="" out="" jobs="" mode=inprocess duration="" timeout="" profile=""
+print_matrix=0
+while [ "$#" -gt 0 ]; do
+  opt=$1 value=""
+  case "$opt" in
+    --*=*) value=${opt#*=}; opt=${opt%%=*} ;;
+  esac
+  case "$opt" in
+    -h | --help) usage; exit 0 ;;
+    --print-matrix) print_matrix=1 ;;
+    --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile)
+      if [ -z "$value" ]; then
+        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
+        value=$2
+        shift
+      fi
+      [ -n "$value" ] || usage_error "$opt needs a non-empty value"
+      case "$opt" in
+        --scenarios) scenarios=$value ;;
+        --planners) planners=$value ;;
+        --seeds) seeds=$value ;;
+        --out) out=$value ;;
+        --jobs) jobs=$value ;;
+        --mode) mode=$value ;;
+        --duration) duration=$value ;;
+        --timeout) timeout=$value ;;
+        --profile) profile=$value ;;
+      esac ;;
+    *) usage_error "unknown argument '$1'" ;;
+  esac
+  shift
+done
+
+[ -n "$scenarios" ] || usage_error "--scenarios LIST is required (e.g. --scenarios passing,crossing)"
+[ -n "$planners" ] || usage_error "--planners LIST is required (e.g. --planners dwb,scl,sfw)"
+[ -n "$seeds" ] || usage_error "--seeds is required (e.g. --seeds 1-10)"
+[ "$print_matrix" -eq 1 ] || [ -n "$out" ] || usage_error "--out DIR is required"
+case "$mode" in inprocess | lockstep | realtime) ;; *) usage_error "--mode must be inprocess, lockstep or realtime (got '$mode')" ;; esac
+if [ -n "$jobs" ] && ! [[ $jobs =~ ^[1-9][0-9]*$ ]]; then usage_error "--jobs must be an integer >= 1 (got '$jobs')"; fi
+if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
+if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
+case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
+
+# Scenarios: NAME -> scenarios/NAME.yaml, else a file. The label (folder names, tables) is the file
+# name without .yaml, made safe for folder names.
+scenario_files=() scenario_labels=()
+IFS=',' read -r -a items <<<"$scenarios"
+for item in "${items[@]}"; do
+  item=${item//[[:space:]]/}
+  [ -n "$item" ] || continue
+  if [ -f "$item" ]; then
+    file=$(readlink -f "$item")
+  elif [ -f "$repo_root/scenarios/$item.yaml" ]; then
+    file="$repo_root/scenarios/$item.yaml"
+  else
+    usage_error "--scenarios: '$item' is neither a file nor scenarios/$item.yaml"
+  fi
+  label=$(basename "$file")
+  label=${label%.yaml}
+  label=${label%.yml}
+  # Safe for a folder name, and no "__" (it separates the parts of a run folder's name) nor an
+  # underscore at either end.
+  label=${label//[^A-Za-z0-9._-]/-}
+  while [[ $label == *__* ]]; do label=${label//__/_}; done
+  label=${label#_}
+  label=${label%_}
+  [ -n "$label" ] || usage_error "--scenarios: cannot make a name for '$item'"
+  for l in "${scenario_labels[@]}"; do
+    [ "$l" != "$label" ] || usage_error "--scenarios: two scenarios are named '$label'"
+  done
+  scenario_files+=("$file")
+  scenario_labels+=("$label")
+done
+[ "${#scenario_files[@]}" -gt 0 ] || usage_error "--scenarios: no scenario given"
+
+planner_list=()
+IFS=',' read -r -a items <<<"$planners"
+for item in "${items[@]}"; do
+  item=${item//[[:space:]]/}
+  [ -n "$item" ] || continue
+  case "$item" in dwb | scl | sfw | none) ;; *) usage_error "--planners: '$item' is not dwb, scl, sfw or none" ;; esac
+  for p in "${planner_list[@]}"; do [ "$p" != "$item" ] || usage_error "--planners: '$item' given twice"; done
+  planner_list+=("$item")
+done
+[ "${#planner_list[@]}" -gt 0 ] || usage_error "--planners: no planner given"
+
+seed_list=()
+IFS=',' read -r -a items <<<"$seeds"
+for item in "${items[@]}"; do
+  item=${item//[[:space:]]/}
+  if [[ $item =~ ^([0-9]+)-([0-9]+)$ ]]; then
+    a=$((10#${BASH_REMATCH[1]})) b=$((10#${BASH_REMATCH[2]}))
+    [ "$a" -le "$b" ] || usage_error "--seeds: '$item' goes down (write A-B with A <= B)"
+    [ $((b - a)) -lt 100000 ] || usage_error "--seeds: '$item' holds too many seeds"
+    for ((s = a; s <= b; s++)); do seed_list+=("$s"); done
+  elif [[ $item =~ ^[0-9]+$ ]]; then
+    seed_list+=("$((10#$item))")
+  else
+    usage_error "--seeds: '$item' is not N or A-B (seeds are integers >= 0)"
+  fi
+done
+[ "${#seed_list[@]}" -gt 0 ] || usage_error "--seeds: no seed given"
+mapfile -t seed_list < <(printf '%s\n' "${seed_list[@]}" | awk '!seen[$0]++')
+
+# The matrix: index, scenario file, scenario, planner, seed (scenario-major, seeds innermost).
+matrix() {
+  local i=0 k p s
+  for k in "${!scenario_files[@]}"; do
+    for p in "${planner_list[@]}"; do
+      for s in "${seed_list[@]}"; do
+        printf '%d\t%s\t%s\t%s\t%d\n' "$i" "${scenario_files[$k]}" "${scenario_labels[$k]}" "$p" "$s"
+        i=$((i + 1))
+      done
+    done
+  done
+}
+if [ "$print_matrix" -eq 1 ]; then
+  matrix
+  exit 0
+fi
+
+# ---------------------------------------------------------------------------------------------------
+# The batch
+# ---------------------------------------------------------------------------------------------------
+command -v parallel >/dev/null 2>&1 || { err "GNU parallel is missing (package parallel): run bash launch_scripts/setup.sh"; exit 1; }
+[ -x "$bin_dir/hunav_summary" ] || { err "$bin_dir/hunav_summary is missing: build the project first (bash launch_scripts/setup.sh)"; exit 1; }
+[ -n "$jobs" ] || jobs=$(nproc 2>/dev/null || echo 2)
+
+mkdir -p "$out/runs" || { err "cannot create the batch folder '$out'"; exit 1; }
+out=$(cd "$out" && pwd)
+matrix >"$out/matrix.tsv"
+total=$(wc -l <"$out/matrix.tsv")
+already=0
+while IFS=$'\t' read -r _ _ label planner seed; do
+  if finished "$out/runs/${label}__${planner}__seed${seed}"; then already=$((already + 1)); fi
+done <"$out/matrix.tsv"
+
+run_args=(--mode "$mode")
+[ -z "$duration" ] || run_args+=(--duration "$duration")
+[ -z "$timeout" ] || run_args+=(--timeout "$timeout")
+[ -z "$profile" ] || run_args+=(--profile "$profile")
+
+echo "run_batch: $total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"
+echo "run_batch: batch folder $out"
+rm -f "$out/.progress" "$out/.exited_nonzero"
+started=$(date +%s.%N)
+parallel_rc=0
+# Each job runs this script with --run-one. parallel hands the command to a shell and quotes the
+# fields it substitutes ({2}...{5}); the rest is quoted here. Ctrl-C reaches every run_experiment.sh,
+# which stops its processes cleanly; the interrupted runs are not finished and run again next time.
+job=$(printf '%q ' "$script_path" --run-one "$out")'{2} {3} {4} {5} '$(printf '%q ' "${run_args[@]}")
+HUNAV_BATCH_TOTAL=$total HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
+  --arg-file "$out/matrix.tsv" "$job" || parallel_rc=$?
+elapsed=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+rm -f "$out/.progress" "$out/.progress.lock"
+exited_nonzero=()
+if [ -f "$out/.exited_nonzero" ]; then mapfile -t exited_nonzero <"$out/.exited_nonzero"; fi
+rm -f "$out/.exited_nonzero"
+
+done_now=0
+failed=()
+while IFS=$'\t' read -r _ _ label planner seed; do
+  if finished "$out/runs/${label}__${planner}__seed${seed}"; then
+    done_now=$((done_now + 1))
+  else
+    failed+=("${label}__${planner}__seed${seed}")
+  fi
+done <"$out/matrix.tsv"
+
+summary_rc=0
+"$bin_dir/hunav_summary" "$out" || summary_rc=$?
+printf '%s\t%s\tjobs=%s\tmode=%s\truns=%d\tran=%d\tfinished=%d\tfailed=%d\twall=%ss\n' \
+  "$(date -Is)" "scenarios=${scenarios} planners=${planners} seeds=${seeds}" "$jobs" "$mode" "$total" \
+  "$((total - already))" "$done_now" "${#failed[@]}" "$elapsed" >>"$out/batch.log"
+echo "run_batch: $((total - already)) runs in ${elapsed} s with $jobs jobs; $done_now of $total finished"
+if [ "${#failed[@]}" -gt 0 ]; then
+  err "${#failed[@]} runs did not finish (run the same command again to retry them):"
+  printf '  %s\n' "${failed[@]}" >&2
+fi
+if [ "${#exited_nonzero[@]}" -gt 0 ]; then
+  err "${#exited_nonzero[@]} runs wrote complete results but exited non-zero (kept; see their logs/run_experiment.log):"
+  printf '  %s\n' "${exited_nonzero[@]}" >&2
+fi
+[ "$summary_rc" -eq 0 ] || { err "hunav_summary failed (exit $summary_rc)"; exit 1; }
+echo "run_batch: summary in $out/summary.md (tables), summary.csv, summary_stats.csv, paired.csv"
+if [ "${#failed[@]}" -gt 0 ] || [ "$parallel_rc" -ne 0 ]; then exit 1; fi
+exit 0

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# run_batch.sh end to end on a small matrix (passing x dwb, sfw x seeds 1-2, 5 s of simulation each,
+# in-process: no network): the batch folder's layout, then resumability (a second invocation runs
+# nothing, a third reruns only the run whose results were removed), then bad arguments.
+# Expects REPO and BIN (ctest sets them).
+set -euo pipefail
+export HUNAV_BIN_DIR="$BIN"
+WORK=$(mktemp -d /tmp/hunav_batch_test.XXXXXX)
+trap 'rm -rf "$WORK"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+BATCH="$REPO/launch_scripts/run_batch.sh"
+out="$WORK/batch"
+args=(--scenarios passing --planners dwb,sfw --seeds 1-2 --jobs 2 --duration 5 --out "$out")
+
+"$BATCH" "${args[@]}" >"$WORK/first.log" 2>&1 || { cat "$WORK/first.log"; fail "first invocation failed"; }
+grep -q 'run_batch: \[4/4\]' "$WORK/first.log" || { cat "$WORK/first.log"; fail "no progress line [4/4]"; }
+grep -q '^run_batch: 4 runs in ' "$WORK/first.log" || fail "the first invocation did not run 4 runs"
+
+for f in matrix.tsv batch.log summary.csv summary_stats.csv paired.csv summary.md; do
+  [ -s "$out/$f" ] || fail "missing $out/$f"
+done
+for p in dwb sfw; do
+  for s in 1 2; do
+    d="$out/runs/passing__${p}__seed$s"
+    [ -s "$d/metrics.csv" ] && [ -s "$d/run.json" ] && [ -s "$d/states.csv" ] || fail "incomplete run folder $d"
+    [ -s "$d/logs/run_experiment.log" ] || fail "no console log in $d/logs"
+    checker="$REPO/../shared/tools/check_outputs.py"
+    if [ -f "$checker" ]; then python3 "$checker" "$d" >/dev/null || fail "layout check of $d"; fi
+  done
+done
+
+python3 - "$out" <<'PY'
+import csv, sys
+out = sys.argv[1]
+rows = list(csv.reader(open(out + "/summary.csv")))
+head = rows[0]
+assert head[:7] == ["scenario", "planner", "seed", "status", "sim_time", "wall_time", "run_dir"], head
+metrics_head = next(csv.reader(open(out + "/runs/passing__dwb__seed1/metrics.csv")))
+assert head[7:] == metrics_head[6:], "summary.csv metric columns differ from metrics.csv's"
+body = rows[1:]
+assert [(r[0], r[1], r[2]) for r in body] == [("passing", "dwb", "1"), ("passing", "dwb", "2"),
+                                             ("passing", "sfw", "1"), ("passing", "sfw", "2")], body
+assert all(r[3] == "time_limit" and float(r[4]) == 5.0 for r in body), body
+assert body[0][6] == "runs/passing__dwb__seed1"
+stats = list(csv.DictReader(open(out + "/summary_stats.csv")))
+assert list(stats[0].keys()) == ["scenario", "planner", "behavior", "metric", "n", "mean", "std", "ci95_low", "ci95_high"]
+t = [r for r in stats if r["planner"] == "dwb" and r["behavior"] == "all" and r["metric"] == "time_to_reach_goal"]
+assert len(t) == 1 and t[0]["n"] == "2" and float(t[0]["mean"]) == 5.0, t
+assert any(r["behavior"] == "regular" for r in stats), "no per-behavior rows"
+paired = list(csv.DictReader(open(out + "/paired.csv")))
+assert list(paired[0].keys()) == ["scenario", "planner_a", "planner_b", "metric", "n", "mean_diff", "ci95_low", "ci95_high", "significant"]
+assert all(r["planner_a"] == "dwb" and r["planner_b"] == "sfw" and r["n"] == "2" for r in paired)
+md = open(out + "/summary.md").read()
+assert "## Scenario `passing`" in md and "| metric | unit | dwb | sfw |" in md and "paired comparisons" in md
+PY
+
+# Resumable: nothing runs again, and the results are untouched.
+before=$(stat -c '%Y.%N' "$out"/runs/*/run.json | md5sum)
+"$BATCH" "${args[@]}" >"$WORK/second.log" 2>&1 || { cat "$WORK/second.log"; fail "second invocation failed"; }
+grep -q '4 already finished' "$WORK/second.log" || fail "the second invocation did not see 4 finished runs"
+grep -q '^run_batch: 0 runs in ' "$WORK/second.log" || { cat "$WORK/second.log"; fail "the second invocation ran something"; }
+[ "$(grep -c 'skipped (finished before)' "$WORK/second.log")" -eq 4 ] || fail "not every run was skipped"
+[ "$before" = "$(stat -c '%Y.%N' "$out"/runs/*/run.json | md5sum)" ] || fail "finished runs were rewritten"
+[ "$(wc -l <"$out/batch.log")" -eq 2 ] || fail "batch.log should have one line per invocation"
+
+# A run without its results (interrupted, failed) runs again, alone.
+rm "$out/runs/passing__sfw__seed2/run.json"
+"$BATCH" "${args[@]}" >"$WORK/third.log" 2>&1 || { cat "$WORK/third.log"; fail "third invocation failed"; }
+grep -q '^run_batch: 1 runs in ' "$WORK/third.log" || { cat "$WORK/third.log"; fail "the third invocation did not rerun exactly one run"; }
+grep -q 'passing sfw seed 2: time_limit' "$WORK/third.log" || fail "the rerun was not passing sfw seed 2"
+[ "$(grep -c '^passing,' "$out/summary.csv")" -eq 4 ] || fail "summary.csv lost rows"
+
+# Bad arguments: exit 2 and nothing run.
+for bad in "--planners xyz" "--seeds 3-1" "--scenarios nowhere" "--jobs 0" "--mode fast"; do
+  rc=0
+  # shellcheck disable=SC2086 # $bad holds an option and its value
+  "$BATCH" --scenarios passing --planners dwb --seeds 1 --out "$WORK/bad" $bad >/dev/null 2>"$WORK/bad.err" || rc=$?
+  [ "$rc" -eq 2 ] || fail "'$bad' exited $rc, expected 2"
+  grep -q 'run_batch: error:' "$WORK/bad.err" || fail "'$bad' printed no error"
+done
+[ ! -e "$WORK/bad" ] || fail "a rejected batch created its folder"
+echo "PASS run_batch_small"

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# slurm_batch.sh without Slurm: the index -> (scenario, planner, seed) mapping of the array tasks,
+# two tasks run for real and aggregated, and the submission (a stand-in sbatch records its arguments).
+# Expects REPO and BIN (ctest sets them).
+set -euo pipefail
+export HUNAV_BIN_DIR="$BIN"
+WORK=$(mktemp -d /tmp/hunav_slurm_test.XXXXXX)
+trap 'rm -rf "$WORK"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+SLURM="$REPO/launch_scripts/slurm_batch.sh"
+matrix=(--scenarios passing,crossing --planners dwb,scl,sfw --seeds 3-4,9)
+
+# The matrix is run_batch.sh's, indexed (scenario * 3 + planner) * 3 + seed.
+"$SLURM" "${matrix[@]}" --print-matrix >"$WORK/matrix.tsv"
+"$REPO/launch_scripts/run_batch.sh" "${matrix[@]}" --print-matrix | cmp -s - "$WORK/matrix.tsv" ||
+  fail "slurm_batch.sh and run_batch.sh print different matrices"
+[ "$(wc -l <"$WORK/matrix.tsv")" -eq 18 ] || fail "expected 2 x 3 x 3 = 18 rows"
+scenarios=(passing crossing) planners=(dwb scl sfw) seeds=(3 4 9)
+i=0
+for s in 0 1; do
+  for p in 0 1 2; do
+    for k in 0 1 2; do
+      expected=$(printf '%d\t%s\t%s\t%s\t%d' "$i" "$REPO/scenarios/${scenarios[$s]}.yaml" "${scenarios[$s]}" "${planners[$p]}" "${seeds[$k]}")
+      [ "$(sed -n "$((i + 1))p" "$WORK/matrix.tsv")" = "$expected" ] || fail "row $i is not: $expected"
+      i=$((i + 1))
+    done
+  done
+done
+
+# Submission with a stand-in sbatch: it records its arguments and answers a job id.
+mkdir -p "$WORK/bin"
+cat >"$WORK/bin/sbatch" <<'SB'
+#!/usr/bin/env bash
+printf '%s\n' "$*" >>"$SBATCH_LOG"
+echo "$((4000 + $(wc -l <"$SBATCH_LOG")))"
+SB
+chmod +x "$WORK/bin/sbatch"
+out="$WORK/batch"
+SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" \
+  "$SLURM" "${matrix[@]}" --duration 2 --max-parallel 5 --sbatch-args "--partition=short" --out "$out" >"$WORK/submit.log"
+cmp -s "$out/matrix.tsv" "$WORK/matrix.tsv" || fail "the submitted matrix.tsv differs from --print-matrix"
+[ "$(wc -l <"$WORK/sbatch.log")" -eq 2 ] || fail "expected two sbatch calls"
+first=$(sed -n 1p "$WORK/sbatch.log") second=$(sed -n 2p "$WORK/sbatch.log")
+[[ $first == *"--array=0-17%5"* && $first == *"--partition=short"* && $first == *"--task $out"* ]] || fail "array job: $first"
+[[ $second == *"--dependency=afterany:4001"* && $second == *"--aggregate $out"* ]] || fail "summary job: $second"
+grep -q 'submitted array job 4001 (18 tasks) and summary job 4002' "$WORK/submit.log" || fail "no submission message"
+
+# Each task finds its row (dry run), e.g. task 13 = crossing, scl ((1 * 3 + 1) * 3 + 1), seed 4.
+dry=$(SLURM_ARRAY_TASK_ID=13 "$SLURM" --task "$out" --dry-run)
+line=${dry%%$'\n'*}
+[ "$line" = "task 13: scenario crossing planner scl seed 4 ($REPO/scenarios/crossing.yaml)" ] || fail "task 13: $line"
+rc=0
+SLURM_ARRAY_TASK_ID=18 "$SLURM" --task "$out" >/dev/null 2>&1 || rc=$?
+[ "$rc" -eq 2 ] || fail "a task beyond the matrix exited $rc, expected 2"
+
+# Two tasks for real (the stored --duration 2 applies), then the aggregation job.
+for t in 0 13; do SLURM_ARRAY_TASK_ID=$t "$SLURM" --task "$out" >/dev/null; done
+[ -s "$out/runs/passing__dwb__seed3/run.json" ] && [ -s "$out/runs/crossing__scl__seed4/run.json" ] || fail "task runs missing"
+grep -q '"sim_time": 2' "$out/runs/crossing__scl__seed4/run.json" || fail "the task ignored --duration 2"
+"$SLURM" --aggregate "$out" >/dev/null
+[ "$(wc -l <"$out/summary.csv")" -eq 3 ] || fail "summary.csv should hold the two runs"
+grep -q '^crossing,scl,4,time_limit,2,' "$out/summary.csv" || fail "crossing scl seed 4 not in summary.csv"
+echo "PASS slurm_batch_matrix"
