@@ -169,6 +169,7 @@ if [ "$mode" = inprocess ]; then
 else
   for b in hunav_worldsim hunav_manager hunav_evaluator; do need_bin "$b"; done
   [ "$planner" = none ] || need_bin hunav_planner
+  [ "$record" -eq 0 ] || need_bin hunav_record
 fi
 
 # ---------------------------------------------------------------------------------------------------
@@ -310,7 +311,7 @@ cleanup() {
   if alive evaluator; then signal evaluator TERM; fi
   for name in "${started[@]}"; do
     if [ "$name" != evaluator ] && alive "$name"; then
-      if [ "$name" = logger ]; then signal "$name" INT; else signal "$name" TERM; fi
+      signal "$name" TERM
     fi
   done
   for name in "${started[@]}"; do
@@ -472,34 +473,21 @@ else
   export LCM_DEFAULT_URL=$url
   run_id="${scenario_name}_${planner}_${seed_label}_$(date +%Y%m%d-%H%M%S)-$$"
 
+  if [ "$record" -eq 1 ]; then
+    # hunav_record, not lcm-logger: lcm-logger's 30-message queue loses messages of lockstep bursts.
+    start recorder "$log_dir/recorder.log" "$bin_dir/hunav_record" --out "$out_dir/run.lcmlog" --lcm-url "$url"
+    wait_ready recorder || exit_failed recorder
+  fi
   start evaluator "$log_dir/evaluator.log" "$bin_dir/hunav_evaluator" --out "$out_dir" --episodes 1 \
     --lcm-url "$url" "${eval_args[@]}"
   wait_ready evaluator || exit_failed evaluator
-  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --lcm-url "$url" --episodes 1
+  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url" --episodes 1
   if [ "$planner" != none ]; then
     start planner "$log_dir/planner.log" "$bin_dir/hunav_planner" --planner "$planner" --scenario "$scenario" \
       --lcm-url "$url" --episodes 1
   fi
   wait_ready manager || exit_failed manager
   if [ "$planner" != none ]; then wait_ready planner || exit_failed planner; fi
-  if [ "$record" -eq 1 ]; then
-    if ! command -v lcm-logger >/dev/null 2>&1; then
-      err "lcm-logger is missing (package liblcm-bin): run bash launch_scripts/setup.sh"
-      exit 1
-    fi
-    start logger "$log_dir/lcm-logger.log" lcm-logger --force --lcm-url="$url" "$out_dir/run.lcmlog"
-    # It prints this line once the log file is open, right after subscribing.
-    deadline "$ready_timeout"
-    until grep -q 'Opening log file' "$log_dir/lcm-logger.log" 2>/dev/null; do
-      if ! alive logger || past "$deadline_us"; then
-        err "lcm-logger did not start"
-        tail_log lcm-logger
-        exit 1
-      fi
-      sleep 0.1
-    done
-    sleep 0.2
-  fi
   log "processes ready (logs in $log_dir); starting the world"
   start world "$log_dir/worldsim.log" "$bin_dir/hunav_worldsim" --scenario "$scenario" --planner "$planner" \
     --mode "$mode" --run-id "$run_id" --lcm-url "$url" "${seed_args[@]}" "${duration_args[@]}"
@@ -517,7 +505,8 @@ else
       log "the evaluator is still running ${eval_grace} s after the world ended: SIGTERM, so it writes what it has"
       stop evaluator TERM "$eval_grace"
     fi
-    [ "$record" -eq 0 ] || stop logger INT "$stop_grace"
+    # The recorder writes what it has received, then exits.
+    [ "$record" -eq 0 ] || stop recorder TERM "$stop_grace"
     # They exit by themselves after the END event (--episodes 1); without one, stop them.
     for name in manager planner; do
       [ -n "${pid_of[$name]:-}" ] || continue

@@ -33,6 +33,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   pkg-config cmake g++ make default-jdk-headless
   iproute2 util-linux python3 procps xvfb xauth
+  chromium  # the report test renders hunav_report's pages headless
+  parallel libboost-dev  # batches: GNU parallel runs the matrix; Boost.Math (headers) for the Student t statistics
 )
 
 do_install=1

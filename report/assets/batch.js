@@ -1,0 +1,200 @@
+/* HuNav-LCM batch page: per scenario, the metrics x planners table (mean, std, 95% CI) overall and
+ * per behavior, a chart of one metric with confidence intervals and every run, the paired
+ * differences between planners, and the list of runs with links to their pages. */
+(function () {
+  'use strict';
+  var HR = window.HR, el = HR.el;
+
+  function unique(values) {
+    var seen = {}, out = [];
+    values.forEach(function (v) { if (!seen[v]) { seen[v] = true; out.push(v); } });
+    return out;
+  }
+  function slug(s) { return String(s).replace(/[^A-Za-z0-9_-]/g, '_'); }
+
+  // Metric order: summary.csv's columns first, then any other metric of the statistics.
+  function metricOrder(d, names) {
+    var inData = {};
+    names.forEach(function (n) { inData[n] = true; });
+    var out = d.metricNames.filter(function (m) { return inData[m]; });
+    names.forEach(function (n) { if (out.indexOf(n) < 0) out.push(n); });
+    return out;
+  }
+
+  function unitOf(d, metric) { var u = d.units[metric]; return u && u !== 'bool' ? u : ''; }
+  function axisLabel(d, metric) { var u = unitOf(d, metric); return metric.replace(/_/g, ' ') + (u ? ' [' + u + ']' : ''); }
+
+  function header(d, app) {
+    app.appendChild(el('h1', { text: 'Batch ' + d.dir }));
+    var scenarios = unique(d.runs.map(function (r) { return r.scenario; }));
+    var planners = unique(d.runs.map(function (r) { return r.planner; }));
+    var seeds = unique(d.runs.map(function (r) { return r.seed; })).sort(function (a, b) { return a - b; });
+    var byStatus = {};
+    d.runs.forEach(function (r) { byStatus[r.status] = (byStatus[r.status] || 0) + 1; });
+    var wall = 0;
+    d.runs.forEach(function (r) { if (HR.isNum(r.wall_time)) wall += r.wall_time; });
+    app.appendChild(el('p', { class: 'subtitle', text: d.runs.length + ' runs: ' + scenarios.length + ' scenario(s) × ' + planners.length +
+      ' planner(s) × ' + seeds.length + ' seed(s)' + (seeds.length ? ' (' + seeds[0] + '–' + seeds[seeds.length - 1] + ')' : '') +
+      ' · ' + Object.keys(byStatus).sort().map(function (s) { return byStatus[s] + ' ' + s; }).join(', ') +
+      ' · ' + HR.fmt(wall, 3) + ' s of run wall-clock time in total' }));
+    var links = [el('a', { href: 'summary.csv', text: 'summary.csv' }), ' · ', el('a', { href: 'summary_stats.csv', text: 'summary_stats.csv' })];
+    if (d.hasPaired) links.push(' · ', el('a', { href: 'paired.csv', text: 'paired.csv' }));
+    if (d.summaryMd) links.push(' · ', el('a', { href: d.summaryMd, text: 'summary.md' }));
+    app.appendChild(el('p', { class: 'crumbs' }, ['Data: '].concat(links)));
+    d.notes.forEach(function (n) { app.appendChild(el('div', { class: 'note', text: n })); });
+    var toc = el('nav', { class: 'toc' }, ['Scenarios: '].concat(scenarios.map(function (s) {
+      return el('a', { href: '#scenario-' + slug(s), text: s });
+    })).concat([el('a', { href: '#runs', text: 'all runs' })]));
+    app.appendChild(toc);
+    return scenarios;
+  }
+
+  function statsCell(s) {
+    if (!s) return { text: '–' };
+    return { text: HR.fmt(s[5]) + (HR.isNum(s[6]) ? ' ± ' + HR.fmt(s[6], 3) : ''),
+             sub: (HR.isNum(s[7]) ? '[' + HR.fmt(s[7]) + ', ' + HR.fmt(s[8]) + '] ' : '') + 'n=' + s[4],
+             title: 'mean ' + s[5] + ', std ' + s[6] + ', 95% CI [' + s[7] + ', ' + s[8] + '], n ' + s[4] };
+  }
+
+  function scenarioSection(d, app, scenario) {
+    var section = el('section', { class: 'panel', id: 'scenario-' + slug(scenario) }, [el('h2', { text: 'Scenario ' + scenario })]);
+    app.appendChild(section);
+    var stats = d.stats.filter(function (s) { return s[0] === scenario; });
+    var planners = unique(d.runs.filter(function (r) { return r.scenario === scenario; }).map(function (r) { return r.planner; })
+      .concat(stats.map(function (s) { return s[1]; })));
+    var color = {};
+    planners.forEach(function (p, i) { color[p] = HR.seriesColors[i % HR.seriesColors.length]; });
+    var behaviors = unique(stats.map(function (s) { return s[2]; }));
+    behaviors.sort(function (a, b) { return (a === 'all' ? -1 : HR.behaviorCode(a)) - (b === 'all' ? -1 : HR.behaviorCode(b)); });
+    var metricsOf = function (behavior) {
+      return metricOrder(d, unique(stats.filter(function (s) { return s[2] === behavior; }).map(function (s) { return s[3]; })));
+    };
+    var find = function (planner, behavior, metric) {
+      for (var i = 0; i < stats.length; i++) {
+        var s = stats[i];
+        if (s[1] === planner && s[2] === behavior && s[3] === metric) return s;
+      }
+      return null;
+    };
+
+    // Chart of one metric: mean and 95% CI per planner, every run as a dot (overall rows only).
+    var chartBox = el('div');
+    var overall = metricsOf('all');
+    var preferred = ['social_work', 'personal_space_intrusions', 'minimum_distance_to_people', 'time_to_reach_goal'];
+    var chosen = preferred.filter(function (m) { return overall.indexOf(m) >= 0; })[0] || overall[0];
+    var metricSelect = el('select', { 'aria-label': 'metric' }, overall.map(function (m) {
+      return el('option', { value: m, selected: m === chosen, text: m });
+    }));
+    var drawChart = function () {
+      chartBox.textContent = '';
+      var m = metricSelect.value;
+      if (!m) return;
+      var column = d.metricNames.indexOf(m);
+      HR.ciChart(chartBox, {
+        key: 'ci-' + slug(scenario), title: m + ' by planner (mean, 95% CI, each run)', yLabel: axisLabel(d, m),
+        groups: planners.map(function (p) {
+          var s = find(p, 'all', m);
+          var values = column < 0 ? [] : d.runs.filter(function (r) { return r.scenario === scenario && r.planner === p; })
+            .map(function (r) { return r.metrics[column]; });
+          return { name: p, color: color[p], mean: s ? s[5] : null, lo: s ? s[7] : null, hi: s ? s[8] : null,
+                   n: s ? s[4] : values.length, values: values };
+        })
+      });
+    };
+    metricSelect.addEventListener('change', drawChart);
+    if (overall.length) {
+      section.appendChild(el('div', { class: 'controls' }, [el('label', {}, ['metric ', metricSelect])]));
+      var chartRow = el('div', { class: 'plots' }, [chartBox]);
+      section.appendChild(chartRow);
+      drawChart();
+      // Beside the chart: the paired differences for that metric.
+      var pairedBox = el('div');
+      chartRow.appendChild(pairedBox);
+      var drawPairedChart = function () {
+        pairedBox.textContent = '';
+        var m = metricSelect.value;
+        var rows = d.paired.filter(function (p) { return p[0] === scenario && p[3] === m; });
+        if (!rows.length) return;
+        HR.ciChart(pairedBox, {
+          key: 'paired-' + slug(scenario), title: 'paired difference A − B of ' + m, yLabel: 'difference' + (unitOf(d, m) ? ' [' + unitOf(d, m) + ']' : ''),
+          groups: rows.map(function (p) {
+            return { name: p[1] + ' − ' + p[2] + (p[8] ? '' : ' (n.s.)'), color: p[8] ? '#0b5cad' : '#9aa1ad', mean: p[5], lo: p[6], hi: p[7], n: p[4], values: [] };
+          })
+        });
+      };
+      metricSelect.addEventListener('change', drawPairedChart);
+      drawPairedChart();
+    }
+
+    // Table: metrics x planners, for the chosen behavior.
+    section.appendChild(el('h3', { text: 'Metrics by planner' }));
+    var tableBox = el('div');
+    var behaviorSelect = el('select', { 'aria-label': 'people' }, behaviors.map(function (b) {
+      return el('option', { value: b, text: b === 'all' ? 'all people' : b + ' people only' });
+    }));
+    var drawTable = function () {
+      tableBox.textContent = '';
+      var b = behaviorSelect.value;
+      var headers = ['metric', { text: 'unit', class: 'text' }].concat(planners);
+      var rows = metricsOf(b).map(function (m) {
+        return [m, { text: unitOf(d, m), cls: 'text' }].concat(planners.map(function (p) { return statsCell(find(p, b, m)); }));
+      });
+      tableBox.appendChild(HR.table(headers, rows, { class: 'stats', 'data-behavior': b }));
+    };
+    behaviorSelect.addEventListener('change', drawTable);
+    if (behaviors.length > 1) section.appendChild(el('div', { class: 'controls' }, [el('label', {}, ['people ', behaviorSelect])]));
+    section.appendChild(tableBox);
+    drawTable();
+    section.appendChild(el('p', { class: 'caption', text: 'Each cell: mean ± standard deviation over the seeds, below it the 95% ' +
+      'confidence interval of the mean and the number of runs (summary_stats.csv). Per-behavior rows are computed over the ' +
+      'people of that behavior only, as HuNavSim\'s per-behavior tables.' }));
+
+    // Paired differences: one column per planner pair.
+    var paired = d.paired.filter(function (p) { return p[0] === scenario; });
+    if (paired.length) {
+      section.appendChild(el('h3', { text: 'Paired differences (same seeds)' }));
+      var pairs = unique(paired.map(function (p) { return p[1] + '\u0000' + p[2]; }));
+      var metrics = metricOrder(d, unique(paired.map(function (p) { return p[3]; })));
+      var rows = metrics.map(function (m) {
+        return [m].concat(pairs.map(function (pair) {
+          var ab = pair.split('\u0000');
+          var p = paired.filter(function (x) { return x[1] === ab[0] && x[2] === ab[1] && x[3] === m; })[0];
+          if (!p) return { text: '–' };
+          return { text: (p[5] > 0 ? '+' : '') + HR.fmt(p[5]), sub: '[' + HR.fmt(p[6]) + ', ' + HR.fmt(p[7]) + '] n=' + p[4],
+                   cls: p[8] ? 'sig' : 'ns', tag: p[8] ? null : 'n.s.',
+                   title: ab[0] + ' − ' + ab[1] + ': mean difference ' + p[5] + ', 95% CI [' + p[6] + ', ' + p[7] + ']' +
+                          (p[8] ? ', significant' : ', not significant') };
+        }));
+      });
+      section.appendChild(HR.table(['metric'].concat(pairs.map(function (p) { return p.replace('\u0000', ' − '); })), rows, { class: 'paired' }));
+      section.appendChild(el('p', { class: 'caption', text: 'Mean of the per-seed differences A − B with its 95% confidence interval ' +
+        '(paired.csv). Grey, marked n.s.: the interval contains 0, the difference is not significant.' }));
+    }
+  }
+
+  function runsTable(d, app) {
+    var section = el('section', { class: 'panel', id: 'runs' }, [el('h2', { text: 'All runs' })]);
+    app.appendChild(section);
+    var keyMetrics = ['completed', 'time_to_reach_goal', 'minimum_distance_to_people', 'personal_space_intrusions', 'social_work']
+      .filter(function (m) { return d.metricNames.indexOf(m) >= 0; });
+    var headers = [{ text: 'scenario', class: 'text' }, { text: 'planner', class: 'text' }, 'seed', { text: 'status', class: 'text' },
+                   'sim time [s]', 'wall time [s]'].concat(keyMetrics.map(function (m) { return m; })).concat([{ text: 'report', class: 'text' }]);
+    var rows = d.runs.map(function (r) {
+      var status = el('span', { class: 'badge ' + (r.status === 'goal_reached' ? 'ok' : r.status === 'time_limit' ? 'warn' : 'bad'), text: r.status });
+      var link = r.link ? el('a', { href: r.link, text: 'run page' }) : el('span', { class: 'sub', title: r.note, text: 'none' });
+      return [{ text: r.scenario, cls: 'text' }, { text: r.planner, cls: 'text' }, r.seed, { node: status, cls: 'text' },
+              HR.fmt(r.sim_time), HR.fmt(r.wall_time, 3)].concat(keyMetrics.map(function (m) {
+        var v = r.metrics[d.metricNames.indexOf(m)];
+        return m === 'completed' ? (v === 1 ? 'yes' : v === 0 ? 'no' : '–') : HR.fmt(v);
+      })).concat([{ node: link, cls: 'text', title: r.run_dir }]);
+    });
+    section.appendChild(HR.table(headers, rows, { id: 'runs-table' }));
+  }
+
+  HR.start(function (d, app) {
+    var scenarios = header(d, app);
+    scenarios.forEach(function (s) { scenarioSection(d, app, s); });
+    runsTable(d, app);
+    app.appendChild(el('footer', { text: 'Written by hunav_report (HuNav-LCM) from ' + d.path + '. Self-contained: open it from disk, no network needed.' }));
+  });
+})();

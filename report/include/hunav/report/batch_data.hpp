@@ -1,0 +1,63 @@
+#pragma once
+// What a batch page shows, read from a folder written by launch_scripts/run_batch.sh:
+//   summary.csv        scenario,planner,seed,status,sim_time,wall_time,run_dir,<metric columns>
+//   summary_stats.csv  scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high
+//   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
+//   summary.md, runs/<scenario>__<planner>__seed<N>/
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hunav::report {
+
+struct BatchRun {
+  std::string scenario;
+  std::string planner;
+  long long seed = 0;
+  std::string status;
+  double sim_time = 0.0;              // s; NaN when empty
+  double wall_time = 0.0;             // s; NaN when empty
+  std::string run_dir_text;           // as summary.csv holds it
+  std::filesystem::path run_dir;      // resolved (absolute, or relative to the batch folder)
+  std::vector<double> metrics;        // one per BatchData::metric_names; NaN when empty; true/false = 1/0
+  std::string page_link;              // link from the batch page to the run's report.html; empty when none
+  std::string page_note;              // why there is no run page
+};
+
+struct StatRow {
+  std::string scenario, planner, behavior, metric;
+  long long n = 0;
+  double mean = 0.0, std = 0.0, ci_low = 0.0, ci_high = 0.0;  // NaN when empty (n < 2)
+};
+
+struct PairedRow {
+  std::string scenario, planner_a, planner_b, metric;
+  long long n = 0;
+  double mean_diff = 0.0, ci_low = 0.0, ci_high = 0.0;  // NaN when empty
+  bool significant = false;
+};
+
+struct BatchData {
+  std::filesystem::path dir;
+  std::vector<std::string> metric_names;  // summary.csv's metric columns, in order
+  std::vector<BatchRun> runs;
+  std::vector<StatRow> stats;
+  std::vector<PairedRow> paired;
+  bool has_paired = false;
+  bool has_summary_md = false;
+  std::vector<std::string> notes;
+};
+
+// Reads the batch folder. summary.csv and summary_stats.csv are required, paired.csv optional.
+// Throws ConfigError (file:line: key: what) when a required file is missing or any file is malformed.
+BatchData loadBatchData(const std::filesystem::path& dir);
+
+// Parses a statistic that may be empty (or nan/NA/-: not computable, e.g. n < 2) as NaN; false when
+// the text is neither empty-like nor a finite number.
+bool parseOptionalNumber(const std::string& text, double& value);
+
+// HuNavSim behavior name for a code or name ("3", "surprised", "Surprised" -> "surprised"); the
+// overall rows ("", "all", "-", "0", "none", "overall") -> "all". Other text is returned lower-cased.
+std::string normalizeBehavior(const std::string& text);
+
+}  // namespace hunav::report

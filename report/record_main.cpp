@@ -1,0 +1,49 @@
+// hunav_record: records every message of an LCM bus into an LCM log file, losing none (see
+// include/hunav/report/log_recorder.hpp for why not lcm-logger), until SIGINT/SIGTERM.
+#include <chrono>
+#include <iostream>
+#include <lcm/lcm-cpp.hpp>
+
+#include "hunav/cli.hpp"
+#include "hunav/report/log_recorder.hpp"
+#include "hunav/signals.hpp"
+#include "hunav/transport.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hunav_record: records every message on an LCM bus into an LCM log file (lcm-logger's format, "
+      "events stamped with the messages' simulation time), with no queue limit so that no message is lost. "
+      "Prints 'ready' once subscribed; SIGINT/SIGTERM stops it after writing what it has received. Replay "
+      "the file with lcm-logplayer, or recompute its metrics with hunav_evaluator --log FILE."};
+  std::string out, url, channels = ".*";
+  app.add_option("--out", out, "the log file to write (overwritten)")->required();
+  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else the hunav default bus)");
+  app.add_option("--channels", channels, "channels to record (LCM regular expression)")->capture_default_str();
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+
+  return hunav::cli::run("hunav_record", [&] {
+    const auto& stop = hunav::installStopSignals();
+    lcm::LCM lcm(hunav::resolveLcmUrl(url));
+    if (!lcm.good()) {
+      std::cerr << "hunav_record: cannot open the LCM bus " << hunav::resolveLcmUrl(url)
+                << " (bad URL, or no multicast route?)\n";
+      return 1;
+    }
+    hunav::report::LogRecorder recorder(lcm, out, channels);
+    std::cout << "ready" << std::endl;
+    auto last_flush = std::chrono::steady_clock::now();
+    while (!stop.load()) {
+      recorder.handle(std::chrono::milliseconds(100));
+      if (std::chrono::steady_clock::now() - last_flush > std::chrono::milliseconds(500)) {
+        recorder.flush();
+        last_flush = std::chrono::steady_clock::now();
+      }
+    }
+    // What arrived before the stop request is still queued: write it, until the bus is quiet.
+    recorder.drain(std::chrono::milliseconds(200));
+    std::cout << "hunav_record: " << recorder.events() << " events in " << out << ":";
+    for (const auto& [channel, count] : recorder.eventsPerChannel()) std::cout << " " << channel << " " << count;
+    std::cout << std::endl;
+    return 0;
+  });
+}

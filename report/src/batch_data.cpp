@@ -1,0 +1,147 @@
+#include "hunav/report/batch_data.hpp"
+
+#include "hunav/config_error.hpp"
+#include "hunav/report/csv_table.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <limits>
+
+namespace hunav::report {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+double optionalNumber(const CsvTable& t, std::size_t r, int c) {
+  double v = 0.0;
+  if (!parseOptionalNumber(t.text(r, c), v))
+    t.fail(r, t.header()[static_cast<std::size_t>(c)], "expected a number or nothing, got '" + t.text(r, c) + "'");
+  return v;
+}
+
+void readSummary(BatchData& data) {
+  const CsvTable t = CsvTable::read(data.dir / "summary.csv");
+  const std::vector<std::string> fixed = {"scenario", "planner", "seed", "status", "sim_time", "wall_time", "run_dir"};
+  t.requireLeadingColumns(fixed);
+  data.metric_names.assign(t.header().begin() + static_cast<std::ptrdiff_t>(fixed.size()), t.header().end());
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    BatchRun run;
+    run.scenario = t.text(r, 0);
+    run.planner = t.text(r, 1);
+    run.seed = t.integer(r, 2);
+    run.status = t.text(r, 3);
+    run.sim_time = optionalNumber(t, r, 4);
+    run.wall_time = optionalNumber(t, r, 5);
+    run.run_dir_text = t.text(r, 6);
+    if (run.scenario.empty()) t.fail(r, "scenario", "empty");
+    if (run.planner.empty()) t.fail(r, "planner", "empty");
+    for (std::size_t c = fixed.size(); c < t.header().size(); ++c) {
+      const std::string& s = t.text(r, static_cast<int>(c));
+      const std::string l = lower(s);
+      if (l == "true") run.metrics.push_back(1.0);
+      else if (l == "false") run.metrics.push_back(0.0);
+      else run.metrics.push_back(optionalNumber(t, r, static_cast<int>(c)));
+    }
+    if (!run.run_dir_text.empty()) {
+      const fs::path p(run.run_dir_text);
+      std::error_code ec;
+      if (p.is_absolute()) run.run_dir = p;
+      else if (fs::is_directory(data.dir / p, ec)) run.run_dir = data.dir / p;
+      else if (fs::is_directory(p, ec)) run.run_dir = fs::absolute(p, ec);
+      else run.run_dir = data.dir / p;
+    }
+    data.runs.push_back(std::move(run));
+  }
+}
+
+void readStats(BatchData& data) {
+  const CsvTable t = CsvTable::read(data.dir / "summary_stats.csv");
+  t.requireLeadingColumns({"scenario", "planner", "behavior", "metric", "n", "mean", "std", "ci95_low", "ci95_high"});
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    StatRow s;
+    s.scenario = t.text(r, 0);
+    s.planner = t.text(r, 1);
+    s.behavior = normalizeBehavior(t.text(r, 2));
+    s.metric = t.text(r, 3);
+    if (s.metric.empty()) t.fail(r, "metric", "empty");
+    s.n = t.integer(r, 4);
+    if (s.n < 0) t.fail(r, "n", "must be >= 0");
+    s.mean = optionalNumber(t, r, 5);
+    s.std = optionalNumber(t, r, 6);
+    s.ci_low = optionalNumber(t, r, 7);
+    s.ci_high = optionalNumber(t, r, 8);
+    data.stats.push_back(std::move(s));
+  }
+}
+
+void readPaired(BatchData& data) {
+  const fs::path file = data.dir / "paired.csv";
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    data.notes.push_back("there is no paired.csv: no paired comparisons between planners");
+    return;
+  }
+  data.has_paired = true;
+  const CsvTable t = CsvTable::read(file);
+  t.requireLeadingColumns(
+      {"scenario", "planner_a", "planner_b", "metric", "n", "mean_diff", "ci95_low", "ci95_high", "significant"});
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    PairedRow p;
+    p.scenario = t.text(r, 0);
+    p.planner_a = t.text(r, 1);
+    p.planner_b = t.text(r, 2);
+    p.metric = t.text(r, 3);
+    p.n = t.integer(r, 4);
+    p.mean_diff = optionalNumber(t, r, 5);
+    p.ci_low = optionalNumber(t, r, 6);
+    p.ci_high = optionalNumber(t, r, 7);
+    const std::string sig = lower(t.text(r, 8));
+    if (sig == "true" || sig == "yes" || sig == "1") p.significant = true;
+    else if (sig == "false" || sig == "no" || sig == "0" || sig.empty()) p.significant = false;
+    else t.fail(r, "significant", "expected true or false, got '" + t.text(r, 8) + "'");
+    data.paired.push_back(std::move(p));
+  }
+}
+
+}  // namespace
+
+bool parseOptionalNumber(const std::string& text, double& value) {
+  const std::string l = lower(text);
+  if (l.empty() || l == "nan" || l == "-nan" || l == "na" || l == "-" || l == "none") {
+    value = kNaN;
+    return true;
+  }
+  return parseNumber(text, value);
+}
+
+std::string normalizeBehavior(const std::string& text) {
+  static const char* const kNames[] = {"all", "regular", "impassive", "surprised", "scared", "curious", "threatening"};
+  const std::string l = lower(text);
+  if (l.empty() || l == "all" || l == "-" || l == "0" || l == "none" || l == "overall") return "all";
+  if (l.size() == 1 && l[0] >= '1' && l[0] <= '6') return kNames[l[0] - '0'];
+  return l;
+}
+
+BatchData loadBatchData(const fs::path& dir) {
+  BatchData data;
+  data.dir = dir;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw ConfigError(dir.string(), 0, "", "not a folder");
+  readSummary(data);
+  readStats(data);
+  readPaired(data);
+  data.has_summary_md = fs::is_regular_file(dir / "summary.md", ec);
+  return data;
+}
+
+}  // namespace hunav::report

@@ -1,0 +1,103 @@
+#include "hunav/report/log_recorder.hpp"
+
+#include <hunav/episode_event_t.hpp>
+#include <hunav/live_metrics_t.hpp>
+#include <hunav/nav_goal_t.hpp>
+#include <hunav/robot_command_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
+#include <hunav/world_state_t.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <array>
+#include <stdexcept>
+
+namespace hunav::report {
+
+namespace {
+
+std::uint64_t readBigEndian64(const std::uint8_t* b) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v = (v << 8) | b[i];
+  return v;
+}
+
+// Fingerprints of the message types published on hunav's channels; each starts with int64 utime.
+const std::array<std::uint64_t, 8>& hunavFingerprints() {
+  static const std::array<std::uint64_t, 8> hashes = {
+      static_cast<std::uint64_t>(hunav::episode_event_t::getHash()),
+      static_cast<std::uint64_t>(hunav::live_metrics_t::getHash()),
+      static_cast<std::uint64_t>(hunav::nav_goal_t::getHash()),
+      static_cast<std::uint64_t>(hunav::robot_command_t::getHash()),
+      static_cast<std::uint64_t>(hunav::robot_observation_t::getHash()),
+      static_cast<std::uint64_t>(hunav::step_reply_t::getHash()),
+      static_cast<std::uint64_t>(hunav::step_request_t::getHash()),
+      static_cast<std::uint64_t>(hunav::world_state_t::getHash()),
+  };
+  return hashes;
+}
+
+}  // namespace
+
+bool LogRecorder::hunavUtime(const void* data, std::size_t size, std::int64_t& utime) {
+  if (size < 16) return false;
+  const auto* bytes = static_cast<const std::uint8_t*>(data);
+  const std::uint64_t hash = readBigEndian64(bytes);
+  const auto& known = hunavFingerprints();
+  if (std::find(known.begin(), known.end(), hash) == known.end()) return false;
+  utime = static_cast<std::int64_t>(readBigEndian64(bytes + 8));
+  return true;
+}
+
+LogRecorder::LogRecorder(lcm::LCM& lcm, const std::string& path, const std::string& channel_regex)
+    : lcm_(lcm), log_(path, "w") {
+  if (!log_.good()) throw std::runtime_error("cannot write the LCM log " + path);
+  if (!lcm_.good()) throw std::runtime_error("cannot open the LCM bus");
+  subscription_ = lcm_.subscribe(channel_regex, &LogRecorder::onMessage, this);
+  if (subscription_ == nullptr) throw std::runtime_error("cannot subscribe to '" + channel_regex + "'");
+  subscription_->setQueueCapacity(0);  // 0: unbounded (LCM's default of 30 drops messages in bursts)
+}
+
+LogRecorder::~LogRecorder() {
+  if (subscription_ != nullptr) lcm_.unsubscribe(subscription_);
+}
+
+bool LogRecorder::handle(std::chrono::milliseconds timeout) {
+  const int handled = lcm_.handleTimeout(static_cast<int>(timeout.count()));
+  if (write_failed_) throw std::runtime_error("cannot write to the LCM log (disk full?)");
+  if (handled < 0) {
+    if (errno == EINTR) return false;  // a signal (SIGINT/SIGTERM: the caller's loop checks its flag)
+    throw std::runtime_error("LCM stopped receiving");
+  }
+  return handled > 0;
+}
+
+void LogRecorder::drain(std::chrono::milliseconds quiet) {
+  while (handle(quiet)) {
+  }
+  flush();
+}
+
+void LogRecorder::flush() { std::fflush(log_.getFilePtr()); }
+
+void LogRecorder::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  std::int64_t utime = 0;
+  if (hunavUtime(rbuf->data, rbuf->data_size, utime)) last_stamp_ = std::max(last_stamp_, utime);
+  lcm::LogEvent ev{};
+  ev.eventnum = events_;
+  ev.timestamp = last_stamp_;
+  ev.channel = channel;
+  ev.datalen = static_cast<int32_t>(rbuf->data_size);
+  ev.data = rbuf->data;
+  // No exception may cross LCM's C code: handle() reports the failure.
+  if (log_.writeEvent(&ev) != 0) {
+    write_failed_ = true;
+    return;
+  }
+  ++events_;
+  ++per_channel_[channel];
+}
+
+}  // namespace hunav::report

@@ -1,0 +1,215 @@
+// The batch folder reader, the pages written, and the hunav_report binary (exit codes, messages).
+#include "report_test_helpers.hpp"
+
+#include "hunav/config_error.hpp"
+#include "hunav/report/batch_data.hpp"
+#include "hunav/report/html_page.hpp"
+#include "hunav/report/report.hpp"
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+
+using namespace hunav::report;
+using namespace report_test;
+
+namespace {
+
+const std::string kBinary = std::string(HUNAV_BINARY_DIR) + "/bin/hunav_report";
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result runBinary(const std::string& args) {
+  Result r;
+  FILE* p = ::popen((kBinary + " " + args + " 2>&1").c_str(), "r");
+  if (p == nullptr) return r;
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, p)) > 0) r.output.append(buffer, n);
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// A batch of two runs of the tiny scenario (dwb and sfw, seed 1), the sfw one aborted without a
+// run folder.
+fs::path writeTinyBatch(const fs::path& dir) {
+  writeTinyRun(dir / "runs" / "tiny__dwb__seed1");
+  writeFile(dir / "summary.csv",
+            "scenario,planner,seed,status,sim_time,wall_time,run_dir,time_to_reach_goal,completed\n"
+            "tiny,dwb,1,time_limit,0.3,0.01,runs/tiny__dwb__seed1,0.3,false\n"
+            "tiny,sfw,1,aborted,,,runs/tiny__sfw__seed1,,true\n");
+  writeFile(dir / "summary_stats.csv",
+            "scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high\n"
+            "tiny,dwb,all,time_to_reach_goal,10,25.5,1.5,24.4,26.6\n"
+            "tiny,dwb,3,time_to_reach_goal,1,25,,,\n"
+            "tiny,sfw,,time_to_reach_goal,10,27,2,25.6,28.4\n");
+  writeFile(dir / "paired.csv",
+            "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant\n"
+            "tiny,dwb,sfw,time_to_reach_goal,10,-1.5,-3.1,0.1,false\n");
+  writeFile(dir / "summary.md", "# batch\n");
+  return dir;
+}
+
+}  // namespace
+
+TEST(BatchData, ReadsTheThreeTables) {
+  const BatchData d = loadBatchData(writeTinyBatch(freshDir("batch")));
+  EXPECT_EQ(d.metric_names, (std::vector<std::string>{"time_to_reach_goal", "completed"}));
+  ASSERT_EQ(d.runs.size(), 2u);
+  EXPECT_EQ(d.runs[0].planner, "dwb");
+  EXPECT_DOUBLE_EQ(d.runs[0].metrics[0], 0.3);
+  EXPECT_DOUBLE_EQ(d.runs[0].metrics[1], 0.0);  // false
+  EXPECT_TRUE(std::isnan(d.runs[1].metrics[0]));  // empty: the run has no value
+  EXPECT_DOUBLE_EQ(d.runs[1].metrics[1], 1.0);  // true
+  EXPECT_TRUE(std::isnan(d.runs[1].sim_time));
+  EXPECT_EQ(d.runs[0].run_dir, d.dir / "runs" / "tiny__dwb__seed1");
+  ASSERT_EQ(d.stats.size(), 3u);
+  EXPECT_EQ(d.stats[0].behavior, "all");
+  EXPECT_EQ(d.stats[1].behavior, "surprised");  // code 3
+  EXPECT_EQ(d.stats[2].behavior, "all");        // empty
+  EXPECT_DOUBLE_EQ(d.stats[0].ci_high, 26.6);
+  EXPECT_TRUE(std::isnan(d.stats[1].std));
+  ASSERT_EQ(d.paired.size(), 1u);
+  EXPECT_FALSE(d.paired[0].significant);
+  EXPECT_DOUBLE_EQ(d.paired[0].mean_diff, -1.5);
+  EXPECT_TRUE(d.has_paired);
+  EXPECT_TRUE(d.has_summary_md);
+}
+
+TEST(BatchData, MissingOrMalformedTablesAreErrors) {
+  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  auto error = [&] {
+    try {
+      loadBatchData(dir);
+    } catch (const hunav::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  fs::remove(dir / "paired.csv");
+  EXPECT_EQ(error(), "(no error)");  // paired.csv is optional
+  fs::remove(dir / "summary_stats.csv");
+  EXPECT_NE(error().find("summary_stats.csv: missing file"), std::string::npos);
+  writeTinyBatch(dir);
+  writeFile(dir / "summary_stats.csv",
+            "scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high\ntiny,dwb,all,x,ten,1,1,1,1\n");
+  EXPECT_NE(error().find("summary_stats.csv:2: n: expected an integer, got 'ten'"), std::string::npos);
+  writeTinyBatch(dir);
+  writeFile(dir / "summary.csv", "scenario,planner,seed,status\n");
+  EXPECT_NE(error().find("summary.csv:1: sim_time: missing column"), std::string::npos);
+  writeTinyBatch(dir);
+  writeFile(dir / "paired.csv",
+            "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant\n"
+            "tiny,dwb,sfw,m,10,1,0,2,maybe\n");
+  EXPECT_NE(error().find("paired.csv:2: significant: expected true or false, got 'maybe'"), std::string::npos);
+}
+
+TEST(Pages, RunPageEmbedsItsDataAndNothingExternal) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  ReportOptions options;
+  const ReportResult r = writeRunReport(dir, options);
+  EXPECT_EQ(r.page, dir / "report.html");
+  const std::string html = readFile(r.page);
+  EXPECT_EQ(r.bytes, html.size());
+  EXPECT_NE(html.find("<script id=\"hunav-data\" type=\"application/json\">{\"kind\":\"run\""), std::string::npos);
+  EXPECT_NE(html.find("\"run_id\":\"tiny_dwb_s3\""), std::string::npos);
+  // Self-contained: no URL the browser would fetch.
+  for (const char* fetch : {"src=\"http", "href=\"http", "src=\"//", "@import", "url(http"})
+    EXPECT_EQ(html.find(fetch), std::string::npos) << fetch;
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
+  EXPECT_EQ(html.find("<link "), std::string::npos);
+  // Person 2 absent at 0.1 s: null in its positions.
+  EXPECT_NE(html.find("\"x\":[0,null,0,null]"), std::string::npos);
+}
+
+TEST(Pages, BatchPageLinksTheRunPages) {
+  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const ReportResult r = writeBatchReport(dir, ReportOptions{});
+  EXPECT_EQ(r.run_pages, 1u);
+  ASSERT_EQ(r.warnings.size(), 1u);  // the aborted run has no folder
+  EXPECT_NE(r.warnings[0].find("tiny sfw seed 1: no run page: no states.csv"), std::string::npos) << r.warnings[0];
+  const std::string html = readFile(dir / "report.html");
+  EXPECT_NE(html.find("\"link\":\"runs/tiny__dwb__seed1/report.html\""), std::string::npos);
+  const std::string run_page = readFile(dir / "runs" / "tiny__dwb__seed1" / "report.html");
+  EXPECT_NE(run_page.find("\"batchLink\":\"../../report.html\""), std::string::npos);
+}
+
+TEST(Pages, LongCrowdedRunStaysSmall) {
+  // 2000 samples of 100 people: the replay is downsampled (stride max(ceil(2000 / 1500),
+  // ceil(2000 * 101 / 250000)) = 2) and the plots to about 2 x 1000 points each.
+  const fs::path dir = freshDir("crowd");
+  std::string states = kStatesHeader;
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k * 0.01;
+    states += std::to_string(t) + ",robot,0," + std::to_string(0.001 * k) + ",0,0,0.1,0,0,0.1,0,0.3,0,0,-1,20,0,0.3,\n";
+    for (int a = 1; a <= 100; ++a)
+      states += std::to_string(t) + ",agent," + std::to_string(a) + "," + std::to_string(a * 0.5) + "," +
+                std::to_string(1.0 + 0.0005 * k * (a % 7)) + ",1.57,0,0.5,0,0.5,0,0.3," + std::to_string(1 + a % 6) +
+                ",0,-1,,,,\n";
+  }
+  writeFile(dir / "states.csv", states);
+  writeFile(dir / "run.json", runJson("no/such/scenario_for_the_report_test.yaml"));
+  const RunData d = loadRunData(dir);
+  EXPECT_EQ(d.frame_stride, 2u);
+  EXPECT_EQ(d.frame_t.size(), 1001u);  // samples 0, 2, ..., 1998, and the last one, 1999
+  const ReportResult r = writeRunReport(dir, ReportOptions{});
+  EXPECT_LT(r.bytes, 4u * 1024 * 1024) << "the page should stay within a few MB";
+  EXPECT_GT(r.bytes, 100u * 1024);
+}
+
+TEST(Cli, WritesARunPageAndExits0) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  const Result r = runBinary(quoted(dir));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("wrote " + (dir / "report.html").string()), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir / "report.html"));
+  const fs::path other = dir / "elsewhere.html";
+  EXPECT_EQ(runBinary(quoted(dir) + " --output " + quoted(other)).code, 0);
+  EXPECT_TRUE(fs::is_regular_file(other));
+}
+
+TEST(Cli, BadInputExits2WithTheFileNamed) {
+  const fs::path dir = freshDir("bad");
+  Result r = runBinary(quoted(dir / "missing"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("missing: no such folder"), std::string::npos) << r.output;
+  r = runBinary(quoted(dir));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("neither a run folder (no states.csv) nor a batch folder (no summary.csv)"), std::string::npos)
+      << r.output;
+  writeTinyRun(dir / "run");
+  fs::remove(dir / "run" / "run.json");
+  r = runBinary(quoted(dir / "run"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("run.json: missing file"), std::string::npos) << r.output;
+  writeTinyRun(dir / "run");
+  writeFile(dir / "run" / "states.csv", std::string(kStatesHeader) + "0,robot,0,0,0,0,0,0,0,0,0,0.3,0,0,-1,,,\n");
+  r = runBinary(quoted(dir / "run"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("states.csv:2: row: expected 19 fields, got 18"), std::string::npos) << r.output;
+  writeTinyBatch(dir / "batch");
+  writeFile(dir / "batch" / "summary_stats.csv", "scenario,planner\n");
+  r = runBinary(quoted(dir / "batch"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("summary_stats.csv:1: behavior: missing column"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "batch" / "report.html"));
+  EXPECT_EQ(runBinary("--no-such-option " + quoted(dir)).code, 2);
+}
+
+TEST(Cli, BatchWithABrokenRunStillWritesTheBatchPage) {
+  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  writeFile(dir / "runs" / "tiny__dwb__seed1" / "run.json", "{ not json");
+  const Result r = runBinary(quoted(dir));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: tiny dwb seed 1: no run page:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("run.json"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir / "report.html"));
+}

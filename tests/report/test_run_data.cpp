@@ -1,0 +1,285 @@
+// Data extraction of the run page: hand-computed values on the tiny run of report_test_helpers.hpp.
+#include "report_test_helpers.hpp"
+
+#include "hunav/config_error.hpp"
+#include "hunav/report/csv_table.hpp"
+#include "hunav/report/json_writer.hpp"
+#include "hunav/report/run_data.hpp"
+
+#include <cmath>
+
+using namespace hunav::report;
+using namespace report_test;
+
+namespace {
+
+const TimeSeries& series(const RunData& d, const std::string& key) {
+  for (const auto& s : d.series)
+    if (s.key == key) return s;
+  throw std::runtime_error("no series " + key);
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const hunav::ConfigError& e) {
+    return e.what();
+  }
+  return "(no ConfigError)";
+}
+
+}  // namespace
+
+TEST(RunData, PerTickSeriesRecomputedFromStates) {
+  const RunData d = loadRunData(writeTinyRun(freshDir("run")));
+  ASSERT_EQ(d.samples, 4u);
+  EXPECT_NE(d.series_source.find("recomputed from states.csv"), std::string::npos) << d.series_source;
+  // Closest surface distances (helper comment): 1.35, 0.30, 0.55, nobody.
+  const auto& dist = series(d, "closest_distance");
+  ASSERT_EQ(dist.v.size(), 4u);
+  EXPECT_NEAR(dist.v[0], 1.35, 1e-12);
+  EXPECT_NEAR(dist.v[1], 0.30, 1e-12);
+  EXPECT_NEAR(dist.v[2], 0.55, 1e-12);
+  EXPECT_TRUE(std::isnan(dist.v[3]));  // nobody there: a gap, not the evaluator's 10000 m
+  EXPECT_DOUBLE_EQ(dist.t[3], 0.3);
+  EXPECT_EQ(dist.unit, "m");
+  // Robot speed |linear_vel|: 0.5, 0.5, |-0.2|, 0.
+  const auto& speed = series(d, "robot_speed");
+  EXPECT_DOUBLE_EQ(speed.v[0], 0.5);
+  EXPECT_DOUBLE_EQ(speed.v[1], 0.5);
+  EXPECT_DOUBLE_EQ(speed.v[2], 0.2);
+  EXPECT_DOUBLE_EQ(speed.v[3], 0.0);
+  // Bands of the closest person: social, intimate, personal, none. Cumulative share in %:
+  //   intimate flags 0 1 0 0 -> 0, 100*1/2 = 50, 100*1/3, 100*1/4 = 25
+  //   personal flags 0 0 1 0 -> 0, 0, 100/3, 25
+  //   social   flags 1 0 0 0 -> 100, 50, 100/3, 25
+  const auto& intimate = series(d, "intimate_cum");
+  const auto& personal = series(d, "personal_cum");
+  const auto& social = series(d, "social_cum");
+  const double third = 100.0 / 3.0;
+  EXPECT_NEAR(intimate.v[0], 0.0, 1e-12);
+  EXPECT_NEAR(intimate.v[1], 50.0, 1e-12);
+  EXPECT_NEAR(intimate.v[2], third, 1e-12);
+  EXPECT_NEAR(intimate.v[3], 25.0, 1e-12);
+  EXPECT_NEAR(personal.v[1], 0.0, 1e-12);
+  EXPECT_NEAR(personal.v[2], third, 1e-12);
+  EXPECT_NEAR(personal.v[3], 25.0, 1e-12);
+  EXPECT_NEAR(social.v[0], 100.0, 1e-12);
+  EXPECT_NEAR(social.v[1], 50.0, 1e-12);
+  EXPECT_NEAR(social.v[3], 25.0, 1e-12);
+  // Social work exists for every sample and is never negative.
+  const auto& work = series(d, "social_work");
+  ASSERT_EQ(work.v.size(), 4u);
+  for (const double w : work.v) EXPECT_GE(w, 0.0);
+}
+
+TEST(RunData, PerTickSeriesReadFromMetricsSteps) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  writeFile(dir / "metrics_steps.csv",
+            "t,avg_distance_to_closest_person,intimate_space_intrusions,personal_space_intrusions,"
+            "social_space_intrusions,avg_robot_linear_speed,social_work\n"
+            "0,1,0,0,1,0.25,7\n0.1,2,1,0,0,0.5,8\n0.2,10000,1,0,0,0.75,9\n0.3,3,0,1,0,1,10\n");
+  const RunData d = loadRunData(dir);
+  EXPECT_EQ(d.series_source, "metrics_steps.csv");
+  const auto& dist = series(d, "closest_distance");
+  EXPECT_DOUBLE_EQ(dist.v[0], 1.0);
+  EXPECT_DOUBLE_EQ(dist.v[1], 2.0);
+  EXPECT_TRUE(std::isnan(dist.v[2]));  // 10000 m = nobody
+  EXPECT_DOUBLE_EQ(dist.v[3], 3.0);
+  EXPECT_DOUBLE_EQ(series(d, "robot_speed").v[2], 0.75);
+  EXPECT_DOUBLE_EQ(series(d, "social_work").v[3], 10.0);
+  // intimate flags 0 1 1 0 -> 0, 50, 66.67, 50
+  EXPECT_NEAR(series(d, "intimate_cum").v[2], 200.0 / 3.0, 1e-12);
+  EXPECT_NEAR(series(d, "intimate_cum").v[3], 50.0, 1e-12);
+}
+
+TEST(RunData, MetricsStepsOfAnotherRunIsAnError) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  const std::string header =
+      "t,avg_distance_to_closest_person,intimate_space_intrusions,personal_space_intrusions,"
+      "social_space_intrusions,avg_robot_linear_speed,social_work\n";
+  writeFile(dir / "metrics_steps.csv", header + "0,1,0,0,1,0.25,7\n0.1,2,1,0,0,0.5,8\n0.2,3,1,0,0,0.75,9\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("metrics_steps.csv: has 3 rows but states.csv has 4 samples"),
+            std::string::npos);
+  writeFile(dir / "metrics_steps.csv",
+            header + "0,1,0,0,1,0.25,7\n0.1,2,1,0,0,0.5,8\n0.25,3,1,0,0,0.75,9\n0.3,3,0,1,0,1,10\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("metrics_steps.csv:4: t: 0.25 differs"), std::string::npos);
+  writeFile(dir / "metrics_steps.csv", header + "0,1,0,0,1,0.25,7\n0.1,x,1,0,0,0.5,8\n0.2,3,1,0,0,0.75,9\n0.3,3,0,1,0,1,10\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); })
+                .find("metrics_steps.csv:3: avg_distance_to_closest_person: expected a number, got 'x'"),
+            std::string::npos);
+}
+
+TEST(RunData, MetricsStepsWithoutTheColumnsIsRecomputed) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  writeFile(dir / "metrics_steps.csv", "t,path_length\n0,0\n0.1,1\n0.2,2\n0.3,3\n");
+  const RunData d = loadRunData(dir);
+  EXPECT_NE(d.series_source.find("metrics_steps.csv has no column avg_distance_to_closest_person"), std::string::npos)
+      << d.series_source;
+  EXPECT_NEAR(series(d, "closest_distance").v[1], 0.30, 1e-12);
+}
+
+TEST(RunData, TracksGoalsAndReactions) {
+  const RunData d = loadRunData(writeTinyRun(freshDir("run")));
+  ASSERT_EQ(d.tracks.size(), 3u);  // robot, then people in order of first appearance
+  EXPECT_TRUE(d.tracks[0].robot);
+  EXPECT_EQ(d.tracks[1].id, 1);
+  EXPECT_EQ(d.tracks[1].behavior, 3);
+  EXPECT_DOUBLE_EQ(d.tracks[1].radius, 0.35);
+  EXPECT_EQ(d.tracks[2].id, 2);
+  EXPECT_EQ(d.frame_stride, 1u);
+  ASSERT_EQ(d.frame_t.size(), 4u);
+  EXPECT_DOUBLE_EQ(d.tracks[0].x[3], 0.15);
+  EXPECT_DOUBLE_EQ(d.tracks[1].x[2], 1.3);
+  EXPECT_TRUE(std::isnan(d.tracks[1].x[3]));  // person 1 gone at 0.3 s
+  EXPECT_DOUBLE_EQ(d.tracks[2].y[0], 4.0);
+  EXPECT_TRUE(std::isnan(d.tracks[2].y[1]));  // person 2 absent at 0.1 s
+  ASSERT_EQ(d.tracks[0].goals.size(), 1u);
+  EXPECT_DOUBLE_EQ(d.tracks[0].goals[0].x(), 5.0);
+  ASSERT_EQ(d.tracks[1].goals.size(), 1u);
+  EXPECT_DOUBLE_EQ(d.tracks[1].goals[0].x(), 0.0);
+  EXPECT_TRUE(d.tracks[2].goals.empty());
+  // Person 1 reacts (behavior_state 1) at 0.1 and 0.2 s, then leaves: one span [0.1, 0.2].
+  ASSERT_EQ(d.active.size(), 1u);
+  EXPECT_EQ(d.active[0].track, 1u);
+  EXPECT_EQ(d.active[0].behavior, 3);
+  EXPECT_DOUBLE_EQ(d.active[0].t0, 0.1);
+  EXPECT_DOUBLE_EQ(d.active[0].t1, 0.2);
+  // Run metrics of run.json, with the units of the profile.
+  ASSERT_EQ(d.metrics.size(), 2u);
+  EXPECT_EQ(d.metrics[0].name, "time_to_reach_goal");
+  EXPECT_EQ(d.metrics[0].unit, "s");
+  EXPECT_EQ(d.metrics[0].value, "0.3");
+  EXPECT_EQ(d.metrics[1].value, "false");
+  EXPECT_EQ(d.info.seed, 3);
+}
+
+TEST(RunData, MapFromTheScenarioAndBounds) {
+  const RunData d = loadRunData(writeTinyRun(freshDir("run")));
+  ASSERT_EQ(d.shapes.size(), 1u);
+  EXPECT_EQ(d.shapes[0].kind, hunav::Shape::Kind::Polyline);
+  EXPECT_TRUE(d.obstacle_points.empty());
+  // Bounds: the wall (-1..6, y -1), the robot goal (5, 0), person 2 at (0, 4) with radius 0.35,
+  // person 1 up to x 2 + 0.35; plus a 0.5 m margin.
+  EXPECT_DOUBLE_EQ(d.lo.x(), -1.5);
+  EXPECT_DOUBLE_EQ(d.lo.y(), -1.5);
+  EXPECT_DOUBLE_EQ(d.hi.x(), 6.5);
+  EXPECT_DOUBLE_EQ(d.hi.y(), 4.85);
+}
+
+TEST(RunData, MapFromObstaclePointsWhenTheScenarioIsGone) {
+  const RunData d = loadRunData(writeTinyRun(freshDir("run"), "no/such/scenario_for_the_report_test.yaml"));
+  EXPECT_TRUE(d.shapes.empty());
+  // Recorded points: (0,-1), (0,1), (2,-1), (0.01,-1); the last is on the 5 cm grid cell of (0,-1).
+  ASSERT_EQ(d.obstacle_points.size(), 3u);
+  EXPECT_NE(d.map_source.find("not found"), std::string::npos) << d.map_source;
+  ASSERT_FALSE(d.notes.empty());
+}
+
+TEST(RunData, ScenarioOptionThatFailsIsAnError) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  RunDataOptions options;
+  options.scenario_file = (dir / "missing.yaml").string();
+  EXPECT_NE(errorOf([&] { loadRunData(dir, options); }).find("missing.yaml"), std::string::npos);
+}
+
+TEST(RunData, DownsampledFrames) {
+  RunDataOptions options;
+  options.limits.max_frames = 2;  // 4 samples -> stride 2: samples 0, 2 and the last one, 3
+  const RunData d = loadRunData(writeTinyRun(freshDir("run")), options);
+  EXPECT_EQ(d.frame_stride, 2u);
+  ASSERT_EQ(d.frame_t.size(), 3u);
+  EXPECT_DOUBLE_EQ(d.frame_t[1], 0.2);
+  EXPECT_DOUBLE_EQ(d.frame_t[2], 0.3);
+  EXPECT_DOUBLE_EQ(d.tracks[0].x[1], 0.1);
+  EXPECT_EQ(series(d, "robot_speed").v.size(), 4u);  // plots keep every sample until written
+}
+
+TEST(RunData, BehaviorMetricsOfThisRun) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  writeFile(dir / "metrics_beh_3.csv",
+            "experiment_tag,run_id,scenario,planner,seed,profile,social_work\n"
+            "exp,other_run,tiny,dwb,3,default,1.5\n"
+            "exp,tiny_dwb_s3,tiny,dwb,3,default,2.5\n");
+  const RunData d = loadRunData(dir);
+  ASSERT_EQ(d.behavior_metrics.count(3), 1u);
+  EXPECT_EQ(d.behavior_metrics.at(3).at("social_work"), "2.5");
+}
+
+TEST(RunData, MissingOrMalformedInputsNameTheFile) {
+  const fs::path dir = writeTinyRun(freshDir("run"));
+  fs::remove(dir / "run.json");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("run.json: missing file"), std::string::npos);
+  writeTinyRun(dir);
+  writeFile(dir / "states.csv", std::string(kStatesHeader) + "0,robot,0,zero,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv:2: x: expected a finite number, got 'zero'"),
+            std::string::npos);
+  writeFile(dir / "states.csv", kStatesHeader);
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv: no samples"), std::string::npos);
+  writeTinyRun(dir);
+  writeFile(dir / "run.json", "{\"seed\": \"three\"}\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("run.json:1: seed"), std::string::npos);
+  writeFile(dir / "run.json", "{\"metrics\": {\"path_length\": \"long\"}}\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("metrics.path_length: expected a number or true/false"),
+            std::string::npos);
+  writeTinyRun(dir);
+  writeFile(dir / "metrics_beh_1.csv", "experiment_tag,run_id\nexp\n");
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("metrics_beh_1.csv:2: expected 2 fields"), std::string::npos);
+}
+
+TEST(Decimation, KeepsTheExtremesOfEachBucketAndTheGaps) {
+  std::vector<double> v = {5, 1, 9, 2, std::nan(""), 3, 4, 8};
+  // 8 samples > 2 x 2 buckets: bucket [0, 4) keeps min 1 (index 1) and max 9 (index 2); bucket
+  // [4, 8) keeps min 3 (5), max 8 (7) and its gap (4); plus the first (0) and last (7).
+  const auto keep = decimateMinMax(v, 2);
+  EXPECT_EQ(keep, (std::vector<std::size_t>{0, 1, 2, 4, 5, 7}));
+  // Short series are kept whole.
+  EXPECT_EQ(decimateMinMax({1, 2, 3}, 2), (std::vector<std::size_t>{0, 1, 2}));
+  EXPECT_TRUE(decimateMinMax({}, 5).empty());
+}
+
+TEST(Decimation, CumulativePercentAndFrameStride) {
+  const auto c = cumulativePercent({0, 1, 1, 0});
+  EXPECT_DOUBLE_EQ(c[0], 0.0);
+  EXPECT_DOUBLE_EQ(c[1], 50.0);          // 1 of 2
+  EXPECT_DOUBLE_EQ(c[2], 200.0 / 3.0);   // 2 of 3
+  EXPECT_DOUBLE_EQ(c[3], 50.0);          // 2 of 4
+  ReportLimits limits;
+  limits.max_frames = 1500;
+  limits.max_positions = 250000;
+  EXPECT_EQ(frameStride(1000, 3, limits), 1u);
+  EXPECT_EQ(frameStride(6001, 3, limits), 5u);      // ceil(6001 / 1500) = 5
+  EXPECT_EQ(frameStride(6001, 1001, limits), 25u);  // ceil(6001 * 1001 / 250000) = ceil(24.03) = 25
+}
+
+TEST(CsvTable, QuotedFieldsAndErrors) {
+  const fs::path dir = freshDir("csv");
+  writeFile(dir / "a.csv", "a,b\n\"x, \"\"y\"\"\",2\n\n\"multi\nline\",3\n");
+  const CsvTable t = CsvTable::read(dir / "a.csv");
+  ASSERT_EQ(t.rows(), 2u);
+  EXPECT_EQ(t.text(0, 0), "x, \"y\"");
+  EXPECT_DOUBLE_EQ(t.number(0, 1), 2.0);
+  EXPECT_EQ(t.text(1, 0), "multi\nline");
+  EXPECT_EQ(t.line(1), 4);
+  writeFile(dir / "b.csv", "a,b\n1,2\n3\n");
+  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "b.csv"); }).find("b.csv:3: expected 2 fields (as the header), got 1"),
+            std::string::npos);
+  writeFile(dir / "c.csv", "a,a\n");
+  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "c.csv"); }).find("c.csv:1: a: duplicate column"), std::string::npos);
+  writeFile(dir / "d.csv", "a\n\"open\n");
+  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "d.csv"); }).find("unterminated"), std::string::npos);
+  writeFile(dir / "e.csv", "");
+  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "e.csv"); }).find("empty file"), std::string::npos);
+  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "none.csv"); }).find("none.csv: missing file"), std::string::npos);
+}
+
+TEST(Json, EscapesAndNumbers) {
+  EXPECT_EQ(jsonQuote("a\"b</script>\n"), "\"a\\\"b\\u003c/script\\u003e\\n\"");
+  EXPECT_EQ(formatFixed(1.23456, 2), "1.23");
+  EXPECT_EQ(formatFixed(2.0, 2), "2");
+  EXPECT_EQ(formatFixed(-0.001, 2), "0");
+  EXPECT_EQ(formatFixed(std::nan(""), 2), "null");
+  JsonWriter j;
+  j.beginObject().key("a").fixedArray({1.5, std::nan("")}, 1).key("b").number(123456.789, 4).key("c").value(true).endObject();
+  EXPECT_EQ(j.str(), "{\"a\":[1.5,null],\"b\":1.235e+05,\"c\":true}");
+}
