@@ -2,6 +2,9 @@
 // Test helper: the sample an exhaustive search of the dynamic window would pick, to check the
 // planners' branch and bound against.
 #include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/sim_tools.hpp"
+
+#include <gtest/gtest.h>
 
 namespace hunav::planners {
 
@@ -35,6 +38,34 @@ inline bool exhaustiveBest(const DwbPlanner& planner, const robot_observation_t&
       }
     }
   return best < TrajectoryCritic::kReject;
+}
+
+// How many of a run's sampled decisions were checked, and how many of those had people in view.
+struct ExhaustiveComparison {
+  int compared = 0;
+  int with_people = 0;
+};
+
+// Drives `world` with `planner` (a plan every 10 steps of 0.01 s, up to 40 s or the goal) and checks
+// every sampled decision against exhaustiveBest: branch and bound must pick exactly the same sample.
+inline void compareWithExhaustiveSearch(DwbPlanner& planner, MiniWorld& world, ExhaustiveComparison& out) {
+  robot_command_t cmd{};
+  for (int tick = 0; world.time() < 40.0; ++tick) {
+    if (tick % 10 == 0) {
+      const robot_observation_t obs = world.observe();
+      cmd = planner.plan(obs);
+      if (planner.lastDecision() == DwbPlanner::Decision::AtGoal) return;
+      if (planner.lastDecision() == DwbPlanner::Decision::Sampled) {
+        double v = 0.0, w = 0.0;
+        ASSERT_TRUE(exhaustiveBest(planner, obs, v, w));
+        EXPECT_EQ(cmd.v, v) << "t " << world.time();
+        EXPECT_EQ(cmd.w, w) << "t " << world.time();
+        ++out.compared;
+        out.with_people += !planner.context().people.empty();
+      }
+    }
+    world.step(cmd.v, cmd.w, 0.01);
+  }
 }
 
 }  // namespace hunav::planners

@@ -276,25 +276,9 @@ TEST_P(SocialBranchAndBound, PicksTheSampleAnExhaustiveSearchPicks) {
   const auto owned = createPlanner(GetParam(), s, &reader);
   auto& planner = dynamic_cast<DwbPlanner&>(*owned);
   MiniWorld world(s);
-  robot_command_t cmd{};
-  int compared = 0, with_people = 0;
-  for (int tick = 0; world.time() < 40.0; ++tick) {
-    if (tick % 10 == 0) {
-      const robot_observation_t obs = world.observe();
-      cmd = planner.plan(obs);
-      if (planner.lastDecision() == DwbPlanner::Decision::AtGoal) break;
-      if (planner.lastDecision() == DwbPlanner::Decision::Sampled) {
-        double v = 0.0, w = 0.0;
-        ASSERT_TRUE(exhaustiveBest(planner, obs, v, w));
-        EXPECT_EQ(cmd.v, v) << "t " << world.time();
-        EXPECT_EQ(cmd.w, w) << "t " << world.time();
-        ++compared;
-        with_people += !planner.context().people.empty();
-      }
-    }
-    world.step(cmd.v, cmd.w, 0.01);
-  }
-  EXPECT_GT(compared, 100);
-  EXPECT_GT(with_people, 30);
+  ExhaustiveComparison run;
+  compareWithExhaustiveSearch(planner, world, run);
+  EXPECT_GT(run.compared, 100);
+  EXPECT_GT(run.with_people, 30);
 }
 INSTANTIATE_TEST_SUITE_P(Planners, SocialBranchAndBound, ::testing::Values("scl", "sfw"));
