@@ -29,7 +29,7 @@ EOF
 #   and the tools the launch scripts use (ip, unshare/nsenter, ps, xvfb-run for headless lcm-spy checks).
 PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java libjchart2d-java libglib2.0-dev
-  libbox2d-dev libyaml-cpp-dev libeigen3-dev libfmt-dev libcli11-dev libtinyxml2-dev
+  libbox2d-dev libyaml-cpp-dev libeigen3-dev libfmt-dev libcli11-dev libtinyxml2-dev libxxhash-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   pkg-config cmake g++ make default-jdk-headless
   iproute2 util-linux python3 procps xvfb xauth

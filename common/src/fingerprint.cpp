@@ -1,8 +1,12 @@
 #include "hunav/fingerprint.hpp"
 
+#include <xxhash.h>
+
 #include <cstdio>
 
 namespace hunav {
+
+void Fingerprint::add(const void* data, std::size_t size) { hash_ = XXH3_64bits_withSeed(data, size, hash_); }
 
 std::string Fingerprint::hex() const {
   char buf[17];

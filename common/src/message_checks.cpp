@@ -1,10 +1,29 @@
 #include "hunav/message_checks.hpp"
 
-#include <unordered_set>
+#include <algorithm>
 
 namespace hunav {
 
+namespace {
+// v - v is 0 for a finite v and NaN for an infinite or NaN one: a sum of such terms is 0 exactly when
+// all are finite. One test per agent instead of one branch per field (every receiver checks every
+// agent of every message).
+inline double notFiniteMark(double v) { return v - v; }
+}  // namespace
+
 void checkAgentState(const agent_state_t& a, const char* what) {
+  const behavior_params_t& bp = a.behavior_params;
+  double mark = notFiniteMark(a.x) + notFiniteMark(a.y) + notFiniteMark(a.yaw) + notFiniteMark(a.vx) +
+                notFiniteMark(a.vy) + notFiniteMark(a.vyaw) + notFiniteMark(a.linear_vel) +
+                notFiniteMark(a.angular_vel) + notFiniteMark(a.radius) + notFiniteMark(a.desired_speed) +
+                notFiniteMark(a.goal_radius) + notFiniteMark(bp.duration) + notFiniteMark(bp.vel) +
+                notFiniteMark(bp.dist) + notFiniteMark(bp.goal_force_factor) + notFiniteMark(bp.obstacle_force_factor) +
+                notFiniteMark(bp.social_force_factor) + notFiniteMark(bp.other_force_factor);
+  for (const point2d_t& p : a.goals) mark += notFiniteMark(p.x) + notFiniteMark(p.y);
+  for (const point2d_t& p : a.obstacles) mark += notFiniteMark(p.x) + notFiniteMark(p.y);
+  if (mark == 0.0 && a.radius >= 0.0 && a.desired_speed >= 0.0 && a.goal_radius >= 0.0 && a.num_goals >= 0 &&
+      a.num_goals <= kMaxPointsPerAgent && a.num_obstacles >= 0 && a.num_obstacles <= kMaxPointsPerAgent)
+    return;  // the common case; otherwise the checks below say what is wrong
   for (const double v : {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius,
                          a.desired_speed, a.goal_radius, a.behavior_params.duration, a.behavior_params.vel,
                          a.behavior_params.dist, a.behavior_params.goal_force_factor,
@@ -30,11 +49,20 @@ void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared
   if (declared_count < 0 || declared_count > kMaxAgentsPerMessage ||
       static_cast<std::size_t>(declared_count) != agents.size())
     throw BadMessage(std::string(what) + ": impossible number of agents");
-  std::unordered_set<int32_t> ids;
-  for (const agent_state_t& a : agents) {
-    checkAgentState(a, what);
-    if (!ids.insert(a.id).second) throw BadMessage(std::string(what) + ": duplicate agent id " + std::to_string(a.id));
+  // Duplicate ids: messages list agents in increasing id order as a rule, which one pass confirms;
+  // otherwise the ids are sorted in a reused buffer (no allocation per message either way).
+  bool increasing = true;
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    checkAgentState(agents[i], what);
+    increasing = increasing && (i == 0 || agents[i - 1].id < agents[i].id);
   }
+  if (increasing) return;
+  static thread_local std::vector<int32_t> ids;
+  ids.clear();
+  for (const agent_state_t& a : agents) ids.push_back(a.id);
+  std::sort(ids.begin(), ids.end());
+  const auto dup = std::adjacent_find(ids.begin(), ids.end());
+  if (dup != ids.end()) throw BadMessage(std::string(what) + ": duplicate agent id " + std::to_string(*dup));
 }
 
 }  // namespace hunav

@@ -82,6 +82,10 @@ TEST(PhysicsWorld, ContactProducesOneEventWithTheRightBodies) {
   EXPECT_EQ(robot_a ? first.id_b : first.id_a, 1);
   EXPECT_EQ(first.caused_by, robot_a ? by_a : by_b);  // the robot moved in
   EXPECT_GT(first.normal_speed, 0.5);
+  // Restitution 0: the solver stops the approach in the first step, so the normal impulse is the
+  // reduced mass times the closing speed. Robot 40 kg, person 70 kg: 40 * 70 / (40 + 70) = 25.4545 kg.
+  EXPECT_NEAR(first.impulse, 40.0 * 70.0 / 110.0 * first.normal_speed, 1e-3 * first.impulse);
+  EXPECT_GT(first.impulse, 25.4545 * 0.5);
 }
 
 TEST(PhysicsWorld, PeoplePushedAgainstAWallStayOut) {
@@ -138,6 +142,10 @@ TEST(PhysicsWorld, SlidingAlongAWallOfSeveralEdgesIsOneContact) {
   EXPECT_EQ(c.caused_by, person_a ? by_a : by_b);  // the person moved into the wall
   EXPECT_NEAR(c.y, 1.0, 0.02);
   EXPECT_NEAR(c.normal_speed, 0.3, 0.02);
+  // A wall does not move: the impulse is the person's 70 kg times the closing speed, 70 * 0.3 = 21 N s
+  // (exactly 70 * normal_speed; 0.3 is the velocity's y component, the wall's normal).
+  EXPECT_NEAR(c.impulse, 70.0 * c.normal_speed, 1e-3 * c.impulse);
+  EXPECT_NEAR(c.impulse, 21.0, 70.0 * 0.02);
 }
 
 namespace {

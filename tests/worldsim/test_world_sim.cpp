@@ -57,8 +57,10 @@ class PointAtGoal {
 struct Collector {
   explicit Collector(Bus& bus) {
     bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& w) { states.push_back(w); });
+    bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { events.push_back(e); });
   }
   std::vector<world_state_t> states;
+  std::vector<episode_event_t> events;
 };
 
 WorldOptions fastOptions(const std::string& planner) {
@@ -354,10 +356,18 @@ TEST(WorldSim, ContactsAreCountedPerEpisode) {
       const int by_person = c.kind_a == collision_t::BODY_PERSON ? int{collision_t::BY_A} : int{collision_t::BY_B};
       EXPECT_EQ(c.caused_by, by_person);  // the person walked into the standing robot
       EXPECT_NEAR(c.normal_speed, 1.0, 0.05);
+      // The person (70 kg) is stopped by the standing robot (40 kg): reduced mass 70 * 40 / 110 =
+      // 25.4545 kg times the closing speed (about 1 m/s).
+      EXPECT_NEAR(c.impulse, 70.0 * 40.0 / 110.0 * c.normal_speed, 1e-3 * c.impulse);
     }
   }
   EXPECT_EQ(first.collisions, 1u);
   EXPECT_EQ(in_states, first.collisions);
+  // The END event carries the episode's count (START carries 0).
+  ASSERT_EQ(out.events.size(), 2u);
+  EXPECT_EQ(out.events[0].collisions, 0);
+  EXPECT_EQ(out.events[1].event, int{episode_event_t::END});
+  EXPECT_EQ(out.events[1].collisions, 1);
   // The next episode counts from zero.
   const auto second = world.runEpisode();
   EXPECT_EQ(second.collisions, 1u);

@@ -147,6 +147,7 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
   // Called before each step with the simulation time it starts at.
   void beginStep(double now) {
     now_ = now;
+    began_.clear();
     for (auto it = parted_.begin(); it != parted_.end();) it = now_ - it->second > kRejoin ? parted_.erase(it) : std::next(it);
   }
   void EndContact(b2Contact* contact) override {
@@ -189,6 +190,16 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
                   : (vb > va)                   ? collision_t::BY_B
                                                 : collision_t::BY_A;
     out_.push_back(c);
+    began_.emplace(pair, out_.size() - 1);
+  }
+  // After the solver (the step's, and the time-of-impact sub-steps'): the impulse that parted a pair
+  // whose contact began in this step goes to its event. Later steps' impulses are not the collision's.
+  void PostSolve(b2Contact* contact, const b2ContactImpulse* impulse) override {
+    const auto it = began_.find(pairOf(contact));
+    if (it == began_.end()) return;
+    double sum = 0.0;
+    for (int32 i = 0; i < impulse->count; ++i) sum += static_cast<double>(impulse->normalImpulses[i]);
+    out_[it->second].impulse += sum;
   }
 
  private:
@@ -201,6 +212,7 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
   std::vector<collision_t>& out_;
   std::map<BodyPair, int> touching_;   // fixture contacts touching, per body pair
   std::map<BodyPair, double> parted_;  // pairs that stopped touching, and when
+  std::map<BodyPair, std::size_t> began_;  // pairs whose event began this step, and its index in out_
   double now_ = 0.0;
 };
 
@@ -439,7 +451,10 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
   box.upperBound = b2Vec2(static_cast<float>(target.x() + reach), static_cast<float>(target.y() + reach));
   PartsInBox query(static_tree_, sight_parts_);
   static_tree_.Query(&query, box);
-  if (sight_parts_.size() > 4 * from.size()) {  // few segments among much geometry: one tree walk each
+  // Few segments, or few among much geometry: one tree walk each (building the bins below costs
+  // about as much as 30 walks: in the passing corridor it was a fifth of a tick for 2 people).
+  constexpr std::size_t kMinSegmentsForBins = 32;
+  if (from.size() < kMinSegmentsForBins || sight_parts_.size() > 4 * from.size()) {
     for (std::size_t i = 0; i < from.size(); ++i) visible[i] = lineOfSight(from[i], target) ? 1 : 0;
     return;
   }
@@ -549,3 +564,12 @@ std::vector<Vec2> PhysicsWorld::closestObstaclePoints(const Vec2& p, double radi
 }
 
 }  // namespace hunav::worldsim
+
+// Box2D 2.4 times every step and every island of it for its b2Profile with gettimeofday (about five
+// calls per island; each person is an island of its own, so ~5000 calls and ~0.1 ms per tick with
+// 1000 people). Nothing here reads b2Profile, and the simulation must not read the wall clock: these
+// definitions of b2Timer's members take the place of libbox2d's (ELF symbol interposition: the
+// library calls them through its PLT) and make the timers free. b2Profile then reads 0.
+b2Timer::b2Timer() : m_start_sec(0), m_start_usec(0) {}
+void b2Timer::Reset() {}
+float b2Timer::GetMilliseconds() const { return 0.0f; }

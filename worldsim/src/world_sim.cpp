@@ -164,9 +164,11 @@ void WorldSim::publishWorldState() {
   ws.collisions = physics_->newContacts();
   ws.num_collisions = static_cast<int32_t>(ws.collisions.size());
   collisions_ += ws.collisions.size();
+  // Encoded once: the fingerprint hashes these bytes, LCM sends them, in process subscribers get
+  // the object itself (no decoding).
   const std::vector<std::uint8_t>& bytes = bus_.encode(ws);
   fingerprint_.add(bytes.data(), bytes.size());
-  bus_.publishRaw(channels::kWorldState, bytes.data(), bytes.size());
+  bus_.publishEncoded(channels::kWorldState, std::move(ws), bytes.data(), bytes.size());  // every field set above
 }
 
 void WorldSim::onStepReply(const step_reply_t& reply) {
@@ -175,7 +177,20 @@ void WorldSim::onStepReply(const step_reply_t& reply) {
   if (reply.agents.size() != agents_.size()) throw BadMessage("step reply: wrong number of agents");
   for (std::size_t i = 0; i < agents_.size(); ++i)
     if (reply.agents[i].id != agents_[i].id) throw BadMessage("step reply: agents out of order");
-  reply_ = reply;
+  next_motion_.resize(agents_.size());
+  for (std::size_t i = 0; i < agents_.size(); ++i) {
+    const agent_state_t& next = reply.agents[i];
+    agent_state_t& s = agents_[i];
+    // The manager owns goals, behavior state and parameters (nothing reads them before the step);
+    // the world owns positions (Box2D moves the bodies with the manager's velocities and resolves
+    // contacts, applyReply()).
+    s.goals = next.goals;
+    s.num_goals = next.num_goals;
+    s.behavior_state = next.behavior_state;
+    s.behavior_params = next.behavior_params;
+    s.desired_speed = next.desired_speed;
+    next_motion_[i] = NextMotion{next.vx, next.vy, next.yaw};
+  }
   reply_arrived_ = true;
 }
 
@@ -228,21 +243,22 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
 }
 
 bool WorldSim::exchangeWithManager(std::string& failure) {
-  step_request_t& req = request_;
-  req.utime = time_us_;
-  req.seq = ++step_seq_;
-  req.episode = episode_;
-  req.dt = scenario_.dt;
-  req.agents = agents_;
-  req.num_agents = static_cast<int32_t>(agents_.size());
-  req.robot = robot_state_;
+  const std::int64_t seq = ++step_seq_;
   reply_arrived_ = false;
-  // Our own buffer: the bus's encode buffer is reused by whoever publishes while we wait.
-  request_bytes_.resize(static_cast<std::size_t>(req.getEncodedSize()));
-  req.encode(request_bytes_.data(), 0, static_cast<int>(request_bytes_.size()));
-  const bool ok = awaitReply(
-      [&] { bus_.publishRaw(channels::kStepRequest, request_bytes_.data(), request_bytes_.size()); }, reply_arrived_,
-      !manager_answered_, "manager", req.seq, failure);
+  // Typed and given up: in process the manager gets this very object, neither copied nor encoded.
+  // So every send (a resend too) fills request_ again; it keeps its arrays' capacity.
+  auto send = [&] {
+    step_request_t& req = request_;
+    req.utime = time_us_;
+    req.seq = seq;
+    req.episode = episode_;
+    req.dt = scenario_.dt;
+    req.agents = agents_;
+    req.num_agents = static_cast<int32_t>(agents_.size());
+    req.robot = robot_state_;
+    bus_.publish(channels::kStepRequest, std::move(req));
+  };
+  const bool ok = awaitReply(send, reply_arrived_, !manager_answered_, "manager", seq, failure);
   manager_answered_ = manager_answered_ || ok;
   return ok;
 }
@@ -301,31 +317,20 @@ robot_observation_t WorldSim::observation() {
 
 bool WorldSim::exchangeWithPlanner(std::string& failure) {
   const robot_observation_t obs = observation();
-  std::vector<std::uint8_t>& bytes = observation_bytes_;
-  bytes.resize(static_cast<std::size_t>(obs.getEncodedSize()));
-  obs.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   if (options_.mode == "realtime") {
-    bus_.publishRaw(channels::kRobotObservation, bytes.data(), bytes.size());
+    bus_.publish(channels::kRobotObservation, obs);
     return true;
   }
   command_arrived_ = false;
-  const bool ok = awaitReply([&] { bus_.publishRaw(channels::kRobotObservation, bytes.data(), bytes.size()); },
-                             command_arrived_, !planner_answered_, "planner", obs.seq, failure);
+  const bool ok = awaitReply([&] { bus_.publish(channels::kRobotObservation, obs); }, command_arrived_,
+                             !planner_answered_, "planner", obs.seq, failure);
   planner_answered_ = planner_answered_ || ok;
   return ok;
 }
 
-void WorldSim::applyReply(const step_reply_t& reply) {
+void WorldSim::applyReply() {
   for (std::size_t i = 0; i < agents_.size(); ++i) {
-    const agent_state_t& next = reply.agents[i];
-    agent_state_t& s = agents_[i];
-    // The manager owns goals, behavior state and parameters; the world owns positions (Box2D moves
-    // the bodies with the manager's velocities and resolves contacts).
-    s.goals = next.goals;
-    s.num_goals = next.num_goals;
-    s.behavior_state = next.behavior_state;
-    s.behavior_params = next.behavior_params;
-    s.desired_speed = next.desired_speed;
+    const NextMotion& next = next_motion_[i];
     b2Body& body = physics_->person(i);
     body.SetLinearVelocity(b2Vec2(static_cast<float>(next.vx), static_cast<float>(next.vy)));
     body.SetAngularVelocity(static_cast<float>(normalizeAngle(next.yaw - body.GetAngle()) / scenario_.dt));
@@ -411,7 +416,7 @@ EpisodeResult WorldSim::runEpisode() {
       result.status = "aborted";
       result.reason = failure;
     } else {
-      if (!agents_.empty()) applyReply(*reply_);
+      if (!agents_.empty()) applyReply();
       driveRobot();
       physics_->step(scenario_.dt);
       ++tick_;
@@ -439,6 +444,7 @@ EpisodeResult WorldSim::runEpisode() {
   ev.sim_time = result.sim_time;
   ev.wall_time = result.wall_time;
   ev.fingerprint = result.fingerprint;
+  ev.collisions = static_cast<int64_t>(result.collisions);
   bus_.publish(channels::kEpisodeEvent, ev);
   return result;
 }

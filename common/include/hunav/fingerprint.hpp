@@ -1,5 +1,8 @@
 #pragma once
-// FNV-1a 64 over a byte stream: the run fingerprint is this hash of every encoded world state.
+// The run fingerprint: a 64-bit hash of every encoded world state, chained message by message with
+// XXH3 (libxxhash): h_0 = 0, h_k = XXH3_64bits_withSeed(bytes of message k, its size, h_{k-1}).
+// XXH3 reads 8-byte words in wide vector lanes (~40 us for the world state of 1000 people, where
+// the byte-wise FNV-1a used before took ~0.25 ms), and the chain keeps the order of messages.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -8,20 +11,13 @@ namespace hunav {
 
 class Fingerprint {
  public:
-  void add(const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const std::uint8_t*>(data);
-    std::uint64_t h = hash_;  // a local: the compiler keeps it in a register
-    for (std::size_t i = 0; i < size; ++i) {
-      h ^= bytes[i];
-      h *= 0x100000001b3ULL;
-    }
-    hash_ = h;
-  }
+  // Adds one message (its whole encoding).
+  void add(const void* data, std::size_t size);
   std::uint64_t value() const { return hash_; }
   std::string hex() const;
 
  private:
-  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+  std::uint64_t hash_ = 0;
 };
 
 }  // namespace hunav

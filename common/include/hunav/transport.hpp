@@ -32,6 +32,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace hunav {
@@ -87,6 +89,20 @@ class Bus {
     if (lcm_ == nullptr) enqueueTyped(ch, msg);
   }
 
+  // The same for a message the caller gives up (std::move(msg)): in process it is swapped into the
+  // queue instead of copied, and `msg` is left holding a recycled message of the same type (valid,
+  // contents unspecified: assign every field before using it again; its arrays keep their capacity).
+  template <class Msg, class = std::enable_if_t<!std::is_lvalue_reference_v<Msg>>>
+  void publish(std::string_view channel, Msg&& msg) {
+    Channel& ch = channelFor(channel);
+    if (dropForLossTest()) return;
+    if (lcm_ != nullptr || tap_) {
+      encode(msg);
+      sendBytes(ch, buffer_.data(), buffer_.size());
+    }
+    if (lcm_ == nullptr) enqueueTaken(ch, msg);
+  }
+
   // Publishes `msg` whose encoding the caller already has in `data` (e.g. from encode(), to hash it):
   // the bytes go over LCM, a copy of the object in process, as publish() does.
   template <class Msg>
@@ -95,6 +111,14 @@ class Bus {
     if (dropForLossTest()) return;
     sendBytes(ch, data, size);
     if (lcm_ == nullptr) enqueueTyped(ch, msg);
+  }
+  // The same for a message the caller gives up (std::move(msg)), as publish() of one.
+  template <class Msg, class = std::enable_if_t<!std::is_lvalue_reference_v<Msg>>>
+  void publishEncoded(std::string_view channel, Msg&& msg, const void* data, std::size_t size) {
+    Channel& ch = channelFor(channel);
+    if (dropForLossTest()) return;
+    sendBytes(ch, data, size);
+    if (lcm_ == nullptr) enqueueTaken(ch, msg);
   }
 
   // Encodes into an internal buffer and returns it (valid until the next encode/publish).
@@ -206,6 +230,20 @@ class Bus {
   template <class Msg>
   void enqueueTyped(Channel& ch, const Msg& msg) {
     if (ch.subscribers.empty()) return;  // as LCM: a message nobody subscribes to is not queued
+    TypedBox<Msg>& box = nextBox<Msg>(ch);
+    box.msg = msg;
+  }
+  // Swaps `msg` into the queue (the caller gets the recycled box's message).
+  template <class Msg>
+  void enqueueTaken(Channel& ch, Msg& msg) {
+    if (ch.subscribers.empty()) return;
+    TypedBox<Msg>& box = nextBox<Msg>(ch);
+    using std::swap;
+    swap(box.msg, msg);
+  }
+  // Queues a box for Msg on `ch` (a recycled one when there is one) and returns it.
+  template <class Msg>
+  TypedBox<Msg>& nextBox(Channel& ch) {
     std::unique_ptr<Box> box;
     if (!ch.spare.empty() && ch.spare.back()->typeTag() == &TypedBox<Msg>::kTag) {
       box = std::move(ch.spare.back());
@@ -213,11 +251,12 @@ class Bus {
     } else {
       box = std::make_unique<TypedBox<Msg>>();
     }
-    static_cast<TypedBox<Msg>&>(*box).msg = msg;
+    auto& typed = static_cast<TypedBox<Msg>&>(*box);
     Queued q;
     q.channel = &ch;
     q.box = std::move(box);
     queue_.push_back(std::move(q));
+    return typed;
   }
   void dispatchQueued(Queued& q);
   void rethrowPending();

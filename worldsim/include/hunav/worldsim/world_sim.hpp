@@ -72,7 +72,8 @@ class WorldSim {
   bool awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
                   std::int64_t seq, std::string& failure);
   robot_observation_t observation();
-  void applyReply(const step_reply_t& reply);
+  // Moves the people's bodies with the motion of the last step reply.
+  void applyReply();
   void driveRobot();
   bool robotAtGoal() const;
   void onStepReply(const step_reply_t& reply);
@@ -91,8 +92,6 @@ class WorldSim {
   // Reused every tick so that steady-state ticks do not allocate.
   step_request_t request_;
   world_state_t world_state_;
-  std::vector<std::uint8_t> request_bytes_;
-  std::vector<std::uint8_t> observation_bytes_;
   double robot_v_ = 0.0, robot_vy_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at (robot frame)
   double cmd_v_ = 0.0, cmd_vy_ = 0.0, cmd_w_ = 0.0;        // last command
   std::vector<Vec2> robot_obstacles_;
@@ -109,7 +108,12 @@ class WorldSim {
   std::int64_t obs_seq_ = 0;
   bool manager_answered_ = false;  // within this episode
   bool planner_answered_ = false;
-  std::optional<step_reply_t> reply_;
+  // From the last step reply, per person: the velocity and heading the bodies take in the step (the
+  // rest of the reply goes to agents_ when it arrives: only what the manager owns, nothing copied twice).
+  struct NextMotion {
+    double vx, vy, yaw;
+  };
+  std::vector<NextMotion> next_motion_;
   bool reply_arrived_ = false;
   bool command_arrived_ = false;
   std::uint64_t collisions_ = 0;

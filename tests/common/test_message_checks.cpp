@@ -1,0 +1,61 @@
+// The checks every receiver applies to agent lists, and the run fingerprint's definition.
+#include <gtest/gtest.h>
+
+#include <xxhash.h>
+
+#include <cmath>
+
+#include "hunav/fingerprint.hpp"
+#include "hunav/message_checks.hpp"
+
+using namespace hunav;
+
+namespace {
+agent_state_t agent(int id) {
+  agent_state_t a{};
+  a.id = id;
+  a.radius = 0.3;
+  return a;
+}
+std::vector<agent_state_t> withIds(std::initializer_list<int> ids) {
+  std::vector<agent_state_t> out;
+  for (int id : ids) out.push_back(agent(id));
+  return out;
+}
+}  // namespace
+
+TEST(MessageChecks, DuplicateIdsAreRejectedInAnyOrder) {
+  EXPECT_NO_THROW(checkAgentStates(withIds({1, 2, 5}), 3, "test"));  // increasing: one pass
+  EXPECT_NO_THROW(checkAgentStates(withIds({5, 1, 2}), 3, "test"));  // unordered, distinct: sorted copy
+  EXPECT_THROW(checkAgentStates(withIds({1, 2, 2}), 3, "test"), BadMessage);  // adjacent duplicate
+  EXPECT_THROW(checkAgentStates(withIds({3, 1, 3}), 3, "test"), BadMessage);  // apart, unordered
+  EXPECT_THROW(checkAgentStates(withIds({1, 2}), 3, "test"), BadMessage);     // count lies
+  auto bad = withIds({1, 2});
+  bad[1].vx = std::nan("");
+  EXPECT_THROW(checkAgentStates(bad, 2, "test"), BadMessage);
+  auto far = withIds({1});
+  far[0].goals.push_back(point2d_t{1.0, HUGE_VAL});
+  far[0].num_goals = 1;
+  EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);  // an infinite goal
+  far[0].goals[0].y = 1e300;                                  // huge but finite: fine
+  EXPECT_NO_THROW(checkAgentStates(far, 1, "test"));
+  far[0].desired_speed = -0.5;
+  EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);
+}
+
+TEST(Fingerprint, ChainsXxh3OverMessagesInOrder) {
+  // h0 = 0, h_k = XXH3_64bits_withSeed(message k, h_{k-1}) (docs/world.md).
+  const char a[] = "first message", b[] = "second";
+  Fingerprint fp;
+  EXPECT_EQ(fp.hex(), "0000000000000000");
+  fp.add(a, sizeof a);
+  fp.add(b, sizeof b);
+  const std::uint64_t expected = XXH3_64bits_withSeed(b, sizeof b, XXH3_64bits_withSeed(a, sizeof a, 0));
+  EXPECT_EQ(fp.value(), expected);
+  // The order of messages matters.
+  Fingerprint swapped;
+  swapped.add(b, sizeof b);
+  swapped.add(a, sizeof a);
+  EXPECT_NE(swapped.value(), fp.value());
+  EXPECT_EQ(fp.hex().size(), 16u);
+}
