@@ -9,7 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <condition_variable>
 #include <cstring>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 #include "hunav/manager/agent_manager.hpp"
 
@@ -310,6 +314,7 @@ KernelParams kernelParams(const SfmParams& p) { return KernelParams{p.lambda, p.
 struct Workspace {
   PairBatch batch;
   std::vector<double> fx, fy;  // sums, in the grid's order
+  std::vector<double> cell_cost;  // pairs tested per cell (to split the work between threads)
 };
 
 }  // namespace
@@ -324,6 +329,168 @@ Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& o, const SfmParams&
   return u;
 }
 
+namespace {
+
+// What the pair loops read of a NeighborGrid.
+struct GridView {
+  Bodies bodies;
+  const int* start;  // nx*ny+1 offsets of the cells' bodies
+  int nx, ny;
+};
+
+// The forces of the pairs of a range of cells [cell_from, cell_to), computed batch by batch in
+// `*batch`; each computed batch goes to `sink(batch, n)` in forEachPair's order (the sink may point
+// `batch` to another batch to fill next).
+template <class Sink>
+void pairsOfCells(const GridView& g, int cell_from, int cell_to, double r2, const KernelParams& kp,
+                  PairBatch*& batch, Sink&& sink) {
+  int n = 0;
+  auto pairsWith = [&](int k, int from, int to) {
+    for (int m = from; m < to;) {
+      m = appendPairs(g.bodies, k, m, to, r2, *batch, n);
+      if (n >= kBatch) {
+        computeBatch(*batch, n, kp);
+        sink(batch, n);
+        n = 0;
+      }
+    }
+  };
+  const int nx = g.nx, ny = g.ny;
+  const int* start = g.start;
+  for (int c = cell_from; c < cell_to; ++c) {
+    const int cy = c / nx, cx = c % nx;
+    // The rest of this cell and the cell to the right are contiguous in the grid's order, and so
+    // are the three cells of the next row: forEachPair's order is kept.
+    const int same_to = start[cx + 1 < nx ? c + 2 : c + 1];
+    const bool next_row = cy + 1 < ny;
+    const int row_from = next_row ? start[(cy + 1) * nx + std::max(cx - 1, 0)] : 0;
+    const int row_to = next_row ? start[(cy + 1) * nx + std::min(cx + 1, nx - 1) + 1] : 0;
+    for (int k = start[c]; k < start[c + 1]; ++k) {
+      pairsWith(k, k + 1, same_to);
+      pairsWith(k, row_from, row_to);
+    }
+  }
+  if (n > 0) {
+    computeBatch(*batch, n, kp);
+    sink(batch, n);
+  }
+}
+
+// fx[i] += u, fx[j] -= u in pair order. The pairs of one i are consecutive and their j are later
+// bodies, so i's sum stays in a register for the run (the same additions in the same order).
+void accumulate(const int* pi, const int* pj, const double* ux, const double* uy, int n, double* fx, double* fy) {
+  for (int l = 0; l < n;) {
+    const int i = pi[l];
+    double sx = fx[i], sy = fy[i];
+    for (; l < n && pi[l] == i; ++l) {
+      sx += ux[l];
+      sy += uy[l];
+      fx[pj[l]] -= ux[l];
+      fy[pj[l]] -= uy[l];
+    }
+    fx[i] = sx;
+    fy[i] = sy;
+  }
+}
+
+// The pairs of the later cells, computed on a second thread while the calling thread does the
+// earlier ones; their forces are kept (i, j, u) and added after the earlier cells' in pair order,
+// so the sums are the same bits as on one thread, whatever the timing.
+class PairHelper {
+ public:
+  PairHelper() : thread_([this] { run(); }) {}
+  ~PairHelper() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  PairHelper(const PairHelper&) = delete;
+  PairHelper& operator=(const PairHelper&) = delete;
+
+  // Serialises callers (managers on several threads share the helper).
+  std::mutex& user() { return user_; }
+
+  void start(const GridView& g, int cell_from, int cell_to, double r2, const KernelParams& kp) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      job_ = Job{g, cell_from, cell_to, r2, kp};
+      pending_ = true;
+      done_ = false;
+    }
+    wake_.notify_one();
+  }
+  // Waits for the job and adds its forces to fx, fy.
+  void finish(double* fx, double* fy) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      finished_.wait(lock, [this] { return done_; });
+    }
+    accumulate(i_.data(), j_.data(), ux_.data(), uy_.data(), static_cast<int>(i_.size()), fx, fy);
+  }
+
+ private:
+  struct Job {
+    GridView grid;
+    int cell_from = 0, cell_to = 0;
+    double r2 = 0.0;
+    KernelParams kp{};
+  };
+  void run() {
+    for (;;) {
+      Job job;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [this] { return pending_ || stop_; });
+        if (stop_) return;
+        job = job_;
+        pending_ = false;
+      }
+      // One batch, hot in the cache, refilled each time; what the sums need of it is copied out
+      // (keeping every batch instead: 4 MB of cold stores, measured slower).
+      i_.clear();
+      j_.clear();
+      ux_.clear();
+      uy_.clear();
+      PairBatch* batch = &batch_;
+      pairsOfCells(job.grid, job.cell_from, job.cell_to, job.r2, job.kp, batch, [&](PairBatch*& b, int n) {
+        i_.insert(i_.end(), b->i, b->i + n);
+        j_.insert(j_.end(), b->j, b->j + n);
+        ux_.insert(ux_.end(), b->ux, b->ux + n);
+        uy_.insert(uy_.end(), b->uy, b->uy + n);
+      });
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_ = true;
+      }
+      finished_.notify_one();
+    }
+  }
+
+  std::mutex user_;
+  std::mutex mutex_;
+  std::condition_variable wake_, finished_;
+  Job job_;
+  bool pending_ = false, done_ = false, stop_ = false;
+  PairBatch batch_;
+  std::vector<int> i_, j_;  // the computed pairs and forces, in pair order
+  std::vector<double> ux_, uy_;
+  std::thread thread_;  // last: starts when everything above exists
+};
+
+// Below this many people one thread is faster than handing work over (measured: a hand-over costs
+// a few microseconds; 1000 people take ~1 ms on one thread).
+constexpr std::size_t kMinBodiesForHelper = 256;
+
+bool useHelper(std::size_t bodies) {
+  static const bool multicore = std::thread::hardware_concurrency() > 1;
+  return multicore && bodies >= kMinBodiesForHelper;
+}
+
+}  // namespace
+
 void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff) {
   static thread_local Workspace ws;
   const std::size_t count = grid.items_.size();
@@ -332,56 +499,49 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
   const SfmParams p;  // lambda, gamma, n, n' are the same for everybody; omega_s is applied per agent
   const KernelParams kp = kernelParams(p);
   const double r2 = cutoff * cutoff;
-  const Bodies bodies{grid.x_.data(), grid.y_.data(), grid.vx_.data(), grid.vy_.data()};
-  const int* start = grid.start_.data();
+  const GridView g{Bodies{grid.x_.data(), grid.y_.data(), grid.vx_.data(), grid.vy_.data()}, grid.start_.data(),
+                   grid.nx_, grid.ny_};
   ws.fx.assign(count, 0.0);
   ws.fy.assign(count, 0.0);
   double* fx = ws.fx.data();
   double* fy = ws.fy.data();
-  PairBatch& b = ws.batch;
-  int n = 0;
+  auto sink = [&](PairBatch*& b, int n) { accumulate(b->i, b->j, b->ux, b->uy, n, fx, fy); };
+  PairBatch* batch = &ws.batch;
+  const int cells = g.nx * g.ny;
 
-  auto flush = [&] {
-    computeBatch(b, n, kp);
-    // fx[i] += u, fx[j] -= u in pair order. The pairs of one i are consecutive and their j are
-    // later bodies, so i's sum stays in a register for the run (the same additions in the same order).
-    for (int l = 0; l < n;) {
-      const int i = b.i[l];
-      double sx = fx[i], sy = fy[i];
-      for (; l < n && b.i[l] == i; ++l) {
-        sx += b.ux[l];
-        sy += b.uy[l];
-        fx[b.j[l]] -= b.ux[l];
-        fy[b.j[l]] -= b.uy[l];
-      }
-      fx[i] = sx;
-      fy[i] = sy;
+  std::unique_lock<std::mutex> helper_lock;
+  PairHelper* helper = nullptr;
+  if (useHelper(count)) {
+    static PairHelper shared;
+    helper_lock = std::unique_lock<std::mutex>(shared.user(), std::try_to_lock);
+    if (helper_lock.owns_lock()) helper = &shared;
+  }
+  if (helper == nullptr) {
+    pairsOfCells(g, 0, cells, r2, kp, batch, sink);
+  } else {
+    // The split: the first cell past kOwnShare of the candidate pairs the loops test (each body of a
+    // cell against the rest of its cell, the cell to the right and three cells of the next row; this
+    // thread also adds the helper's forces afterwards, so it takes the smaller share).
+    constexpr double kOwnShare = 0.42;
+    auto bodiesIn = [&](int cx, int cy) {
+      return cx < 0 || cx >= g.nx || cy >= g.ny ? 0.0 : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
+    };
+    std::vector<double>& cost = ws.cell_cost;
+    cost.resize(static_cast<std::size_t>(cells));
+    double total = 0.0;
+    for (int c = 0; c < cells; ++c) {
+      const int cx = c % g.nx, cy = c / g.nx;
+      const double n = bodiesIn(cx, cy);
+      cost[static_cast<std::size_t>(c)] = n * (0.5 * n + bodiesIn(cx + 1, cy) + bodiesIn(cx - 1, cy + 1) +
+                                               bodiesIn(cx, cy + 1) + bodiesIn(cx + 1, cy + 1));
+      total += cost[static_cast<std::size_t>(c)];
     }
-    n = 0;
-  };
-  auto pairsWith = [&](int k, int from, int to) {
-    for (int m = from; m < to;) {
-      m = appendPairs(bodies, k, m, to, r2, b, n);
-      if (n >= kBatch) flush();
-    }
-  };
-
-  const int nx = grid.nx_, ny = grid.ny_;
-  for (int cy = 0; cy < ny; ++cy)
-    for (int cx = 0; cx < nx; ++cx) {
-      const int c = cy * nx + cx;
-      // The rest of this cell and the cell to the right are contiguous in the grid's order, and so
-      // are the three cells of the next row: forEachPair's order is kept.
-      const int same_to = start[cx + 1 < nx ? c + 2 : c + 1];
-      const bool next_row = cy + 1 < ny;
-      const int row_from = next_row ? start[(cy + 1) * nx + std::max(cx - 1, 0)] : 0;
-      const int row_to = next_row ? start[(cy + 1) * nx + std::min(cx + 1, nx - 1) + 1] : 0;
-      for (int k = start[c]; k < start[c + 1]; ++k) {
-        pairsWith(k, k + 1, same_to);
-        pairsWith(k, row_from, row_to);
-      }
-    }
-  if (n > 0) flush();
+    int split = 0;
+    for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split) sum += cost[static_cast<std::size_t>(split)];
+    helper->start(g, split, cells, r2, kp);
+    pairsOfCells(g, 0, split, r2, kp, batch, sink);
+    helper->finish(fx, fy);
+  }
   for (std::size_t k = 0; k < count; ++k) snap.people_social[grid.items_[k]] = Vec2(fx[k], fy[k]);
 }
 

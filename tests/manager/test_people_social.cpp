@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
 
 #include "hunav/manager/agent_manager.hpp"
 
@@ -63,6 +64,36 @@ TEST(PeopleSocial, BatchedKernelGivesTheScalarFormBitForBit) {
       EXPECT_EQ(snap.people_social[i].y(), expected[i].y()) << i;
     }
   }
+}
+
+TEST(PeopleSocial, ManagersOnSeveralThreadsGetTheSameBits) {
+  // From 256 people the later grid cells go to a helper thread; callers on other threads meanwhile
+  // compute on their own thread. Every caller gets the bits of a lone caller, whatever the timing.
+  StepSnapshot reference;
+  reference.agents = randomCrowd(1000, 40.0, 9);
+  reference.index();
+  NeighborGrid reference_grid;
+  reference_grid.build(reference.agents, reference.by_id, kDefaultSocialCutoff);
+  computePeopleSocial(reference, reference_grid, kDefaultSocialCutoff);
+
+  constexpr int kThreads = 3, kRounds = 20;
+  std::vector<int> mismatches(kThreads, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      StepSnapshot snap;
+      snap.agents = reference.agents;
+      snap.index();
+      NeighborGrid grid;
+      grid.build(snap.agents, snap.by_id, kDefaultSocialCutoff);
+      for (int r = 0; r < kRounds; ++r) {
+        computePeopleSocial(snap, grid, kDefaultSocialCutoff);
+        for (std::size_t i = 0; i < snap.agents.size(); ++i)
+          mismatches[t] += snap.people_social[i] != reference.people_social[i] ? 1 : 0;
+      }
+    });
+  for (std::thread& th : threads) th.join();
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(mismatches[t], 0) << "thread " << t;
 }
 
 TEST(PeopleSocial, PolynomialFormFollowsSocialForceFrom) {
