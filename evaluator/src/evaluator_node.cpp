@@ -6,10 +6,16 @@
 #include <hunav/live_metrics_t.hpp>
 
 #include <fmt/format.h>
+#include <pthread.h>
 
 #include <cmath>
+#include <condition_variable>
+#include <csignal>
 #include <exception>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
+#include <utility>
 
 namespace hunav::evaluator {
 
@@ -38,7 +44,147 @@ struct EvaluatorNode::Episode {
 namespace {
 constexpr std::size_t kFlushBytes = std::size_t{1} << 20;  // buffered states.csv bytes that force a flush
 constexpr std::chrono::seconds kFlushAge{1};
+// With worker_thread, flushIfDue() asks the worker at most this often (the binary calls it after
+// every message).
+constexpr std::chrono::milliseconds kFlushRequestPeriod{100};
 }  // namespace
+
+// The worker thread of worker_thread: a ring of reusable items (no allocation once the buffers have
+// grown) filled by the bus handler's thread and emptied in order by the worker. The producer waits
+// when the ring is full; the worker never waits for the producer, so this cannot deadlock. To keep
+// the hand-off cheap the worker is woken only for a batch of items, or when someone waits for it
+// (drain, flushIfDue, a full ring, stop).
+class EvaluatorNode::Worker {
+ public:
+  struct Item {
+    Episode* episode = nullptr;
+    bool flush_request = false;         // flushIfDue() instead of a world state
+    std::vector<std::uint8_t> encoded;  // the world state as published (fingerprint)
+    bool keep = false;                  // recorded (sample rate): `sample` holds it
+    Recording sample;
+  };
+
+  explicit Worker(EvaluatorNode& node) : node_(node), items_(kCapacity) {
+    // Signals (SIGINT, SIGTERM) go to the caller's thread, whose loop handles them, never to the
+    // worker (where they could interrupt a write): the thread starts with every signal blocked.
+    sigset_t all;
+    sigset_t previous;
+    sigfillset(&all);
+    pthread_sigmask(SIG_BLOCK, &all, &previous);
+    thread_ = std::thread([this] { run(); });
+    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  }
+  ~Worker() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    work_.notify_one();
+    thread_.join();
+  }
+  Worker(const Worker&) = delete;
+  Worker& operator=(const Worker&) = delete;
+
+  // The next free item, to fill and then push(); waits while the ring is full. Rethrows an error of
+  // the worker.
+  Item& next() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (count_ == kCapacity) {
+      producer_waiting_ = true;
+      urgent_ = true;
+      work_.notify_one();
+      space_.wait(lock, [this] { return count_ < kCapacity || error_; });
+      producer_waiting_ = false;
+    }
+    rethrowError();
+    return items_[(head_ + count_) % kCapacity];
+  }
+
+  void push(bool urgent) {
+    bool wake = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++count_;
+      urgent_ = urgent_ || urgent;
+      wake = worker_sleeping_ && (urgent_ || count_ >= kBatch);
+    }
+    if (wake) work_.notify_one();
+  }
+
+  // Waits until every item pushed is done; rethrows an error of the worker.
+  void drain() {
+    std::exception_ptr error = wait();
+    if (error) std::rethrow_exception(error);
+  }
+  // Waits until every item pushed is done; returns (and clears) an error of the worker.
+  std::exception_ptr wait() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (count_ > 0) {
+      urgent_ = true;
+      work_.notify_one();
+      idle_.wait(lock, [this] { return count_ == 0; });
+    }
+    return std::exchange(error_, nullptr);
+  }
+
+ private:
+  static constexpr std::size_t kCapacity = 32;
+  static constexpr std::size_t kBatch = 8;
+
+  void rethrowError() {
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      worker_sleeping_ = true;
+      work_.wait(lock, [this] { return stop_ || (count_ > 0 && (urgent_ || count_ >= kBatch)); });
+      worker_sleeping_ = false;
+      if (count_ == 0) return;  // stop_, everything done
+      while (count_ > 0) {
+        Item& item = items_[head_];
+        const bool skip = static_cast<bool>(error_);  // after an error, until the producer took it
+        lock.unlock();
+        std::exception_ptr error;
+        if (!skip) {
+          try {
+            if (item.flush_request) {
+              node_.flushIfDue(*item.episode);
+            } else {
+              node_.process(*item.episode, item.encoded.data(), item.encoded.size(),
+                            item.keep ? &item.sample : nullptr);
+            }
+          } catch (...) {
+            error = std::current_exception();
+          }
+        }
+        lock.lock();
+        if (error) error_ = error;
+        head_ = (head_ + 1) % kCapacity;
+        --count_;
+        if (producer_waiting_) space_.notify_one();
+      }
+      urgent_ = false;
+      idle_.notify_all();
+    }
+  }
+
+  EvaluatorNode& node_;
+  std::vector<Item> items_;
+  std::size_t head_ = 0;   // oldest item not done
+  std::size_t count_ = 0;  // items pushed and not done (the one being worked on included)
+  bool urgent_ = false;
+  bool stop_ = false;
+  bool worker_sleeping_ = false;
+  bool producer_waiting_ = false;
+  std::exception_ptr error_;
+  std::mutex mutex_;
+  std::condition_variable work_;
+  std::condition_variable space_;
+  std::condition_variable idle_;
+  std::thread thread_;
+};
 
 namespace {
 
@@ -85,7 +231,9 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
   bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); });
 }
 
-EvaluatorNode::~EvaluatorNode() = default;
+// The worker finishes what was received (errors ignored, as an unfinished episode's are) before the
+// episode's files are closed.
+EvaluatorNode::~EvaluatorNode() { worker_.reset(); }
 
 bool EvaluatorNode::finished() const { return options_.episodes > 0 && episodes_ended_ >= options_.episodes; }
 
@@ -177,33 +325,58 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   ep.any_state = true;
   ep.last_t = t;
 
+  // What the per-sample work needs of the message is copied (the worker's item, or this node's
+  // buffers): the encoded bytes and, when the sample rate keeps it, the sample.
+  // The switch keeps the order: the samples before were done here, the worker does the next ones.
+  if (options_.worker_thread && !worker_ && ws.agents.size() >= options_.worker_min_people)
+    worker_ = std::make_unique<Worker>(*this);
+  Worker::Item* item = worker_ ? &worker_->next() : nullptr;
+  std::vector<std::uint8_t>& encoded = item ? item->encoded : encode_buffer_;
   const int size = ws.getEncodedSize();
-  encode_buffer_.resize(static_cast<std::size_t>(size));
-  ws.encode(encode_buffer_.data(), 0, size);
-  ep.fingerprint.add(encode_buffer_.data(), encode_buffer_.size());
-  if (!ep.rate.keep(t)) return;
+  encoded.resize(static_cast<std::size_t>(size));
+  ws.encode(encoded.data(), 0, size);
+  const bool keep = ep.rate.keep(t);
+  Recording& sample = item ? item->sample : ep.sample;
+  if (keep) {
+    sample.clear();
+    const EntityState robot = toEntity(ws.robot, sample, points_scratch_);
+    agents_scratch_.clear();
+    for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, sample, points_scratch_));
+    sample.addSample(t, robot, agents_scratch_);
+  }
+  if (item) {
+    item->episode = &ep;
+    item->flush_request = false;
+    item->keep = keep;
+    worker_->push(false);
+  } else {
+    process(ep, encoded.data(), encoded.size(), keep ? &sample : nullptr);
+  }
+  if (!keep) return;
 
-  ep.sample.clear();
-  const EntityState robot = toEntity(ws.robot, ep.sample, points_scratch_);
-  agents_scratch_.clear();
-  for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, ep.sample, points_scratch_));
-  ep.sample.addSample(t, robot, agents_scratch_);
-  ep.states->write(ep.sample, ep.sample.back());
-  ep.evaluation->add(ep.sample, ep.sample.back());
   if (ep.recorded == 0) ep.first_recorded_t = t;
   ep.last_recorded_t = t;
   ++ep.recorded;
-  if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
-    flush(ep);
-  } else {
-    flushIfDue();
-  }
   if (options_.live_metrics) {
     if (ep.recorded == 1) ep.next_live = t;
     if (t >= ep.next_live) {
+      drain();  // the values include this sample
       publishLive(t);
       ep.next_live = std::floor(t - ep.first_recorded_t + 1.0) + ep.first_recorded_t;
     }
+  }
+}
+
+void EvaluatorNode::process(Episode& ep, const std::uint8_t* encoded, std::size_t encoded_size,
+                            const Recording* sample) {
+  ep.fingerprint.add(encoded, encoded_size);
+  if (sample == nullptr) return;
+  ep.states->write(*sample, sample->back());
+  ep.evaluation->add(*sample, sample->back());
+  if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
+    flush(ep);
+  } else {
+    flushIfDue(ep);
   }
 }
 
@@ -213,9 +386,28 @@ void EvaluatorNode::flush(Episode& ep) {
   ep.last_flush = std::chrono::steady_clock::now();
 }
 
+void EvaluatorNode::flushIfDue(Episode& ep) {
+  if (ep.states->bufferedTicks() == 0) return;
+  if (std::chrono::steady_clock::now() - ep.last_flush >= kFlushAge) flush(ep);
+}
+
 void EvaluatorNode::flushIfDue() {
-  if (!current_ || current_->states->bufferedTicks() == 0) return;
-  if (std::chrono::steady_clock::now() - current_->last_flush >= kFlushAge) flush(*current_);
+  if (!current_) return;
+  if (!worker_) {
+    flushIfDue(*current_);
+    return;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_flush_request_ < kFlushRequestPeriod) return;
+  last_flush_request_ = now;
+  Worker::Item& item = worker_->next();
+  item.episode = current_.get();
+  item.flush_request = true;
+  worker_->push(true);
+}
+
+void EvaluatorNode::drain() {
+  if (worker_) worker_->drain();
 }
 
 bool EvaluatorNode::finishIncomplete(const std::string& reason) {
@@ -225,6 +417,9 @@ bool EvaluatorNode::finishIncomplete(const std::string& reason) {
 }
 
 void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomplete_reason) {
+  // The worker's error (what the synchronous mode would have thrown earlier) is reported after the
+  // results are written.
+  const std::exception_ptr worker_error = worker_ ? worker_->wait() : nullptr;
   std::unique_ptr<Episode> ep = std::move(current_);
   RunInfo& info = ep->info;
   info.recorded_ticks = ep->recorded;
@@ -261,6 +456,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
 
   last_result_ = ep->evaluation->finish(std::move(info));
   ++episodes_ended_;
+  if (worker_error) std::rethrow_exception(worker_error);
   if (close_error) std::rethrow_exception(close_error);
 }
 

@@ -19,7 +19,8 @@ double dangerFearAt(const EntityState& robot, const EntityState& h);
 double dangerPanicAt(const EntityState& robot, const EntityState& h);
 double visibilityAt(const EntityState& robot, const EntityState& h);
 // Visibility of the robot to person h: theta = angle between h's heading and the direction to the
-// robot, dist = centre distance; visible iff 0 < theta <= FoV/2 and dist > 0.
+// robot, dist = centre distance; visible iff 0 < theta <= FoV/2 and dist > 0. theta is set only
+// when visible (it is not computed for a robot clearly outside the field of view).
 bool visibleAngle(const EntityState& robot, const EntityState& h, double& theta, double& dist);
 
 // The metric of accumulator `state` over a whole recording.

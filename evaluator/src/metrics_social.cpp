@@ -46,7 +46,13 @@ bool visibleAngle(const EntityState& robot, const EntityState& h, double& theta,
   dist = to_robot.norm();
   if (dist <= 0.0) return false;
   const Vec2 heading(std::cos(h.yaw), std::sin(h.yaw));
-  theta = std::acos(std::clamp(heading.dot(to_robot) / dist, -1.0, 1.0));
+  const double cos_theta = std::clamp(heading.dot(to_robot) / dist, -1.0, 1.0);
+  // acos decreases: below cos(FoV/2) - 1e-9 the angle exceeds FoV/2 by ~1e-9 rad, far more than
+  // acos's rounding, so the answer is "not visible" without the acos (most people, with a 120
+  // degree field of view).
+  static const double clearly_outside = std::cos(kSurpriseFov / 2.0) - 1e-9;
+  if (cos_theta < clearly_outside) return false;
+  theta = std::acos(cos_theta);
   return theta > 0.0 && theta <= kSurpriseFov / 2.0;
 }
 
@@ -137,10 +143,39 @@ struct SurpriseCost {
   };
   std::vector<Seen> seen;  // people who saw the robot at the previous sample
   std::vector<Seen> next;
+  // Ids below this are looked up in a table instead of searching `seen` (a search per person made a
+  // sample O(people^2): most of the evaluator's time with 1000 people). Other ids are searched.
+  static constexpr std::int32_t kTableIds = 1 << 20;
+  // For each id in [0, kTableIds): 1 + the position in `seen` of its last entry (the search took the
+  // last match), 0 when absent. Only the entries of `seen` are non-zero.
+  std::vector<std::uint32_t> last_in_seen;
   bool any = false;
   double previous_t = 0.0;
   double previous_c = 0.0;
   double sum = 0.0;
+  static bool inTable(std::int32_t id) { return id >= 0 && id < kTableIds; }
+  // The entry of `id` in `seen` (nullptr when the person did not see the robot at the previous sample).
+  const Seen* previous(std::int32_t id) const {
+    if (inTable(id)) {
+      const auto i = static_cast<std::size_t>(id);
+      return i < last_in_seen.size() && last_in_seen[i] != 0 ? &seen[last_in_seen[i] - 1] : nullptr;
+    }
+    const Seen* found = nullptr;
+    for (const auto& e : seen)
+      if (e.id == id) found = &e;
+    return found;
+  }
+  void swapInNext() {
+    for (const auto& e : seen)
+      if (inTable(e.id)) last_in_seen[static_cast<std::size_t>(e.id)] = 0;
+    seen.swap(next);
+    for (std::size_t k = 0; k < seen.size(); ++k) {
+      if (!inTable(seen[k].id)) continue;
+      const auto i = static_cast<std::size_t>(seen[k].id);
+      if (i >= last_in_seen.size()) last_in_seen.resize(std::max(i + 1, 2 * last_in_seen.size()), 0);
+      last_in_seen[i] = static_cast<std::uint32_t>(k + 1);
+    }
+  }
   double add(const SampleView& s) {
     const double dt_prev = any ? s.t() - previous_t : 0.0;
     next.clear();
@@ -149,16 +184,15 @@ struct SurpriseCost {
       double theta = 0.0, dist = 0.0;
       if (!s.visible(j, theta, dist)) continue;
       const std::int32_t id = s.agent(j).id;
-      double t_vis = 0.0;
-      for (const auto& e : seen)
-        if (e.id == id) t_vis = e.t_vis + dt_prev;
+      const Seen* before = previous(id);
+      const double t_vis = before != nullptr ? before->t_vis + dt_prev : 0.0;
       next.push_back(Seen{id, t_vis});
       const double sr = (t_vis > 0.0 && t_vis < kReactTime) ? t_vis / kReactTime : 1.0;
       const double c = React ? (kShockDistance / dist) * (1.0 - sr)
                              : std::max(0.0, (kShockDistance / dist) * (1.0 - kShockGamma * sr));
       c_k += c;
     }
-    seen.swap(next);
+    swapInNext();
     if (any) sum += previous_c * dt_prev;
     previous_c = c_k;
     previous_t = s.t();

@@ -32,6 +32,7 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   eval_options.profile = options.profile;
   eval_options.experiment_tag = options.experiment_tag;
   eval_options.episodes = 1;
+  eval_options.worker_thread = true;  // the evaluator's per-sample work off this loop (from kWorkerMinPeople people)
   evaluator::EvaluatorNode evaluator(bus, eval_options);
   manager::ManagerNode manager(bus);
   std::unique_ptr<planners::PlannerNode> planner;

@@ -357,6 +357,15 @@ TEST(NumberText, WritesWhatFmtWrites) {
     if (std::isfinite(v)) values.push_back(v);
     values.push_back(std::ldexp(static_cast<double>(random() % 2000000) - 1e6, static_cast<int>(random() % 80) - 40));
     values.push_back(std::round(static_cast<double>(random() % 4000000000000000ull)) * (i % 2 ? 1 : -1));
+    // Decimals of 1 to 17 digits at every scale where fmt switches layout (1e-5 .. 1e17).
+    const double digits = static_cast<double>(random() % 100000000000000000ull);
+    values.push_back(digits * std::pow(10.0, static_cast<int>(random() % 40) - 30));
+    values.push_back(-digits / std::pow(10.0, static_cast<int>(random() % 17)));
+  }
+  for (int e = -324; e <= 308; ++e) {
+    values.push_back(std::pow(10.0, e));
+    values.push_back(-1.5 * std::pow(10.0, e));
+    values.push_back(std::nextafter(std::pow(10.0, e), 0.0));
   }
   fmt::memory_buffer out;
   for (int pass = 0; pass < 2; ++pass)  // the second pass comes from the cache

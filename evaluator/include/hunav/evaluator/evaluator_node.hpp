@@ -18,7 +18,8 @@
 // dropped (the handler throws hunav::BadMessage) and counted in run.json's dropped_messages; tick
 // numbers that never arrived are counted in lost_ticks.
 //
-// Used the same way by the hunav_evaluator binary and by the in-process runner, on one thread:
+// Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (with
+// worker_thread the node also runs a worker thread of its own; the calls below stay on the caller's):
 //   hunav::Bus bus(lcm);
 //   EvaluatorNode evaluator(bus, {out_dir, "default", "exp", 1});
 //   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
@@ -37,6 +38,7 @@
 #include <hunav/world_state_t.hpp>
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -46,6 +48,9 @@
 #include <vector>
 
 namespace hunav::evaluator {
+
+// Default of EvaluatorOptions::worker_min_people (measured: evaluator/README.md).
+inline constexpr std::size_t kWorkerMinPeople = 20;
 
 struct EvaluatorOptions {
   std::filesystem::path out_dir;     // created when missing
@@ -60,18 +65,26 @@ struct EvaluatorOptions {
   // Record and evaluate at most this many samples per second of simulation time (sample_rate.hpp);
   // 0 = every world state.
   double sample_rate = 0.0;
+  // Do the per-sample work (fingerprint, states.csv rows, metrics, per-tick rows, flushes) on a
+  // worker thread fed through a bounded queue by the bus handler, which keeps only the checks and a
+  // copy of the message. The files are byte for byte those of the synchronous mode.
+  bool worker_thread = false;
+  // With worker_thread, the worker takes over from the first world state with at least this many
+  // people (0: from the start). With few people the hand-off costs about what it saves (README).
+  std::size_t worker_min_people = kWorkerMinPeople;
 };
 
 class EvaluatorNode {
  public:
+
   // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus`. hunav::Bus cannot drop
   // one subscriber's subscriptions, so the bus must not dispatch after the node is gone: give each
   // node its own Bus (several Buses may share one lcm::LCM) and destroy it before or with the node.
   // Throws std::invalid_argument for an unknown profile, a negative episode count or a bad sample
   // rate.
   EvaluatorNode(Bus& bus, EvaluatorOptions options);
-  // Closes states.csv of an episode still open without computing anything: call
-  // finishIncomplete() first to keep its results.
+  // Closes states.csv of an episode still open without computing anything (with worker_thread:
+  // after the worker wrote every sample received): call finishIncomplete() first to keep its results.
   ~EvaluatorNode();
   EvaluatorNode(const EvaluatorNode&) = delete;
   EvaluatorNode& operator=(const EvaluatorNode&) = delete;
@@ -90,8 +103,13 @@ class EvaluatorNode {
   bool finishIncomplete(const std::string& reason);
 
   // Hands buffered rows to the files when the oldest is a second old (call it when the bus is quiet;
-  // world states call it themselves).
+  // world states call it themselves). With worker_thread the worker does it after the samples
+  // already queued.
   void flushIfDue();
+  // With worker_thread: returns once the worker has done the work of every message received (at
+  // once without a worker). Rethrows an error of the worker (I/O, a non-finite per-tick value),
+  // which the synchronous mode would have thrown from the bus handler.
+  void drain();
   // Buffered rows reach the files at least every this many samples (and every second).
   static constexpr std::size_t kFlushTicks = 100;
 
@@ -105,6 +123,7 @@ class EvaluatorNode {
 
  private:
   struct Episode;
+  class Worker;
 
   void onEvent(const episode_event_t& ev);
   void onWorldState(const world_state_t& ws);
@@ -113,7 +132,10 @@ class EvaluatorNode {
   void finish(const episode_event_t* end, const std::string& incomplete_reason);
 
   void publishLive(double t);
+  // The per-sample work: done in onWorldState, or by the worker thread.
+  void process(Episode& ep, const std::uint8_t* encoded, std::size_t encoded_size, const Recording* sample);
   void flush(Episode& ep);
+  void flushIfDue(Episode& ep);
 
   EvaluatorOptions options_;
   MetricRegistry registry_;
@@ -127,7 +149,9 @@ class EvaluatorNode {
   std::vector<std::uint8_t> encode_buffer_;
   std::vector<EntityState> agents_scratch_;
   std::vector<Vec2> points_scratch_;
+  std::chrono::steady_clock::time_point last_flush_request_;  // worker_thread: flushIfDue()'s last request
   std::set<std::string> used_run_dirs_;  // folders of episodes 2, 3, ...
+  std::unique_ptr<Worker> worker_;       // with worker_thread; declared last: stopped first
 };
 
 }  // namespace hunav::evaluator

@@ -23,7 +23,11 @@ class NumberText {
       e.size = static_cast<std::uint8_t>(end - e.text);
       e.bits = bits;
     }
-    out.append(e.text, e.text + e.size);
+    // A copy of fixed size (a few vector moves, no call), then trimmed to the text.
+    const std::size_t at = out.size();
+    out.resize(at + sizeof e.text);
+    std::memcpy(out.data() + at, e.text, sizeof e.text);
+    out.resize(at + e.size);
   }
 
   // The text of `v` without the cache (what append() writes).
