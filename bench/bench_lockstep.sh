@@ -5,11 +5,17 @@
 # process the CPU time (user + system) and context switches per tick, from /usr/bin/time: the wall
 # clock is at the mercy of whatever else runs on the 2 cores; CPU time and switches are not.
 #   bench/bench_lockstep.sh [--bin DIR] [--scenario FILE] [--repeat N] [--planners "dwb none"] [--nice N]
-#                           [--url URL]
+#                           [--url URL] [--rt PRIO]
 # --nice N (root): run the processes at nice N (e.g. -10), so that other work on the machine delays
 # their wake-ups less; the wall-clock figure then approaches that of an idle machine.
-# --url: the LCM URL inside the namespace (default: run_experiment.sh's); add &channel_ports=1 to give
-# the step protocol's channels ports of their own (common/include/hunav/transport.hpp).
+# --rt PRIO (root): run them under the real-time FIFO policy at PRIO (chrt -f), so that compiles on
+# the other core(s) cannot delay a wake-up at all; the processes block between messages, and the
+# kernel's real-time throttling keeps the machine responsive in any case.
+# --url: the LCM URL inside the namespace (default: run_experiment.sh's, with channel_ports=1: STEP_REQUEST
+# and STEP_REPLY on ports of their own, common/include/hunav/channels.hpp); drop &channel_ports=1 to
+# put every channel on one port. The evaluator gets the URL without that option, as in run_experiment.sh.
+# After the runs of a planner: the median real-time factor and CPU per tick over the repeats.
+# Figures of one port against channel ports: lcmtypes/README.md, "Ports".
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 bin=${HUNAV_BIN_DIR:-$repo/build/bin}
@@ -17,7 +23,8 @@ scenario=$repo/scenarios/passing.yaml
 repeat=3
 planners="dwb none"
 nice_level=0
-url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+rt_prio=0
+url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1'
 while [ $# -gt 0 ]; do
   case $1 in
     --bin) bin=$2; shift 2 ;;
@@ -26,7 +33,8 @@ while [ $# -gt 0 ]; do
     --planners) planners=$2; shift 2 ;;
     --nice) nice_level=$2; shift 2 ;;
     --url) url=$2; shift 2 ;;
-    *) echo "usage: $0 [--bin DIR] [--scenario FILE] [--repeat N] [--planners LIST] [--nice N] [--url URL]" >&2; exit 2 ;;
+    --rt) rt_prio=$2; shift 2 ;;
+    *) echo "usage: $0 [--bin DIR] [--scenario FILE] [--repeat N] [--planners LIST] [--nice N] [--url URL] [--rt PRIO]" >&2; exit 2 ;;
   esac
 done
 for exe in hunav_worldsim hunav_manager hunav_planner hunav_evaluator; do
@@ -38,7 +46,7 @@ if [ -z "${HUNAV_BENCH_NETNS:-}" ]; then
   flags=--net
   [ "$(id -u)" -eq 0 ] || flags=-rn
   HUNAV_BENCH_NETNS=1 exec unshare $flags -- "$BASH" "$0" --bin "$bin" --scenario "$scenario" --repeat "$repeat" \
-    --planners "$planners" --nice "$nice_level" --url "$url"
+    --planners "$planners" --nice "$nice_level" --url "$url" --rt "$rt_prio"
 fi
 ip link set lo up
 ip route replace 224.0.0.0/4 dev lo
@@ -55,7 +63,9 @@ trap 'stop_all; rm -rf "$work"' EXIT
 start() {  # start NAME PROGRAM ARGS...: in the background, timed, waiting for its "ready" line
   local name=$1
   shift
-  nice -n "$nice_level" /usr/bin/time -o "$work/$name.time" -f "%U %S %w %c" "$@" > "$work/$name.out" 2>&1 &
+  local sched=()
+  [ "$rt_prio" -eq 0 ] || sched=(chrt -f "$rt_prio")
+  nice -n "$nice_level" "${sched[@]}" /usr/bin/time -o "$work/$name.time" -f "%U %S %w %c" "$@" > "$work/$name.out" 2>&1 &
   pids+=($!)
   [ "$name" = world ] && return 0
   for _ in $(seq 600); do
@@ -67,10 +77,13 @@ start() {  # start NAME PROGRAM ARGS...: in the background, timed, waiting for i
   exit 1
 }
 
+eval_url=$(printf '%s' "$url" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//')
+echo "bus: $url (evaluator: $eval_url), nice $nice_level, real-time priority $rt_prio"
 for planner in $planners; do
+  : > "$work/summary_$planner"
   for i in $(seq "$repeat"); do
     out=$work/out_$planner$i
-    start evaluator "$bin/hunav_evaluator" --out "$out" --episodes 1 --lcm-url "$url"
+    start evaluator "$bin/hunav_evaluator" --out "$out" --episodes 1 --lcm-url "$eval_url"
     start manager "$bin/hunav_manager" --lcm-url "$url" --episodes 1
     names=(world manager evaluator)
     if [ "$planner" != none ]; then
@@ -80,7 +93,7 @@ for planner in $planners; do
     start world "$bin/hunav_worldsim" --scenario "$scenario" --planner "$planner" --mode lockstep --lcm-url "$url"
     for pid in "${pids[@]}"; do wait "$pid" || true; done
     pids=()
-    python3 - "$out/run.json" "$planner" "$work" "${names[@]}" <<'PY'
+    python3 - "$out/run.json" "$planner" "$work" "${names[@]}" >>"$work/summary_$planner" <<'PY'
 import json, sys
 run = json.load(open(sys.argv[1]))
 planner, work, names = sys.argv[2], sys.argv[3], sys.argv[4:]
@@ -99,5 +112,18 @@ for name in names:
 print(f"  CPU per tick (whole process lifetimes, start-up included): total {total / ticks * 1e6:.1f} us; "
       + "; ".join(parts))
 PY
+    tail -n 2 "$work/summary_$planner"
   done
+  python3 - "$work/summary_$planner" "$planner" <<'PY'
+import re, statistics, sys
+text = open(sys.argv[1]).read()
+factors = [float(x) for x in re.findall(r"(\d+)x real time", text)]
+cpu = {}
+for line in text.splitlines():
+    for name, us in re.findall(r"(total|world|manager|evaluator|planner) ([0-9.]+) us", line):
+        cpu.setdefault(name, []).append(float(us))
+print(f"planner {sys.argv[2]}, {len(factors)} runs: median {statistics.median(factors):.0f}x real time "
+      f"(min {min(factors):.0f}x, max {max(factors):.0f}x); median CPU us per tick: "
+      + ", ".join(f"{k} {statistics.median(v):.1f}" for k, v in cpu.items()))
+PY
 done

@@ -6,12 +6,17 @@
 #   lockstep, realtime   evaluator, manager, planner and world as separate processes over LCM UDP
 #                        multicast, inside a private network namespace made for this run (or on the bus
 #                        given with --shared-bus).
+# Inside the namespace the bus is NETNS_URL with channel_ports=1 (common/include/hunav/transport.hpp):
+# STEP_REQUEST and STEP_REPLY, sent every tick between the world and the manager only, travel on
+# ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (about a
+# quarter less CPU per tick, bench/bench_lockstep.sh). Every other channel, the planner's included, stays
+# on 7667, where a user's planner, lcm-spy and lcm-logger find it. The evaluator listens on 7667 only.
 #
 # Every process this script starts is stopped when the run ends or the script is interrupted; on an
 # interrupt the evaluator is asked to stop first (SIGTERM) so it still writes what it recorded.
 set -euo pipefail
 
-readonly NETNS_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+readonly NETNS_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1'
 
 script_path=$(readlink -f "${BASH_SOURCE[0]}")
 repo_root=$(cd "$(dirname "$script_path")/.." && pwd)
@@ -51,8 +56,14 @@ interrupted by SIGINT/SIGTERM.
 Separate-process modes run inside a private network namespace (unshare --net as root, unshare -rn
 otherwise), so parallel runs cannot hear each other. The script prints the namespace's PID; watch the
 run with: launch_scripts/spy.sh --netns-pid PID. Process logs go to DIR/logs/<name>.log.
-With --shared-bus URL nothing is isolated: give each parallel run its own URL (address or port), and
-make sure multicast has a route, e.g. on loopback only: sudo ip route add 224.0.0.0/4 dev lo
+In the namespace the bus is udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1:
+STEP_REQUEST and STEP_REPLY (world <-> manager, every tick) go to ports 7668 and 7669 of their own,
+every other channel (the planner's ROBOT_OBSERVATION/ROBOT_COMMAND included) to 7667, the port
+lcm-spy watches. --record records every port. (lcmtypes/README.md, docs/planner_contract.md)
+With --shared-bus URL nothing is isolated and every process uses exactly that URL (all channels on
+its one port, unless you add &channel_ports=1, which also takes the next two ports): give each
+parallel run its own URL (address or port), and make sure multicast has a route, e.g. on loopback
+only: sudo ip route add 224.0.0.0/4 dev lo
 
 Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_READY_TIMEOUT (30 s),
 HUNAV_EVAL_GRACE (60 s), HUNAV_STOP_GRACE (10 s).
@@ -470,16 +481,23 @@ else
     log "private network namespace: PID $$ holds it; watch this run with: launch_scripts/spy.sh --netns-pid $$"
     log "LCM bus inside it: $url"
   fi
-  export LCM_DEFAULT_URL=$url
+  # The evaluator hears only channels of the URL's own port: give it the URL without our option,
+  # which plain LCM would warn about.
+  eval_url=$(printf '%s' "$url" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//')
+  if [ "$eval_url" != "$url" ]; then
+    log "STEP_REQUEST and STEP_REPLY on ports of their own (channel_ports=1); every other channel on the URL's port"
+  fi
+  export LCM_DEFAULT_URL=$eval_url
   run_id="${scenario_name}_${planner}_${seed_label}_$(date +%Y%m%d-%H%M%S)-$$"
 
   if [ "$record" -eq 1 ]; then
-    # hunav_record, not lcm-logger: lcm-logger's 30-message queue loses messages of lockstep bursts.
+    # hunav_record, not lcm-logger: lcm-logger's 30-message queue loses messages of lockstep bursts,
+    # and it would not hear the step channels' own ports.
     start recorder "$log_dir/recorder.log" "$bin_dir/hunav_record" --out "$out_dir/run.lcmlog" --lcm-url "$url"
     wait_ready recorder || exit_failed recorder
   fi
   start evaluator "$log_dir/evaluator.log" "$bin_dir/hunav_evaluator" --out "$out_dir" --episodes 1 \
-    --lcm-url "$url" "${eval_args[@]}"
+    --lcm-url "$eval_url" "${eval_args[@]}"
   wait_ready evaluator || exit_failed evaluator
   start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url" --episodes 1
   if [ "$planner" != none ]; then

@@ -9,14 +9,23 @@ readonly DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
 
 usage() {
   cat <<'EOF'
-Usage: launch_scripts/spy.sh [--lcm-url URL] [--netns-pid PID]
+Usage: launch_scripts/spy.sh [--lcm-url URL] [--netns-pid PID] [--step-channel CHANNEL]
 
 Opens lcm-spy on an LCM bus, decoding HuNav-LCM's messages.
 
   --lcm-url URL     the bus (default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304)
   --netns-pid PID   join the private network namespace of a running experiment first; PID is the one
                     launch_scripts/run_experiment.sh prints ("private network namespace: PID ... holds it")
+  --step-channel CHANNEL
+                    watch the port of its own that CHANNEL (STEP_REQUEST or STEP_REPLY) has in a run
+                    with channel_ports=1 (the URL's port + 1 or + 2) instead of the URL's port
   -h, --help        show this help
+
+What it shows: run_experiment.sh's lockstep and realtime runs in their namespace use channel_ports=1,
+so the URL's port (7667) carries WORLD_STATE, EPISODE_EVENT, NAV_GOAL, LIVE_METRICS, ROBOT_OBSERVATION
+and ROBOT_COMMAND, and STEP_REQUEST / STEP_REPLY (world <-> manager, every tick) travel on ports
+7668 / 7669, which one lcm-spy does not hear: open a second one with --step-channel STEP_REQUEST (or
+STEP_REPLY), or replay the run's --record log (it holds every port) with lcm-logplayer on one port.
 
 It needs a display (DISPLAY set; for a headless check: xvfb-run -a launch_scripts/spy.sh).
 Environment: HUNAV_TYPES_JAR (default <repo>/build/share/java/hunav_lcmtypes_java.jar), JAVA (default java).
@@ -32,6 +41,7 @@ usage_error() {
 
 url=${LCM_DEFAULT_URL:-$DEFAULT_URL}
 netns_pid=""
+step_channel=""
 while [ "$#" -gt 0 ]; do
   opt=$1
   value=""
@@ -41,18 +51,37 @@ while [ "$#" -gt 0 ]; do
   esac
   case "$opt" in
     -h | --help) usage; exit 0 ;;
-    --lcm-url | --netns-pid)
+    --lcm-url | --netns-pid | --step-channel)
       if [ "$inline" -eq 0 ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
         shift
       fi
       [ -n "$value" ] || usage_error "$opt needs a non-empty value"
-      if [ "$opt" = --lcm-url ]; then url=$value; else netns_pid=$value; fi ;;
+      case "$opt" in
+        --lcm-url) url=$value ;;
+        --netns-pid) netns_pid=$value ;;
+        --step-channel) step_channel=$value ;;
+      esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
   shift
 done
+
+# channel_ports=1 is our option (common/include/hunav/transport.hpp), unknown to lcm-spy: drop it.
+url=$(printf '%s' "$url" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//')
+if [ -n "$step_channel" ]; then
+  # The offsets of common/include/hunav/channels.hpp (kOwnPortChannels).
+  case "$step_channel" in
+    STEP_REQUEST) offset=1 ;;
+    STEP_REPLY) offset=2 ;;
+    *) usage_error "--step-channel must be STEP_REQUEST or STEP_REPLY (got '$step_channel'; every other channel is on the URL's port)" ;;
+  esac
+  [[ $url =~ ^udpm://([0-9.]*)(:([0-9]+))?(.*)$ ]] || usage_error "--step-channel needs a udpm:// URL (got '$url')"
+  address=${BASH_REMATCH[1]:-239.255.76.67}
+  port=${BASH_REMATCH[3]:-7667}
+  url="udpm://$address:$((port + offset))${BASH_REMATCH[4]}"
+fi
 
 repo_root=$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd)
 java=${JAVA:-java}

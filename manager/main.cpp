@@ -25,8 +25,7 @@ int main(int argc, char** argv) {
   return hunav::cli::run("hunav_manager", [&] {
     std::optional<hunav::Scenario> scenario;
     if (!scenario_file.empty()) scenario = hunav::loadScenario(scenario_file);
-    lcm::LCM lcm(hunav::resolveLcmUrl(url));
-    hunav::Bus bus(lcm);
+    hunav::Bus bus(hunav::resolveLcmUrl(url));  // its own LCM instances: one per port with channel_ports=1
     hunav::manager::ManagerNode node(bus);
     if (scenario) node.manager().loadTrees(*scenario);  // a bad tree file: exit 2 before "ready"
     std::cout << "ready" << std::endl;

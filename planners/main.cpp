@@ -82,8 +82,7 @@ int main(int argc, char** argv) {
     auto planner = hp::createPlanner(planner_name, scenario, config ? &*config : nullptr);
 
     catchTerminationSignals();
-    lcm::LCM lcm(hunav::resolveLcmUrl(lcm_url));
-    hunav::Bus bus(lcm);
+    hunav::Bus bus(hunav::resolveLcmUrl(lcm_url));  // its own LCM instances: one per port with channel_ports=1
     hp::PlannerNode node(bus, std::move(planner));
     std::cout << "ready" << std::endl;
 

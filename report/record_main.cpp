@@ -1,9 +1,16 @@
 // hunav_record: records every message of an LCM bus into an LCM log file, losing none (see
-// include/hunav/report/log_recorder.hpp for why not lcm-logger), until SIGINT/SIGTERM.
+// include/hunav/report/log_recorder.hpp for why not lcm-logger), until SIGINT/SIGTERM. With
+// channel_ports=1 in the URL it also listens on the step channels' own ports (hunav/channels.hpp), so
+// the log holds every channel of the run, as one log on one port would.
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <string>
+#include <vector>
 
+#include "hunav/channels.hpp"
 #include "hunav/cli.hpp"
 #include "hunav/report/log_recorder.hpp"
 #include "hunav/signals.hpp"
@@ -13,6 +20,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hunav_record: records every message on an LCM bus into an LCM log file (lcm-logger's format, "
       "events stamped with the messages' simulation time), with no queue limit so that no message is lost. "
+      "With channel_ports=1 in the URL it also records the step channels' own ports. "
       "Prints 'ready' once subscribed; SIGINT/SIGTERM stops it after writing what it has received. Replay "
       "the file with lcm-logplayer, or recompute its metrics with hunav_evaluator --log FILE."};
   std::string out, url, channels = ".*";
@@ -23,13 +31,24 @@ int main(int argc, char** argv) {
 
   return hunav::cli::run("hunav_record", [&] {
     const auto& stop = hunav::installStopSignals();
-    lcm::LCM lcm(hunav::resolveLcmUrl(url));
-    if (!lcm.good()) {
-      std::cerr << "hunav_record: cannot open the LCM bus " << hunav::resolveLcmUrl(url)
-                << " (bad URL, or no multicast route?)\n";
-      return 1;
+    // The URL's port, then each port of its own (the same URL again, and skipped, without channel_ports=1).
+    const std::string bus_url = hunav::resolveLcmUrl(url);
+    std::vector<std::string> urls{hunav::lcmUrlForChannel(bus_url, hunav::channels::kWorldState)};
+    for (const char* channel : hunav::channels::kOwnPortChannels) {
+      std::string port_url = hunav::lcmUrlForChannel(bus_url, channel);
+      if (std::find(urls.begin(), urls.end(), port_url) == urls.end()) urls.push_back(std::move(port_url));
     }
-    hunav::report::LogRecorder recorder(lcm, out, channels);
+    std::vector<std::unique_ptr<lcm::LCM>> instances;
+    std::vector<lcm::LCM*> listened;
+    for (const std::string& port_url : urls) {
+      instances.push_back(std::make_unique<lcm::LCM>(port_url));
+      if (!instances.back()->good()) {
+        std::cerr << "hunav_record: cannot open the LCM bus " << port_url << " (bad URL, or no multicast route?)\n";
+        return 1;
+      }
+      listened.push_back(instances.back().get());
+    }
+    hunav::report::LogRecorder recorder(listened, out, channels);
     std::cout << "ready" << std::endl;
     auto last_flush = std::chrono::steady_clock::now();
     while (!stop.load()) {

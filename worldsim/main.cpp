@@ -48,8 +48,7 @@ int main(int argc, char** argv) {
     options.silence_limit = std::chrono::milliseconds(static_cast<long>(silence_limit * 1000));
     options.startup_limit = std::chrono::milliseconds(static_cast<long>(startup_limit * 1000));
     options.stop = &hunav::installStopSignals();
-    lcm::LCM lcm(hunav::resolveLcmUrl(url));
-    hunav::Bus bus(lcm);
+    hunav::Bus bus(hunav::resolveLcmUrl(url));  // its own LCM instances: one per port with channel_ports=1
     hunav::worldsim::WorldSim world(bus, scenarios.front(), options);
     bool all_ended = true;
     for (int i = 0; i < episodes && !options.stop->load(); ++i) {

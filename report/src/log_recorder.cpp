@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <array>
 #include <stdexcept>
+#include <vector>
 
 namespace hunav::report {
 
@@ -52,20 +53,47 @@ bool LogRecorder::hunavUtime(const void* data, std::size_t size, std::int64_t& u
 }
 
 LogRecorder::LogRecorder(lcm::LCM& lcm, const std::string& path, const std::string& channel_regex)
-    : lcm_(lcm), log_(path, "w") {
+    : LogRecorder(std::vector<lcm::LCM*>{&lcm}, path, channel_regex) {}
+
+LogRecorder::LogRecorder(const std::vector<lcm::LCM*>& instances, const std::string& path,
+                         const std::string& channel_regex)
+    : instances_(instances), log_(path, "w") {
   if (!log_.good()) throw std::runtime_error("cannot write the LCM log " + path);
-  if (!lcm_.good()) throw std::runtime_error("cannot open the LCM bus");
-  subscription_ = lcm_.subscribe(channel_regex, &LogRecorder::onMessage, this);
-  if (subscription_ == nullptr) throw std::runtime_error("cannot subscribe to '" + channel_regex + "'");
-  subscription_->setQueueCapacity(0);  // 0: unbounded (LCM's default of 30 drops messages in bursts)
+  if (instances_.empty()) throw std::invalid_argument("LogRecorder: no LCM instance to record");
+  for (lcm::LCM* lcm : instances_) {
+    if (lcm == nullptr || !lcm->good()) throw std::runtime_error("cannot open the LCM bus");
+    lcm::Subscription* sub = lcm->subscribe(channel_regex, &LogRecorder::onMessage, this);
+    if (sub == nullptr) throw std::runtime_error("cannot subscribe to '" + channel_regex + "'");
+    sub->setQueueCapacity(0);  // 0: unbounded (LCM's default of 30 drops messages in bursts)
+    subscriptions_.push_back(sub);
+    poll_fds_.push_back(pollfd{lcm->getFileno(), POLLIN, 0});
+  }
 }
 
 LogRecorder::~LogRecorder() {
-  if (subscription_ != nullptr) lcm_.unsubscribe(subscription_);
+  for (std::size_t i = 0; i < subscriptions_.size(); ++i) instances_[i]->unsubscribe(subscriptions_[i]);
 }
 
 bool LogRecorder::handle(std::chrono::milliseconds timeout) {
-  const int handled = lcm_.handleTimeout(static_cast<int>(timeout.count()));
+  int handled = 0;
+  if (instances_.size() == 1) {
+    handled = instances_.front()->handleTimeout(static_cast<int>(timeout.count()));
+  } else {
+    for (auto& p : poll_fds_) p.revents = 0;
+    const int ready = ::poll(poll_fds_.data(), poll_fds_.size(), static_cast<int>(timeout.count()));
+    if (ready > 0) {
+      // One message from the next ready instance after the last one served, so no port starves.
+      for (std::size_t k = 0; k < poll_fds_.size(); ++k) {
+        const std::size_t i = (next_ + k) % poll_fds_.size();
+        if ((poll_fds_[i].revents & (POLLIN | POLLERR | POLLHUP)) == 0) continue;
+        next_ = i + 1;
+        handled = instances_[i]->handle() == 0 ? 1 : -1;
+        break;
+      }
+    } else {
+      handled = ready;  // 0: timeout; -1: error (errno set)
+    }
+  }
   if (write_failed_) throw std::runtime_error("cannot write to the LCM log (disk full?)");
   if (handled < 0) {
     if (errno == EINTR) return false;  // a signal (SIGINT/SIGTERM: the caller's loop checks its flag)

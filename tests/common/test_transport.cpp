@@ -283,9 +283,9 @@ TEST(Transport, ChannelPortsUrlGivesTheStepProtocolPortsOfTheirOwn) {
   const std::string url = "udpm://239.255.76.67:7667?ttl=0&channel_ports=1&recv_buf_size=4194304";
   EXPECT_EQ(hunav::lcmUrlForChannel(url, "STEP_REQUEST"), "udpm://239.255.76.67:7668?ttl=0&recv_buf_size=4194304");
   EXPECT_EQ(hunav::lcmUrlForChannel(url, "STEP_REPLY"), "udpm://239.255.76.67:7669?ttl=0&recv_buf_size=4194304");
-  EXPECT_EQ(hunav::lcmUrlForChannel(url, "ROBOT_OBSERVATION"), "udpm://239.255.76.67:7670?ttl=0&recv_buf_size=4194304");
-  EXPECT_EQ(hunav::lcmUrlForChannel(url, "ROBOT_COMMAND"), "udpm://239.255.76.67:7671?ttl=0&recv_buf_size=4194304");
-  // Everything else stays on the URL's own port, where lcm-spy and lcm-logger listen.
+  // Everything else stays on the URL's own port, where lcm-spy, lcm-logger and users' planners listen.
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "ROBOT_OBSERVATION"), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
+  EXPECT_EQ(hunav::lcmUrlForChannel(url, "ROBOT_COMMAND"), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
   EXPECT_EQ(hunav::lcmUrlForChannel(url, "WORLD_STATE"), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
   EXPECT_EQ(hunav::lcmUrlForChannel(url, "SOMETHING_ELSE"), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
   // LCM's default group and port when the URL leaves them out.

@@ -13,7 +13,9 @@ fi
 source "$(dirname "$0")/common.sh"
 ip link set lo up
 ip route add 224.0.0.0/4 dev lo
-URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+# As run_experiment.sh: the step channels on ports of their own; the evaluator on the URL's port.
+EVAL_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+URL="$EVAL_URL&channel_ports=1"
 SCENARIO="$REPO/tests/integration/data/endless_corridor.yaml"
 OUT="$WORK/out"
 mkdir -p "$OUT"
@@ -41,7 +43,7 @@ wait_ready() {  # wait_ready NAME: until NAME prints "ready" (bounded: 30 s)
 }
 rows() { if [ -f "$OUT/states.csv" ]; then wc -l < "$OUT/states.csv"; else echo 0; fi; }
 
-start evaluator "$BIN/hunav_evaluator" --out "$OUT" --episodes 1 --lcm-url "$URL"
+start evaluator "$BIN/hunav_evaluator" --out "$OUT" --episodes 1 --lcm-url "$EVAL_URL"
 start manager "$BIN/hunav_manager" --lcm-url "$URL" --episodes 1
 start planner "$BIN/hunav_planner" --planner dwb --scenario "$SCENARIO" --lcm-url "$URL" --episodes 1
 for name in evaluator manager planner; do wait_ready "$name"; done

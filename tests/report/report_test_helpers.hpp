@@ -14,7 +14,9 @@ namespace fs = std::filesystem;
 // A fresh, empty folder under the temporary directory, unique to the running test.
 inline fs::path freshDir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::temp_directory_path() / "hunav_report_test" /
+  // Under the working directory (ctest's: the build tree), not /tmp: builds of the same tree tested
+  // at the same time would otherwise remove each other's files.
+  const fs::path dir = fs::current_path() / "hunav_report_test" /
                        (std::string(info->test_suite_name()) + "." + info->name()) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);

@@ -12,12 +12,19 @@
 // non-decreasing), as the in-process runner's log is, so lcm-logplayer replays a run at its
 // simulated pace whatever the mode. Messages of other types (LCM's own LCM_SELF_TEST, programs of
 // the user on a shared bus) keep the previous stamp.
+//
+// Several ports: with channel_ports=1 (hunav/transport.hpp) the step protocol's channels travel on
+// ports of their own, each an LCM instance; the recorder listens on all of them and writes every
+// message into the one log, in the order it handles them (each channel's messages in their order).
 #include <lcm/lcm-cpp.hpp>
+
+#include <poll.h>
 
 #include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace hunav::report {
 
@@ -26,6 +33,9 @@ class LogRecorder {
   // Opens `path` for writing (throws std::runtime_error when it cannot) and subscribes to every
   // channel matching `channel_regex` (LCM's regular expressions) on `lcm`.
   LogRecorder(lcm::LCM& lcm, const std::string& path, const std::string& channel_regex = ".*");
+  // The same over several LCM instances (one per port), all recorded into the one log.
+  LogRecorder(const std::vector<lcm::LCM*>& instances, const std::string& path,
+              const std::string& channel_regex = ".*");
   ~LogRecorder();
   LogRecorder(const LogRecorder&) = delete;
   LogRecorder& operator=(const LogRecorder&) = delete;
@@ -47,9 +57,11 @@ class LogRecorder {
  private:
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
 
-  lcm::LCM& lcm_;
+  std::vector<lcm::LCM*> instances_;
+  std::vector<lcm::Subscription*> subscriptions_;  // one per instance
+  std::vector<pollfd> poll_fds_;                   // one per instance
+  std::size_t next_ = 0;                           // round robin among ready instances
   lcm::LogFile log_;
-  lcm::Subscription* subscription_ = nullptr;
   std::int64_t events_ = 0;
   std::int64_t last_stamp_ = 0;
   bool write_failed_ = false;
