@@ -18,6 +18,13 @@ SfmBody bodyOf(const agent_state_t& a) {
   return b;
 }
 
+// The group mates of the agent whose forces are computed: one list per thread, reused (no
+// allocation per agent).
+std::vector<const SfmBody*>& groupScratch() {
+  static thread_local std::vector<const SfmBody*> mates;
+  return mates;
+}
+
 ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                     double goal_radius, RobotAs robot, double desired_speed) {
   const SfmParams p = paramsOf(a);
@@ -41,7 +48,7 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
   if (robot == RobotAs::Person) f.social += socialForceFrom(me, snap.robot, p);
 
   if (me.group_id >= 0) {
-    static thread_local std::vector<const SfmBody*> mates;  // reused: no allocation per agent
+    std::vector<const SfmBody*>& mates = groupScratch();
     mates.clear();
     if (snap.group_of.size() == snap.agents.size()) {
       const int g = snap.group_of[index];
@@ -62,6 +69,8 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------
+
+void reserveTickScratch() { groupScratch().reserve(256); }
 
 void NeighborGrid::build(const std::vector<SfmBody>& bodies, const std::vector<int>& order, double cell) {
   bodies_ = &bodies;
@@ -290,49 +299,62 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   reply.seq = request.seq;
   reply.episode = request.episode;
   reply.num_agents = request.num_agents;
-  reply.agents.resize(request.agents.size());
-  memory_at_.resize(request.agents.size());
-  for (std::size_t i = 0; i < request.agents.size(); ++i) {
-    // What the agent a few places ahead will touch, fetched while this one is ticked: its memory,
-    // tree and goal and obstacle lists live apart on the heap, and thousands of agents do not fit
-    // in the cache.
-    constexpr std::size_t kAhead = 4;
-    if (i + kAhead < request.agents.size()) {
-      const agent_state_t& next_in = request.agents[i + kAhead];
-      const agent_state_t& next_out = reply.agents[i + kAhead];
-      __builtin_prefetch(next_in.goals.data());
-      __builtin_prefetch(next_in.obstacles.data());
-      __builtin_prefetch(next_out.goals.data(), 1);
-      __builtin_prefetch(next_out.obstacles.data(), 1);
-      if (const AgentMemory* next = memory_at_[i + kAhead]; next != nullptr) {
+  const std::size_t count = request.agents.size();
+  reply.agents.resize(count);
+  memory_at_.resize(count);
+  // The memories first, on this thread (a new agent inserts into memory_); then each agent's tick
+  // reads the request and the snapshot and writes only its own reply entry and memory, so chunks of
+  // the crowd are ticked on two threads with the same results.
+  for (std::size_t i = 0; i < count; ++i) memoryAt(i, request.agents[i]);
+  auto tickRange = [&](std::size_t from, std::size_t to) {
+    for (std::size_t i = from; i < to; ++i) {
+      // What the agent a few places ahead will touch, fetched while this one is ticked: its memory,
+      // tree and goal and obstacle lists live apart on the heap, and thousands of agents do not fit
+      // in the cache.
+      constexpr std::size_t kAhead = 4;
+      if (i + kAhead < to) {
+        const agent_state_t& next_in = request.agents[i + kAhead];
+        const agent_state_t& next_out = reply.agents[i + kAhead];
+        __builtin_prefetch(next_in.goals.data());
+        __builtin_prefetch(next_in.obstacles.data());
+        __builtin_prefetch(next_out.goals.data(), 1);
+        __builtin_prefetch(next_out.obstacles.data(), 1);
+        const AgentMemory* next = memory_at_[i + kAhead];
         __builtin_prefetch(next);
         next->tree.prefetch();
       }
+      const agent_state_t& in = request.agents[i];
+      agent_state_t& out = reply.agents[i];
+      out = in;  // reuses the strings and vectors of the last reply
+      out.utime = reply.utime;
+      out.behavior_state = agent_state_t::STATE_INACTIVE;
+      AgentMemory& mem = *memory_at_[i];
+      mem.moved = false;
+      TickContext ctx{snap, i, in, out, request.dt, request.episode, request.seq, mem, {}};
+      auto set = [&](BbKey k, double v) { ctx.bb[static_cast<std::size_t>(k)] = v; };
+      const behavior_params_t& bp = in.behavior_params;
+      set(BbKey::Id, in.id);
+      set(BbKey::Dt, request.dt);
+      set(BbKey::Time, static_cast<double>(request.utime) * 1e-6);
+      set(BbKey::Dist, bp.dist);
+      set(BbKey::Duration, bp.duration);
+      set(BbKey::Once, bp.once ? 1.0 : 0.0);
+      set(BbKey::Vel, bp.vel);
+      set(BbKey::GoalForceFactor, bp.goal_force_factor);
+      set(BbKey::ObstacleForceFactor, bp.obstacle_force_factor);
+      set(BbKey::SocialForceFactor, bp.social_force_factor);
+      set(BbKey::OtherForceFactor, bp.other_force_factor);
+      set(BbKey::MaxVel, in.desired_speed);
+      mem.tree.tick(ctx);
     }
-    const agent_state_t& in = request.agents[i];
-    agent_state_t& out = reply.agents[i];
-    out = in;  // reuses the strings and vectors of the last reply
-    out.utime = reply.utime;
-    out.behavior_state = agent_state_t::STATE_INACTIVE;
-    AgentMemory& mem = memoryAt(i, in);
-    mem.moved = false;
-    TickContext ctx{snap, i, in, out, request.dt, request.episode, request.seq, mem, {}};
-    auto set = [&](BbKey k, double v) { ctx.bb[static_cast<std::size_t>(k)] = v; };
-    const behavior_params_t& bp = in.behavior_params;
-    set(BbKey::Id, in.id);
-    set(BbKey::Dt, request.dt);
-    set(BbKey::Time, static_cast<double>(request.utime) * 1e-6);
-    set(BbKey::Dist, bp.dist);
-    set(BbKey::Duration, bp.duration);
-    set(BbKey::Once, bp.once ? 1.0 : 0.0);
-    set(BbKey::Vel, bp.vel);
-    set(BbKey::GoalForceFactor, bp.goal_force_factor);
-    set(BbKey::ObstacleForceFactor, bp.obstacle_force_factor);
-    set(BbKey::SocialForceFactor, bp.social_force_factor);
-    set(BbKey::OtherForceFactor, bp.other_force_factor);
-    set(BbKey::MaxVel, in.desired_speed);
-    mem.tree.tick(ctx);
-  }
+  };
+  constexpr int kTickChunks = 8;
+  const std::size_t chunk_bounds[2] = {count, static_cast<std::size_t>(kTickChunks)};
+  // A closure of two references: it fits in std::function's own storage (no allocation).
+  forChunksOnTwoThreads(count, kTickChunks, [&tickRange, &chunk_bounds](int c) {
+    const std::size_t k = static_cast<std::size_t>(c), n = chunk_bounds[0], chunks = chunk_bounds[1];
+    tickRange(k * n / chunks, (k + 1) * n / chunks);
+  });
   snap.request = nullptr;
 }
 

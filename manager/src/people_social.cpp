@@ -7,10 +7,13 @@
 // give bit-identical results on any x86-64 CPU (libm's exp does not: glibc picks an FMA variant at
 // run time). Sums are accumulated in forEachPair's order.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <condition_variable>
 #include <cstring>
+#include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -315,6 +318,7 @@ struct Workspace {
   PairBatch batch;
   std::vector<double> fx, fy;  // sums, in the grid's order
   std::vector<double> cell_cost;  // pairs tested per cell (to split the work between threads)
+  std::vector<int> chunk_start;   // the helper's chunks of cells
 };
 
 }  // namespace
@@ -393,13 +397,18 @@ void accumulate(const int* pi, const int* pj, const double* ux, const double* uy
   }
 }
 
-// The pairs of the later cells, computed on a second thread while the calling thread does the
-// earlier ones; their forces are kept (i, j, u) and added after the earlier cells' in pair order,
-// so the sums are the same bits as on one thread, whatever the timing.
-class PairHelper {
+// A second thread for the manager's step, sharing work in chunks: start(count, work) offers
+// chunks 0..count-1; the helper thread and, in finish(), the calling thread take them in turn, so a
+// helper that the scheduler starts late costs no more than doing the work on one thread. Chunks
+// are independent; what depends on their order is combined by the caller after finish().
+class ChunkHelper {
  public:
-  PairHelper() : thread_([this] { run(); }) {}
-  ~PairHelper() {
+  ChunkHelper() : thread_([this] { run(); }) {
+    // Ready when its scratch is allocated: nothing of the helper allocates during a step after the first.
+    std::unique_lock<std::mutex> lock(mutex_);
+    finished_.wait(lock, [this] { return ready_; });
+  }
+  ~ChunkHelper() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stop_ = true;
@@ -407,62 +416,78 @@ class PairHelper {
     wake_.notify_one();
     thread_.join();
   }
-  PairHelper(const PairHelper&) = delete;
-  PairHelper& operator=(const PairHelper&) = delete;
+  ChunkHelper(const ChunkHelper&) = delete;
+  ChunkHelper& operator=(const ChunkHelper&) = delete;
 
   // Serialises callers (managers on several threads share the helper).
   std::mutex& user() { return user_; }
 
-  void start(const GridView& g, int cell_from, int cell_to, double r2, const KernelParams& kp) {
+  // `work(chunk)` must stay valid until finish() returns.
+  void start(int count, const std::function<void(int)>& work) {
+    count_ = count;
+    next_.store(0, std::memory_order_relaxed);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      job_ = Job{g, cell_from, cell_to, r2, kp};
+      work_ = &work;
+      error_ = nullptr;
       pending_ = true;
       done_ = false;
     }
     wake_.notify_one();
   }
-  // Waits for the job and adds its forces to fx, fy.
-  void finish(double* fx, double* fy) {
+  // Takes the chunks nobody has taken yet, then waits for the helper's; rethrows what either threw.
+  void finish() {
+    std::exception_ptr error;
+    try {
+      takeChunks(*work_);
+    } catch (...) {
+      error = std::current_exception();
+      next_.store(count_, std::memory_order_relaxed);  // no more chunks for the helper either
+    }
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      finished_.wait(lock, [this] { return done_; });
+      if (pending_) {
+        pending_ = false;  // the helper has not started: it never will for this job
+      } else {
+        finished_.wait(lock, [this] { return done_; });
+      }
+      if (!error) error = error_;
     }
-    accumulate(i_.data(), j_.data(), ux_.data(), uy_.data(), static_cast<int>(i_.size()), fx, fy);
+    if (error) std::rethrow_exception(error);
   }
 
  private:
-  struct Job {
-    GridView grid;
-    int cell_from = 0, cell_to = 0;
-    double r2 = 0.0;
-    KernelParams kp{};
-  };
+  void takeChunks(const std::function<void(int)>& work) {
+    for (int c = next_.fetch_add(1, std::memory_order_relaxed); c < count_;
+         c = next_.fetch_add(1, std::memory_order_relaxed))
+      work(c);
+  }
   void run() {
+    reserveTickScratch();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ready_ = true;
+    }
+    finished_.notify_one();
     for (;;) {
-      Job job;
+      const std::function<void(int)>* work = nullptr;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         wake_.wait(lock, [this] { return pending_ || stop_; });
         if (stop_) return;
-        job = job_;
+        work = work_;
         pending_ = false;
       }
-      // One batch, hot in the cache, refilled each time; what the sums need of it is copied out
-      // (keeping every batch instead: 4 MB of cold stores, measured slower).
-      i_.clear();
-      j_.clear();
-      ux_.clear();
-      uy_.clear();
-      PairBatch* batch = &batch_;
-      pairsOfCells(job.grid, job.cell_from, job.cell_to, job.r2, job.kp, batch, [&](PairBatch*& b, int n) {
-        i_.insert(i_.end(), b->i, b->i + n);
-        j_.insert(j_.end(), b->j, b->j + n);
-        ux_.insert(ux_.end(), b->ux, b->ux + n);
-        uy_.insert(uy_.end(), b->uy, b->uy + n);
-      });
+      std::exception_ptr error;
+      try {
+        takeChunks(*work);
+      } catch (...) {
+        error = std::current_exception();
+        next_.store(count_, std::memory_order_relaxed);
+      }
       {
         std::lock_guard<std::mutex> lock(mutex_);
+        error_ = error;
         done_ = true;
       }
       finished_.notify_one();
@@ -472,12 +497,78 @@ class PairHelper {
   std::mutex user_;
   std::mutex mutex_;
   std::condition_variable wake_, finished_;
-  Job job_;
-  bool pending_ = false, done_ = false, stop_ = false;
-  PairBatch batch_;
-  std::vector<int> i_, j_;  // the computed pairs and forces, in pair order
-  std::vector<double> ux_, uy_;
-  std::thread thread_;  // last: starts when everything above exists
+  const std::function<void(int)>* work_ = nullptr;
+  std::exception_ptr error_;
+  bool ready_ = false, pending_ = false, done_ = false, stop_ = false;
+  int count_ = 0;              // set before the hand-over (mutex_), read by both
+  std::atomic<int> next_{0};   // the next chunk to take
+  std::thread thread_;         // last: starts when everything above exists
+};
+
+ChunkHelper& chunkHelper() {
+  static ChunkHelper helper;
+  return helper;
+}
+
+// The pairs of the later cells, in chunks of cells computed by either thread (ChunkHelper). Each
+// chunk keeps its forces (i, j, u); they are added after the earlier cells' in chunk order, that is
+// in pair order, so the sums are the same bits as on one thread, whatever thread computed which
+// chunk and whatever the timing.
+struct LaterPairs {
+  static constexpr std::size_t kMaxChunks = 20;  // chunks of at least 1/16 of the pairs, +1
+  struct Chunk {
+    int cell_from = 0, cell_to = 0;
+    std::vector<int> i, j;  // the computed pairs and forces, in pair order
+    std::vector<double> ux, uy;
+  };
+  std::vector<Chunk> chunks;
+  int count = 0;
+  std::size_t largest = 0;  // pairs in the largest chunk seen
+  // One batch per thread, hot in the cache, refilled each time; what the sums need of it is copied
+  // out (keeping every batch instead: 4 MB of cold stores, measured slower).
+  PairBatch helper_batch;
+
+  // `chunk_start`: the first cell of each chunk, then the end cell.
+  void prepare(const std::vector<int>& chunk_start) {
+    count = static_cast<int>(chunk_start.size()) - 1;
+    if (chunks.size() < static_cast<std::size_t>(count)) chunks.resize(std::max<std::size_t>(count, kMaxChunks));
+    for (int c = 0; c < count; ++c) {
+      chunks[static_cast<std::size_t>(c)].cell_from = chunk_start[static_cast<std::size_t>(c)];
+      chunks[static_cast<std::size_t>(c)].cell_to = chunk_start[static_cast<std::size_t>(c) + 1];
+    }
+    // Every chunk gets room for 1.5 times the largest chunk seen (reserved 3 times over): how many
+    // chunks there are and which cells they hold change from step to step, and a warm step should
+    // not allocate.
+    for (Chunk& k : chunks) {
+      if (2 * k.i.capacity() < 3 * largest) {
+        const std::size_t room = 3 * largest;
+        k.i.reserve(room);
+        k.j.reserve(room);
+        k.ux.reserve(room);
+        k.uy.reserve(room);
+      }
+    }
+  }
+  void compute(int c, const GridView& g, double r2, const KernelParams& kp, PairBatch* batch) {
+    Chunk& k = chunks[static_cast<std::size_t>(c)];
+    k.i.clear();
+    k.j.clear();
+    k.ux.clear();
+    k.uy.clear();
+    pairsOfCells(g, k.cell_from, k.cell_to, r2, kp, batch, [&](PairBatch*& full, int n) {
+      k.i.insert(k.i.end(), full->i, full->i + n);
+      k.j.insert(k.j.end(), full->j, full->j + n);
+      k.ux.insert(k.ux.end(), full->ux, full->ux + n);
+      k.uy.insert(k.uy.end(), full->uy, full->uy + n);
+    });
+  }
+  void addTo(double* fx, double* fy) {
+    for (int c = 0; c < count; ++c) {
+      const Chunk& k = chunks[static_cast<std::size_t>(c)];
+      largest = std::max(largest, k.i.size());
+      accumulate(k.i.data(), k.j.data(), k.ux.data(), k.uy.data(), static_cast<int>(k.i.size()), fx, fy);
+    }
+  }
 };
 
 // Below this many people one thread is faster than handing work over (measured: a hand-over costs
@@ -510,11 +601,10 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
   const int cells = g.nx * g.ny;
 
   std::unique_lock<std::mutex> helper_lock;
-  PairHelper* helper = nullptr;
+  ChunkHelper* helper = nullptr;
   if (useHelper(count)) {
-    static PairHelper shared;
-    helper_lock = std::unique_lock<std::mutex>(shared.user(), std::try_to_lock);
-    if (helper_lock.owns_lock()) helper = &shared;
+    helper_lock = std::unique_lock<std::mutex>(chunkHelper().user(), std::try_to_lock);
+    if (helper_lock.owns_lock()) helper = &chunkHelper();
   }
   if (helper == nullptr) {
     pairsOfCells(g, 0, cells, r2, kp, batch, sink);
@@ -523,6 +613,7 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
     // cell against the rest of its cell, the cell to the right and three cells of the next row; this
     // thread also adds the helper's forces afterwards, so it takes the smaller share).
     constexpr double kOwnShare = 0.42;
+    constexpr double kChunks = 16.0;  // see LaterPairs::kMaxChunks
     auto bodiesIn = [&](int cx, int cy) {
       return cx < 0 || cx >= g.nx || cy >= g.ny ? 0.0 : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
     };
@@ -538,11 +629,51 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
     }
     int split = 0;
     for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split) sum += cost[static_cast<std::size_t>(split)];
-    helper->start(g, split, cells, r2, kp);
+    // The later cells in chunks of about 1/kChunks of the total.
+    std::vector<int>& chunk_start = ws.chunk_start;
+    chunk_start.assign(1, split);
+    double chunk_sum = 0.0;
+    for (int c = split; c < cells; ++c) {
+      chunk_sum += cost[static_cast<std::size_t>(c)];
+      if (chunk_sum >= total / kChunks && c + 1 < cells) {
+        chunk_start.push_back(c + 1);
+        chunk_sum = 0.0;
+      }
+    }
+    chunk_start.push_back(cells);
+    static LaterPairs later;  // used under the helper's user() lock
+    later.prepare(chunk_start);
+    const std::thread::id caller = std::this_thread::get_id();
+    struct ChunkJob {
+      const GridView& g;
+      double r2;
+      const KernelParams& kp;
+      std::thread::id caller;
+      PairBatch* caller_batch;
+      void operator()(int c) const {
+        later.compute(c, g, r2, kp, std::this_thread::get_id() == caller ? caller_batch : &later.helper_batch);
+      }
+    } const job{g, r2, kp, caller, batch};
+    // A closure of one reference: it fits in std::function's own storage (no allocation).
+    const std::function<void(int)> work = [&job](int c) { job(c); };
+    helper->start(later.count, work);
     pairsOfCells(g, 0, split, r2, kp, batch, sink);
-    helper->finish(fx, fy);
+    helper->finish();
+    later.addTo(fx, fy);
   }
   for (std::size_t k = 0; k < count; ++k) snap.people_social[grid.items_[k]] = Vec2(fx[k], fy[k]);
+}
+
+void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work) {
+  reserveTickScratch();  // whichever thread ticks whom, neither allocates once warm
+  std::unique_lock<std::mutex> helper_lock;
+  if (useHelper(people)) helper_lock = std::unique_lock<std::mutex>(chunkHelper().user(), std::try_to_lock);
+  if (!helper_lock.owns_lock()) {
+    for (int c = 0; c < chunks; ++c) work(c);
+    return;
+  }
+  chunkHelper().start(chunks, work);
+  chunkHelper().finish();
 }
 
 }  // namespace hunav::manager

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
+#include <vector>
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -146,4 +148,54 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   bus.handleAvailable();
   EXPECT_EQ(replies.size(), 2u);
   EXPECT_EQ(bus.droppedMessages(), 2u);
+}
+
+TEST(AgentManager, ManagersOnSeveralThreadsTickTheSameReplies) {
+  // 400 people of every behavior (from 256 the ticks are shared in chunks with the manager's helper
+  // thread when it is free; managers on other threads meanwhile tick everybody themselves): every
+  // manager's replies over 10 steps are the lone manager's, bit for bit, whatever the timing.
+  std::vector<agent_state_t> crowd;
+  for (int i = 0; i < 400; ++i) {
+    agent_state_t a = person(i + 1, (i % 20) * 1.3, (i / 20) * 1.1);
+    a.behavior = static_cast<int8_t>(1 + i % 6);
+    a.group_id = i % 10 == 0 ? i / 10 % 5 : -1;
+    a.goals = {point2d_t{26.0 - a.x, 22.0 - a.y}};
+    a.num_goals = 1;
+    a.behavior_params.dist = 4.0;
+    a.behavior_params.duration = 2.0;
+    a.behavior_params.vel = 1.0;
+    a.robot_in_sight = true;
+    crowd.push_back(a);
+  }
+  agent_state_t robot = robotAt(13.0, 11.0);
+  robot.vx = 0.5;
+  auto run = [&](std::vector<step_reply_t>& replies) {
+    AgentManager m;
+    step_request_t r = request(crowd, robot);
+    for (int s = 0; s < 10; ++s) {
+      step_reply_t reply;
+      m.step(r, reply);
+      replies.push_back(reply);
+      r.agents = reply.agents;
+      r.utime = reply.utime;
+      r.seq += 1;
+    }
+  };
+  std::vector<step_reply_t> lone;
+  run(lone);
+  constexpr int kThreads = 3;
+  std::vector<std::vector<step_reply_t>> got(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) threads.emplace_back([&, t] { run(got[t]); });
+  for (std::thread& t : threads) t.join();
+  for (int t = 0; t < kThreads; ++t) {
+    ASSERT_EQ(got[t].size(), lone.size());
+    for (std::size_t s = 0; s < lone.size(); ++s)
+      for (std::size_t i = 0; i < lone[s].agents.size(); ++i) {
+        const agent_state_t &a = got[t][s].agents[i], &b = lone[s].agents[i];
+        ASSERT_TRUE(a.x == b.x && a.y == b.y && a.vx == b.vx && a.vy == b.vy && a.yaw == b.yaw &&
+                    a.behavior_state == b.behavior_state && a.goals.size() == b.goals.size())
+            << "thread " << t << " step " << s << " agent " << i;
+      }
+  }
 }

@@ -99,6 +99,15 @@ Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& other, const SfmPar
 // people_social[j] -= u), computed in batches (SIMD where the CPU has it).
 void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
 
+// Runs work(0), ..., work(chunks - 1), each once, on the calling thread and the manager's helper
+// thread (shared by the managers of the process) when `people` make a hand-over worth it and the
+// helper is free; else all on the calling thread. The chunks must be independent. Returns when all
+// are done; rethrows what one threw.
+void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work);
+// Gives the calling thread room for the scratch lists of a tick (groups of up to 256 people), so
+// that the ticks on a helper thread allocate nothing once it has started.
+void reserveTickScratch();
+
 // How the robot enters an agent's social force model (DESIGN.md section 5).
 enum class RobotAs { Person, Obstacle, Ignored };
 
