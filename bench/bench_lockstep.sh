@@ -84,13 +84,19 @@ for planner in $planners; do
   for i in $(seq "$repeat"); do
     out=$work/out_$planner$i
     start evaluator "$bin/hunav_evaluator" --out "$out" --episodes 1 --lcm-url "$eval_url"
-    start manager "$bin/hunav_manager" --lcm-url "$url" --episodes 1
+    # As run_experiment.sh: the manager runs until stopped (SIGTERM once the world has ended), so that
+    # it need not listen to the URL's own port for the END event.
+    start manager "$bin/hunav_manager" --lcm-url "$url"
+    manager_pid=${pids[-1]}
     names=(world manager evaluator)
     if [ "$planner" != none ]; then
       start planner "$bin/hunav_planner" --planner "$planner" --scenario "$scenario" --lcm-url "$url" --episodes 1
       names+=(planner)
     fi
     start world "$bin/hunav_worldsim" --scenario "$scenario" --planner "$planner" --mode lockstep --lcm-url "$url"
+    wait "${pids[-1]}" || true
+    # The manager itself, not /usr/bin/time (which would die without writing its figures).
+    kill -TERM $(ps -o pid= --ppid "$manager_pid") 2>/dev/null || true
     for pid in "${pids[@]}"; do wait "$pid" || true; done
     pids=()
     python3 - "$out/run.json" "$planner" "$work" "${names[@]}" >>"$work/summary_$planner" <<'PY'

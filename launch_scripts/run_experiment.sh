@@ -499,7 +499,9 @@ else
   start evaluator "$log_dir/evaluator.log" "$bin_dir/hunav_evaluator" --out "$out_dir" --episodes 1 \
     --lcm-url "$eval_url" "${eval_args[@]}"
   wait_ready evaluator || exit_failed evaluator
-  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url" --episodes 1
+  # The manager runs until stopped: without --episodes it listens to STEP_REQUEST alone (on its own
+  # port), not to the world states of the URL's port that it would otherwise hear every tick.
+  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url"
   if [ "$planner" != none ]; then
     start planner "$log_dir/planner.log" "$bin_dir/hunav_planner" --planner "$planner" --scenario "$scenario" \
       --lcm-url "$url" --episodes 1
@@ -525,8 +527,10 @@ else
     fi
     # The recorder writes what it has received, then exits.
     [ "$record" -eq 0 ] || stop recorder TERM "$stop_grace"
-    # They exit by themselves after the END event (--episodes 1); without one, stop them.
-    for name in manager planner; do
+    # The manager has nothing more to answer: stop it. The planner exits by itself after the END
+    # event (--episodes 1); without one, stop it.
+    stop manager TERM "$stop_grace"
+    for name in planner; do
       [ -n "${pid_of[$name]:-}" ] || continue
       case "${code_of[world]}" in 0 | 1) wait_exit "$name" 3 || stop "$name" TERM "$stop_grace" ;;
         *) stop "$name" TERM "$stop_grace" ;;

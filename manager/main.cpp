@@ -17,7 +17,9 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_file,
                  "scenario YAML: load every agent's behavior tree at start (a bad one: exit 2 before anything "
                  "runs); without it, tree files are read at the first step that names them");
-  app.add_option("--episodes", episodes, "exit after this many episode END events (0: run until SIGINT/SIGTERM)")
+  app.add_option("--episodes", episodes,
+                 "exit after this many episode END events (0: run until SIGINT/SIGTERM, and, with channel_ports=1, "
+                 "listen to nothing but STEP_REQUEST on its own port: cheaper per tick)")
       ->check(CLI::NonNegativeNumber);
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
@@ -26,7 +28,7 @@ int main(int argc, char** argv) {
     std::optional<hunav::Scenario> scenario;
     if (!scenario_file.empty()) scenario = hunav::loadScenario(scenario_file);
     hunav::Bus bus(hunav::resolveLcmUrl(url));  // its own LCM instances: one per port with channel_ports=1
-    hunav::manager::ManagerNode node(bus);
+    hunav::manager::ManagerNode node(bus, episodes > 0);
     if (scenario) node.manager().loadTrees(*scenario);  // a bad tree file: exit 2 before "ready"
     std::cout << "ready" << std::endl;
     while (!stop.load() && (episodes == 0 || node.episodesEnded() < static_cast<std::uint64_t>(episodes)))

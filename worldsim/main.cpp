@@ -48,7 +48,9 @@ int main(int argc, char** argv) {
     options.silence_limit = std::chrono::milliseconds(static_cast<long>(silence_limit * 1000));
     options.startup_limit = std::chrono::milliseconds(static_cast<long>(startup_limit * 1000));
     options.stop = &hunav::installStopSignals();
-    hunav::Bus bus(hunav::resolveLcmUrl(url));  // its own LCM instances: one per port with channel_ports=1
+    // Its own LCM instances (one per port with channel_ports=1) to publish; it reads every port itself
+    // (Bus: direct_on_every_port), as it hears its own world state each tick where it listens for commands.
+    hunav::Bus bus(hunav::resolveLcmUrl(url), /*direct_on_every_port=*/true);
     hunav::worldsim::WorldSim world(bus, scenarios.front(), options);
     bool all_ended = true;
     for (int i = 0; i < episodes && !options.stop->load(); ++i) {

@@ -2,9 +2,16 @@
 
 #include "hunav/channels.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <thread>
 
 namespace hunav {
@@ -60,7 +67,206 @@ std::string urlWithPortOffset(const std::string& url, int offset) {
   return out;
 }
 
+// The parts of a udpm URL our receive socket needs.
+struct UdpmEndpoint {
+  in_addr group{};
+  int port = kDefaultUdpmPort;
+  int recv_buf_size = 0;  // 0: the system's default
+};
+
+UdpmEndpoint parseUdpm(const std::string& url) {
+  UdpmEndpoint e;
+  const std::size_t query = url.find('?');
+  std::string address = url.substr(7, query == std::string::npos ? std::string::npos : query - 7);
+  if (const std::size_t colon = address.find(':'); colon != std::string::npos) {
+    e.port = std::stoi(address.substr(colon + 1));
+    address.resize(colon);
+  }
+  if (address.empty()) address = "239.255.76.67";
+  if (::inet_aton(address.c_str(), &e.group) == 0) throw std::invalid_argument("bad address in LCM URL " + url);
+  if (query != std::string::npos) {
+    std::size_t begin = query + 1;
+    while (begin < url.size()) {
+      const std::size_t end = std::min(url.find('&', begin), url.size());
+      const std::string option = url.substr(begin, end - begin);
+      if (option.rfind("recv_buf_size=", 0) == 0) e.recv_buf_size = std::stoi(option.substr(14));
+      begin = end + 1;
+    }
+  }
+  return e;
+}
+
+std::uint32_t bigEndian32(const std::uint8_t* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+std::uint16_t bigEndian16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
+
 }  // namespace
+
+// A receive socket on one udpm port, read in the caller's thread, in LCM's wire format (LCM 1.3.1,
+// lcm_udpm.c): a datagram is either a whole message, "LC02" | seqno | channel NUL | payload, or one
+// fragment of a long one, "LC03" | seqno | size | offset | fragment no | fragment count, then for
+// fragment 0 the channel NUL, then the fragment's bytes (all integers big-endian). The socket is set
+// up as LCM sets up its own (address reuse, so several processes share the port; the group joined
+// on the interface the multicast route names, loopback in our namespaces).
+class DirectReceiver {
+ public:
+  struct Message {
+    std::string_view channel;
+    const std::uint8_t* data;
+    std::size_t size;
+  };
+
+  explicit DirectReceiver(const std::string& url) {
+    const UdpmEndpoint e = parseUdpm(url);
+    fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (fd_ < 0) throw std::runtime_error("cannot open a UDP socket for " + url);
+    const int one = 1;
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_ANY);
+    addr.sin_port = htons(static_cast<std::uint16_t>(e.port));
+    ip_mreq membership{};
+    membership.imr_multiaddr = e.group;
+    membership.imr_interface.s_addr = htonl(INADDR_ANY);
+    if (::setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
+        ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0 ||
+        (e.recv_buf_size > 0 &&
+         ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &e.recv_buf_size, sizeof e.recv_buf_size) != 0) ||
+        ::setsockopt(fd_, IPPROTO_IP, IP_ADD_MEMBERSHIP, &membership, sizeof membership) != 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd_);
+      throw std::runtime_error("cannot receive on " + url + ": " + why + " (no multicast route?)");
+    }
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      iov_[i] = iovec{datagrams_[i].data(), datagrams_[i].size()};
+      headers_[i].msg_hdr.msg_iov = &iov_[i];
+      headers_[i].msg_hdr.msg_iovlen = 1;
+      headers_[i].msg_hdr.msg_name = &senders_[i];
+    }
+  }
+  ~DirectReceiver() { ::close(fd_); }
+  DirectReceiver(const DirectReceiver&) = delete;
+  DirectReceiver& operator=(const DirectReceiver&) = delete;
+
+  int fd() const { return fd_; }
+  std::uint64_t malformed() const { return malformed_; }
+
+  // Reads every datagram waiting (without blocking) and calls `take` with each complete message.
+  template <class Take>
+  void drain(Take&& take) {
+    for (;;) {
+      for (std::size_t i = 0; i < kBatch; ++i) headers_[i].msg_hdr.msg_namelen = sizeof(sockaddr_in);
+      const int n = ::recvmmsg(fd_, headers_.data(), kBatch, MSG_DONTWAIT, nullptr);
+      if (n < 0) {
+        if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
+        throw std::runtime_error(std::string("receive failed: ") + std::strerror(errno));
+      }
+      for (int i = 0; i < n; ++i)
+        parse(datagrams_[static_cast<std::size_t>(i)].data(), headers_[static_cast<std::size_t>(i)].msg_len,
+              senders_[static_cast<std::size_t>(i)], take);
+      if (n < static_cast<int>(kBatch)) return;
+    }
+  }
+
+ private:
+  static constexpr std::uint32_t kMagicShort = 0x4c433032;  // "LC02"
+  static constexpr std::uint32_t kMagicLong = 0x4c433033;   // "LC03"
+  static constexpr std::size_t kLongHeader = 20;
+  static constexpr std::size_t kBatch = 8;
+  static constexpr std::size_t kMaxDatagram = 65536;
+  static constexpr std::uint32_t kMaxMessage = 256u << 20;  // as LCM: larger ones are refused
+
+  // A long message being put together, one per sender (LCM's publishers send fragments in order,
+  // one message at a time; a new sequence number from a sender drops its unfinished one).
+  struct Assembly {
+    sockaddr_in from{};
+    std::uint32_t seqno = 0;
+    std::uint16_t remaining = 0;
+    std::string channel;
+    std::vector<std::uint8_t> data;
+  };
+
+  // The channel name that starts `p` (NUL-terminated within `end`), or false.
+  static bool channelAt(const std::uint8_t* p, const std::uint8_t* end, std::string_view& channel) {
+    const void* nul = std::memchr(p, 0, static_cast<std::size_t>(end - p));
+    if (nul == nullptr) return false;
+    channel = std::string_view(reinterpret_cast<const char*>(p), static_cast<const std::uint8_t*>(nul) - p);
+    return !channel.empty();
+  }
+
+  template <class Take>
+  void parse(const std::uint8_t* p, std::size_t size, const sockaddr_in& from, Take& take) {
+    const std::uint8_t* end = p + size;
+    if (size < 8) {
+      ++malformed_;
+      return;
+    }
+    const std::uint32_t magic = bigEndian32(p);
+    if (magic == kMagicShort) {
+      std::string_view channel;
+      if (!channelAt(p + 8, end, channel)) {
+        ++malformed_;
+        return;
+      }
+      const std::uint8_t* payload = p + 8 + channel.size() + 1;
+      take(Message{channel, payload, static_cast<std::size_t>(end - payload)});
+      return;
+    }
+    if (magic != kMagicLong || size < kLongHeader) {
+      ++malformed_;
+      return;
+    }
+    const std::uint32_t seqno = bigEndian32(p + 4);
+    const std::uint32_t total = bigEndian32(p + 8);
+    const std::uint32_t offset = bigEndian32(p + 12);
+    const std::uint16_t fragment = bigEndian16(p + 16);
+    const std::uint16_t fragments = bigEndian16(p + 18);
+    const std::uint8_t* body = p + kLongHeader;
+    Assembly* a = nullptr;
+    for (Assembly& candidate : assemblies_)
+      if (candidate.from.sin_addr.s_addr == from.sin_addr.s_addr && candidate.from.sin_port == from.sin_port) a = &candidate;
+    if (a == nullptr) {
+      assemblies_.emplace_back();
+      a = &assemblies_.back();
+      a->from = from;
+      a->remaining = 0;
+    }
+    if (fragment == 0) {
+      // The first fragment (re)starts a message.
+      std::string_view channel;
+      if (total > kMaxMessage || fragments == 0 || !channelAt(body, end, channel)) {
+        ++malformed_;
+        a->remaining = 0;
+        return;
+      }
+      a->seqno = seqno;
+      a->channel.assign(channel);
+      a->data.resize(total);
+      a->remaining = fragments;
+      body += channel.size() + 1;
+    } else if (a->remaining == 0 || a->seqno != seqno) {
+      a->remaining = 0;  // a fragment of a message whose start we missed: wait for the next one
+      return;
+    }
+    const std::size_t length = static_cast<std::size_t>(end - body);
+    if (offset > a->data.size() || length > a->data.size() - offset) {
+      ++malformed_;
+      a->remaining = 0;
+      return;
+    }
+    std::memcpy(a->data.data() + offset, body, length);
+    if (--a->remaining == 0) take(Message{a->channel, a->data.data(), a->data.size()});
+  }
+
+  int fd_ = -1;
+  std::array<std::array<std::uint8_t, kMaxDatagram>, kBatch> datagrams_{};
+  std::array<iovec, kBatch> iov_{};
+  std::array<mmsghdr, kBatch> headers_{};
+  std::array<sockaddr_in, kBatch> senders_{};
+  std::deque<Assembly> assemblies_;
+  std::uint64_t malformed_ = 0;
+};
 
 std::string lcmUrlForChannel(const std::string& url, std::string_view channel) {
   std::string head;
@@ -79,10 +285,11 @@ Bus::Bus(lcm::LCM& lcm) : lcm_(&lcm) {
   if (!lcm_->good()) throw std::runtime_error("LCM is not usable (bad URL, or no multicast route?)");
 }
 
-Bus::Bus(const std::string& url) : url_(url) {
+Bus::Bus(const std::string& url, bool direct_on_every_port) : url_(url) {
   std::string head;
   std::vector<std::string> options;
   channel_ports_ = isUdpm(url) && splitChannelPortsOption(url, head, options);
+  direct_on_every_port_ = direct_on_every_port && isUdpm(url);
   lcm_ = &instanceFor(0);
 }
 
@@ -146,19 +353,61 @@ Bus::Channel& Bus::channelFor(std::string_view name) {
 
 void Bus::attach(std::string_view channel, std::unique_ptr<Subscription> sub, int queue_capacity) {
   Channel& ch = channelFor(channel);
-  if (lcm_ != nullptr) {
+  const int offset = channel_ports_ ? channels::portOffset(ch.name) : 0;
+  if (lcm_ != nullptr && offset == 0 && !direct_on_every_port_) {
     sub->handle = ch.lcm->subscribe(ch.name, &Subscription::onRaw, sub.get());
     if (sub->handle == nullptr) throw std::runtime_error("cannot subscribe to " + ch.name);
     sub->handle->setQueueCapacity(queue_capacity);
     sub->lcm = ch.lcm;
-    if (std::find(receivers_.begin(), receivers_.end(), ch.lcm) == receivers_.end()) {
-      receivers_.push_back(ch.lcm);
-      poll_fds_.push_back(pollfd{ch.lcm->getFileno(), POLLIN, 0});
-    }
+    addReceiver(ch.lcm, nullptr, ch.lcm->getFileno());
   } else {
+    // In process, or a channel of its own port read by our direct receiver. Both queue without a
+    // bound: the step protocol has at most a resend or two in flight.
+    if (lcm_ != nullptr && ch.direct == nullptr) {
+      ch.direct = &directReceiverFor(offset);
+      addReceiver(nullptr, ch.direct, ch.direct->fd());
+    }
     ch.subscribers.push_back(sub.get());
   }
   subscriptions_.push_back(std::move(sub));
+}
+
+std::uint64_t Bus::droppedMessages() const {
+  std::uint64_t total = dropped_;
+  for (const auto& entry : direct_) total += entry.second->malformed();
+  return total;
+}
+
+void Bus::addReceiver(lcm::LCM* lcm, DirectReceiver* direct, int fd) {
+  for (const Receiver& r : receivers_)
+    if (r.lcm == lcm && r.direct == direct) return;
+  receivers_.push_back(Receiver{lcm, direct});
+  poll_fds_.push_back(pollfd{fd, POLLIN, 0});
+}
+
+DirectReceiver& Bus::directReceiverFor(int offset) {
+  for (auto& [o, receiver] : direct_)
+    if (o == offset) return *receiver;
+  direct_.emplace_back(offset, std::make_unique<DirectReceiver>(urlWithPortOffset(url_, offset)));
+  return *direct_.back().second;
+}
+
+void Bus::drainDirect(DirectReceiver& receiver) {
+  receiver.drain([this](const DirectReceiver::Message& m) {
+    for (auto& ch : channels_) {
+      if (ch->name != m.channel) continue;
+      if (ch->direct == nullptr || ch->subscribers.empty()) return;  // a channel nobody here listens to
+      Queued q;
+      q.channel = ch.get();
+      if (!spare_buffers_.empty()) {
+        q.data = std::move(spare_buffers_.back());
+        spare_buffers_.pop_back();
+      }
+      q.data.assign(m.data, m.data + m.size);
+      direct_queue_.push_back(std::move(q));
+      return;
+    }
+  });
 }
 
 bool Bus::dropForLossTest() {
@@ -230,36 +479,63 @@ bool Bus::handleFor(std::chrono::milliseconds timeout) {
     rethrowPending();
     return true;
   }
-  lcm::LCM* ready = receivers_.empty() ? lcm_ : receivers_.front();
-  int wait_ms = static_cast<int>(timeout.count());
-  if (receivers_.size() > 1) {
-    // Several ports: wait on all of them, then handle one message of a ready one (round robin, so
-    // that a busy port cannot starve another).
+  if (receivers_.empty() || (receivers_.size() == 1 && receivers_.front().lcm != nullptr)) {
+    // Nothing subscribed, or one LCM instance: LCM waits itself (one system call less than a poll first).
+    lcm::LCM& only = receivers_.empty() ? *lcm_ : *receivers_.front().lcm;
+    errno = 0;
+    const int status = only.handleTimeout(static_cast<int>(timeout.count()));
+    if (status < 0) {
+      if (errno == EINTR) return false;  // a signal (SIGINT/SIGTERM) woke us: let the caller check its flag
+      throw std::runtime_error("LCM handle failed");
+    }
+    rethrowPending();
+    return status > 0;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    if (!direct_queue_.empty()) {
+      Queued q = std::move(direct_queue_.front());
+      direct_queue_.pop_front();
+      dispatchQueued(q);
+      rethrowPending();
+      return true;
+    }
+    // Wait on every port at once, then handle one message of a ready one (round robin, so that a
+    // busy port cannot starve another).
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const int wait_ms = static_cast<int>(std::max<std::chrono::milliseconds::rep>(left.count(), 0));
     for (pollfd& p : poll_fds_) p.revents = 0;
     const int n = ::poll(poll_fds_.data(), poll_fds_.size(), wait_ms);
     if (n < 0) {
-      if (errno == EINTR) return false;
+      if (errno == EINTR) return false;  // a signal (SIGINT/SIGTERM) woke us: let the caller check its flag
       throw std::runtime_error("LCM handle failed (poll)");
     }
     if (n == 0) return false;
+    std::size_t ready = receivers_.size();
     for (std::size_t k = 0; k < receivers_.size(); ++k) {
       const std::size_t i = (next_receiver_ + k) % receivers_.size();
-      if ((poll_fds_[i].revents & POLLIN) != 0) {
-        ready = receivers_[i];
+      if ((poll_fds_[i].revents & (POLLIN | POLLERR)) != 0) {
+        ready = i;
         next_receiver_ = i + 1;
         break;
       }
     }
-    wait_ms = 0;
+    if (ready == receivers_.size()) return false;  // only POLLHUP/POLLNVAL: nothing to read
+    if (receivers_[ready].direct != nullptr) {
+      drainDirect(*receivers_[ready].direct);
+      if (direct_queue_.empty() && wait_ms == 0) return false;
+      continue;  // a datagram nobody here listens to, or a fragment: wait for the rest
+    }
+    errno = 0;
+    const int status = receivers_[ready].lcm->handleTimeout(0);
+    if (status < 0) {
+      if (errno == EINTR) return false;
+      throw std::runtime_error("LCM handle failed");
+    }
+    rethrowPending();
+    if (status > 0) return true;
+    if (wait_ms == 0) return false;
   }
-  errno = 0;
-  const int status = ready->handleTimeout(wait_ms);
-  if (status < 0) {
-    if (errno == EINTR) return false;  // a signal (SIGINT/SIGTERM) woke us: let the caller check its flag
-    throw std::runtime_error("LCM handle failed");
-  }
-  rethrowPending();
-  return status > 0;
 }
 
 void Bus::handleAvailable() {

@@ -5,11 +5,12 @@
 
 namespace hunav::manager {
 
-ManagerNode::ManagerNode(Bus& bus) : bus_(bus) {
+ManagerNode::ManagerNode(Bus& bus, bool count_episodes) : bus_(bus) {
   bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) { onRequest(r); });
-  bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
-    if (e.event == episode_event_t::END) ++episodes_ended_;
-  });
+  if (count_episodes)
+    bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
+      if (e.event == episode_event_t::END) ++episodes_ended_;
+    });
 }
 
 void ManagerNode::onRequest(const step_request_t& request) {

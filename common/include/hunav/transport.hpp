@@ -19,6 +19,11 @@
 // wall time of a lockstep tick (bench/bench_lcm_roundtrip.sh, bench/bench_lockstep.sh). An instance
 // that only publishes never opens a receive socket, so a process no longer hears its own step
 // messages either. Tools on the plain URL (lcm-spy, lcm-logger) then see every other channel.
+// Subscriptions to those own-port channels do not go through LCM's receive path (a reader thread
+// per instance that passes each datagram to the caller through a pipe: several system calls and two
+// context switches per message) but through a socket of our own (DirectReceiver, transport.cpp),
+// read in the calling thread. It speaks LCM's wire format, so LCM publishers, lcm-logger and lcm-spy
+// on those ports interoperate with it.
 #include <lcm/lcm-cpp.hpp>
 
 #include <poll.h>
@@ -55,6 +60,8 @@ struct BadMessage : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+class DirectReceiver;
+
 class Bus {
  public:
   static constexpr int kUnbounded = 0;
@@ -63,7 +70,11 @@ class Bus {
   explicit Bus(lcm::LCM& lcm);
   // Over LCM instances of its own on `url` (one per port with channel_ports=1). Throws when LCM
   // cannot be opened (bad URL, no multicast route).
-  explicit Bus(const std::string& url);
+  // direct_on_every_port: on a udpm URL, read the URL's own port with our direct receiver too, not
+  // only the step channels' ports. For a process that publishes on that port every tick (the world):
+  // its own datagrams then wait in the socket until it next waits anyway, instead of waking LCM's
+  // reader thread each time (bench/bench_lockstep.sh: one context switch per tick less).
+  explicit Bus(const std::string& url, bool direct_on_every_port = false);
   struct InProcess {};
   explicit Bus(InProcess);
   ~Bus();
@@ -138,7 +149,8 @@ class Bus {
   // Dispatches every message already waiting, without blocking.
   void handleAvailable();
 
-  std::uint64_t droppedMessages() const { return dropped_; }
+  // Messages that did not decode or that a handler rejected, and datagrams not in LCM's format.
+  std::uint64_t droppedMessages() const;
   bool inProcess() const { return lcm_ == nullptr; }
 
   // Sees every message published through this bus, encoded (for recording a log of an in-process run).
@@ -212,7 +224,8 @@ class Bus {
   struct Channel {
     std::string name;
     lcm::LCM* lcm = nullptr;                  // LCM backend: the instance of its port
-    std::vector<Subscription*> subscribers;   // in-process backend
+    DirectReceiver* direct = nullptr;         // LCM backend: our receive socket of its own port
+    std::vector<Subscription*> subscribers;   // in-process backend, and direct receivers
     std::vector<std::unique_ptr<Box>> spare;  // recycled boxes (a channel carries one type)
   };
   struct Queued {
@@ -263,12 +276,25 @@ class Bus {
 
   // The instance of `offset`'s port, opened on first use.
   lcm::LCM& instanceFor(int offset);
+  // Our own receive socket of `offset`'s port, opened on first use.
+  DirectReceiver& directReceiverFor(int offset);
+  // Reads what the ready direct receiver has and queues the messages subscribed to.
+  void drainDirect(DirectReceiver& receiver);
+  void addReceiver(lcm::LCM* lcm, DirectReceiver* direct, int fd);
 
   lcm::LCM* lcm_ = nullptr;  // null: in-process backend; else the instance of the URL's port
   std::string url_;          // with channel ports: the URL the per-port instances derive from
   bool channel_ports_ = false;
+  bool direct_on_every_port_ = false;
   std::vector<std::pair<int, std::unique_ptr<lcm::LCM>>> owned_;  // port offset, instance
-  std::vector<lcm::LCM*> receivers_;  // instances with subscriptions: handle*() waits on these
+  // What handle*() waits on: LCM instances with subscriptions and our direct receivers.
+  struct Receiver {
+    lcm::LCM* lcm = nullptr;
+    DirectReceiver* direct = nullptr;
+  };
+  std::vector<Receiver> receivers_;
+  std::vector<std::pair<int, std::unique_ptr<DirectReceiver>>> direct_;  // port offset, receiver
+  std::deque<Queued> direct_queue_;  // messages read by direct receivers, not yet dispatched
   std::vector<pollfd> poll_fds_;
   std::size_t next_receiver_ = 0;     // round robin among ready instances
   std::vector<std::unique_ptr<Channel>> channels_;

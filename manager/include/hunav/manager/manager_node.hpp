@@ -11,7 +11,10 @@ namespace hunav::manager {
 
 class ManagerNode {
  public:
-  explicit ManagerNode(Bus& bus);
+  // count_episodes: listen to EPISODE_EVENT to count ended episodes (episodesEnded()). Without it the
+  // manager hears only STEP_REQUEST: with channel_ports=1 (channels.hpp) it then opens no receive
+  // socket on the URL's port, where every WORLD_STATE would otherwise wake it each tick.
+  explicit ManagerNode(Bus& bus, bool count_episodes = true);
 
   AgentManager& manager() { return manager_; }
   std::uint64_t stepsComputed() const { return steps_computed_; }
