@@ -2,6 +2,7 @@
 // namespace with a multicast route on loopback (tests/common/in_netns.sh does it for ctest).
 #include "hunav/channels.hpp"
 #include "hunav/transport.hpp"
+#include "handle_until.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,15 +26,7 @@ hunav::nav_goal_t goal(double x) {
   return g;
 }
 
-// Handles every bus until `done()` or 2 s (bounded: a lost datagram fails the test, not hangs it).
-bool handleUntil(std::vector<Bus*> buses, const std::function<bool()>& done) {
-  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(2);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > limit) return false;
-    for (Bus* b : buses) b->handleFor(std::chrono::milliseconds(1));
-  }
-  return true;
-}
+using hunav::test::handleUntil;
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 // namespace with a multicast route on loopback (tests/common/in_netns.sh does it for ctest).
 #include "hunav/channels.hpp"
 #include "hunav/transport.hpp"
+#include "../common/handle_until.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,15 +27,7 @@ namespace {
 
 const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1";
 
-// Handles every bus until `done()` or 2 s (bounded: a lost datagram fails the test, not hangs it).
-bool handleUntil(std::vector<Bus*> buses, const std::function<bool()>& done) {
-  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(2);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > limit) return false;
-    for (Bus* b : buses) b->handleFor(std::chrono::milliseconds(1));
-  }
-  return true;
-}
+using hunav::test::handleUntil;
 
 hunav::laser_scan_t scan(int beams, float first) {
   hunav::laser_scan_t s{};
