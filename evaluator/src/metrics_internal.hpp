@@ -57,6 +57,26 @@ struct TimeIntegralOf {
 };
 
 // sum_k f_k. N = 0: 0.
+// Per sample, summed over the people: the fear, panic and visibility costs (dangerFearAt,
+// dangerPanicAt, visibilityAt); both profiles use them (over time, or summed over samples).
+inline double fearAt(const SampleView& s) {
+  double c = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) c += s.fear(j);
+  return c;
+}
+inline double panicAt(const SampleView& s) {
+  double c = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) c += s.panic(j);
+  return c;
+}
+inline double visibilitySumAt(const SampleView& s) {
+  double c = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    double theta = 0.0, dist = 0.0;
+    if (s.visible(j, theta, dist)) c += kSurpriseAlpha * theta / dist;
+  }
+  return c;
+}
 template <PerSampleFn F>
 struct SumOf {
   double sum = 0.0;

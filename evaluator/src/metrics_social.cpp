@@ -235,25 +235,6 @@ double obstacleOnAgentsAt(const SampleView& s) {
   for (std::size_t j = 0; j < s.size(); ++j) f += s.obstacleForceSum(j).norm();
   return f / static_cast<double>(s.size());
 }
-// sum_j of the fear, panic and visibility costs (dangerFearAt, dangerPanicAt, visibilityAt).
-double fearAt(const SampleView& s) {
-  double c = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) c += s.fear(j);
-  return c;
-}
-double panicAt(const SampleView& s) {
-  double c = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) c += s.panic(j);
-  return c;
-}
-double visibilitySumAt(const SampleView& s) {
-  double c = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    double theta = 0.0, dist = 0.0;
-    if (s.visible(j, theta, dist)) c += kSurpriseAlpha * theta / dist;
-  }
-  return c;
-}
 
 template <class State>
 std::unique_ptr<MetricAccumulator> make() {

@@ -290,25 +290,7 @@ double obstacleOnAgentsAt(const SampleView& s) {
   for (std::size_t j = 0; j < s.size(); ++j) f += meanOf(s.obstacleForceSum(j), s.obstacles(s.agent(j)).size()).norm();
   return f / static_cast<double>(s.size());
 }
-// HuNavSim v2's costs per sample, summed over the people (v1 had none; v2's definitions).
-double fearAt(const SampleView& s) {
-  double c = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) c += s.fear(j);
-  return c;
-}
-double panicAt(const SampleView& s) {
-  double c = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) c += s.panic(j);
-  return c;
-}
-double visibilitySumAt(const SampleView& s) {
-  double c = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    double theta = 0.0, dist = 0.0;
-    if (s.visible(j, theta, dist)) c += kSurpriseAlpha * theta / dist;
-  }
-  return c;
-}
+// HuNavSim v2's costs per sample (fearAt, panicAt, visibilitySumAt): metrics_internal.hpp.
 
 // v2 computes its time step as stamp_0 - stamp_1 (negative): the visible time never becomes
 // positive, SR = 1, so the shock and react costs are always 0 (per tick too).
