@@ -82,7 +82,14 @@ int main(int argc, char** argv) {
     auto planner = hp::createPlanner(planner_name, scenario, config ? &*config : nullptr);
 
     catchTerminationSignals();
-    hunav::Bus bus(hunav::resolveLcmUrl(lcm_url));  // its own LCM instances: one per port with channel_ports=1
+    // On udpm our direct receiver reads ROBOT_OBSERVATION and EPISODE_EVENT in this thread (no LCM
+    // reader thread and pipe), and a socket filter keeps the rest of the URL's port (a WORLD_STATE
+    // every tick) in the kernel, so this process wakes only for its own messages. A lost
+    // observation is the lockstep protocol's business (the world resends it).
+    hunav::BusOptions bus_options;
+    bus_options.direct_on_every_port = true;
+    bus_options.filter_unsubscribed_channels = true;
+    hunav::Bus bus(hunav::resolveLcmUrl(lcm_url), bus_options);
     hp::PlannerNode node(bus, std::move(planner));
     std::cout << "ready" << std::endl;
 

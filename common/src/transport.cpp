@@ -3,6 +3,8 @@
 #include "hunav/channels.hpp"
 
 #include <arpa/inet.h>
+#include <linux/filter.h>
+#include <linux/sock_diag.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -109,6 +111,8 @@ std::uint16_t bigEndian16(const std::uint8_t* p) { return static_cast<std::uint1
 // fragment 0 the channel NUL, then the fragment's bytes (all integers big-endian). The socket is set
 // up as LCM sets up its own (address reuse, so several processes share the port; the group joined
 // on the interface the multicast route names, loopback in our namespaces).
+// Losses are counted, never silent: datagrams the kernel dropped for a full receive buffer (the
+// socket's drop count), and long messages that lost a fragment.
 class DirectReceiver {
  public:
   struct Message {
@@ -129,10 +133,14 @@ class DirectReceiver {
     ip_mreq membership{};
     membership.imr_multiaddr = e.group;
     membership.imr_interface.s_addr = htonl(INADDR_ANY);
+    // The buffer the URL asks for; SO_RCVBUFFORCE (root) goes past net.core.rmem_max, which would
+    // otherwise cap it silently.
+    const bool buffer_set =
+        e.recv_buf_size <= 0 ||
+        ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUFFORCE, &e.recv_buf_size, sizeof e.recv_buf_size) == 0 ||
+        ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &e.recv_buf_size, sizeof e.recv_buf_size) == 0;
     if (::setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
-        ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0 ||
-        (e.recv_buf_size > 0 &&
-         ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &e.recv_buf_size, sizeof e.recv_buf_size) != 0) ||
+        ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0 || !buffer_set ||
         ::setsockopt(fd_, IPPROTO_IP, IP_ADD_MEMBERSHIP, &membership, sizeof membership) != 0) {
       const std::string why = std::strerror(errno);
       ::close(fd_);
@@ -151,6 +159,62 @@ class DirectReceiver {
 
   int fd() const { return fd_; }
   std::uint64_t malformed() const { return malformed_; }
+  std::uint64_t incompleteMessages() const { return incomplete_; }
+  std::uint64_t datagramsRead() const { return datagrams_read_; }
+  bool filtered() const { return filtered_; }
+
+  // Datagrams the kernel dropped on this socket: a full receive buffer, or (with a filter) the
+  // filter's work.
+  std::uint64_t kernelDrops() const {
+    std::uint32_t info[SK_MEMINFO_VARS] = {};
+    socklen_t size = sizeof info;
+    if (::getsockopt(fd_, SOL_SOCKET, SO_MEMINFO, info, &size) != 0 || size <= SK_MEMINFO_DROPS * sizeof info[0])
+      return 0;
+    return info[SK_MEMINFO_DROPS];
+  }
+
+  // Lets the kernel pass only short messages (LC02) on these channels, fragments (LC03: only the
+  // first names its channel) and anything else (counted as malformed here); drops the rest. A
+  // classic BPF program: for a UDP socket it sees the datagram from the UDP header (8 bytes) on.
+  void setChannelFilter(const std::vector<std::string>& channels) {
+    constexpr std::uint32_t kPayload = 8;  // the UDP header
+    constexpr std::uint32_t kAccept = 0xFFFFFFFFu, kDrop = 0;
+    std::vector<sock_filter> program;
+    program.push_back(BPF_STMT(BPF_LD | BPF_W | BPF_ABS, kPayload));
+    program.push_back(BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, kMagicShort, 1, 0));
+    program.push_back(BPF_STMT(BPF_RET | BPF_K, kAccept));
+    for (const std::string& name : channels) {
+      // The name and its NUL, compared a big-endian word at a time; the last word masked.
+      std::vector<std::uint8_t> bytes(name.begin(), name.end());
+      bytes.push_back(0);
+      const std::size_t words = (bytes.size() + 3) / 4;
+      bytes.resize(words * 4, 0);
+      const std::size_t tail = (name.size() + 1) % 4;  // bytes of the last word that count (0: all)
+      // Instructions of the block: per word a load, a compare and, for a partial last word, a mask;
+      // then the accept. A mismatch jumps past the rest of the block.
+      const std::size_t block = words * 2 + (tail != 0 ? 1 : 0) + 1;
+      if (block > 255 || program.size() + block + 1 > BPF_MAXINSNS) return;  // cannot express it: no filter
+      for (std::size_t w = 0; w < words; ++w) {
+        program.push_back(BPF_STMT(BPF_LD | BPF_W | BPF_ABS, static_cast<std::uint32_t>(kPayload + 8 + 4 * w)));
+        std::uint32_t value = bigEndian32(&bytes[4 * w]);
+        if (w + 1 == words && tail != 0) {
+          const std::uint32_t mask = ~std::uint32_t{0} << (8 * (4 - tail));
+          program.push_back(BPF_STMT(BPF_ALU | BPF_AND | BPF_K, mask));
+          value &= mask;
+        }
+        const std::size_t done = program.size() + 1;  // after this compare
+        const std::size_t block_end = done + (words - 1 - w) * 2 + 1 +
+                                      ((tail != 0 && w + 1 < words) ? 1 : 0);  // the accept included
+        program.push_back(BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, value, 0, static_cast<std::uint8_t>(block_end - done)));
+      }
+      program.push_back(BPF_STMT(BPF_RET | BPF_K, kAccept));
+    }
+    program.push_back(BPF_STMT(BPF_RET | BPF_K, kDrop));
+    sock_fprog fprog{static_cast<unsigned short>(program.size()), program.data()};
+    if (::setsockopt(fd_, SOL_SOCKET, SO_ATTACH_FILTER, &fprog, sizeof fprog) != 0)
+      throw std::runtime_error(std::string("cannot filter a receive socket: ") + std::strerror(errno));
+    filtered_ = true;
+  }
 
   // Reads every datagram waiting (without blocking) and calls `take` with each complete message.
   template <class Take>
@@ -162,6 +226,7 @@ class DirectReceiver {
         if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
         throw std::runtime_error(std::string("receive failed: ") + std::strerror(errno));
       }
+      datagrams_read_ += static_cast<std::uint64_t>(n);
       for (int i = 0; i < n; ++i)
         parse(datagrams_[static_cast<std::size_t>(i)].data(), headers_[static_cast<std::size_t>(i)].msg_len,
               senders_[static_cast<std::size_t>(i)], take);
@@ -183,6 +248,8 @@ class DirectReceiver {
     sockaddr_in from{};
     std::uint32_t seqno = 0;
     std::uint16_t remaining = 0;
+    bool skipping = false;  // the fragments of skip_seqno are of a message already given up
+    std::uint32_t skip_seqno = 0;
     std::string channel;
     std::vector<std::uint8_t> data;
   };
@@ -233,33 +300,49 @@ class DirectReceiver {
       a->remaining = 0;
     }
     if (fragment == 0) {
-      // The first fragment (re)starts a message.
+      // The first fragment (re)starts a message; one still unfinished lost its last fragments.
+      if (a->remaining != 0) ++incomplete_;
       std::string_view channel;
       if (total > kMaxMessage || fragments == 0 || !channelAt(body, end, channel)) {
         ++malformed_;
-        a->remaining = 0;
+        giveUp(*a, seqno);
         return;
       }
       a->seqno = seqno;
+      a->skipping = false;
       a->channel.assign(channel);
       a->data.resize(total);
       a->remaining = fragments;
       body += channel.size() + 1;
     } else if (a->remaining == 0 || a->seqno != seqno) {
-      a->remaining = 0;  // a fragment of a message whose start we missed: wait for the next one
+      // A fragment of a message whose start we missed (counted once), and of one being put
+      // together, the end lost.
+      if (a->remaining != 0) ++incomplete_;
+      if (!a->skipping || a->skip_seqno != seqno) ++incomplete_;
+      giveUp(*a, seqno);
       return;
     }
     const std::size_t length = static_cast<std::size_t>(end - body);
     if (offset > a->data.size() || length > a->data.size() - offset) {
       ++malformed_;
-      a->remaining = 0;
+      giveUp(*a, seqno);
       return;
     }
     std::memcpy(a->data.data() + offset, body, length);
     if (--a->remaining == 0) take(Message{a->channel, a->data.data(), a->data.size()});
   }
 
+  // Drops the message being put together and the rest of message `seqno`.
+  static void giveUp(Assembly& a, std::uint32_t seqno) {
+    a.remaining = 0;
+    a.skipping = true;
+    a.skip_seqno = seqno;
+  }
+
   int fd_ = -1;
+  bool filtered_ = false;
+  std::uint64_t incomplete_ = 0;
+  std::uint64_t datagrams_read_ = 0;
   std::array<std::array<std::uint8_t, kMaxDatagram>, kBatch> datagrams_{};
   std::array<iovec, kBatch> iov_{};
   std::array<mmsghdr, kBatch> headers_{};
@@ -285,11 +368,13 @@ Bus::Bus(lcm::LCM& lcm) : lcm_(&lcm) {
   if (!lcm_->good()) throw std::runtime_error("LCM is not usable (bad URL, or no multicast route?)");
 }
 
-Bus::Bus(const std::string& url, bool direct_on_every_port) : url_(url) {
+Bus::Bus(const std::string& url, bool direct_on_every_port) : Bus(url, BusOptions{direct_on_every_port, false}) {}
+
+Bus::Bus(const std::string& url, const BusOptions& options) : url_(url), options_(options) {
   std::string head;
-  std::vector<std::string> options;
-  channel_ports_ = isUdpm(url) && splitChannelPortsOption(url, head, options);
-  direct_on_every_port_ = direct_on_every_port && isUdpm(url);
+  std::vector<std::string> url_options;
+  channel_ports_ = isUdpm(url) && splitChannelPortsOption(url, head, url_options);
+  options_.direct_on_every_port = options.direct_on_every_port && isUdpm(url);
   lcm_ = &instanceFor(0);
 }
 
@@ -354,7 +439,7 @@ Bus::Channel& Bus::channelFor(std::string_view name) {
 void Bus::attach(std::string_view channel, std::unique_ptr<Subscription> sub, int queue_capacity) {
   Channel& ch = channelFor(channel);
   const int offset = channel_ports_ ? channels::portOffset(ch.name) : 0;
-  if (lcm_ != nullptr && offset == 0 && !direct_on_every_port_) {
+  if (lcm_ != nullptr && offset == 0 && !options_.direct_on_every_port) {
     sub->handle = ch.lcm->subscribe(ch.name, &Subscription::onRaw, sub.get());
     if (sub->handle == nullptr) throw std::runtime_error("cannot subscribe to " + ch.name);
     sub->handle->setQueueCapacity(queue_capacity);
@@ -368,13 +453,37 @@ void Bus::attach(std::string_view channel, std::unique_ptr<Subscription> sub, in
       addReceiver(nullptr, ch.direct, ch.direct->fd());
     }
     ch.subscribers.push_back(sub.get());
+    if (ch.direct != nullptr && options_.filter_unsubscribed_channels) updateFilter(*ch.direct);
   }
   subscriptions_.push_back(std::move(sub));
+}
+
+void Bus::updateFilter(DirectReceiver& receiver) {
+  std::vector<std::string> names;
+  for (const auto& ch : channels_)
+    if (ch->direct == &receiver && !ch->subscribers.empty()) names.push_back(ch->name);
+  receiver.setChannelFilter(names);
+}
+
+ReceiveLosses Bus::receiveLosses() const {
+  ReceiveLosses losses;
+  for (const auto& entry : direct_) {
+    const DirectReceiver& r = *entry.second;
+    if (!r.filtered()) losses.overflowed_datagrams += r.kernelDrops();
+    losses.incomplete_messages += r.incompleteMessages();
+  }
+  return losses;
 }
 
 std::uint64_t Bus::droppedMessages() const {
   std::uint64_t total = dropped_;
   for (const auto& entry : direct_) total += entry.second->malformed();
+  return total;
+}
+
+std::uint64_t Bus::directDatagramsRead() const {
+  std::uint64_t total = 0;
+  for (const auto& entry : direct_) total += entry.second->datagramsRead();
   return total;
 }
 
@@ -390,6 +499,12 @@ DirectReceiver& Bus::directReceiverFor(int offset) {
     if (o == offset) return *receiver;
   direct_.emplace_back(offset, std::make_unique<DirectReceiver>(urlWithPortOffset(url_, offset)));
   return *direct_.back().second;
+}
+
+void Bus::drainAllDirect() {
+  for (auto& entry : direct_) drainDirect(*entry.second);
+  last_drain_ = std::chrono::steady_clock::now();
+  dispatched_since_drain_ = 0;
 }
 
 void Bus::drainDirect(DirectReceiver& receiver) {
@@ -494,11 +609,21 @@ bool Bus::handleFor(std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
     if (!direct_queue_.empty()) {
+      // A backlog: read the sockets again every few messages or every millisecond, so that what
+      // arrives meanwhile waits in our queue rather than filling a socket buffer (BusOptions).
+      if (++dispatched_since_drain_ >= kBacklogDrainMessages ||
+          std::chrono::steady_clock::now() - last_drain_ >= kBacklogDrainPeriod)
+        drainAllDirect();
       Queued q = std::move(direct_queue_.front());
       direct_queue_.pop_front();
       dispatchQueued(q);
       rethrowPending();
       return true;
+    }
+    if (options_.min_wake_interval.count() > 0 && !direct_.empty()) {
+      // Let what arrives meanwhile pile up in the sockets, to be read in one batch (BusOptions).
+      const auto wake_at = std::min(last_drain_ + options_.min_wake_interval, deadline);
+      if (std::chrono::steady_clock::now() < wake_at) std::this_thread::sleep_until(wake_at);
     }
     // Wait on every port at once, then handle one message of a ready one (round robin, so that a
     // busy port cannot starve another).
@@ -523,6 +648,8 @@ bool Bus::handleFor(std::chrono::milliseconds timeout) {
     if (ready == receivers_.size()) return false;  // only POLLHUP/POLLNVAL: nothing to read
     if (receivers_[ready].direct != nullptr) {
       drainDirect(*receivers_[ready].direct);
+      last_drain_ = std::chrono::steady_clock::now();
+      dispatched_since_drain_ = 0;
       if (direct_queue_.empty() && wait_ms == 0) return false;
       continue;  // a datagram nobody here listens to, or a fragment: wait for the rest
     }

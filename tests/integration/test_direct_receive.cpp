@@ -17,7 +17,9 @@
 #include <hunav/nav_goal_t.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 using hunav::Bus;
@@ -28,6 +30,51 @@ namespace {
 const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1";
 
 using hunav::test::handleUntil;
+
+// Sends datagrams to the bus's group from one socket (one sender, as one LCM instance is), as any
+// program could.
+class RawSender {
+ public:
+  explicit RawSender(int port) {
+    fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
+    to_.sin_family = AF_INET;
+    to_.sin_port = htons(static_cast<std::uint16_t>(port));
+    ::inet_aton("239.255.76.67", &to_.sin_addr);
+  }
+  ~RawSender() { ::close(fd_); }
+  RawSender(const RawSender&) = delete;
+  RawSender& operator=(const RawSender&) = delete;
+  bool send(const std::vector<std::uint8_t>& bytes) {
+    return ::sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to_), sizeof to_) ==
+           static_cast<ssize_t>(bytes.size());
+  }
+
+ private:
+  int fd_ = -1;
+  sockaddr_in to_{};
+};
+
+void putBigEndian(std::vector<std::uint8_t>& out, std::uint32_t value, int bytes) {
+  for (int i = bytes - 1; i >= 0; --i) out.push_back(static_cast<std::uint8_t>(value >> (8 * i)));
+}
+
+// One fragment in LCM's format (LC03): seqno, message size, offset, fragment number and count, the
+// channel (first fragment only), then `body`.
+std::vector<std::uint8_t> fragment(std::uint32_t seqno, std::uint32_t size, std::uint32_t offset, int number, int count,
+                                   const std::string& channel, const std::vector<std::uint8_t>& body) {
+  std::vector<std::uint8_t> d = {'L', 'C', '0', '3'};
+  putBigEndian(d, seqno, 4);
+  putBigEndian(d, size, 4);
+  putBigEndian(d, offset, 4);
+  putBigEndian(d, static_cast<std::uint32_t>(number), 2);
+  putBigEndian(d, static_cast<std::uint32_t>(count), 2);
+  if (number == 0) {
+    d.insert(d.end(), channel.begin(), channel.end());
+    d.push_back(0);
+  }
+  d.insert(d.end(), body.begin(), body.end());
+  return d;
+}
 
 hunav::laser_scan_t scan(int beams, float first) {
   hunav::laser_scan_t s{};
@@ -129,4 +176,128 @@ TEST(DirectReceive, OnEveryPortTheUrlsOwnPortIsReadToo) {
   ASSERT_TRUE(handleUntil({&world}, [&] { return commands.size() == 3 && world.droppedMessages() == 1; }))
       << commands.size() << " commands, " << world.droppedMessages() << " dropped";
   EXPECT_EQ(commands, (std::vector<double>{0, 1, 2}));
+}
+
+TEST(DirectReceive, LostFragmentsAreCountedAndTheNextMessageStillArrives) {
+  Bus bus(kUrl);
+  std::vector<hunav::laser_scan_t> got;
+  bus.subscribe<hunav::laser_scan_t>(ch::kStepRequest, [&](const hunav::laser_scan_t& s) { got.push_back(s); });
+  const hunav::laser_scan_t sent = scan(2, 5.0f);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(sent.getEncodedSize()));
+  ASSERT_EQ(sent.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_GT(bytes.size(), 8u);
+  const auto size = static_cast<std::uint32_t>(bytes.size());
+  const std::vector<std::uint8_t> head(bytes.begin(), bytes.begin() + 4), middle(bytes.begin() + 4, bytes.begin() + 8),
+      tail(bytes.begin() + 8, bytes.end());
+  RawSender sender(7668);  // STEP_REQUEST's port
+  const std::string channel = ch::kStepRequest;
+  // Message 5 in three fragments, the middle one lost: incomplete, noticed when message 6 starts.
+  ASSERT_TRUE(sender.send(fragment(5, size, 0, 0, 3, channel, head)));
+  ASSERT_TRUE(sender.send(fragment(5, size, 8, 2, 3, channel, tail)));
+  // Message 6, whole.
+  ASSERT_TRUE(sender.send(fragment(6, size, 0, 0, 3, channel, head)));
+  ASSERT_TRUE(sender.send(fragment(6, size, 4, 1, 3, channel, middle)));
+  ASSERT_TRUE(sender.send(fragment(6, size, 8, 2, 3, channel, tail)));
+  // Message 7 without its first fragment: incomplete (counted once for its two fragments).
+  ASSERT_TRUE(sender.send(fragment(7, size, 4, 1, 3, channel, middle)));
+  ASSERT_TRUE(sender.send(fragment(7, size, 8, 2, 3, channel, tail)));
+  // Message 8 whole: it arrives after all that.
+  ASSERT_TRUE(sender.send(fragment(8, size, 0, 0, 2, channel, head)));
+  ASSERT_TRUE(sender.send(fragment(8, size, 4, 1, 2, channel, std::vector<std::uint8_t>(bytes.begin() + 4, bytes.end()))));
+  ASSERT_TRUE(handleUntil({&bus}, [&] { return got.size() == 2; })) << got.size() << " messages put together";
+  for (const auto& s : got) EXPECT_EQ(s.ranges, sent.ranges);
+  EXPECT_EQ(bus.receiveLosses().incomplete_messages, 2u);  // messages 5 and 7
+  EXPECT_EQ(bus.receiveLosses().overflowed_datagrams, 0u);
+  EXPECT_EQ(bus.droppedMessages(), 0u);
+}
+
+namespace {
+
+// A URL whose receive buffer holds only a few dozen small datagrams.
+const std::string kSmallBufferUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16384&channel_ports=1";
+
+hunav::BusOptions directEverywhere(bool filter = false) {
+  hunav::BusOptions o;
+  o.direct_on_every_port = true;
+  o.filter_unsubscribed_channels = filter;
+  return o;
+}
+
+}  // namespace
+
+TEST(DirectReceive, DatagramsDroppedByAFullSocketBufferAreCounted) {
+  Bus bus(kSmallBufferUrl, directEverywhere());
+  int got = 0;
+  bus.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) { ++got; });
+  lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
+  ASSERT_TRUE(publisher.good());
+  hunav::nav_goal_t goal{};
+  constexpr int kSent = 500;  // far more than the buffer holds, sent before the bus reads any
+  for (int i = 0; i < kSent; ++i) ASSERT_EQ(publisher.publish(ch::kWorldState, &goal), 0);
+  ASSERT_TRUE(handleUntil({&bus}, [&] {
+    return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == kSent;
+  })) << got << " received, " << bus.receiveLosses().overflowed_datagrams << " counted as lost of " << kSent;
+  EXPECT_GT(bus.receiveLosses().overflowed_datagrams, 0u);
+  EXPECT_GT(got, 0);
+}
+
+TEST(DirectReceive, ABacklogIsReadOnBeforeTheSocketBufferFills) {
+  // A slow subscriber as the bus sees it: every message handled makes two more arrive (here its
+  // handler publishes them; in a run the world keeps publishing). The bus dispatches the backlog
+  // from its queue and reads the socket again every kBacklogDrainMessages messages, so the socket
+  // never holds more than 2 * kBacklogDrainMessages datagrams and none is lost, although the
+  // backlog grows far past what the socket buffer holds.
+  Bus bus(kSmallBufferUrl, directEverywhere());
+  lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
+  ASSERT_TRUE(publisher.good());
+  hunav::nav_goal_t goal{};
+  int got = 0, sent = 0, budget = 0;
+  bus.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) {
+    ++got;
+    for (int k = 0; k < 2 && sent < budget; ++k, ++sent) publisher.publish(ch::kWorldState, &goal);
+  });
+  // How many of these datagrams the socket holds: fill it while nobody reads.
+  for (int i = 0; i < 300; ++i) publisher.publish(ch::kWorldState, &goal);
+  ASSERT_TRUE(handleUntil({&bus}, [&] { return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == 300; }));
+  const int capacity = got;
+  const std::uint64_t lost_before = bus.receiveLosses().overflowed_datagrams;
+  ASSERT_GE(capacity, 3 * Bus::kBacklogDrainMessages) << "the socket buffer is too small for this test";
+  // A burst of 3/4 of that capacity, then the handler's two per message: without reading the socket
+  // during the backlog, 1.5 times the capacity would arrive while the first burst is dispatched.
+  got = 0;
+  sent = capacity * 3 / 4;
+  budget = 20 * capacity;
+  for (int i = 0; i < sent; ++i) publisher.publish(ch::kWorldState, &goal);
+  ASSERT_TRUE(handleUntil({&bus}, [&] { return sent == budget && got == budget; }))
+      << got << " of " << sent << " received, " << bus.receiveLosses().overflowed_datagrams - lost_before << " lost";
+  EXPECT_EQ(bus.receiveLosses().overflowed_datagrams, lost_before);
+}
+
+TEST(DirectReceive, ASocketFilterKeepsOtherChannelsInTheKernel) {
+  // As our planner reads the URL's port: only its channels reach the process. Names of every length
+  // modulo 4 (the filter compares words), and near misses: a prefix, an extension.
+  Bus planner(kUrl, directEverywhere(/*filter=*/true));
+  std::vector<std::string> got;
+  std::vector<hunav::laser_scan_t> scans;
+  for (const char* name : {"AB", "ABCD", "ABCDEF", "EPISODE_EVENT"})
+    planner.subscribe<hunav::nav_goal_t>(name, [&got, name](const hunav::nav_goal_t&) { got.emplace_back(name); });
+  planner.subscribe<hunav::laser_scan_t>(ch::kRobotObservation, [&](const hunav::laser_scan_t& s) { scans.push_back(s); });
+  lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
+  ASSERT_TRUE(publisher.good());
+  hunav::nav_goal_t goal{};
+  for (const char* name : {"A", "ABC", "ABCDE", "ABCDEFG", "ABCE", "EPISODE_EVEN", "EPISODE_EVENTS", "WORLD_STATE",
+                           "AB", "ABCD", "ABCDEF", "EPISODE_EVENT"})
+    ASSERT_EQ(publisher.publish(name, &goal), 0);
+  const hunav::laser_scan_t small = scan(5, 1.0f), big = scan(40000, 2.0f);  // big: fragmented
+  publisher.publish(ch::kRobotObservation, &small);
+  publisher.publish(ch::kRobotObservation, &big);
+  ASSERT_TRUE(handleUntil({&planner}, [&] { return scans.size() == 2; })) << scans.size() << " scans";
+  EXPECT_EQ(got, (std::vector<std::string>{"AB", "ABCD", "ABCDEF", "EPISODE_EVENT"}));
+  EXPECT_EQ(scans[1].ranges, big.ranges);
+  // The four short messages subscribed to, the small scan and the big one's fragments: the eight
+  // others never left the kernel.
+  const std::uint64_t fragments = (static_cast<std::uint64_t>(big.getEncodedSize()) + 65535) / 65536 + 1;
+  EXPECT_GE(planner.directDatagramsRead(), 5u + 2u);
+  EXPECT_LE(planner.directDatagramsRead(), 5u + fragments);
+  EXPECT_EQ(planner.droppedMessages(), 0u);
 }

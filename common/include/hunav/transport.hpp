@@ -62,6 +62,43 @@ struct BadMessage : std::runtime_error {
 
 class DirectReceiver;
 
+// How a Bus over a udpm URL receives (Bus(url, BusOptions)).
+struct BusOptions {
+  // Read the URL's own port with our direct receiver too, not only the step channels' ports (no LCM
+  // reader thread, no pipe: the messages are read in the thread that calls handle*()). Nothing is
+  // lost for it while the caller keeps calling handle*(): each wake-up reads every datagram waiting
+  // (recvmmsg batches) into the bus's queue, and while that queue holds a backlog the socket is
+  // drained again every few messages and every millisecond before the next dispatch (Bus::
+  // kBacklogDrainMessages, kBacklogDrainPeriod), so the socket buffer (the
+  // URL's recv_buf_size, which the default URL sets to 4 MB) only has to hold what arrives during
+  // one handler call. Whatever is lost all the same (a handler that blocks longer than the buffer
+  // covers) is counted: receiveLosses().
+  // For the world, which publishes on that port every tick, its own datagrams then wait in the
+  // socket until it next waits anyway (bench/bench_lockstep.sh: one context switch per tick less).
+  bool direct_on_every_port = false;
+  // With direct receivers: the kernel drops datagrams of channels nobody subscribes to through this
+  // bus (a socket filter on each direct socket), so that they neither wake nor cost this process
+  // anything (our planner process does not wake for each WORLD_STATE). The socket's overflow count
+  // then includes those datagrams, so receiveLosses() cannot report overflows (reported as 0).
+  // Fragments of long messages always pass the filter (only the first names its channel).
+  bool filter_unsubscribed_channels = false;
+  // With direct receivers: wake up at most once per interval (0: at every datagram). What arrives
+  // meanwhile waits in the socket and is read in one batch, for a process that need not answer at
+  // once (the evaluator: one wake-up per millisecond instead of one per tick). The socket buffer
+  // must hold one interval's traffic.
+  std::chrono::microseconds min_wake_interval{0};
+};
+
+// Messages our direct receivers lost (zeros for LCM's own receive path, which cannot tell).
+struct ReceiveLosses {
+  // Datagrams the kernel dropped because a socket's receive buffer was full (SO_MEMINFO's drop
+  // count; without filter_unsubscribed_channels).
+  std::uint64_t overflowed_datagrams = 0;
+  // Fragmented messages abandoned because one of their fragments never arrived.
+  std::uint64_t incomplete_messages = 0;
+  bool any() const { return overflowed_datagrams != 0 || incomplete_messages != 0; }
+};
+
 class Bus {
  public:
   static constexpr int kUnbounded = 0;
@@ -75,6 +112,8 @@ class Bus {
   // its own datagrams then wait in the socket until it next waits anyway, instead of waking LCM's
   // reader thread each time (bench/bench_lockstep.sh: one context switch per tick less).
   explicit Bus(const std::string& url, bool direct_on_every_port = false);
+  // The same with every receive option (BusOptions).
+  Bus(const std::string& url, const BusOptions& options);
   struct InProcess {};
   explicit Bus(InProcess);
   ~Bus();
@@ -151,6 +190,14 @@ class Bus {
 
   // Messages that did not decode or that a handler rejected, and datagrams not in LCM's format.
   std::uint64_t droppedMessages() const;
+  // What our direct receivers lost so far (asks the kernel for each socket's drop count).
+  ReceiveLosses receiveLosses() const;
+  // Datagrams our direct receivers read (those a socket filter dropped never count).
+  std::uint64_t directDatagramsRead() const;
+  // While handle*() dispatches a backlog of messages read by direct receivers, it reads the sockets
+  // again at least after this many messages and after this long.
+  static constexpr int kBacklogDrainMessages = 8;
+  static constexpr std::chrono::milliseconds kBacklogDrainPeriod{1};
   bool inProcess() const { return lcm_ == nullptr; }
 
   // Sees every message published through this bus, encoded (for recording a log of an in-process run).
@@ -280,12 +327,18 @@ class Bus {
   DirectReceiver& directReceiverFor(int offset);
   // Reads what the ready direct receiver has and queues the messages subscribed to.
   void drainDirect(DirectReceiver& receiver);
+  // Reads every direct receiver without waiting (a backlog is being dispatched: keep the sockets empty).
+  void drainAllDirect();
+  // The channels subscribed to through `receiver`, for its socket filter.
+  void updateFilter(DirectReceiver& receiver);
   void addReceiver(lcm::LCM* lcm, DirectReceiver* direct, int fd);
 
   lcm::LCM* lcm_ = nullptr;  // null: in-process backend; else the instance of the URL's port
   std::string url_;          // with channel ports: the URL the per-port instances derive from
   bool channel_ports_ = false;
-  bool direct_on_every_port_ = false;
+  BusOptions options_;
+  std::chrono::steady_clock::time_point last_drain_{};  // of every direct receiver
+  int dispatched_since_drain_ = 0;
   std::vector<std::pair<int, std::unique_ptr<lcm::LCM>>> owned_;  // port offset, instance
   // What handle*() waits on: LCM instances with subscriptions and our direct receivers.
   struct Receiver {
