@@ -1,6 +1,9 @@
 #include "hunav/social_force.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace hunav {
 
@@ -11,6 +14,12 @@ double wrapAngle(double a) {
   if (a <= -kPi) a += 2.0 * kPi;
   if (a > kPi) a -= 2.0 * kPi;
   return a;
+}
+// e with 2^e <= |v| < 2^(e+1), for a normal v (its exponent bits).
+int binaryExponent(double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  return static_cast<int>((bits >> 52) & 0x7ff) - 1023;
 }
 }  // namespace
 
@@ -55,11 +64,38 @@ Vec2 socialForceFrom(const SfmBody& me, const SfmBody& other, const SfmParams& p
   if (len <= 0.0) return Vec2::Zero();
   const Vec2 t = interaction / len;
   const double B = p.gamma * len;
-  const double theta = normalizeAngle(angleOf(e) - angleOf(t));
+  const double theta = wrapAngle(angleOf(e) - angleOf(t));  // |difference| <= 2 pi: fmod is rarely needed
   const double sign = theta > 0.0 ? 1.0 : (theta < 0.0 ? -1.0 : 0.0);
   const double fv = -std::exp(-d / B - (p.n_prime * B * theta) * (p.n_prime * B * theta));
   const double ftheta = -sign * std::exp(-d / B - (p.n * B * theta) * (p.n * B * theta));
   return p.social_weight * (fv * t + ftheta * leftNormal(t));
+}
+
+bool socialForceLeavesUnchanged(const Vec2& sum, const SfmBody& me, const SfmBody& other, const SfmParams& p) {
+  if (!std::isnormal(sum.x()) || !std::isnormal(sum.y()) || !std::isnormal(p.social_weight)) return false;
+  // For 2^e <= |s| < 2^(e+1) the doubles next to s are at least 2^(e-53) away (2^(e-53) below a power
+  // of two), so s + y rounds to s when |y| < 2^(e-54).
+  const int e = std::min(binaryExponent(sum.x()), binaryExponent(sum.y()));
+  // socialForceFrom's quantities up to B; theta is the angle between e and t, |theta| >= |sin theta|
+  // = |cross(D, e)| / |D| (its rounding, ~1e-16, is covered by the 1e-6 taken off).
+  const Vec2 delta = other.position - me.position;
+  const double d = delta.norm();
+  if (!(d > 0.0) || !std::isfinite(d)) return false;
+  const Vec2 dir = delta / d;
+  const Vec2 interaction = p.lambda * (me.velocity - other.velocity) + dir;
+  const double len = interaction.norm();
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  const double B = p.gamma * len;
+  const double sin_theta = std::abs(interaction.x() * dir.y() - interaction.y() * dir.x()) / len;
+  const double q = std::min(std::abs(p.n), std::abs(p.n_prime)) * B * std::max(0.0, sin_theta - 1e-6);
+  // Both exponentials are at most exp(-(d/B + q^2)), each component of the force at most
+  // |omega_s| (|fv| + |f_theta|) <= 2 |omega_s| exp(-(d/B + q^2)) < 2^(w+2) exp(-(d/B + q^2)) with
+  // 2^w <= |omega_s| < 2^(w+1). That is below 2^(e-54) when d/B + q^2 > (w + 56 - e) ln 2; 1 more
+  // covers the rounding of these few operations and of libm's exp (a factor e = 2.7 of room).
+  constexpr double kLn2 = 0.6931471805599453;
+  const double exponent = d / B + q * q;
+  const double needed = static_cast<double>(binaryExponent(p.social_weight) + 56 - e) * kLn2 + 1.0;
+  return exponent > needed;  // false for a NaN exponent
 }
 
 GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates,

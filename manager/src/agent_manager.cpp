@@ -45,7 +45,10 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
     for (std::size_t j = 0; j < snap.agents.size(); ++j)
       if (j != index) f.social += socialForceFrom(me, snap.agents[j], p);
   }
-  if (robot == RobotAs::Person) f.social += socialForceFrom(me, snap.robot, p);
+  // The robot's push on a person far from it is often too small to change any bit of the people's sum
+  // (then its atan2 and exp calls are skipped; the result is the same).
+  if (robot == RobotAs::Person && !socialForceLeavesUnchanged(f.social, me, snap.robot, p))
+    f.social += socialForceFrom(me, snap.robot, p);
 
   if (me.group_id >= 0) {
     std::vector<const SfmBody*>& mates = groupScratch();

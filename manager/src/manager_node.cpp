@@ -19,19 +19,33 @@ void ManagerNode::onRequest(const step_request_t& request) {
   checkAgentStates(request.agents, request.num_agents, "step request");
   checkAgentState(request.robot, "step request robot");
 
-  if (have_last_ && request.episode == last_reply_.episode) {
-    if (request.seq == last_reply_.seq) {  // a resend: the answer to a seq never changes
+  if (have_answered_ && request.episode == answered_episode_) {
+    if (request.seq == answered_seq_) {  // a resend: the answer to a seq never changes
       ++replies_resent_;
-      bus_.publish(channels::kStepReply, last_reply_);
+      // Without the reply kept, it went into the in-process queue itself, where nothing loses it:
+      // the world has it already or gets it next.
+      if (have_last_) bus_.publish(channels::kStepReply, last_reply_);
       return;
     }
-    if (request.seq < last_reply_.seq) return;  // stale duplicate, already answered
+    if (request.seq < answered_seq_) return;  // stale duplicate, already answered
   }
-  have_last_ = false;  // until the new reply is complete
+  have_answered_ = have_last_ = false;  // until the new reply is complete
   manager_.step(request, last_reply_);  // reuses the last reply's storage
-  have_last_ = true;
+  answered_seq_ = request.seq;
+  answered_episode_ = request.episode;
+  have_answered_ = true;
   ++steps_computed_;
-  bus_.publish(channels::kStepReply, last_reply_);
+  if (!bus_.inProcess()) {
+    bus_.publish(channels::kStepReply, last_reply_);  // encoded: the reply stays here for resends
+    have_last_ = true;
+    return;
+  }
+  // In process the reply is handed over, not copied (1000 people: a copy of every string and point
+  // list of the crowd per step); last_reply_ gets a recycled message whose arrays the next step
+  // reuses. A reply the loss-test hook drops is left untouched (and kept for the resend).
+  const std::uint64_t lost_before = bus_.lostForTesting();
+  bus_.publish(channels::kStepReply, std::move(last_reply_));
+  have_last_ = bus_.lostForTesting() != lost_before;
 }
 
 }  // namespace hunav::manager

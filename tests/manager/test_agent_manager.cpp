@@ -150,6 +150,49 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   EXPECT_EQ(bus.droppedMessages(), 2u);
 }
 
+TEST(ManagerNode, InProcessHandsItsReplyOverAndStillAnswersAResendOfALostOne) {
+  // In process the reply object itself goes into the queue (not a copy). A resend of a delivered
+  // reply is counted and not answered again (the queue does not lose it); a reply the loss-test
+  // hook dropped stays with the manager and is what the resend gets.
+  Bus bus(Bus::InProcess{});
+  ManagerNode node(bus);
+  std::vector<step_reply_t> replies;
+  bus.subscribe<step_reply_t>(channels::kStepReply, [&](const step_reply_t& r) { replies.push_back(r); });
+  agent_state_t a = person(1, 0, 0);
+  a.goals = {point2d_t{3, 0}};
+  a.num_goals = 1;
+  step_request_t req = request({a}, robotAt(-5, 0), 7);
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].seq, 7);
+  ASSERT_EQ(replies[0].agents.size(), 1u);
+  EXPECT_GT(replies[0].agents[0].x, 0.0);  // walked toward its goal at (3, 0)
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+  EXPECT_EQ(replies.size(), 1u);
+  EXPECT_EQ(node.repliesResent(), 1u);
+
+  // Every outgoing message dropped: the request of seq 8 is published with the hook off, the reply
+  // is lost; then the resend (hook off again) gets that same reply.
+  req.seq = 8;
+  req.agents[0].x = 1.0;
+  bus.publish(channels::kStepRequest, req);
+  bus.setOutgoingLossForTesting(1.0, 1);
+  bus.handleAvailable();
+  EXPECT_EQ(bus.lostForTesting(), 1u);
+  EXPECT_EQ(replies.size(), 1u);
+  bus.setOutgoingLossForTesting(0.0, 1);
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+  ASSERT_EQ(replies.size(), 2u);
+  EXPECT_EQ(replies[1].seq, 8);
+  ASSERT_EQ(replies[1].agents.size(), 1u);
+  EXPECT_GT(replies[1].agents[0].x, 1.0);  // the step from x = 1
+  EXPECT_EQ(node.stepsComputed(), 2u);
+  EXPECT_EQ(node.repliesResent(), 2u);
+}
+
 TEST(AgentManager, ManagersOnSeveralThreadsTickTheSameReplies) {
   // 400 people of every behavior (from 256 the ticks are shared in chunks with the manager's helper
   // thread when it is free; managers on other threads meanwhile tick everybody themselves): every

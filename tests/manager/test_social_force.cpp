@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 using namespace hunav;
 
@@ -133,4 +134,48 @@ TEST(SocialForce, NonFiniteComponentsAreZeroed) {
   f.finish();
   EXPECT_EQ(f.social, Vec2::Zero());
   EXPECT_EQ(f.total, Vec2(1, 2));
+}
+
+TEST(SocialForce, FarForceThatCannotChangeTheSumIsRecognised) {
+  SfmParams p;  // omega_s 5 (2^2 <= 5 < 2^3), lambda 2, gamma 0.35, n 2, n' 3
+  const Vec2 sum(1.0, -1.5);  // both components have binary exponent 0
+  // The other 30 m ahead, both at rest: D = e, |D| = 1, B = 0.35, theta = 0, so d/B = 85.7. The skip
+  // needs more than (2 + 56 - 0) ln 2 + 1 = 41.2; the force itself is 5 exp(-85.7) = 9e-37.
+  const SfmBody me = body(0, 0), far = body(30, 0);
+  EXPECT_TRUE(socialForceLeavesUnchanged(sum, me, far, p));
+  const Vec2 f = socialForceFrom(me, far, p);
+  EXPECT_EQ(sum.x() + f.x(), sum.x());
+  EXPECT_EQ(sum.y() + f.y(), sum.y());
+  // 10 m: d/B = 28.6 < 41.2 (the force, 5 exp(-28.6) = 2e-12, does change the sum): computed.
+  EXPECT_FALSE(socialForceLeavesUnchanged(sum, me, body(10, 0), p));
+  // A sum too small for the bound (1e-20 has exponent -67: needs more than (2 + 56 + 67) ln 2 + 1 = 87.6)
+  // or zero, subnormal, NaN: computed.
+  EXPECT_FALSE(socialForceLeavesUnchanged(Vec2(1e-20, 1.0), me, far, p));
+  EXPECT_FALSE(socialForceLeavesUnchanged(Vec2(0.0, 1.0), me, far, p));
+  EXPECT_FALSE(socialForceLeavesUnchanged(Vec2(1.0, 1e-310), me, far, p));
+  EXPECT_FALSE(socialForceLeavesUnchanged(Vec2(std::nan(""), 1.0), me, far, p));
+  // Coincident bodies and non-finite velocities: computed.
+  EXPECT_FALSE(socialForceLeavesUnchanged(sum, me, body(0, 0), p));
+  EXPECT_FALSE(socialForceLeavesUnchanged(sum, me, body(30, 0, INFINITY, 0), p));
+}
+
+TEST(SocialForce, ASkippedForceNeverChangesTheSum) {
+  // Random bodies, velocities and sums: whenever the bound says the force cannot change the sum,
+  // adding the force computed in full leaves every bit of it as it was. The bound must also skip
+  // often enough to matter.
+  SfmParams p;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> pos(-40.0, 40.0), vel(-2.0, 2.0), mag(-6.0, 2.0);
+  int skipped = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const SfmBody me = body(pos(rng), pos(rng), vel(rng), vel(rng));
+    const SfmBody other = body(pos(rng), pos(rng), vel(rng), vel(rng));
+    const Vec2 sum((rng() % 2 ? 1 : -1) * std::pow(10.0, mag(rng)), (rng() % 2 ? 1 : -1) * std::pow(10.0, mag(rng)));
+    if (!socialForceLeavesUnchanged(sum, me, other, p)) continue;
+    ++skipped;
+    const Vec2 f = socialForceFrom(me, other, p);
+    ASSERT_EQ(sum.x() + f.x(), sum.x()) << k;
+    ASSERT_EQ(sum.y() + f.y(), sum.y()) << k;
+  }
+  EXPECT_GT(skipped, 20000);
 }

@@ -164,11 +164,11 @@ void WorldSim::publishWorldState() {
   ws.collisions = physics_->newContacts();
   ws.num_collisions = static_cast<int32_t>(ws.collisions.size());
   collisions_ += ws.collisions.size();
-  // Encoded once: the fingerprint hashes these bytes, LCM sends them, in process subscribers get
-  // the object itself (no decoding).
-  const std::vector<std::uint8_t>& bytes = bus_.encode(ws);
-  fingerprint_.add(bytes.data(), bytes.size());
-  bus_.publishEncoded(channels::kWorldState, std::move(ws), bytes.data(), bytes.size());  // every field set above
+  // Encoded once (the bytes of world_state_t::encode(), written faster): the fingerprint hashes these
+  // bytes, LCM sends them, in process subscribers get the object itself (no decoding).
+  encodeWorldState(ws, encoded_);
+  fingerprint_.add(encoded_.data(), encoded_.size());
+  bus_.publishEncoded(channels::kWorldState, std::move(ws), encoded_.data(), encoded_.size());  // every field set above
 }
 
 void WorldSim::onStepReply(const step_reply_t& reply) {

@@ -3,9 +3,12 @@
 // XXH3 (libxxhash): h_0 = 0, h_k = XXH3_64bits_withSeed(bytes of message k, its size, h_{k-1}).
 // XXH3 reads 8-byte words in wide vector lanes (~40 us for the world state of 1000 people, where
 // the byte-wise FNV-1a used before took ~0.25 ms), and the chain keeps the order of messages.
+#include <hunav/world_state_t.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace hunav {
 
@@ -19,5 +22,14 @@ class Fingerprint {
  private:
   std::uint64_t hash_ = 0;
 };
+
+// The LCM encoding of a world state, byte for byte what world_state_t::encode() writes (fingerprint
+// hash, then every field big-endian in declaration order), without the generated code's call per
+// field: the world encodes the whole crowd every tick (for the fingerprint and the LCM publish),
+// and the generated encoder took ~1200 instructions per person. Replaces `out` (its storage is
+// reused). As the generated encoder, it writes num_goals / num_obstacles / num_agents /
+// num_collisions elements; the counts must not exceed the arrays. A string holding a NUL throws
+// std::runtime_error, as Bus::encode does for it (LCM would size and write it differently).
+void encodeWorldState(const world_state_t& ws, std::vector<std::uint8_t>& out);
 
 }  // namespace hunav

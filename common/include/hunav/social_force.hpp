@@ -48,6 +48,12 @@ Vec2 obstacleForce(const SfmBody& me, const std::vector<Vec2>& points, const Sfm
 // The velocity-dependent social force exerted by `other` on `me` (Moussaid 2009, section 1.5).
 Vec2 socialForceFrom(const SfmBody& me, const SfmBody& other, const SfmParams& p);
 
+// True when `sum + socialForceFrom(me, other, p)` is `sum` bit for bit, so the force need not be
+// computed: a rigorous upper bound of the force (no atan2, no exp) is below a quarter of the spacing
+// of the doubles around each component of `sum`. False whenever that is not certain (a component of
+// `sum` zero, subnormal or not finite; coincident bodies; non-finite velocities; a bound too large).
+bool socialForceLeavesUnchanged(const Vec2& sum, const SfmBody& me, const SfmBody& other, const SfmParams& p);
+
 struct GroupForces {
   Vec2 gaze = Vec2::Zero();
   Vec2 coherence = Vec2::Zero();

@@ -26,7 +26,10 @@ class ManagerNode {
 
   Bus& bus_;
   AgentManager manager_;
-  bool have_last_ = false;
+  bool have_answered_ = false;  // answered_seq_ and answered_episode_ are set
+  std::int64_t answered_seq_ = 0;
+  std::int64_t answered_episode_ = 0;
+  bool have_last_ = false;      // last_reply_ holds the answer to answered_seq_ (for resends)
   step_reply_t last_reply_;
   std::uint64_t steps_computed_ = 0;
   std::uint64_t replies_resent_ = 0;

@@ -14,6 +14,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <random>
@@ -92,6 +93,7 @@ class WorldSim {
   // Reused every tick so that steady-state ticks do not allocate.
   step_request_t request_;
   world_state_t world_state_;
+  std::vector<std::uint8_t> encoded_;  // of the last world state
   double robot_v_ = 0.0, robot_vy_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at (robot frame)
   double cmd_v_ = 0.0, cmd_vy_ = 0.0, cmd_w_ = 0.0;        // last command
   std::vector<Vec2> robot_obstacles_;
