@@ -1,6 +1,7 @@
 // Speed of whole episodes in one process (world + manager + planner + evaluator on the in-process
 // bus): simulated seconds per second, and the cost of one tick. Run on demand:
 //   build/bin/bench_episode [--scenario scenarios/passing.yaml] [--planner dwb] [--repeat 5] [--memq]
+//                           [--worker-min-people N]
 // Each figure is the best of --repeat episodes (other processes share the machine: the minimum is the
 // least disturbed). Three views:
 //   loop:  the episode as the world measures it (wall clock from START to END: ticks and messages);
@@ -35,10 +36,13 @@ int main(int argc, char** argv) {
   std::vector<std::string> planners{"dwb", "none"};
   int repeat = 5;
   bool memq = false;
+  int worker_min_people = -1;
   app.add_option("--scenario", scenario_file, "scenario file");
   app.add_option("--planner", planners, "planners to measure (none = without planner)");
   app.add_option("--repeat", repeat, "episodes per planner (the best is reported)")->check(CLI::PositiveNumber);
   app.add_flag("--memq", memq, "run on LCM's memq:// instead of the in-process bus");
+  app.add_option("--worker-min-people", worker_min_people,
+                 "the evaluator's worker thread from this many people (-1: the evaluator's default)");
   CLI11_PARSE(app, argc, argv);
 
   const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
@@ -55,6 +59,7 @@ int main(int argc, char** argv) {
       o.planner = planner;
       o.out_dir = out.string();
       o.use_memq = memq;
+      o.evaluator_worker_min_people = worker_min_people;
       const double cpu0 = cpuSeconds();
       const auto t0 = std::chrono::steady_clock::now();
       const auto outcome = hunav::runner::runInProcess(scenario, o);

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <pthread.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <csignal>
@@ -49,19 +51,23 @@ constexpr std::chrono::seconds kFlushAge{1};
 constexpr std::chrono::milliseconds kFlushRequestPeriod{100};
 }  // namespace
 
-// The worker thread of worker_thread: a ring of reusable items (no allocation once the buffers have
-// grown) filled by the bus handler's thread and emptied in order by the worker. The producer waits
-// when the ring is full; the worker never waits for the producer, so this cannot deadlock. To keep
-// the hand-off cheap the worker is woken only for a batch of items, or when someone waits for it
-// (drain, flushIfDue, a full ring, stop).
+// The worker thread of worker_thread: a single-producer single-consumer ring of reusable items
+// (no allocation once their buffers have grown) filled by the bus handler's thread and emptied in
+// order by the worker. A hand-off is a copy of the world state into the item and one atomic store:
+// the mutex and the condition variables are taken only to sleep and to wake. The worker is woken
+// when the ring is half full (then it works until the ring is empty: while the producer keeps it
+// busy it never sleeps), or when someone waits for it (drain, flushIfDue, a full ring, stop): a
+// wake-up costs the waking thread ~20 us in a virtual machine (an inter-processor interrupt), so
+// the ring is long (up to kCapacity items, fewer for large crowds: kAgentBudget). The producer waits
+// only when the ring is full; the worker never waits for the producer, so this cannot deadlock.
 class EvaluatorNode::Worker {
  public:
   struct Item {
     Episode* episode = nullptr;
-    bool flush_request = false;         // flushIfDue() instead of a world state
-    std::vector<std::uint8_t> encoded;  // the world state as published (fingerprint)
-    bool keep = false;                  // recorded (sample rate): `sample` holds it
-    Recording sample;
+    bool flush_request = false;  // flushIfDue() instead of a world state
+    bool keep = false;           // recorded (sample rate)
+    double t = 0.0;              // s, the world state's time
+    world_state_t state;         // the world state as received (assigned: its buffers are reused)
   };
 
   explicit Worker(EvaluatorNode& node) : node_(node), items_(kCapacity) {
@@ -85,30 +91,48 @@ class EvaluatorNode::Worker {
   Worker(const Worker&) = delete;
   Worker& operator=(const Worker&) = delete;
 
-  // The next free item, to fill and then push(); waits while the ring is full. Rethrows an error of
-  // the worker.
-  Item& next() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    if (count_ == kCapacity) {
-      producer_waiting_ = true;
+  // The next free item, to fill (with a world state of `people` people) and then push(); waits while
+  // the ring is full. Rethrows an error of the worker.
+  Item& next(std::size_t people) {
+    limit_ = std::clamp<std::size_t>(kAgentBudget / (people + 1), kMinLimit, kCapacity);
+    wake_at_.store(limit_ / 2, std::memory_order_relaxed);
+    if (tail_ - head_cache_ >= limit_) head_cache_ = head_.load(std::memory_order_acquire);
+    if (tail_ - head_cache_ >= limit_) {
+      std::unique_lock<std::mutex> lock(mutex_);
       urgent_ = true;
+      producer_waiting_.store(true);
       work_.notify_one();
-      space_.wait(lock, [this] { return count_ < kCapacity || error_; });
-      producer_waiting_ = false;
+      space_.wait(lock, [this] { return tail_ - head_.load() < limit_ || error_; });
+      producer_waiting_.store(false);
+      head_cache_ = head_.load();
     }
-    rethrowError();
-    return items_[(head_ + count_) % kCapacity];
+    if (has_error_.load(std::memory_order_acquire)) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (error_) {
+        has_error_.store(false);
+        std::rethrow_exception(std::exchange(error_, nullptr));
+      }
+    }
+    return items_[tail_ % kCapacity];
   }
 
+  // Hands the item of next() to the worker; `urgent`: wakes it at once.
   void push(bool urgent) {
-    bool wake = false;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++count_;
-      urgent_ = urgent_ || urgent;
-      wake = worker_sleeping_ && (urgent_ || count_ >= kBatch);
+    // seq_cst store and load: either the worker, going to sleep, sees this item, or this thread
+    // sees it asleep (see run()).
+    tail_published_.store(++tail_);
+    if (urgent) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        urgent_ = true;
+      }
+      work_.notify_one();
+      return;
     }
-    if (wake) work_.notify_one();
+    if (worker_sleeping_.load() && tail_ - head_.load() >= limit_ / 2) {
+      { std::lock_guard<std::mutex> lock(mutex_); }  // the worker is in wait() or sees the item
+      work_.notify_one();
+    }
   }
 
   // Waits until every item pushed is done; rethrows an error of the worker.
@@ -119,67 +143,82 @@ class EvaluatorNode::Worker {
   // Waits until every item pushed is done; returns (and clears) an error of the worker.
   std::exception_ptr wait() {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (count_ > 0) {
+    if (head_.load() != tail_) {
       urgent_ = true;
       work_.notify_one();
-      idle_.wait(lock, [this] { return count_ == 0; });
+      idle_.wait(lock, [this] { return head_.load() == tail_; });
     }
+    has_error_.store(false);
     return std::exchange(error_, nullptr);
   }
 
  private:
-  static constexpr std::size_t kCapacity = 32;
-  static constexpr std::size_t kBatch = 8;
-
-  void rethrowError() {
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-  }
+  static constexpr std::size_t kCapacity = 256;
+  // The items waiting hold at most about this many agent states (memory: ~0.4 kB each), and at
+  // least kMinLimit items.
+  static constexpr std::size_t kAgentBudget = 16384;
+  static constexpr std::size_t kMinLimit = 8;
+  static constexpr std::size_t kCacheLine = 64;
 
   void run() {
-    std::unique_lock<std::mutex> lock(mutex_);
+    std::size_t head = 0;  // this thread's copy of head_
     for (;;) {
-      worker_sleeping_ = true;
-      work_.wait(lock, [this] { return stop_ || (count_ > 0 && (urgent_ || count_ >= kBatch)); });
-      worker_sleeping_ = false;
-      if (count_ == 0) return;  // stop_, everything done
-      while (count_ > 0) {
-        Item& item = items_[head_];
-        const bool skip = static_cast<bool>(error_);  // after an error, until the producer took it
-        lock.unlock();
-        std::exception_ptr error;
-        if (!skip) {
+      std::size_t tail = tail_published_.load(std::memory_order_acquire);
+      while (head != tail) {
+        Item& item = items_[head % kCapacity];
+        // After an error, the items are skipped until the producer took it.
+        if (!has_error_.load(std::memory_order_acquire)) {
           try {
             if (item.flush_request) {
               node_.flushIfDue(*item.episode);
             } else {
-              node_.process(*item.episode, item.encoded.data(), item.encoded.size(),
-                            item.keep ? &item.sample : nullptr);
+              node_.process(*item.episode, item.state, item.t, item.keep);
             }
           } catch (...) {
-            error = std::current_exception();
+            std::lock_guard<std::mutex> lock(mutex_);
+            error_ = std::current_exception();
+            has_error_.store(true);
           }
         }
-        lock.lock();
-        if (error) error_ = error;
-        head_ = (head_ + 1) % kCapacity;
-        --count_;
-        if (producer_waiting_) space_.notify_one();
+        head_.store(++head);  // seq_cst: pairs with producer_waiting_
+        if (producer_waiting_.load()) {
+          { std::lock_guard<std::mutex> lock(mutex_); }
+          space_.notify_one();
+        }
+        if (head == tail) tail = tail_published_.load(std::memory_order_acquire);
       }
-      urgent_ = false;
-      idle_.notify_all();
+      std::unique_lock<std::mutex> lock(mutex_);
+      idle_.notify_all();  // drain() and wait() (no system call when nobody waits)
+      if (tail_published_.load() == head) urgent_ = false;  // whoever asked has been served
+      worker_sleeping_.store(true);
+      // seq_cst: either this load sees an item pushed now, or its push() sees the flag and wakes
+      // this thread (after taking the mutex, so not before the wait below has begun).
+      work_.wait(lock, [&] {
+        const std::size_t pending = tail_published_.load() - head;
+        return stop_ || (pending > 0 && (urgent_ || pending >= wake_at_.load(std::memory_order_relaxed)));
+      });
+      worker_sleeping_.store(false);
+      if (tail_published_.load() == head) return;  // stop_, everything done
     }
   }
 
   EvaluatorNode& node_;
   std::vector<Item> items_;
-  std::size_t head_ = 0;   // oldest item not done
-  std::size_t count_ = 0;  // items pushed and not done (the one being worked on included)
-  bool urgent_ = false;
-  bool stop_ = false;
-  bool worker_sleeping_ = false;
-  bool producer_waiting_ = false;
-  std::exception_ptr error_;
+  // What each thread writes on a cache line of its own (no false sharing between the two cores).
+  std::size_t tail_ = 0;        // items pushed (producer's thread only)
+  std::size_t head_cache_ = 0;  // head_ as the producer last read it (items up to it are free)
+  std::size_t limit_ = kCapacity;  // the ring is full with this many items waiting (producer's)
+  alignas(kCacheLine) std::atomic<std::size_t> tail_published_{0};  // tail_, for the worker
+  std::atomic<std::size_t> wake_at_{kCapacity / 2};  // the worker wakes with this many waiting
+  std::atomic<bool> producer_waiting_{false};
+  alignas(kCacheLine) std::atomic<std::size_t> head_{0};  // items done (written per item)
+  // Rarely written: read by the producer at every hand-off without a cache miss.
+  alignas(kCacheLine) std::atomic<bool> worker_sleeping_{false};
+  std::atomic<bool> has_error_{false};  // error_ is set
   std::mutex mutex_;
+  bool urgent_ = false;  // under mutex_: work now, not at the next batch
+  bool stop_ = false;    // under mutex_
+  std::exception_ptr error_;  // under mutex_
   std::condition_variable work_;
   std::condition_variable space_;
   std::condition_variable idle_;
@@ -325,32 +364,20 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   ep.any_state = true;
   ep.last_t = t;
 
-  // What the per-sample work needs of the message is copied (the worker's item, or this node's
-  // buffers): the encoded bytes and, when the sample rate keeps it, the sample.
   // The switch keeps the order: the samples before were done here, the worker does the next ones.
   if (options_.worker_thread && !worker_ && ws.agents.size() >= options_.worker_min_people)
     worker_ = std::make_unique<Worker>(*this);
-  Worker::Item* item = worker_ ? &worker_->next() : nullptr;
-  std::vector<std::uint8_t>& encoded = item ? item->encoded : encode_buffer_;
-  const int size = ws.getEncodedSize();
-  encoded.resize(static_cast<std::size_t>(size));
-  ws.encode(encoded.data(), 0, size);
   const bool keep = ep.rate.keep(t);
-  Recording& sample = item ? item->sample : ep.sample;
-  if (keep) {
-    sample.clear();
-    const EntityState robot = toEntity(ws.robot, sample, points_scratch_);
-    agents_scratch_.clear();
-    for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, sample, points_scratch_));
-    sample.addSample(t, robot, agents_scratch_);
-  }
-  if (item) {
-    item->episode = &ep;
-    item->flush_request = false;
-    item->keep = keep;
+  if (worker_) {
+    Worker::Item& item = worker_->next(ws.agents.size());
+    item.episode = &ep;
+    item.flush_request = false;
+    item.keep = keep;
+    item.t = t;
+    item.state = ws;  // element-wise: the item's vectors and strings keep their buffers
     worker_->push(false);
   } else {
-    process(ep, encoded.data(), encoded.size(), keep ? &sample : nullptr);
+    process(ep, ws, t, keep);
   }
   if (!keep) return;
 
@@ -367,12 +394,25 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   }
 }
 
-void EvaluatorNode::process(Episode& ep, const std::uint8_t* encoded, std::size_t encoded_size,
-                            const Recording* sample) {
-  ep.fingerprint.add(encoded, encoded_size);
-  if (sample == nullptr) return;
-  ep.states->write(*sample, sample->back());
-  ep.evaluation->add(*sample, sample->back());
+void EvaluatorNode::process(Episode& ep, const world_state_t& ws, double t, bool keep) {
+  try {
+    encodeWorldState(ws, encode_buffer_);  // LCM's bytes, written in a few passes (fingerprint.hpp)
+  } catch (const std::runtime_error&) {
+    // A string holding a NUL (possible in a state decoded from the wire): LCM's own encoder decides.
+    const int size = ws.getEncodedSize();
+    encode_buffer_.resize(static_cast<std::size_t>(size));
+    ws.encode(encode_buffer_.data(), 0, size);
+  }
+  ep.fingerprint.add(encode_buffer_.data(), encode_buffer_.size());
+  if (!keep) return;
+  Recording& sample = ep.sample;
+  sample.clear();
+  const EntityState robot = toEntity(ws.robot, sample, points_scratch_);
+  agents_scratch_.clear();
+  for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, sample, points_scratch_));
+  sample.addSample(t, robot, agents_scratch_);
+  ep.states->write(sample, sample.back());
+  ep.evaluation->add(sample, sample.back());
   if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
     flush(ep);
   } else {
@@ -400,7 +440,7 @@ void EvaluatorNode::flushIfDue() {
   const auto now = std::chrono::steady_clock::now();
   if (now - last_flush_request_ < kFlushRequestPeriod) return;
   last_flush_request_ = now;
-  Worker::Item& item = worker_->next();
+  Worker::Item& item = worker_->next(0);
   item.episode = current_.get();
   item.flush_request = true;
   worker_->push(true);

@@ -50,7 +50,22 @@ StatesCsvWriter::~StatesCsvWriter() {
   std::fclose(file_);
 }
 
-void StatesCsvWriter::appendRow(const Recording& r, const char* kind, const EntityState& e) {
+namespace {
+std::uint64_t bitsOf(double v) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &v, sizeof bits);
+  return bits;
+}
+}  // namespace
+
+StatesCsvWriter::RowCache* StatesCsvWriter::agentCache(std::int32_t id) {
+  if (id < 0 || id >= kCachedIds) return nullptr;
+  const auto index = static_cast<std::size_t>(id);
+  if (index >= agent_caches_.size()) agent_caches_.resize(index + 1);
+  return &agent_caches_[index];
+}
+
+void StatesCsvWriter::appendRow(const Recording& r, const char* kind, const EntityState& e, RowCache* cache) {
   // The text of fmt "{}" for every field (NumberText for the doubles).
   auto integer = [this](long long v) {
     const fmt::format_int digits(v);
@@ -60,25 +75,64 @@ void StatesCsvWriter::appendRow(const Recording& r, const char* kind, const Enti
     numbers_.append(buffer_, v);
     buffer_.push_back(',');
   };
+  auto appendText = [this](const std::string& text) { buffer_.append(text.data(), text.data() + text.size()); };
+  // The text buffer_ received since `at`.
+  auto textSince = [this](std::size_t at, std::string& into) {
+    into.assign(buffer_.data() + at, buffer_.size() - at);
+  };
   buffer_.append(time_text_.data(), time_text_.data() + time_text_.size());
-  buffer_.push_back(',');
-  buffer_.append(std::string_view(kind));
-  buffer_.push_back(',');
-  integer(e.id);
-  buffer_.push_back(',');
-  for (const double v : {e.x, e.y, e.yaw, e.vx, e.vy, e.vyaw, e.linear_vel, e.angular_vel, e.radius}) real(v);
-  integer(e.behavior);
-  buffer_.push_back(',');
-  integer(e.behavior_state);
-  buffer_.push_back(',');
-  integer(e.group);
-  buffer_.push_back(',');
-  if (e.has_goal) {
-    real(e.goal_x);
-    real(e.goal_y);
-    real(e.goal_radius);
+  if (cache != nullptr && cache->has_head && cache->id == e.id) {
+    appendText(cache->head);
   } else {
-    buffer_.append(std::string_view(",,,"));
+    const std::size_t at = buffer_.size();
+    buffer_.push_back(',');
+    buffer_.append(std::string_view(kind));
+    buffer_.push_back(',');
+    integer(e.id);
+    buffer_.push_back(',');
+    if (cache != nullptr) {
+      textSince(at, cache->head);
+      cache->has_head = true;
+      cache->id = e.id;
+    }
+  }
+  for (const double v : {e.x, e.y, e.yaw, e.vx, e.vy, e.vyaw, e.linear_vel, e.angular_vel}) real(v);
+  const std::uint64_t radius = bitsOf(e.radius);
+  const std::uint64_t goal_x = e.has_goal ? bitsOf(e.goal_x) : 0;
+  const std::uint64_t goal_y = e.has_goal ? bitsOf(e.goal_y) : 0;
+  const std::uint64_t goal_radius = e.has_goal ? bitsOf(e.goal_radius) : 0;
+  if (cache != nullptr && cache->has_tail && cache->radius == radius && cache->behavior == e.behavior &&
+      cache->behavior_state == e.behavior_state && cache->group == e.group && cache->has_goal == e.has_goal &&
+      cache->goal_x == goal_x && cache->goal_y == goal_y && cache->goal_radius == goal_radius) {
+    appendText(cache->tail);
+  } else {
+    const std::size_t at = buffer_.size();
+    real(e.radius);
+    integer(e.behavior);
+    buffer_.push_back(',');
+    integer(e.behavior_state);
+    buffer_.push_back(',');
+    integer(e.group);
+    buffer_.push_back(',');
+    if (e.has_goal) {
+      real(e.goal_x);
+      real(e.goal_y);
+      real(e.goal_radius);
+    } else {
+      buffer_.append(std::string_view(",,,"));
+    }
+    if (cache != nullptr) {
+      textSince(at, cache->tail);
+      cache->has_tail = true;
+      cache->radius = radius;
+      cache->behavior = e.behavior;
+      cache->behavior_state = e.behavior_state;
+      cache->group = e.group;
+      cache->has_goal = e.has_goal;
+      cache->goal_x = goal_x;
+      cache->goal_y = goal_y;
+      cache->goal_radius = goal_radius;
+    }
   }
   bool first = true;
   for (const Vec2& p : r.obstacles(e)) {
@@ -95,8 +149,8 @@ void StatesCsvWriter::write(const Recording& r, const Sample& s) {
   if (file_ == nullptr) throw std::logic_error(path_.string() + ": written after close");
   time_text_.clear();
   numbers_.append(time_text_, s.t);
-  appendRow(r, "robot", s.robot);
-  for (const auto& a : r.agents(s)) appendRow(r, "agent", a);
+  appendRow(r, "robot", s.robot, &robot_cache_);
+  for (const auto& a : r.agents(s)) appendRow(r, "agent", a, agentCache(a.id));
   ++buffered_ticks_;
 }
 

@@ -266,3 +266,76 @@ TEST(Worker, AWriteErrorReachesTheCaller) {
     EXPECT_NE(errors.front().find("metrics_steps.csv"), std::string::npos) << errors.front();
   }
 }
+
+// Several episodes in a row, a sample rate (world states that only enter the fingerprint), flush
+// requests after every message and two people only (the worker takes over from the first world
+// state): the same bytes as the synchronous mode, in every episode's folder.
+TEST(Worker, EpisodesSampleRateAndFlushRequestsWriteTheSameBytes) {
+  const fs::path dir = freshDir();
+  for (const bool worker : {false, true}) {
+    EvaluatorOptions o = optionsFor(dir / (worker ? "worker" : "sync"), "default", worker);
+    o.episodes = 3;
+    o.sample_rate = 30.0;  // 30 of every 100 world states recorded
+    o.live_metrics = false;
+    hunav::Bus bus{hunav::Bus::InProcess{}};
+    EvaluatorNode node(bus, o);
+    for (std::int64_t episode = 1; episode <= 3; ++episode) {
+      bus.publish(hunav::channels::kEpisodeEvent, startEvent(episode, "episodes"));
+      bus.handleAvailable();
+      hunav::Fingerprint fp;
+      // 2, 60 and 2 people: the worker, once started, keeps the small episodes too.
+      const int people = episode == 2 ? kPeople : 2;
+      for (int k = 0; k < 170; ++k) {
+        hunav::world_state_t ws = crowdState(episode, k);
+        ws.agents.resize(std::min<std::size_t>(ws.agents.size(), static_cast<std::size_t>(people)));
+        ws.num_agents = static_cast<std::int32_t>(ws.agents.size());
+        const auto bytes = bus.encode(ws);
+        fp.add(bytes.data(), bytes.size());
+        bus.publish(hunav::channels::kWorldState, ws);
+        bus.handleAvailable();
+        node.flushIfDue();
+      }
+      bus.publish(hunav::channels::kEpisodeEvent, endEvent(episode, 170, 0.02 + 169 * 0.01, fp.hex()));
+      bus.handleAvailable();
+      ASSERT_TRUE(node.lastResult().has_value());
+      EXPECT_EQ(node.lastResult()->info.fingerprint, fp.hex());
+      EXPECT_EQ(node.lastResult()->info.recorded_fingerprint, fp.hex());  // every state, recorded or not
+      // 30 Hz: a grid every 33333 us from the first state; ticks 10000 us apart over 1.69 s reach
+      // grid points 0 .. 50 (50 * 33333 = 1666650 us), each kept once: 51 samples.
+      EXPECT_EQ(node.lastResult()->info.recorded_ticks, 51);
+    }
+    EXPECT_TRUE(node.finished());
+  }
+  expectSameFiles(dir / "sync", dir / "worker", false);
+}
+
+// A large crowd: the ring holds fewer items (its memory bound), so the producer fills it and waits
+// for the worker again and again; the files are still those of the synchronous mode.
+TEST(Worker, ALargeCrowdFillingTheRingWritesTheSameBytes) {
+  const fs::path dir = freshDir();
+  constexpr int kCrowd = 1200, kCrowdTicks = 60;
+  for (const bool worker : {false, true}) {
+    EvaluatorOptions o = optionsFor(dir / (worker ? "worker" : "sync"), "default", worker);
+    o.live_metrics = false;
+    hunav::Bus bus{hunav::Bus::InProcess{}};
+    EvaluatorNode node(bus, o);
+    bus.publish(hunav::channels::kEpisodeEvent, startEvent(1, "crowd"));
+    bus.handleAvailable();
+    for (int k = 0; k < kCrowdTicks; ++k) {
+      const double t = 0.01 * k;
+      std::vector<hunav::agent_state_t> people;
+      for (int j = 0; j < kCrowd; ++j) {
+        hunav::agent_state_t p = personMsg(1000 + j, 0.5 * (j % 40) + 0.8 * t, 0.5 * (j / 40) - 0.1 * t, 0.8, 1 + j % 6);
+        p.vx = 0.8;
+        p.vy = -0.1;
+        people.push_back(p);
+      }
+      bus.publish(hunav::channels::kWorldState,
+                  worldState(1, k, k * 10000 + 20000, robotMsg(0.3 * t, -1.0, 0.0, 0.3, 0.0), people));
+      bus.handleAvailable();
+    }
+    EXPECT_TRUE(node.finishIncomplete("end of the test"));
+  }
+  expectSameFiles(dir / "sync", dir / "worker", true);
+  EXPECT_EQ(readLines(dir / "worker" / "states.csv").size(), 1u + kCrowdTicks * (1u + kCrowd));
+}

@@ -160,3 +160,43 @@ TEST(StatesCsv, WrongHeaderIsLineOne) {
   }
   EXPECT_THROW(readStatesCsv(dir / "missing.csv"), hunav::ConfigError);
 }
+
+// The writer copies the text of the columns that rarely change (kind and id, radius to
+// goal_radius) from one row of an entity to its next while their values stay the same: every
+// change of any of them (and ids it does not cache: negative, >= 2^16) must still be written.
+TEST(StatesCsv, RowsFollowEveryChangeOfTheColumnsThatRarelyChange) {
+  const auto dir = freshDir();
+  Recording rec;
+  std::vector<std::string> expected;
+  for (int k = 0; k < 12; ++k) {
+    const double t = 0.01 * (k + 1);
+    EntityState r = k % 4 == 3 ? robot(0.5, 0.25) : robotWithGoal(0.5, 0.25, 4.0 + (k / 5), 0.0, 0.3);
+    r.id = k < 6 ? 100 : 101;  // the robot's id may change
+    r.radius = k == 2 ? -0.0 : 0.3;  // -0 and 0.3 differ from 0 in bits
+    std::vector<EntityState> agents;
+    for (const int id : {3, -2, 70000}) {
+      EntityState a = agent(id, 1.0, 2.0, k < 4 ? 0.35 : 0.4, 0.0, k % 3 == 0 ? -1 : 2, 1.0);
+      a.behavior = static_cast<std::int8_t>(1 + k / 6);
+      a.behavior_state = static_cast<std::int8_t>(k % 2);
+      agents.push_back(a);
+    }
+    rec.addSample(t, r, agents);
+    // The rows as fmt writes them, column by column.
+    const auto row = [&](const char* kind, const EntityState& e) {
+      std::string text = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},", t, kind, e.id, e.x, e.y, e.yaw,
+                                     e.vx, e.vy, e.vyaw, e.linear_vel, e.angular_vel, e.radius, e.behavior,
+                                     e.behavior_state, e.group);
+      text += e.has_goal ? fmt::format("{},{},{},", e.goal_x, e.goal_y, e.goal_radius) : std::string(",,,");
+      return text;
+    };
+    expected.push_back(row("robot", r));
+    for (const EntityState& a : agents) expected.push_back(row("agent", a));
+  }
+  {
+    StatesCsvWriter w(dir / "states.csv");
+    for (std::size_t k = 0; k < rec.size(); ++k) w.write(rec, rec[k]);
+  }
+  const auto lines = readLines(dir / "states.csv");
+  ASSERT_EQ(lines.size(), 1u + expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(lines[i + 1], expected[i]) << "row " << i + 1;
+}

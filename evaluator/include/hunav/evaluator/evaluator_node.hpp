@@ -49,8 +49,9 @@
 
 namespace hunav::evaluator {
 
-// Default of EvaluatorOptions::worker_min_people (measured: evaluator/README.md).
-inline constexpr std::size_t kWorkerMinPeople = 20;
+// Default of EvaluatorOptions::worker_min_people: the worker from the start (the hand-off, a copy
+// and an atomic store, already pays with the 2 people of the passing scenario: evaluator/README.md).
+inline constexpr std::size_t kWorkerMinPeople = 0;
 
 struct EvaluatorOptions {
   std::filesystem::path out_dir;     // created when missing
@@ -65,12 +66,13 @@ struct EvaluatorOptions {
   // Record and evaluate at most this many samples per second of simulation time (sample_rate.hpp);
   // 0 = every world state.
   double sample_rate = 0.0;
-  // Do the per-sample work (fingerprint, states.csv rows, metrics, per-tick rows, flushes) on a
-  // worker thread fed through a bounded queue by the bus handler, which keeps only the checks and a
-  // copy of the message. The files are byte for byte those of the synchronous mode.
+  // Do the per-sample work (encoding for the fingerprint, the sample, states.csv rows, metrics,
+  // per-tick rows, flushes) on a worker thread fed through a lock-free ring by the bus handler,
+  // which keeps only the checks and a copy of the message. The files are byte for byte those of the
+  // synchronous mode.
   bool worker_thread = false;
   // With worker_thread, the worker takes over from the first world state with at least this many
-  // people (0: from the start). With few people the hand-off costs about what it saves (README).
+  // people (0: from the start).
   std::size_t worker_min_people = kWorkerMinPeople;
 };
 
@@ -133,7 +135,8 @@ class EvaluatorNode {
 
   void publishLive(double t);
   // The per-sample work: done in onWorldState, or by the worker thread.
-  void process(Episode& ep, const std::uint8_t* encoded, std::size_t encoded_size, const Recording* sample);
+  // `t`: the state's time in s; `keep`: recorded (sample rate), else only in the fingerprint.
+  void process(Episode& ep, const world_state_t& ws, double t, bool keep);
   void flush(Episode& ep);
   void flushIfDue(Episode& ep);
 
@@ -146,6 +149,7 @@ class EvaluatorNode {
   std::uint64_t dropped_total_ = 0;
   std::uint64_t dropped_at_last_end_ = 0;  // drops before a START count for the episode it opens
   std::optional<RunResult> last_result_;
+  // process()'s buffers (the worker's once it has taken over).
   std::vector<std::uint8_t> encode_buffer_;
   std::vector<EntityState> agents_scratch_;
   std::vector<Vec2> points_scratch_;

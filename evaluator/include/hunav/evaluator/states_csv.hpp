@@ -44,7 +44,24 @@ class StatesCsvWriter {
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  void appendRow(const Recording& r, const char* kind, const EntityState& e);
+  // The text of one entity's columns that rarely change, cached per entity: ",kind,id," and
+  // "radius,behavior,behavior_state,group,goal_x,goal_y,goal_radius," with the values it was made
+  // of (doubles compared bit for bit): while they stay the same a row copies the text.
+  struct RowCache {
+    bool has_head = false;
+    std::int32_t id = 0;  // of `head` (the robot's may change)
+    std::string head;     // ",kind,id,"
+    bool has_tail = false;
+    std::uint64_t radius = 0, goal_x = 0, goal_y = 0, goal_radius = 0;  // bits of the doubles
+    std::int32_t group = 0;
+    std::int8_t behavior = 0, behavior_state = 0;
+    bool has_goal = false;
+    std::string tail;   // "radius,...,goal_radius,"
+  };
+  // Agents with ids in [0, kCachedIds) have a RowCache; others are formatted in full.
+  static constexpr std::int32_t kCachedIds = 1 << 16;
+  RowCache* agentCache(std::int32_t id);
+  void appendRow(const Recording& r, const char* kind, const EntityState& e, RowCache* cache);
 
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
@@ -52,6 +69,8 @@ class StatesCsvWriter {
   fmt::memory_buffer time_text_;
   std::size_t buffered_ticks_ = 0;
   NumberText numbers_;
+  RowCache robot_cache_;
+  std::vector<RowCache> agent_caches_;  // by id, grown on demand
 };
 
 // Reads a states.csv sample by sample, in blocks (no per-line allocation). Errors throw ConfigError

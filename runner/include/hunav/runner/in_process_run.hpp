@@ -23,6 +23,9 @@ struct RunOptions {
   bool use_memq = false;         // run on LCM's memq:// instead of the Bus's own in-process queue
                                  // (same messages and results; memq costs a pipe round trip each)
   const std::atomic<bool>* stop = nullptr;
+  // The evaluator's worker thread takes over from this many people (EvaluatorOptions::
+  // worker_min_people); -1: the evaluator's default.
+  int evaluator_worker_min_people = -1;
 };
 
 struct RunOutcome {
