@@ -27,18 +27,6 @@ Costmap::Costmap(std::vector<Shape> shapes, const Vec2& lo, const Vec2& hi, doub
   clearMarkingWindow();
 }
 
-bool Costmap::worldToCell(const Vec2& p, int& cx, int& cy) const {
-  const double fx = std::floor((p.x() - origin_.x()) * inv_resolution_);
-  const double fy = std::floor((p.y() - origin_.y()) * inv_resolution_);
-  // Clamp in double first: a far-away (or huge) coordinate must not overflow the int conversion.
-  cx = static_cast<int>(std::clamp(fx, -1.0, static_cast<double>(width_)));
-  cy = static_cast<int>(std::clamp(fy, -1.0, static_cast<double>(height_)));
-  const bool inside = inBounds(cx, cy);
-  cx = std::clamp(cx, 0, width_ - 1);
-  cy = std::clamp(cy, 0, height_ - 1);
-  return inside;
-}
-
 Vec2 Costmap::cellCenter(int cx, int cy) const {
   return origin_ + Vec2((cx + 0.5) * params_.resolution, (cy + 0.5) * params_.resolution);
 }
@@ -86,6 +74,8 @@ void Costmap::buildStaticLayer() {
   }
   static_.resize(cells);
   for (std::size_t i = 0; i < cells; ++i) static_[i] = costFromDistance(static_distance_[i]);
+  near_static_.resize(cells);
+  for (std::size_t i = 0; i < cells; ++i) near_static_[i] = static_cast<double>(static_distance_[i]) <= res;
   transient_.assign(cells, kFree);
   touched_.clear();
 }
@@ -164,6 +154,42 @@ bool Costmap::clipToMarkingWindow(int& x0, int& y0, int& x1, int& y1) const {
   return x0 <= x1 && y0 <= y1;
 }
 
+Costmap::MarkingLoop::MarkingLoop(Costmap& map, const SquaredDistanceCosts& table, const Vec2& a, int x0, int x1)
+    : reach2(table.reach2),
+      map_(map),
+      table_(table),
+      bins_per_x_(table.bins_per_x),
+      boundary_(table.boundary.data()),
+      before_(table.before.data()),
+      after_(table.after.data()),
+      transient_(map.transient_.data()),
+      x0_(x0) {
+  // The cell centres' x relative to a, computed as the loops did per cell (the same doubles).
+  const double res = map.params_.resolution;
+  map.column_x_.resize(static_cast<std::size_t>(x1 - x0 + 1));
+  for (int cx = x0; cx <= x1; ++cx)
+    map.column_x_[static_cast<std::size_t>(cx - x0)] = (map.origin_.x() + (cx + 0.5) * res) - a.x();
+  column_x_ = map.column_x_.data();
+}
+
+bool Costmap::capsuleRowSpan(double py, const Vec2& a, const Vec2& ab, double reach2, int x0, int x1, int& cx0,
+                             int& cx1) const {
+  // A cell whose computed squared distance to the segment is below reach2 lies (exactly) within
+  // reach2 (1 + 1e-9) of it: at most sqrt(that - dy^2) beside the segment's x range, dy being the
+  // row's distance to the segment's y range. One cell more on each side absorbs any rounding.
+  const double y_lo = std::min(0.0, ab.y()), y_hi = std::max(0.0, ab.y());
+  const double dy = py < y_lo ? y_lo - py : (py > y_hi ? py - y_hi : 0.0);
+  const double w2 = reach2 * (1.0 + 1e-9) - dy * dy;
+  if (!(w2 >= 0.0)) return false;
+  const double w = std::sqrt(w2);
+  const double shift = a.x() - origin_.x();
+  const double lo = std::floor((std::min(0.0, ab.x()) - w + shift) * inv_resolution_ - 0.5) - 1.0;
+  const double hi = std::ceil((std::max(0.0, ab.x()) + w + shift) * inv_resolution_ - 0.5) + 1.0;
+  cx0 = lo <= x0 ? x0 : (lo > x1 ? x1 + 1 : static_cast<int>(lo));
+  cx1 = hi >= x1 ? x1 : (hi < x0 ? x0 - 1 : static_cast<int>(hi));
+  return cx0 <= cx1;
+}
+
 void Costmap::markCircle(const Vec2& center, double radius, std::uint8_t max_cost) {
   markCapsule(center, center, radius, max_cost);
 }
@@ -174,22 +200,25 @@ void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint
   worldToCell(a.cwiseMin(b) - Vec2(reach, reach), x0, y0);
   worldToCell(a.cwiseMax(b) + Vec2(reach, reach), x1, y1);
   if (!clipToMarkingWindow(x0, y0, x1, y1)) return;
-  const SquaredDistanceCosts& costs = squaredDistanceCosts(radius);
+  const MarkingLoop loop(*this, squaredDistanceCosts(radius), a, x0, x1);
   const Vec2 ab = b - a;
   const double length2 = ab.squaredNorm();
   const double inv_length2 = length2 > 0.0 ? 1.0 / length2 : 0.0;
   const double res = params_.resolution;
   for (int cy = y0; cy <= y1; ++cy) {
     const double py = (origin_.y() + (cy + 0.5) * res) - a.y();
-    for (int cx = x0; cx <= x1; ++cx) {
+    int cx0, cx1;  // the row's cells that can be within reach (the others are skipped below anyway)
+    if (!capsuleRowSpan(py, a, ab, loop.reach2, x0, x1, cx0, cx1)) continue;
+    const int row = index(0, cy);
+    for (int cx = cx0; cx <= cx1; ++cx) {
       // Squared distance from the cell centre to the segment ab (closest point at parameter t).
-      const double px = (origin_.x() + (cx + 0.5) * res) - a.x();
+      const double px = loop.columnX(cx);
       const double t = std::clamp((px * ab.x() + py * ab.y()) * inv_length2, 0.0, 1.0);
       const double qx = px - t * ab.x(), qy = py - t * ab.y();
       const double d2 = qx * qx + qy * qy;
-      if (d2 >= costs.reach2) continue;  // beyond the inflation: free
-      const std::uint8_t cost = std::min(squaredDistanceCost(costs, d2), max_cost);
-      if (cost != kFree) raiseTransientIndex(index(cx, cy), cost);
+      if (d2 >= loop.reach2) continue;  // beyond the inflation: free
+      const std::uint8_t cost = std::min(loop.cost(d2), max_cost);
+      if (cost != kFree) loop.raise(row + cx, cost);
     }
   }
 }
@@ -200,7 +229,7 @@ void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius)
   worldToCell(from.cwiseMin(to) - Vec2(reach, reach), x0, y0);
   worldToCell(from.cwiseMax(to) + Vec2(reach, reach), x1, y1);
   if (!clipToMarkingWindow(x0, y0, x1, y1)) return;
-  const SquaredDistanceCosts& costs = squaredDistanceCosts(radius);
+  const MarkingLoop loop(*this, squaredDistanceCosts(radius), from, x0, x1);
   const Vec2 ab = to - from;
   const double length2 = ab.squaredNorm();
   const double inv_length2 = length2 > 0.0 ? 1.0 / length2 : 0.0;
@@ -209,18 +238,20 @@ void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius)
   const double res = params_.resolution;
   for (int cy = y0; cy <= y1; ++cy) {
     const double py = (origin_.y() + (cy + 0.5) * res) - from.y();
-    for (int cx = x0; cx <= x1; ++cx) {
-      const double px = (origin_.x() + (cx + 0.5) * res) - from.x();
+    int cx0, cx1;  // the row's cells that can be within reach (the others are skipped below anyway)
+    if (!capsuleRowSpan(py, from, ab, loop.reach2, x0, x1, cx0, cx1)) continue;
+    const int row = index(0, cy);
+    for (int cx = cx0; cx <= cx1; ++cx) {
+      const double px = loop.columnX(cx);
       const double t = std::clamp((px * ab.x() + py * ab.y()) * inv_length2, 0.0, 1.0);
       const double qx = px - t * ab.x(), qy = py - t * ab.y();
       const double d2 = qx * qx + qy * qy;
-      if (d2 >= costs.reach2) continue;
+      if (d2 >= loop.reach2) continue;
       const double from2 = px * px + py * py;
       // The capsule's cost never exceeds the circle's (its distance is never larger), so only the
       // circle's lethal and inscribed cells differ from the capped capsule.
-      const std::uint8_t cost =
-          from2 <= blocking2 ? squaredDistanceCost(costs, from2) : std::min(squaredDistanceCost(costs, d2), kMaxInflated);
-      if (cost != kFree) raiseTransientIndex(index(cx, cy), cost);
+      const std::uint8_t cost = from2 <= blocking2 ? loop.cost(from2) : std::min(loop.cost(d2), kMaxInflated);
+      if (cost != kFree) loop.raise(row + cx, cost);
     }
   }
 }
@@ -247,13 +278,13 @@ void Costmap::markScan(const laser_scan_t& scan, const std::vector<Circle>& alre
     dir_s = s * step_c + c * step_s;
     const double r = scan.ranges[static_cast<std::size_t>(i)];
     if (!(r >= scan.range_min && r < scan.range_max) || r > far) continue;  // no return, or too far to matter
-    const Vec2 hit = sensor + r * Vec2(c, s);
+    const Vec2 hit(sensor.x() + r * c, sensor.y() + r * s);  // per component: no vector packing
     if (hit.x() < win_lo.x() || hit.y() < win_lo.y() || hit.x() > win_hi.x() || hit.y() > win_hi.y()) continue;
     int cx, cy;
     if (!worldToCell(hit, cx, cy)) continue;
     const int cell = index(cx, cy);
     if (cell == last_marked) continue;  // neighbouring beams often hit the same cell
-    if (staticDistance(cx, cy) <= res) continue;  // the map already has it
+    if (near_static_[static_cast<std::size_t>(cell)]) continue;  // the map already has it
     const bool covered = std::any_of(already_marked.begin(), already_marked.end(), [&](const Circle& circle) {
       return (hit - circle.center).norm() <= circle.radius + res;
     });

@@ -15,6 +15,7 @@ constexpr double kMaxPathDeviation = 0.5;  // m off the path before it is replan
 // every reachable cell, the most expensive search there is.
 constexpr double kFailedPlanRetryPeriod = 1.0;
 constexpr double kPathWindowMargin = 0.5;  // m of path beyond the farthest reachable point
+constexpr std::size_t kUnknownIndex = std::numeric_limits<std::size_t>::max();
 }  // namespace
 
 CostmapParams readCostmapParams(const YamlReader* config) {
@@ -124,7 +125,9 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
   const double reach = params_.sim_time * maxSpeed(obs) + costmap_.resolution();
   costmap_.setMarkingWindow(robot - Vec2::Constant(reach), robot + Vec2::Constant(reach));
   updateTransientLayer(obs);
-  const Replan replan = map_changed ? Replan::Required : needsReplan(obs, robot, goal);
+  // The nearest path point found by needsReplan() holds for prepareContext() unless the path changes.
+  std::size_t robot_index = kUnknownIndex;
+  const Replan replan = map_changed ? Replan::Required : needsReplan(obs, robot, goal, &robot_index);
   if (replan != Replan::No) {
     costmap_.clearMarkingWindow();
     updateTransientLayer(obs);
@@ -137,10 +140,11 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
       for (std::size_t k = 0; k < path_.size(); ++k) path_costs_[k] = costmap_.costAt(path_[k]);
       path_goal_ = goal;
       last_replanned_ = true;
+      robot_index = kUnknownIndex;
     }
     path_utime_ = obs.utime;
   }
-  prepareContext(obs);
+  prepareContext(obs, robot_index);
   for (auto& critic : critics_) critic->prepare(ctx_);
 
   const VelocityWindow window = VelocityWindow::fromObservation(obs);
@@ -195,12 +199,14 @@ void DwbPlanner::markPeople(const robot_observation_t& obs) {
   }
 }
 
-DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal) const {
+DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal,
+                                           std::size_t* robot_index) const {
   const double since_last_plan = static_cast<double>(obs.utime - path_utime_) * 1e-6;
   if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0) return Replan::Required;  // a new goal (or the clock went back)
   if (path_.empty()) return since_last_plan >= kFailedPlanRetryPeriod ? Replan::Required : Replan::No;
   double off_path;
   const std::size_t i = path_.nearest(robot, 0, path_.size(), &off_path);
+  *robot_index = i;
   if (off_path > kMaxPathDeviation || pathBlocked(obs, i)) return Replan::Required;
   if (params_.replan_cost_rise > 0 && path_costs_.size() == path_.size()) {
     // Near the robot (where the costmap is marked every cycle), the path has become costlier than
@@ -229,7 +235,7 @@ bool DwbPlanner::pathBlocked(const robot_observation_t& obs, std::size_t from) c
   return false;
 }
 
-void DwbPlanner::prepareContext(const robot_observation_t& obs) {
+void DwbPlanner::prepareContext(const robot_observation_t& obs, std::size_t robot_index) {
   ctx_.obs = &obs;
   ctx_.robot = Vec2(obs.x, obs.y);
   ctx_.robot_yaw = obs.yaw;
@@ -240,7 +246,7 @@ void DwbPlanner::prepareContext(const robot_observation_t& obs) {
   ctx_.path = &path_;
   const double max_speed = maxSpeed(obs);
   if (!path_.empty()) {
-    ctx_.robot_path_index = path_.nearest(ctx_.robot, 0, path_.size());
+    ctx_.robot_path_index = robot_index != kUnknownIndex ? robot_index : path_.nearest(ctx_.robot, 0, path_.size());
     const double reach = params_.sim_time * max_speed + params_.forward_point_distance + kPathWindowMargin;
     ctx_.path_begin = ctx_.robot_path_index;
     ctx_.path_end = path_.indexAhead(ctx_.robot_path_index, reach) + 1;

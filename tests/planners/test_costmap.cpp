@@ -238,3 +238,38 @@ TEST(Costmap, MarkingWindowLimitsTheMarksButKeepsTheInflationReachingIn) {
   windowed.clearTransient();
   EXPECT_TRUE(windowed.transientEmpty());
 }
+
+// The marking loops visit per row only the cells that can lie within reach of the capsule: many
+// capsules of every direction (and none: circles), off the grid and over its edges, must still give
+// every cell costFromDistance() of its exact distance, as in MarkedCostsFollowTheDistanceOfEveryCell.
+TEST(Costmap, MarkingEveryDirectionAndPlaceGivesEveryCellItsExactCost) {
+  Costmap map = wallMap();
+  int differing = 0, marked = 0;
+  for (int k = 0; k < 48; ++k) {
+    // A deterministic spread of places (some near the grid's edges), directions and lengths.
+    const double angle = 0.7 * k, length = (k % 4) * 0.61;
+    const Vec2 from(-2.3 + 0.173 * k, -2.2 + 0.0931 * k);
+    const Vec2 to = from + length * Vec2(std::cos(angle), std::sin(angle));
+    const double radius = 0.25 + 0.05 * (k % 5);
+    for (const bool walking : {false, true}) {
+      map.clearTransient();
+      if (walking) map.markWalkingCircle(from, to, radius);
+      else map.markCapsule(from, to, radius);
+      for (int cy = 0; cy < map.height(); ++cy)
+        for (int cx = 0; cx < map.width(); ++cx) {
+          const Vec2 c = map.cellCenter(cx, cy);
+          std::uint8_t expected = map.costFromDistance(std::max(0.0, segmentDistance(c, from, to) - radius));
+          if (walking)  // the circle at `from`, and the capsule capped below inscribed
+            expected = std::max(map.costFromDistance(std::max(0.0, (c - from).norm() - radius)),
+                                std::min(expected, Costmap::kMaxInflated));
+          if (map.transientCost(cx, cy) != expected && differing < 5)
+            ADD_FAILURE() << "capsule " << k << (walking ? " (walking)" : "") << ", cell " << cx << " " << cy << ": cost "
+                          << int(map.transientCost(cx, cy)) << ", expected " << int(expected);
+          differing += map.transientCost(cx, cy) != expected;
+          marked += expected != Costmap::kFree;
+        }
+    }
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(marked, 48 * 1000);
+}

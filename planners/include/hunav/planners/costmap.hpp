@@ -57,8 +57,19 @@ class Costmap {
 
   bool inBounds(int cx, int cy) const { return cx >= 0 && cy >= 0 && cx < width_ && cy < height_; }
   int index(int cx, int cy) const { return cy * width_ + cx; }
-  // Cell containing p; false (and clamped indices) when p is outside the grid.
-  bool worldToCell(const Vec2& p, int& cx, int& cy) const;
+  // Cell containing p; false (and clamped indices) when p is outside the grid (inline: the scan
+  // marking calls it per beam).
+  bool worldToCell(const Vec2& p, int& cx, int& cy) const {
+    const double fx = std::floor((p.x() - origin_.x()) * inv_resolution_);
+    const double fy = std::floor((p.y() - origin_.y()) * inv_resolution_);
+    // Clamp in double first: a far-away (or huge) coordinate must not overflow the int conversion.
+    cx = static_cast<int>(std::clamp(fx, -1.0, static_cast<double>(width_)));
+    cy = static_cast<int>(std::clamp(fy, -1.0, static_cast<double>(height_)));
+    const bool inside = inBounds(cx, cy);
+    cx = std::clamp(cx, 0, width_ - 1);
+    cy = std::clamp(cy, 0, height_ - 1);
+    return inside;
+  }
   Vec2 cellCenter(int cx, int cy) const;
 
   std::uint8_t cost(int index) const {
@@ -141,6 +152,45 @@ class Costmap {
   }
   // The table for `radius`, built on first use (people share a few radii; rebuilt with the inflation).
   const SquaredDistanceCosts& squaredDistanceCosts(double radius);
+  // What the marking loops read and write, in locals: they store into the transient layer (bytes,
+  // which may alias anything), after which the compiler would reload every vector's pointer.
+  class MarkingLoop {
+   public:
+    // For the columns [x0, x1], relative to `a` (columnX).
+    MarkingLoop(Costmap& map, const SquaredDistanceCosts& table, const Vec2& a, int x0, int x1);
+    // squaredDistanceCost(table, x).
+    std::uint8_t cost(double x) const {
+      if (bins_per_x_ == 0.0) return map_.squaredDistanceCost(table_, x);
+      const auto bin = static_cast<std::size_t>(x * bins_per_x_);
+      return x < boundary_[bin] ? before_[bin] : after_[bin];
+    }
+    // The x of the centres of column cx minus a.x().
+    double columnX(int cx) const { return column_x_[cx - x0_]; }
+    // raiseTransientIndex(i, cost).
+    void raise(int i, std::uint8_t cost) const {
+      std::uint8_t& cell = transient_[i];
+      if (cost <= cell) return;
+      if (cell == kFree) map_.touched_.push_back(i);
+      cell = cost;
+    }
+    const double reach2;
+
+   private:
+    Costmap& map_;
+    const SquaredDistanceCosts& table_;
+    const double bins_per_x_;
+    const double* boundary_;
+    const std::uint8_t* before_;
+    const std::uint8_t* after_;
+    std::uint8_t* transient_;
+    const double* column_x_;
+    const int x0_;
+  };
+  // The cells [cx0, cx1] of [x0, x1] in the row whose centres lie py above a.y() that may be within
+  // sqrt(reach2) of the segment from a to a + ab (a superset of those the marking loops keep);
+  // false when there are none.
+  bool capsuleRowSpan(double py, const Vec2& a, const Vec2& ab, double reach2, int x0, int x1, int& cx0,
+                      int& cx1) const;
   void buildStaticLayer();
   void raiseTransientIndex(int i, std::uint8_t cost) {
     std::uint8_t& cell = transient_[static_cast<std::size_t>(i)];
@@ -159,9 +209,13 @@ class Costmap {
   int width_ = 0;
   int height_ = 0;
   std::vector<float> static_distance_;
+  // staticDistance() <= resolution, a bit per cell: markScan's test per hit, from a table small
+  // enough to stay in the cache.
+  std::vector<bool> near_static_;
   std::vector<std::uint8_t> static_;
   std::vector<std::uint8_t> transient_;
   std::vector<int> touched_;         // transient cells to clear
+  std::vector<double> column_x_;     // MarkingLoop's column centres
   int win_x0_ = 0, win_y0_ = 0, win_x1_ = -1, win_y1_ = -1;  // marking window, inclusive cell box
   std::vector<SquaredDistanceCosts> distance_costs_;  // a few radii, most recent last
   std::vector<std::uint8_t> decay_;  // cost beyond the robot radius, sampled every decay_step_

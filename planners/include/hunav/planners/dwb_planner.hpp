@@ -138,11 +138,14 @@ class DwbPlanner : public Planner {
   // Required: a new goal, no path yet (retried after a failed search), the path blocked or the
   // robot off it. Periodic: replan_period has passed.
   enum class Replan { No, Periodic, Required };
-  Replan needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal) const;
+  // *robot_index: the path point nearest to the robot, when it was computed (SIZE_MAX: not).
+  Replan needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal,
+                     std::size_t* robot_index) const;
   // Whether a point of the path from `from` on is lethal: in the costmap, or within contact of a
   // detected person.
   bool pathBlocked(const robot_observation_t& obs, std::size_t from) const;
-  void prepareContext(const robot_observation_t& obs);
+  // robot_index: the path point nearest to the robot when known (SIZE_MAX: computed here).
+  void prepareContext(const robot_observation_t& obs, std::size_t robot_index);
   double headingErrorToPath() const;
   // Best sample of the window, or false when none is admissible.
   bool sampleBest(const VelocityWindow& window, double& v, double& w);
