@@ -3,6 +3,7 @@
 #include "hunav/config_error.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
+#include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/transport.hpp"
 
@@ -126,6 +127,7 @@ int main(int argc, char** argv) {
   std::string format = "csv";
   bool no_live = false;
   double sample_rate = 0.0;
+  std::string scenario_file;
 
   app.add_option("--out", out_dir,
                  "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
@@ -155,11 +157,17 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"csv", "hunav_txt"}))
       ->capture_default_str();
   app.add_flag("--no-live-metrics", no_live, "live: do not publish LIVE_METRICS (1 Hz of simulation time)");
-  app.add_option("--sample-rate", sample_rate,
+  auto* rate_opt = app.add_option("--sample-rate", sample_rate,
                  "record and evaluate one sample per 1/HZ s of simulation time (the first world state at or after "
                  "each step of a grid from the first sample; docs/metrics.md); 0 = every world state or row")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
+  app.add_option("--scenario", scenario_file,
+                 "live: the scenario of the run; its evaluation.sample_rate (scenarios/README.md) is the sample rate "
+                 "unless --sample-rate is given")
+      ->check(CLI::ExistingFile)
+      ->excludes(states_opt)
+      ->excludes(log_opt);
 
   try {
     app.parse(argc, argv);
@@ -168,6 +176,14 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : hunav::kExitBadInput;
   }
 
+  if (!scenario_file.empty() && rate_opt->count() == 0) {
+    try {
+      sample_rate = hunav::loadScenario(scenario_file).evaluation_sample_rate;
+    } catch (const hunav::ConfigError& e) {
+      std::cerr << e.what() << "\n";
+      return hunav::kExitBadInput;
+    }
+  }
   try {
     hunav::evaluator::SampleRate{sample_rate};
   } catch (const std::invalid_argument& e) {

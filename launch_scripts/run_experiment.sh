@@ -41,6 +41,8 @@ Options:
                           world paced by the wall clock)
   --out DIR               output folder; default: results/<scenario>_<planner>_<seed> in the repository
   --duration SECONDS      simulated time limit; default: the scenario's time_limit
+  --sample-rate HZ        evaluate and record states.csv at most HZ samples per second of simulation
+                          time, 0 = every tick; default: the scenario's evaluation.sample_rate
   --record                also record the LCM traffic into DIR/run.lcmlog
   --shared-bus URL        lockstep/realtime only: use this LCM URL on the host's network instead of a
                           private network namespace (needs a multicast route, see below)
@@ -91,6 +93,7 @@ seed=""
 mode=inprocess
 out=""
 duration=""
+sample_rate=""
 record=0
 shared_bus=""
 profile=""
@@ -109,7 +112,7 @@ while [ "$#" -gt 0 ]; do
     --record)
       [ "$inline" -eq 0 ] || usage_error "--record takes no value"
       record=1 ;;
-    --scenario | --planner | --seed | --mode | --out | --duration | --shared-bus | --profile | \
+    --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
       --experiment-tag | --timeout)
       if [ "$inline" -eq 0 ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
@@ -125,6 +128,7 @@ while [ "$#" -gt 0 ]; do
         --mode) mode=$value ;;
         --out) out=$value ;;
         --duration) duration=$value ;;
+        --sample-rate) sample_rate=$value ;;
         --shared-bus) shared_bus=$value ;;
         --profile) profile=$value ;;
         --experiment-tag) tag=$value ;;
@@ -141,6 +145,7 @@ case "$planner" in dwb | scl | sfw | none) ;; *) usage_error "--planner must be 
 case "$mode" in inprocess | lockstep | realtime) ;; *) usage_error "--mode must be inprocess, lockstep or realtime (got '$mode')" ;; esac
 if [ -n "$seed" ] && ! [[ $seed =~ ^[0-9]+$ ]]; then usage_error "--seed must be an integer >= 0 (got '$seed')"; fi
 if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
+if [ -n "$sample_rate" ] && ! is_number "$sample_rate"; then usage_error "--sample-rate must be a number of Hz >= 0 (got '$sample_rate')"; fi
 if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
 case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
 case "$tag" in *[,\"$'\n'$'\r']*) usage_error "--experiment-tag must not contain commas, quotes or line breaks" ;; esac
@@ -439,6 +444,7 @@ duration_args=()
 eval_args=()
 [ -z "$profile" ] || eval_args+=(--profile "$profile")
 [ -z "$tag" ] || eval_args+=(--experiment-tag "$tag")
+[ -z "$sample_rate" ] || eval_args+=(--sample-rate "$sample_rate")
 
 log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
 log "results will be written to $out_dir"
@@ -497,7 +503,7 @@ else
     wait_ready recorder || exit_failed recorder
   fi
   start evaluator "$log_dir/evaluator.log" "$bin_dir/hunav_evaluator" --out "$out_dir" --episodes 1 \
-    --lcm-url "$eval_url" "${eval_args[@]}"
+    --lcm-url "$eval_url" --scenario "$scenario" "${eval_args[@]}"
   wait_ready evaluator || exit_failed evaluator
   # The manager runs until stopped: without --episodes it listens to STEP_REQUEST alone (on its own
   # port), not to the world states of the URL's port that it would otherwise hear every tick.

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   hunav::runner::RunOptions options;
   long long seed = -1;
   double duration = 0.0;
+  double sample_rate = -1.0;  // < 0: the scenario's evaluation.sample_rate
   bool quiet = false;
   app.add_option("--scenario", scenario_file, "scenario YAML file")->required();
   app.add_option(
@@ -29,6 +30,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "override the scenario's seed")->check(CLI::NonNegativeNumber);
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
       ->check(CLI::PositiveNumber);
+  app.add_option("--sample-rate", sample_rate,
+                 "evaluate and record states.csv at most HZ samples per second of simulation time, 0 = every "
+                 "tick (default: the scenario's evaluation.sample_rate)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--out", options.out_dir, "output folder (default results/<scenario>_<planner>_<seed>)");
   app.add_option("--record", options.record_file, "also write every message to this LCM log file");
   app.add_option("--profile", options.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
@@ -40,7 +45,8 @@ int main(int argc, char** argv) {
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   return hunav::cli::run("hunav_run", [&] {
-    const hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
+    hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
+    if (sample_rate >= 0.0) scenario.evaluation_sample_rate = sample_rate;
     if (options.planner != "none" && !hunav::planners::hasPlanner(options.planner)) {
       std::cerr << "hunav_run: unknown planner '" << options.planner << "'\n";
       return hunav::kExitBadInput;

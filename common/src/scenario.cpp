@@ -401,6 +401,14 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
   s.seed = static_cast<std::uint64_t>(seed_override >= 0 ? seed_override : seed);
   s.obstacle_radius = yr.get<double>(root, "obstacle_radius", "", s.obstacle_radius);
   if (s.obstacle_radius <= 0.0) yr.fail(root["obstacle_radius"], "obstacle_radius", "must be > 0");
+  if (const YAML::Node evaluation = yr.child(root, "evaluation", "", false)) {
+    s.evaluation_sample_rate = yr.get<double>(evaluation, "sample_rate", "evaluation", 0.0);
+    // The evaluator's own bounds (sample_rate.hpp), checked here so that a bad value stops the run
+    // before anything starts.
+    const double r = s.evaluation_sample_rate;
+    if (r != 0.0 && !(r >= 1e-6 && r <= 1e6))
+      yr.fail(evaluation["sample_rate"], "evaluation.sample_rate", "must be 0 (every tick) or between 1e-6 and 1e6 Hz");
+  }
 
   if (const YAML::Node map = yr.child(root, "map", "", false)) readMap(yr, map, s);
   readRobot(yr, yr.child(root, "robot", "", true), s.robot);

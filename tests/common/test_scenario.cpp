@@ -85,6 +85,22 @@ TEST(Scenario, MalformedFilesNameFileLineAndKey) {
   expectError("bad_dt.yaml", "dt: 0\nrobot:\n  start: {x: 0, y: 0}\n", 1, "dt");
 }
 
+// evaluation.sample_rate: the evaluator's recording rate for the scenario (0 = every tick when absent).
+TEST(Scenario, EvaluationSampleRate) {
+  EXPECT_EQ(loadScenario(writeFile("rate_absent.yaml", kMinimal)).evaluation_sample_rate, 0.0);
+  const std::string with_rate = std::string(kMinimal) + "evaluation:\n  sample_rate: 10\n";
+  EXPECT_EQ(loadScenario(writeFile("rate_10.yaml", with_rate)).evaluation_sample_rate, 10.0);
+  // kMinimal has 9 lines: `evaluation:` is line 10, its sample_rate line 11.
+  expectError("rate_negative.yaml", std::string(kMinimal) + "evaluation:\n  sample_rate: -1\n", 11,
+              "evaluation.sample_rate");
+  expectError("rate_word.yaml", std::string(kMinimal) + "evaluation:\n  sample_rate: often\n", 11,
+              "evaluation.sample_rate");
+  expectError("rate_scalar.yaml", std::string(kMinimal) + "evaluation: 10\n", 10, "evaluation");
+  // The crowds record at 10 Hz (scenarios/README.md says why); the small scenarios every tick.
+  EXPECT_EQ(loadScenario(source("scenarios/crowd_1000.yaml")).evaluation_sample_rate, 10.0);
+  EXPECT_EQ(loadScenario(source("scenarios/passing.yaml")).evaluation_sample_rate, 0.0);
+}
+
 TEST(Scenario, AgentErrorsNameTheAgentKey) {
   const std::string people = std::string(kMinimal) + R"(people:
   hunav_loader:

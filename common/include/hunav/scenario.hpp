@@ -93,6 +93,9 @@ struct Scenario {
   double time_limit = 60.0;    // s of simulation time
   std::uint64_t seed = 1;
   double obstacle_radius = 3.0;  // m, static shapes closer than this feed an agent's obstacle force
+  // evaluation.sample_rate: Hz of simulation time at which the evaluator records states.csv and
+  // evaluates the metrics (its --sample-rate); 0 = every world state. A `--sample-rate` flag overrides it.
+  double evaluation_sample_rate = 0.0;
   std::vector<Shape> shapes;   // static geometry (map_server maps become rectangles here)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
