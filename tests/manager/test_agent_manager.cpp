@@ -48,6 +48,14 @@ agent_state_t robotAt(double x, double y) {
   return r;
 }
 
+// Step `seq` of one person at the origin walking to (3, 0), the robot at (-5, 0).
+step_request_t onePersonWalkingToX3(int64_t seq) {
+  agent_state_t a = person(1, 0, 0);
+  a.goals = {point2d_t{3, 0}};
+  a.num_goals = 1;
+  return request({a}, robotAt(-5, 0), seq);
+}
+
 }  // namespace
 
 TEST(AgentManager, RegularTreatsTheRobotAsAPersonImpassiveAsAnObstacle) {
@@ -118,10 +126,7 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   std::vector<step_reply_t> replies;
   bus.subscribe<step_reply_t>(channels::kStepReply, [&](const step_reply_t& r) { replies.push_back(r); });
 
-  agent_state_t a = person(1, 0, 0);
-  a.goals = {point2d_t{3, 0}};
-  a.num_goals = 1;
-  step_request_t req = request({a}, robotAt(-5, 0), 7);
+  step_request_t req = onePersonWalkingToX3(7);
   bus.publish(channels::kStepRequest, req);
   bus.handleAvailable();
   ASSERT_EQ(replies.size(), 1u);
@@ -158,10 +163,7 @@ TEST(ManagerNode, InProcessHandsItsReplyOverAndStillAnswersAResendOfALostOne) {
   ManagerNode node(bus);
   std::vector<step_reply_t> replies;
   bus.subscribe<step_reply_t>(channels::kStepReply, [&](const step_reply_t& r) { replies.push_back(r); });
-  agent_state_t a = person(1, 0, 0);
-  a.goals = {point2d_t{3, 0}};
-  a.num_goals = 1;
-  step_request_t req = request({a}, robotAt(-5, 0), 7);
+  step_request_t req = onePersonWalkingToX3(7);
   bus.publish(channels::kStepRequest, req);
   bus.handleAvailable();
   ASSERT_EQ(replies.size(), 1u);
