@@ -77,7 +77,8 @@ void Costmap::buildStaticLayer() {
   near_static_.resize(cells);
   for (std::size_t i = 0; i < cells; ++i) near_static_[i] = static_cast<double>(static_distance_[i]) <= res;
   transient_.assign(cells, kFree);
-  touched_.clear();
+  touched_.assign(cells + 1, 0);
+  touched_count_ = 0;
 }
 
 const Costmap::SquaredDistanceCosts& Costmap::squaredDistanceCosts(double radius) {
@@ -113,17 +114,18 @@ const Costmap::SquaredDistanceCosts& Costmap::squaredDistanceCosts(double radius
   const auto bins = static_cast<std::size_t>(std::ceil(table.reach2 / width)) + 1;
   table.bins_per_x = 1.0 / width;
   table.boundary.assign(bins, std::numeric_limits<double>::infinity());
-  table.before.resize(bins);
-  table.after.resize(bins);
+  table.costs.resize(2 * bins);
   std::size_t next = 0;  // the first step beyond the bin's start
   for (std::size_t i = 0; i < bins; ++i) {
     const double start = static_cast<double>(i) * width, end = start + width;
     while (next < steps.size() && steps[next] <= start) ++next;
-    table.before[i] = table.after[i] = cost(start);
+    std::uint8_t& before = table.costs[2 * i];
+    std::uint8_t& after = table.costs[2 * i + 1];
+    before = after = cost(start);
     if (next < steps.size() && steps[next] < end) {
       const double after_step = next + 1 < steps.size() ? std::min(steps[next + 1], end) : end;
       table.boundary[i] = steps[next];
-      table.after[i] = cost(0.5 * (steps[next] + after_step));
+      after = cost(0.5 * (steps[next] + after_step));
     }
   }
   distance_costs_.push_back(std::move(table));
@@ -131,8 +133,8 @@ const Costmap::SquaredDistanceCosts& Costmap::squaredDistanceCosts(double radius
 }
 
 void Costmap::clearTransient() {
-  for (int i : touched_) transient_[static_cast<std::size_t>(i)] = kFree;
-  touched_.clear();
+  for (std::size_t k = 0; k < touched_count_; ++k) transient_[static_cast<std::size_t>(touched_[k])] = kFree;
+  touched_count_ = 0;
 }
 
 void Costmap::setMarkingWindow(const Vec2& lo, const Vec2& hi) {
@@ -160,9 +162,10 @@ Costmap::MarkingLoop::MarkingLoop(Costmap& map, const SquaredDistanceCosts& tabl
       table_(table),
       bins_per_x_(table.bins_per_x),
       boundary_(table.boundary.data()),
-      before_(table.before.data()),
-      after_(table.after.data()),
+      costs_(table.costs.data()),
       transient_(map.transient_.data()),
+      touched_(map.touched_.data()),
+      touched_count_(map.touched_count_),
       x0_(x0) {
   // The cell centres' x relative to a, computed as the loops did per cell (the same doubles).
   const double res = map.params_.resolution;
@@ -218,7 +221,7 @@ void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint
       const double d2 = qx * qx + qy * qy;
       if (d2 >= loop.reach2) continue;  // beyond the inflation: free
       const std::uint8_t cost = std::min(loop.cost(d2), max_cost);
-      if (cost != kFree) loop.raise(row + cx, cost);
+      loop.raise(row + cx, cost);
     }
   }
 }
@@ -251,7 +254,7 @@ void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius)
       // The capsule's cost never exceeds the circle's (its distance is never larger), so only the
       // circle's lethal and inscribed cells differ from the capped capsule.
       const std::uint8_t cost = from2 <= blocking2 ? loop.cost(from2) : std::min(loop.cost(d2), kMaxInflated);
-      if (cost != kFree) loop.raise(row + cx, cost);
+      loop.raise(row + cx, cost);
     }
   }
 }

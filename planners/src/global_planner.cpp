@@ -79,7 +79,9 @@ void AStarPlanner::siftDown(std::size_t i, std::uint64_t key) {
 void AStarPlanner::reserve(std::size_t cells) {
   if (nodes_.size() == cells) return;
   nodes_.assign(cells, Node());
-  stamp_ = 0;
+  parent_step_.assign(cells, kNoParent);
+  reached_.clear();
+  reached_.reserve(4096);
   open_.reserve(1024);
 }
 
@@ -95,10 +97,8 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
   const int height = costmap.height();
   const auto cells = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   reserve(cells);
-  if (++stamp_ == 0) {  // the counter wrapped: forget every old stamp
-    for (Node& n : nodes_) n.seen = 0;
-    stamp_ = 1;
-  }
+  for (const int cell : reached_) nodes_[static_cast<std::size_t>(cell)] = Node();  // the last search's
+  reached_.clear();
 
   const double res = costmap.resolution();
   const bool goal_cell_free = !Costmap::isLethal(costmap.cost(gx, gy));
@@ -153,11 +153,9 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
   };
 
   const int start_cell = costmap.index(sx, sy);
-  Node& start_node = nodes_[static_cast<std::size_t>(start_cell)];
-  start_node.g = 0.0f;
-  start_node.parent = -1;
-  start_node.seen = stamp_;
-  start_node.heap_pos = kNotOpen;
+  nodes_[static_cast<std::size_t>(start_cell)].g = 0.0f;
+  parent_step_[static_cast<std::size_t>(start_cell)] = kNoParent;
+  reached_.push_back(start_cell);
   push(heuristic(sx, sy), start_cell);
 
   static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
@@ -168,6 +166,10 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
     step_length[k] = k < 4 ? res : res * kSqrt2;
     offset[k] = kDy[k] * width + kDx[k];
   }
+  // The layers' cells in locals: the stores into nodes_ cannot then force their reload.
+  const std::uint8_t* static_cells = costmap.staticCells();
+  const std::uint8_t* transient_cells = costmap.transientCells();
+  const double inv_width = 1.0 / width;
   int reached = -1;
   for (;;) {
     const int top_cell = pop();
@@ -175,7 +177,16 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
     Node& top = nodes_[static_cast<std::size_t>(top_cell)];
     top.heap_pos = kClosed;
     ++expansions_;
-    const int cx = top_cell % width, cy = top_cell / width;
+    // top_cell / width and % width without a division (the product is off by one at most).
+    int cy = static_cast<int>(static_cast<double>(top_cell) * inv_width);
+    int cx = top_cell - cy * width;
+    if (cx < 0) {
+      --cy;
+      cx += width;
+    } else if (cx >= width) {
+      ++cy;
+      cx -= width;
+    }
     if (isGoal(cx, cy)) {
       reached = top_cell;
       break;
@@ -188,9 +199,9 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
       if (!interior && !costmap.inBounds(nx, ny)) continue;
       const int next = top_cell + offset[k];
       Node& node = nodes_[static_cast<std::size_t>(next)];
-      const bool seen = node.seen == stamp_;
-      if (seen && node.heap_pos == kClosed) continue;
-      const std::uint8_t c = costmap.cost(next);
+      if (node.heap_pos == kClosed) continue;
+      const std::uint8_t s = static_cells[next], t = transient_cells[next];
+      const std::uint8_t c = s > t ? s : t;  // costmap.cost(next)
       double factor;
       if (!Costmap::isLethal(c)) {
         factor = step_factor[c];
@@ -202,19 +213,22 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
         continue;
       }
       const auto g_next = static_cast<float>(g_here + step_length[k] * factor);
-      if (seen && node.g <= g_next) continue;
-      if (!seen) node.heap_pos = kNotOpen;  // left over from an earlier search
-      node.seen = stamp_;
+      if (node.g <= g_next) continue;  // never true for an unreached cell (g infinite)
+      if (node.g == std::numeric_limits<float>::infinity()) reached_.push_back(next);
       node.g = g_next;
-      node.parent = top_cell;
+      parent_step_[static_cast<std::size_t>(next)] = static_cast<std::uint8_t>(k);
       push(g_next + heuristic(nx, ny), next);
     }
   }
   if (reached < 0) return false;
 
   std::vector<Vec2> points;
-  for (int cell = reached; cell >= 0; cell = nodes_[static_cast<std::size_t>(cell)].parent)
+  for (int cell = reached;;) {
     points.push_back(costmap.cellCenter(cell % width, cell / width));
+    const std::uint8_t step = parent_step_[static_cast<std::size_t>(cell)];
+    if (step == kNoParent) break;
+    cell -= offset[step];
+  }
   std::reverse(points.begin(), points.end());
   points.front() = start;
   if (points.size() == 1) points.push_back(goal_cell_free ? goal : points.front());

@@ -273,3 +273,26 @@ TEST(Costmap, MarkingEveryDirectionAndPlaceGivesEveryCellItsExactCost) {
   EXPECT_EQ(differing, 0);
   EXPECT_GT(marked, 48 * 1000);
 }
+
+// clearTransient() frees exactly the cells marked since the last clear (the marking loops record
+// each newly marked cell once, without branches): overlapping marks, single raised cells and marks
+// that raise nothing, cleared and marked again, must leave no cell behind.
+TEST(Costmap, ClearingFreesEveryMarkedCellAfterOverlappingMarks) {
+  Costmap map = wallMap();
+  for (int round = 0; round < 3; ++round) {
+    map.markCircle(Vec2(1.0, 1.0), 0.3);
+    map.markCircle(Vec2(1.2, 1.1), 0.3);  // overlaps the first
+    map.markWalkingCircle(Vec2(-1.0, -1.0), Vec2(0.5 + round, -0.5), 0.25);
+    map.markCapsule(Vec2(3.0, -1.5), Vec2(5.5, 1.5), 0.0, Costmap::kMaxInflated);
+    map.raiseTransient(10, 10, 7);
+    map.raiseTransient(10, 10, 9);  // the same cell again
+    EXPECT_FALSE(map.transientEmpty());
+    map.clearTransient();
+    EXPECT_TRUE(map.transientEmpty());
+    for (int cy = 0; cy < map.height(); ++cy)
+      for (int cx = 0; cx < map.width(); ++cx) ASSERT_EQ(map.transientCost(cx, cy), Costmap::kFree) << cx << " " << cy;
+  }
+  // A circle entirely off the grid marks nothing: the layer stays empty.
+  map.markCircle(Vec2(40.0, 40.0), 0.3);
+  EXPECT_TRUE(map.transientEmpty());
+}

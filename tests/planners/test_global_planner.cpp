@@ -211,3 +211,34 @@ TEST(AStar, FindsTheCheapestPathAndReusesItsBuffersCleanly) {
   EXPECT_EQ(again.points(), path.points());
   EXPECT_EQ(fresh.lastExpansions(), reused.lastExpansions());
 }
+
+// The search state is reset per search for the cells the previous one reached only: a planner
+// reused over searches on several maps (one finding no path, so reaching every cell it can, and a
+// grid of another size) must find what a fresh planner finds, expanding as many cells.
+TEST(AStar, AReusedPlannerMatchesAFreshOneAfterAnySearch) {
+  Costmap open_room = splitRoom(1.6);
+  open_room.markCircle(Vec2(3.0, 2.0), 0.4);
+  const Costmap closed_room = splitRoom(0.0);
+  const Costmap small_room({wall(Vec2(0, 0), Vec2(4, 0)), wall(Vec2(2, 1), Vec2(2, 3))}, Vec2(-1, -1), Vec2(5, 4), 0.3);
+  struct Search {
+    const Costmap* map;
+    Vec2 start, goal;
+  };
+  const std::vector<Search> searches = {
+      {&open_room, Vec2(1.5, 1.5), Vec2(8.5, 1.5)}, {&closed_room, Vec2(1.5, 1.5), Vec2(8.5, 1.5)},
+      {&open_room, Vec2(8.5, 5.0), Vec2(1.0, 0.8)}, {&small_room, Vec2(0.5, 2.0), Vec2(3.5, 2.0)},
+      {&open_room, Vec2(1.5, 1.5), Vec2(8.5, 1.5)}, {&closed_room, Vec2(1.5, 3.0), Vec2(4.0, 5.0)}};
+  AStarPlanner reused;
+  for (std::size_t k = 0; k < searches.size(); ++k) {
+    const Search& s = searches[k];
+    AStarPlanner fresh;
+    GlobalPath expected, found;
+    const bool fresh_found = fresh.plan(*s.map, s.start, s.goal, 0.3, expected);
+    EXPECT_EQ(reused.plan(*s.map, s.start, s.goal, 0.3, found), fresh_found) << "search " << k;
+    EXPECT_EQ(found.points(), expected.points()) << "search " << k;
+    EXPECT_EQ(reused.lastExpansions(), fresh.lastExpansions()) << "search " << k;
+  }
+  GlobalPath none;
+  EXPECT_FALSE(reused.plan(closed_room, Vec2(1.5, 1.5), Vec2(8.5, 1.5), 0.3, none));  // search 2's case
+  EXPECT_TRUE(none.empty());
+}

@@ -86,6 +86,9 @@ class Costmap {
     if (!(fx >= 0.0 && fy >= 0.0 && fx < width_ && fy < height_)) return kLethal;
     return cost(index(static_cast<int>(fx), static_cast<int>(fy)));
   }
+  // The layers' cells, index() order (cost(i) is the larger of the two).
+  const std::uint8_t* staticCells() const { return static_.data(); }
+  const std::uint8_t* transientCells() const { return transient_.data(); }
   std::uint8_t staticCost(int cx, int cy) const { return static_[static_cast<std::size_t>(index(cx, cy))]; }
   std::uint8_t transientCost(int cx, int cy) const { return transient_[static_cast<std::size_t>(index(cx, cy))]; }
   // Distance from the cell centre to the nearest static shape, capped at the inflation radius.
@@ -105,7 +108,7 @@ class Costmap {
 
   // Transient layer: cleared each cycle, then marked.
   void clearTransient();
-  bool transientEmpty() const { return touched_.empty(); }  // nothing marked since the last clear
+  bool transientEmpty() const { return touched_count_ == 0; }  // nothing marked since the last clear
   void markPoint(const Vec2& p);                        // an obstacle point (a laser hit)
   // A round obstacle (a detected person). With max_cost below kInscribed the circle only discourages
   // (a place a person is predicted to be) and never blocks.
@@ -143,12 +146,14 @@ class Costmap {
     double reach2 = 0.0;      // from this x on the cost is kFree
     double bins_per_x = 0.0;  // 0: no table (it would be too large), computed per call
     std::vector<double> boundary;  // where the cost drops within the bin (infinity: it does not)
-    std::vector<std::uint8_t> before, after;
+    // Per bin, the cost before the boundary then the one from it on: costs[2 bin + !(x < boundary)]
+    // picks one without a branch.
+    std::vector<std::uint8_t> costs;
   };
   std::uint8_t squaredDistanceCost(const SquaredDistanceCosts& table, double x) const {
     if (table.bins_per_x == 0.0) return costFromDistance(std::max(0.0, std::sqrt(x) - table.radius));
     const auto bin = static_cast<std::size_t>(x * table.bins_per_x);
-    return x < table.boundary[bin] ? table.before[bin] : table.after[bin];
+    return table.costs[2 * bin + (x < table.boundary[bin] ? 0 : 1)];
   }
   // The table for `radius`, built on first use (people share a few radii; rebuilt with the inflation).
   const SquaredDistanceCosts& squaredDistanceCosts(double radius);
@@ -158,20 +163,26 @@ class Costmap {
    public:
     // For the columns [x0, x1], relative to `a` (columnX).
     MarkingLoop(Costmap& map, const SquaredDistanceCosts& table, const Vec2& a, int x0, int x1);
+    ~MarkingLoop() { map_.touched_count_ = touched_count_; }
+    MarkingLoop(const MarkingLoop&) = delete;
+    MarkingLoop& operator=(const MarkingLoop&) = delete;
     // squaredDistanceCost(table, x).
     std::uint8_t cost(double x) const {
       if (bins_per_x_ == 0.0) return map_.squaredDistanceCost(table_, x);
       const auto bin = static_cast<std::size_t>(x * bins_per_x_);
-      return x < boundary_[bin] ? before_[bin] : after_[bin];
+      return costs_[2 * bin + (x < boundary_[bin] ? 0 : 1)];
     }
     // The x of the centres of column cx minus a.x().
     double columnX(int cx) const { return column_x_[cx - x0_]; }
-    // raiseTransientIndex(i, cost).
+    // raiseTransientIndex(i, cost), without branches (the marks' edges would mispredict them): the
+    // index is always written to the next free slot of touched_ (sized to the grid), and kept when
+    // the cell was free and is raised. A cost of kFree changes nothing.
     void raise(int i, std::uint8_t cost) const {
-      std::uint8_t& cell = transient_[i];
-      if (cost <= cell) return;
-      if (cell == kFree) map_.touched_.push_back(i);
-      cell = cost;
+      const std::uint8_t old = transient_[i];
+      const bool raised = cost > old;
+      transient_[i] = raised ? cost : old;
+      touched_[touched_count_] = i;
+      touched_count_ += (raised && old == kFree) ? 1 : 0;
     }
     const double reach2;
 
@@ -180,9 +191,10 @@ class Costmap {
     const SquaredDistanceCosts& table_;
     const double bins_per_x_;
     const double* boundary_;
-    const std::uint8_t* before_;
-    const std::uint8_t* after_;
+    const std::uint8_t* costs_;
     std::uint8_t* transient_;
+    int* touched_;
+    mutable std::size_t touched_count_;  // written back to the map's when the loop ends
     const double* column_x_;
     const int x0_;
   };
@@ -195,7 +207,7 @@ class Costmap {
   void raiseTransientIndex(int i, std::uint8_t cost) {
     std::uint8_t& cell = transient_[static_cast<std::size_t>(i)];
     if (cost <= cell) return;
-    if (cell == kFree) touched_.push_back(i);
+    if (cell == kFree) touched_[touched_count_++] = i;
     cell = cost;
   }
 
@@ -214,7 +226,10 @@ class Costmap {
   std::vector<bool> near_static_;
   std::vector<std::uint8_t> static_;
   std::vector<std::uint8_t> transient_;
-  std::vector<int> touched_;         // transient cells to clear
+  // Transient cells to clear: the first touched_count_ (each cell at most once, so the grid's size
+  // always suffices; MarkingLoop writes one past the count).
+  std::vector<int> touched_;
+  std::size_t touched_count_ = 0;
   std::vector<double> column_x_;     // MarkingLoop's column centres
   int win_x0_ = 0, win_y0_ = 0, win_x1_ = -1, win_y1_ = -1;  // marking window, inclusive cell box
   std::vector<SquaredDistanceCosts> distance_costs_;  // a few radii, most recent last

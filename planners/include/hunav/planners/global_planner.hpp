@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace hunav::planners {
@@ -66,17 +67,21 @@ class AStarPlanner {
  private:
   GlobalPlannerParams params_;
   // Search state per cell, kept between calls (one array: a cell's fields share a cache line).
-  // g, parent and heap_pos are valid when `seen` is the current stamp. 16 bytes: four per cache line.
+  // 8 bytes, eight per cache line (the search is bound by the memory it touches): an unreached
+  // cell has g = infinity and kNotOpen; the cells a search reaches are listed in reached_ and
+  // reset before the next one.
   struct Node {
-    float g = 0.0f;
-    std::int32_t parent = -1;
-    std::uint32_t seen = 0;
+    float g = std::numeric_limits<float>::infinity();
     std::int32_t heap_pos = kNotOpen;  // where the cell sits in open_, else kNotOpen or kClosed
   };
   static constexpr std::int32_t kNotOpen = -1;
-  static constexpr std::int32_t kClosed = -2;  // expanded (valid when `seen` is the current stamp)
+  static constexpr std::int32_t kClosed = -2;  // expanded
   std::vector<Node> nodes_;
-  std::uint32_t stamp_ = 0;
+  std::vector<int> reached_;
+  // Per cell, the step (an index into the 8 neighbour offsets) from its parent; kNoParent at the
+  // start. Valid for the cells reached by the last search.
+  std::vector<std::uint8_t> parent_step_;
+  static constexpr std::uint8_t kNoParent = 8;
   // Open list: a 4-ary min-heap of (f, cell) packed in one integer (f's float bits in the high half:
   // non-negative floats order like their bit patterns; the cell breaks ties), each open cell once:
   // a cell reached more cheaply has its key lowered in place. The heap stays as small as the search
