@@ -3,8 +3,10 @@
 //   build/bin/bench_episode [--scenario scenarios/passing.yaml] [--planner dwb] [--repeat 5] [--memq]
 //                           [--worker-min-people N]
 // Each figure is the best of --repeat episodes (other processes share the machine: the minimum is the
-// least disturbed). Three views:
+// least disturbed). Four views:
 //   loop:  the episode as the world measures it (wall clock from START to END: ticks and messages);
+//   loop CPU: CPU time of the thread running that loop over the same span (the evaluator's worker
+//          excluded), the per-tick cost least disturbed by other processes;
 //   whole: runInProcess() end to end, wall clock (files and end-of-run metrics included);
 //   CPU:   CPU time of this process over runInProcess() (user + system, all threads), so the
 //          figure least affected by other work on the machine.
@@ -51,7 +53,7 @@ int main(int argc, char** argv) {
             << " people, planner at " << scenario.robot.control_rate << " Hz, bus " << (memq ? "memq://" : "in-process")
             << ", best of " << repeat << "\n";
   for (const std::string& planner : planners) {
-    double best_whole = 1e300, best_loop = 1e300, best_cpu = 1e300;
+    double best_whole = 1e300, best_loop = 1e300, best_loop_cpu = 1e300, best_cpu = 1e300;
     hunav::worldsim::EpisodeResult ep;
     for (int i = 0; i < repeat; ++i) {
       std::filesystem::remove_all(out);
@@ -68,6 +70,7 @@ int main(int argc, char** argv) {
       ep = outcome.episode;
       best_whole = std::min(best_whole, whole);
       best_loop = std::min(best_loop, ep.wall_time);
+      best_loop_cpu = std::min(best_loop_cpu, ep.thread_cpu_time);
       best_cpu = std::min(best_cpu, cpu);
     }
     const double ticks = static_cast<double>(ep.ticks);
@@ -75,6 +78,8 @@ int main(int argc, char** argv) {
                 ep.sim_time, static_cast<long long>(ep.ticks), ep.fingerprint.c_str());
     std::printf("  loop  %8.4f s wall: %7.0fx real time, %6.2f us per tick\n", best_loop, ep.sim_time / best_loop,
                 best_loop / ticks * 1e6);
+    std::printf("  loop CPU %5.4f s     : %7.0fx real time, %6.2f us per tick (the loop's thread)\n", best_loop_cpu,
+                ep.sim_time / best_loop_cpu, best_loop_cpu / ticks * 1e6);
     std::printf("  whole %8.4f s wall: %7.0fx real time, %6.2f us per tick\n", best_whole, ep.sim_time / best_whole,
                 best_whole / ticks * 1e6);
     std::printf("  CPU   %8.4f s     : %7.0fx real time, %6.2f us per tick\n", best_cpu, ep.sim_time / best_cpu,

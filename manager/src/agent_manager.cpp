@@ -351,6 +351,12 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
       mem.tree.tick(ctx);
     }
   };
+  if (!twoThreadsMayPay(count)) {  // a small crowd: one pass, in the same order as the chunks
+    reserveTickScratch();
+    tickRange(0, count);
+    snap.request = nullptr;
+    return;
+  }
   constexpr int kTickChunks = 8;
   const std::size_t chunk_bounds[2] = {count, static_cast<std::size_t>(kTickChunks)};
   // A closure of two references: it fits in std::function's own storage (no allocation).

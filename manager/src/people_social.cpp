@@ -664,6 +664,8 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
   for (std::size_t k = 0; k < count; ++k) snap.people_social[grid.items_[k]] = Vec2(fx[k], fy[k]);
 }
 
+bool twoThreadsMayPay(std::size_t people) { return useHelper(people); }
+
 void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work) {
   reserveTickScratch();  // whichever thread ticks whom, neither allocates once warm
   std::unique_lock<std::mutex> helper_lock;

@@ -202,6 +202,33 @@ TEST(PhysicsWorld, RayFanEqualsSingleRaysBitForBit) {
   }
 }
 
+// The fan keeps its beam directions while the angles repeat (a robot that does not turn): a fan
+// from elsewhere at the same angles, then one at other angles with as many beams, then the first
+// again must each still equal the single rays.
+TEST(PhysicsWorld, RepeatedRayFansEqualSingleRaysBitForBit) {
+  const Scenario s = clutter(7, 25);
+  PhysicsWorld w(s);
+  const double inc = 2 * kPi / 180;
+  struct Fan {
+    Vec2 from;
+    double first;
+  };
+  const Fan fans[] = {{Vec2(0.3, 0.4), -kPi + 0.1}, {Vec2(-1.2, 0.9), -kPi + 0.1}, {Vec2(-1.2, 0.9), -kPi + 0.2},
+                      {Vec2(2.0, -1.0), -kPi + 0.1}};
+  std::vector<double> fan;
+  for (const Fan& f : fans) {
+    w.rayFan(f.from, f.first, inc, 180, 6.0, fan);
+    ASSERT_EQ(fan.size(), 180u);
+    for (int i = 0; i < 180; ++i)
+      ASSERT_EQ(fan[static_cast<std::size_t>(i)], w.rayDistance(f.from, f.first + i * inc, 6.0, true))
+          << "fan from (" << f.from.x() << ", " << f.from.y() << ") at " << f.first << ", beam " << i;
+  }
+  w.rayFan(Vec2(0.3, 0.4), -kPi + 0.1, inc, 7, 6.0, fan);  // fewer beams at the same angles
+  ASSERT_EQ(fan.size(), 7u);
+  for (int i = 0; i < 7; ++i)
+    ASSERT_EQ(fan[static_cast<std::size_t>(i)], w.rayDistance(Vec2(0.3, 0.4), -kPi + 0.1 + i * inc, 6.0, true));
+}
+
 TEST(PhysicsWorld, LinesOfSightToOnePointEqualSingleLinesBitForBit) {
   std::size_t blocked = 0, total = 0;
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {

@@ -443,6 +443,49 @@ TEST(WorldSim, SecondEpisodeOfARunEqualsAFreshEpisodeWithItsSeed) {
   EXPECT_EQ(r2.collisions, rf.collisions);
 }
 
+// On the in-process bus (answers handled before any clock is read), with the robot's fixed fields
+// set once per episode: a second episode whose robot differs (radius, goal) streams the same world
+// states as a fresh world running it.
+TEST(WorldSim, InProcessSecondEpisodeWithAnotherRobotEqualsAFreshEpisode) {
+  Scenario other = seededPassing(6);
+  other.robot.radius = 0.25;
+  other.robot.goal = Vec2(10.0, 0.5);
+  std::vector<std::vector<std::uint8_t>> second, fresh;
+  worldsim::EpisodeResult r2, rf;
+  {
+    Bus bus(Bus::InProcess{});
+    manager::ManagerNode manager(bus);
+    PointAtGoal planner(bus);
+    Collector out(bus);
+    WorldSim world(bus, seededPassing(5), fastOptions("test"));
+    world.runEpisode();
+    r2 = world.runEpisode(other, "");
+    bus.handleAvailable();
+    second = streamOf(bus, out.states, 2);
+    ASSERT_FALSE(out.states.empty());
+    EXPECT_EQ(out.states.back().robot.radius, 0.25);
+    ASSERT_EQ(out.states.back().robot.num_goals, 1);
+    EXPECT_EQ(out.states.back().robot.goals[0].x, 10.0);
+  }
+  {
+    Bus bus(Bus::InProcess{});
+    manager::ManagerNode manager(bus);
+    PointAtGoal planner(bus);
+    Collector out(bus);
+    WorldSim world(bus, other, fastOptions("test"));
+    rf = world.runEpisode();
+    bus.handleAvailable();
+    fresh = streamOf(bus, out.states, 1);
+  }
+  ASSERT_EQ(second.size(), 301u);
+  ASSERT_EQ(second.size(), fresh.size());
+  for (std::size_t i = 0; i < second.size(); ++i) ASSERT_EQ(second[i], fresh[i]) << "tick " << i;
+  EXPECT_EQ(r2.ticks, rf.ticks);  // (fingerprints differ: they hash the episode number too)
+  // One thread ran the loop: its CPU time is positive and at most the wall time it took.
+  EXPECT_GT(rf.thread_cpu_time, 0.0);
+  EXPECT_LE(rf.thread_cpu_time, rf.wall_time + 1e-3);
+}
+
 TEST(WorldSim, PassingRunWithDwbKeepsItsFingerprintUnderOnePercentLoss) {
   auto run = [](double loss) {
     Bus bus(Bus::InProcess{});

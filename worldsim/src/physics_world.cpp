@@ -367,11 +367,19 @@ void PhysicsWorld::rayFan(const Vec2& from, double first_angle, double increment
   // The beams exactly as rayDistance builds them. A beam's fraction is the minimum over the fixtures
   // it hits, which is what Box2D's clipped ray cast returns whatever the order of the reports.
   const b2Vec2 p1 = toB2(from);
+  if (fan_dirs_.size() != n || !(fan_dirs_first_ == first_angle) || !(fan_dirs_increment_ == increment)) {
+    fan_dirs_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double angle = first_angle + static_cast<double>(i) * increment;
+      fan_dirs_[i] = Vec2(std::cos(angle), std::sin(angle));
+    }
+    fan_dirs_first_ = first_angle;
+    fan_dirs_increment_ = increment;
+  }
   auto beamInput = [&](std::size_t i) {
-    const double angle = first_angle + static_cast<double>(i) * increment;
     b2RayCastInput input;
     input.p1 = p1;
-    input.p2 = toB2(from + max_range * Vec2(std::cos(angle), std::sin(angle)));
+    input.p2 = toB2(from + max_range * fan_dirs_[i]);
     input.maxFraction = 1.0f;
     return input;
   };

@@ -9,6 +9,7 @@
 #include <hunav/nav_goal_t.hpp>
 
 #include <cmath>
+#include <ctime>
 #include <thread>
 
 namespace hunav::worldsim {
@@ -16,6 +17,12 @@ namespace hunav::worldsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+double threadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+}
 
 agent_state_t initialAgentState(const AgentConfig& a) {
   agent_state_t s{};
@@ -61,7 +68,8 @@ void seedStream(std::mt19937_64& rng, std::uint64_t seed, std::uint32_t purpose)
 
 }  // namespace
 
-WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options) : bus_(bus), options_(std::move(options)) {
+WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
+    : bus_(bus), options_(std::move(options)), realtime_(options_.mode == "realtime") {
   configure(std::move(scenario), options_.run_id);
   bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
   bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
@@ -80,6 +88,7 @@ void WorldSim::configure(Scenario scenario, std::string run_id) {
 
 void WorldSim::reset() {
   physics_ = std::make_unique<PhysicsWorld>(scenario_);
+  robot_obstacles_.clear();
   agents_.clear();
   for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a));
   robot_v_ = robot_vy_ = robot_w_ = cmd_v_ = cmd_vy_ = cmd_w_ = 0.0;
@@ -92,6 +101,7 @@ void WorldSim::reset() {
   manager_answered_ = planner_answered_ = false;
   collisions_ = 0;
   fingerprint_ = Fingerprint();
+  robot_state_ = robotState();
 }
 
 void WorldSim::sense() {
@@ -118,19 +128,32 @@ void WorldSim::sense() {
     s.robot_in_sight = in_sight_[i] != 0;
   }
   physics_->closestObstaclePoints(robot_pos, scenario_.obstacle_radius, robot_obstacles_);
-  robot_state_ = robotState();
+  setRobotMotion(robot_state_);  // the rest is set once per episode (reset): no allocation per tick
 }
 
 agent_state_t WorldSim::robotState() const {
   const RobotConfig& rc = scenario_.robot;
-  const b2Body& body = physics_->robot();
   agent_state_t r{};
-  r.utime = time_us_;
   r.id = rc.id;
   r.type = agent_state_t::TYPE_ROBOT;
   r.name = "robot";
   r.behavior = agent_state_t::BEH_NONE;
   r.group_id = -1;
+  r.radius = rc.radius;
+  r.desired_speed = rc.limits.max_v;
+  if (rc.has_goal) {
+    r.goals.push_back(point2d_t{rc.goal.x(), rc.goal.y()});
+    r.num_goals = 1;
+    r.goal_radius = rc.goal_radius;
+  }
+  r.robot_in_sight = true;
+  setRobotMotion(r);
+  return r;
+}
+
+void WorldSim::setRobotMotion(agent_state_t& r) const {
+  const b2Body& body = physics_->robot();
+  r.utime = time_us_;
   const Vec2 p = toVec(body.GetPosition());
   const Vec2 v = toVec(body.GetLinearVelocity());
   r.x = p.x();
@@ -141,16 +164,7 @@ agent_state_t WorldSim::robotState() const {
   r.vyaw = body.GetAngularVelocity();
   r.linear_vel = v.norm();
   r.angular_vel = r.vyaw;
-  r.radius = rc.radius;
-  r.desired_speed = rc.limits.max_v;
-  if (rc.has_goal) {
-    r.goals.push_back(point2d_t{rc.goal.x(), rc.goal.y()});
-    r.num_goals = 1;
-    r.goal_radius = rc.goal_radius;
-  }
   setObstacles(r, robot_obstacles_);
-  r.robot_in_sight = true;
-  return r;
 }
 
 void WorldSim::publishWorldState() {
@@ -202,7 +216,7 @@ void WorldSim::onCommand(const robot_command_t& cmd) {
   const bool holonomic = scenario_.robot.drive == RobotDrive::Holonomic;
   if (holonomic) checkFinite(cmd.vy, "vy", "robot command");
   // Lockstep: only the answer to the pending observation. Realtime: the latest command wins.
-  if (options_.mode != "realtime" && (cmd.seq != obs_seq_ || command_arrived_)) return;
+  if (!realtime_ && (cmd.seq != obs_seq_ || command_arrived_)) return;
   cmd_v_ = cmd.v;
   cmd_vy_ = holonomic ? cmd.vy : 0.0;
   cmd_w_ = cmd.w;
@@ -212,6 +226,12 @@ void WorldSim::onCommand(const robot_command_t& cmd) {
 bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
                           std::int64_t seq, std::string& failure) {
   send();
+  // In process the answer is usually queued behind what was sent: handle what waits first, without
+  // reading the clock (several clock reads per exchange otherwise, every tick).
+  if (bus_.inProcess())
+    while (!arrived && bus_.handleFor(std::chrono::milliseconds(0))) {
+    }
+  if (arrived) return true;
   const Clock::time_point start = Clock::now();
   Clock::time_point last_send = start;
   const auto limit = first ? options_.startup_limit : options_.silence_limit;
@@ -317,7 +337,7 @@ robot_observation_t WorldSim::observation() {
 
 bool WorldSim::exchangeWithPlanner(std::string& failure) {
   const robot_observation_t obs = observation();
-  if (options_.mode == "realtime") {
+  if (realtime_) {
     bus_.publish(channels::kRobotObservation, obs);
     return true;
   }
@@ -370,6 +390,7 @@ EpisodeResult WorldSim::runEpisode() {
   ++episode_;
   reset();
   const Clock::time_point wall_start = Clock::now();
+  const double cpu_start = threadCpuSeconds();
   const std::int64_t limit_us = static_cast<std::int64_t>(std::llround(scenario_.time_limit * 1e6));
 
   episode_event_t ev{};
@@ -423,7 +444,7 @@ EpisodeResult WorldSim::runEpisode() {
       time_us_ += dt_us_;
       sense();
       publishWorldState();
-      if (options_.mode == "realtime")
+      if (realtime_)
         std::this_thread::sleep_until(wall_start + std::chrono::microseconds(time_us_));
     }
   }
@@ -431,6 +452,7 @@ EpisodeResult WorldSim::runEpisode() {
   result.ticks = tick_ + 1;
   result.sim_time = simTime();
   result.wall_time = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  result.thread_cpu_time = threadCpuSeconds() - cpu_start;
   result.fingerprint = fingerprint_.hex();
   result.collisions = collisions_;
   result.run_id = options_.run_id;

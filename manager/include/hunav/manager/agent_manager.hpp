@@ -104,6 +104,9 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
 // helper is free; else all on the calling thread. The chunks must be independent. Returns when all
 // are done; rethrows what one threw.
 void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work);
+// Whether forChunksOnTwoThreads may hand chunks over for this many people (below that, a caller may
+// run its work directly, without the chunks' calls through std::function).
+bool twoThreadsMayPay(std::size_t people);
 // Gives the calling thread room for the scratch lists of a tick (groups of up to 256 people), so
 // that the ticks on a helper thread allocate nothing once it has started.
 void reserveTickScratch();

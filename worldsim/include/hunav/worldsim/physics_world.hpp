@@ -8,6 +8,7 @@
 #include <box2d/box2d.h>
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <utility>
@@ -107,6 +108,11 @@ class PhysicsWorld {
   mutable std::vector<const b2Fixture*> fan_fixtures_;
   mutable std::vector<float> fan_best_;
   mutable std::vector<b2RayCastInput> fan_inputs_;
+  // The beam directions (cos, sin) of the last fan, reused while its angles are the same (a robot
+  // that does not turn: no cos/sin per beam).
+  mutable std::vector<Vec2> fan_dirs_;
+  mutable double fan_dirs_first_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double fan_dirs_increment_ = std::numeric_limits<double>::quiet_NaN();
   mutable std::vector<std::uint32_t> sight_parts_, sight_start_, sight_fill_;
   mutable std::vector<SightEntry> sight_entries_, sight_sorted_;
 };

@@ -39,6 +39,7 @@ struct EpisodeResult {
   std::int64_t ticks = 0;  // world states published, tick 0 included
   double sim_time = 0.0;   // s
   double wall_time = 0.0;  // s
+  double thread_cpu_time = 0.0;  // s of CPU time of the thread that ran the episode loop (START to END)
   std::string fingerprint;
   std::uint64_t collisions = 0;  // contact events of the episode (the sum over its world states)
   std::string run_id;
@@ -66,7 +67,9 @@ class WorldSim {
   void configure(Scenario scenario, std::string run_id);
   void reset();
   void sense();
+  // The robot as an agent: every field (robotState), or only those that change as it moves.
   agent_state_t robotState() const;
+  void setRobotMotion(agent_state_t& r) const;
   void publishWorldState();
   bool exchangeWithManager(std::string& failure);
   bool exchangeWithPlanner(std::string& failure);
@@ -84,6 +87,7 @@ class WorldSim {
   Bus& bus_;
   Scenario scenario_;
   WorldOptions options_;
+  bool realtime_;  // options_.mode == "realtime", compared once rather than per tick
   std::int64_t dt_us_;
   int control_every_;  // ticks per planner cycle
 
