@@ -56,6 +56,20 @@ step_request_t onePersonWalkingToX3(int64_t seq) {
   return request({a}, robotAt(-5, 0), seq);
 }
 
+// The STEP_REPLY messages a bus delivers, in order.
+struct RepliesOn {
+  std::vector<step_reply_t> got;
+  explicit RepliesOn(Bus& bus) {
+    bus.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { got.push_back(r); });
+  }
+};
+
+// Publishes a step request and dispatches what it causes.
+void sendStep(Bus& bus, const step_request_t& req) {
+  bus.publish(channels::kStepRequest, req);
+  bus.handleAvailable();
+}
+
 }  // namespace
 
 TEST(AgentManager, RegularTreatsTheRobotAsAPersonImpassiveAsAnObstacle) {
@@ -123,19 +137,17 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   lcm::LCM lcm("memq://");
   Bus bus(lcm);
   ManagerNode node(bus);
-  std::vector<step_reply_t> replies;
-  bus.subscribe<step_reply_t>(channels::kStepReply, [&](const step_reply_t& r) { replies.push_back(r); });
+  RepliesOn on(bus);
+  std::vector<step_reply_t>& replies = on.got;
 
   step_request_t req = onePersonWalkingToX3(7);
-  bus.publish(channels::kStepRequest, req);
-  bus.handleAvailable();
+  sendStep(bus, req);
   ASSERT_EQ(replies.size(), 1u);
   EXPECT_EQ(replies[0].seq, 7);
 
   // A resend of seq 7 with different contents still gets the first answer: idempotent per seq.
   req.agents[0].x = 1.0;
-  bus.publish(channels::kStepRequest, req);
-  bus.handleAvailable();
+  sendStep(bus, req);
   ASSERT_EQ(replies.size(), 2u);
   EXPECT_EQ(replies[1].agents[0].x, replies[0].agents[0].x);
   EXPECT_EQ(node.stepsComputed(), 1u);
@@ -149,8 +161,7 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   req.num_agents = 5;  // lies about the array size: LCM cannot even encode it consistently
   req.agents.push_back(person(1, 1, 1));  // duplicate id
   req.num_agents = 2;
-  bus.publish(channels::kStepRequest, req);
-  bus.handleAvailable();
+  sendStep(bus, req);
   EXPECT_EQ(replies.size(), 2u);
   EXPECT_EQ(bus.droppedMessages(), 2u);
 }
@@ -161,17 +172,15 @@ TEST(ManagerNode, InProcessHandsItsReplyOverAndStillAnswersAResendOfALostOne) {
   // hook dropped stays with the manager and is what the resend gets.
   Bus bus(Bus::InProcess{});
   ManagerNode node(bus);
-  std::vector<step_reply_t> replies;
-  bus.subscribe<step_reply_t>(channels::kStepReply, [&](const step_reply_t& r) { replies.push_back(r); });
+  RepliesOn on(bus);
+  std::vector<step_reply_t>& replies = on.got;
   step_request_t req = onePersonWalkingToX3(7);
-  bus.publish(channels::kStepRequest, req);
-  bus.handleAvailable();
+  sendStep(bus, req);
   ASSERT_EQ(replies.size(), 1u);
   EXPECT_EQ(replies[0].seq, 7);
   ASSERT_EQ(replies[0].agents.size(), 1u);
   EXPECT_GT(replies[0].agents[0].x, 0.0);  // walked toward its goal at (3, 0)
-  bus.publish(channels::kStepRequest, req);
-  bus.handleAvailable();
+  sendStep(bus, req);
   EXPECT_EQ(replies.size(), 1u);
   EXPECT_EQ(node.repliesResent(), 1u);
 
@@ -185,8 +194,7 @@ TEST(ManagerNode, InProcessHandsItsReplyOverAndStillAnswersAResendOfALostOne) {
   EXPECT_EQ(bus.lostForTesting(), 1u);
   EXPECT_EQ(replies.size(), 1u);
   bus.setOutgoingLossForTesting(0.0, 1);
-  bus.publish(channels::kStepRequest, req);
-  bus.handleAvailable();
+  sendStep(bus, req);
   ASSERT_EQ(replies.size(), 2u);
   EXPECT_EQ(replies[1].seq, 8);
   ASSERT_EQ(replies[1].agents.size(), 1u);
