@@ -6,20 +6,12 @@
 #include <thread>
 
 #include "hunav/manager/agent_manager.hpp"
+#include "lcg.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
 
 namespace {
-
-// A deterministic uniform [0, 1) generator (the test must not depend on the library's engines).
-struct Lcg {
-  std::uint64_t state;
-  double operator()() {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / 9007199254740992.0;
-  }
-};
 
 std::vector<SfmBody> randomCrowd(int n, double side, std::uint64_t seed) {
   Lcg u{seed};

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "hunav/manager/agent_manager.hpp"
+#include "lcg.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -22,16 +23,6 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace hunav;
 using namespace hunav::manager;
-
-namespace {
-struct Lcg {
-  std::uint64_t state;
-  double operator()() {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / 9007199254740992.0;
-  }
-};
-}  // namespace
 
 TEST(PeopleSocial, WarmStepAllocatesNothing) {
   // 300 people of every behavior, some in groups, near a moving robot: after a few steps, a step
