@@ -18,9 +18,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#ifndef HUNAV_GIT_COMMIT_DEFAULT
-#define HUNAV_GIT_COMMIT_DEFAULT "unknown"
-#endif
+#include "hunav_git_commit.hpp"  // HUNAV_GIT_COMMIT_DEFAULT, generated at build time
 
 namespace hunav::evaluator {
 

@@ -48,7 +48,8 @@ struct RunResult {
 };
 
 // The commit the evaluator was built from: $HUNAV_GIT_COMMIT when set and not empty, else
-// `git rev-parse --short HEAD` at configure time, else "unknown".
+// `git rev-parse --short HEAD` of the last build, with "-dirty" when tracked files had changes then
+// (cmake/GitCommit.cmake), else "unknown".
 std::string gitCommit();
 
 // The metrics.csv header for these metric names.
