@@ -36,11 +36,12 @@ Layout of DIR:
   batch.log                              one line per invocation: arguments, duration, counts
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
 
-A run is finished when its folder holds a metrics.csv and a run.json with "complete": true; a second
-invocation with the same DIR runs only the others (an interrupted or failed run starts again from
-an empty folder). Exit status: 0 when every run finished and the summary was written; 1 when some
-run did not finish (the summary covers the others) or exited non-zero after writing complete results
-(they are kept and count as finished); 2 on bad arguments.
+A run is finished when its folder holds a metrics.csv and a run.json with "complete": true and its
+episode ended on its own (status goal_reached or time_limit); a second invocation with the same DIR
+runs only the others (an interrupted, aborted or failed run starts again from an empty folder, and
+until then stays out of the summary's statistics). Exit status: 0 when every run finished and the
+summary was written; 1 when some run did not finish (the summary covers the others) or exited
+non-zero after writing complete results (they are kept and count as finished); 2 on bad arguments.
 
 Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), and what run_experiment.sh reads.
 EOF
@@ -54,9 +55,12 @@ usage_error() {
 }
 is_positive() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]] && awk -v v="$1" 'BEGIN { exit !(v > 0) }'; }
 
-# finished RUN_DIR: the run ended and its results were written.
+# finished RUN_DIR: the episode ended on its own (goal reached or time limit, not aborted by a signal
+# or a silent component) and its results were written.
 finished() {
-  [ -s "$1/metrics.csv" ] && [ -s "$1/run.json" ] && grep -q -E '"complete"[[:space:]]*:[[:space:]]*true' "$1/run.json"
+  [ -s "$1/metrics.csv" ] && [ -s "$1/run.json" ] &&
+    grep -q -E '"complete"[[:space:]]*:[[:space:]]*true' "$1/run.json" &&
+    grep -q -E '"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit)"' "$1/run.json"
 }
 
 # ---------------------------------------------------------------------------------------------------
@@ -85,6 +89,12 @@ if [ "${1:-}" = --run-one ]; then
       status=$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
       sim=$(sed -n -E 's/.*"sim_time"[[:space:]]*:[[:space:]]*([^,}]*).*/\1/p' "$run_dir/run.json" | head -n 1)
       result="$status after $(awk -v t="$sim" 'BEGIN { printf "%.2f", t }') s of simulation"
+    elif [ -s "$run_dir/run.json" ]; then
+      # It ended, but not on its own (interrupted, a component gone silent): not a result.
+      status=$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
+      reason=$(sed -n -E 's/.*"reason"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
+      result="NOT FINISHED: ${status:-no status}${reason:+ ($reason)}, exit $rc; runs again next time (see $run_dir/logs/run_experiment.log)"
+      [ "$rc" -ne 0 ] || rc=1
     else
       result="FAILED (exit $rc, see $run_dir/logs/run_experiment.log)"
       [ "$rc" -ne 0 ] || rc=1

@@ -71,7 +71,9 @@ const MetricRow* rowOf(const BatchRun& r, const std::string& behavior) {
   return it == r.by_behavior.end() ? nullptr : &it->second;
 }
 
+// The value of a metric in a run, when the run counts in the statistics (BatchRun::episodeEnded).
 std::optional<double> valueOf(const BatchRun& r, const std::string& behavior, const std::string& metric) {
+  if (!r.episodeEnded()) return std::nullopt;
   const MetricRow* row = rowOf(r, behavior);
   if (row == nullptr) return std::nullopt;
   const auto it = row->find(metric);
@@ -209,6 +211,12 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
     md += ")";
   }
   md += ".\n\n";
+  const auto excluded = std::count_if(batch.runs.begin(), batch.runs.end(), [](const BatchRun& r) { return !r.episodeEnded(); });
+  if (excluded > 0)
+    md += fmt::format("**{} run{} left out of every table**: only runs whose episode ended on its own (goal_reached, "
+                      "time_limit) count; an aborted, failed or incomplete run measured a cut-off episode (its values "
+                      "stay in summary.csv; run_batch.sh runs it again).\n\n",
+                      excluded, excluded == 1 ? "" : "s");
   md += "Cells: mean ± sample standard deviation over the seeds, and below it the 95% confidence interval of the "
         "mean, mean ± t(0.975, n−1)·s/√n (Student's t, n runs with a value; \"n=k\" is shown when some runs have "
         "none). Booleans count as 1 (true) and 0 (false), so `completed` is the success rate. Metric definitions: "

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # run_batch.sh end to end on a small matrix (passing x dwb, sfw x seeds 1-2, 5 s of simulation each,
 # in-process: no network): the batch folder's layout, then resumability (a second invocation runs
-# nothing, a third reruns only the run whose results were removed), then bad arguments.
+# nothing, a third reruns only the run whose results were removed, a fourth only the run marked
+# aborted, which the summary's statistics leave out), then bad arguments.
 # Expects REPO and BIN (ctest sets them).
 set -euo pipefail
 export HUNAV_BIN_DIR="$BIN"
@@ -69,6 +70,29 @@ rm "$out/runs/passing__sfw__seed2/run.json"
 grep -q '^run_batch: 1 runs in ' "$WORK/third.log" || { cat "$WORK/third.log"; fail "the third invocation did not rerun exactly one run"; }
 grep -q 'passing sfw seed 2: time_limit' "$WORK/third.log" || fail "the rerun was not passing sfw seed 2"
 [ "$(grep -c '^passing,' "$out/summary.csv")" -eq 4 ] || fail "summary.csv lost rows"
+
+# An aborted run (its run.json as an interrupted episode leaves it: complete, status aborted) is not a
+# result: hunav_summary leaves it out of the statistics, and the next invocation runs it again.
+json="$out/runs/passing__dwb__seed1/run.json"
+sed -i -E 's/"status": *"time_limit"/"status": "aborted"/; s/"reason": *"[^"]*"/"reason": "interrupted (SIGINT\/SIGTERM)"/' "$json"
+grep -q '"status": "aborted"' "$json" || fail "could not mark $json aborted"
+"$BIN/hunav_summary" "$out" >/dev/null || fail "hunav_summary failed on a batch with an aborted run"
+python3 - "$out" <<'PY'
+import csv, sys
+out = sys.argv[1]
+stats = list(csv.DictReader(open(out + "/summary_stats.csv")))
+t = {r["planner"]: r["n"] for r in stats if r["behavior"] == "all" and r["metric"] == "time_to_reach_goal"}
+assert t == {"dwb": "1", "sfw": "2"}, t  # dwb: seed 2 only
+paired = [r for r in csv.DictReader(open(out + "/paired.csv")) if r["metric"] == "time_to_reach_goal"]
+assert len(paired) == 1 and paired[0]["n"] == "1", paired  # only seed 2 has both
+rows = [r for r in csv.DictReader(open(out + "/summary.csv")) if r["planner"] == "dwb" and r["seed"] == "1"]
+assert len(rows) == 1 and rows[0]["status"] == "aborted", rows  # still listed, with its status
+assert "**1 run left out of every table**" in open(out + "/summary.md").read()
+PY
+"$BATCH" "${args[@]}" >"$WORK/fourth.log" 2>&1 || { cat "$WORK/fourth.log"; fail "fourth invocation failed"; }
+grep -q '^run_batch: 1 runs in ' "$WORK/fourth.log" || { cat "$WORK/fourth.log"; fail "the aborted run was not run again (alone)"; }
+grep -q 'passing dwb seed 1: time_limit' "$WORK/fourth.log" || fail "the rerun was not passing dwb seed 1"
+grep -q 'left out of every table' "$out/summary.md" && fail "summary.md still leaves a run out after the rerun"
 
 # Bad arguments: exit 2 and nothing run.
 for bad in "--planners xyz" "--seeds 3-1" "--scenarios nowhere" "--jobs 0" "--mode fast"; do

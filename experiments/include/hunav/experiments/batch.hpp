@@ -36,6 +36,11 @@ struct BatchRun {
   std::string wall_time;  // s, from run.json (empty without it)
   MetricRow metrics;      // the last row of the run's metrics.csv (empty without it)
   std::map<std::string, MetricRow> by_behavior;  // behavior name -> the row of metrics_beh_<code>.csv
+
+  // The episode ended on its own (goal_reached or time_limit): only such runs enter the statistics.
+  // An aborted run (interrupted, a component gone silent) or one that never ended measured a cut-off
+  // episode; it stays in summary.csv with its status, and run_batch.sh runs it again.
+  bool episodeEnded() const { return status == "goal_reached" || status == "time_limit"; }
 };
 
 struct Batch {

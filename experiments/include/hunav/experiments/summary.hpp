@@ -27,7 +27,8 @@ struct PairedRow {
 };
 
 // Statistics of every metric per scenario and planner over the seeds ("all"), and per behavior.
-// Values that are not numbers (missing, failed runs) are left out, so n may be below the run count.
+// Runs whose episode did not end on its own (BatchRun::episodeEnded: aborted, failed, incomplete)
+// and values that are not numbers are left out, so n may be below the run count.
 std::vector<StatRow> summaryStats(const Batch& batch);
 
 // Every pair of planners of a scenario (in name order, a before b), every whole-run metric, over the
