@@ -16,7 +16,7 @@ Runs every (scenario, planner, seed) of the matrix with launch_scripts/run_exper
 time (GNU parallel), then writes the batch summary (hunav_summary DIR).
 
   --scenarios LIST   comma-separated scenario names (scenarios/NAME.yaml) or YAML files
-  --planners LIST    comma-separated planners: dwb, scl, sfw, none
+  --planners LIST    comma-separated planners: dwb, scl, sfw, none, or names given --planner-cmd
   --seeds SEEDS      seeds: A-B, N, or a comma-separated mix (1-10 or 1-5,8,20-22)
   --out DIR          the batch folder
   --jobs N           runs at a time (default: the number of CPUs)
@@ -25,6 +25,10 @@ time (GNU parallel), then writes the batch summary (hunav_summary DIR).
   --duration S       simulated time limit of every run (default: each scenario's time_limit)
   --timeout S        wall-clock limit of every run (run_experiment.sh --timeout)
   --profile P        metrics profile: default or hunav_v1
+  --planner-config NAME=FILE   parameters of built-in planner NAME (run_experiment.sh --planner-config);
+                     repeat for several planners
+  --planner-cmd NAME=CMD       planner NAME of --planners is your program CMD (run_experiment.sh
+                     --planner-cmd; needs --mode lockstep or realtime); repeat for several
   --print-matrix     print the matrix (index, scenario file, scenario, planner, seed; tab-separated)
                      and exit; the index order is scenario, then planner, then seed
   -h, --help         show this help
@@ -70,6 +74,16 @@ if [ "${1:-}" = --run-one ]; then
   shift
   out=$1 file=$2 scenario=$3 planner=$4 seed=$5
   shift 5
+  # The run options, with the --planner-cmd/--planner-config of this run's planner only.
+  run_options=()
+  while [ "$#" -gt 0 ]; do
+    case "$1" in
+      --planner-cmd | --planner-config)
+        [ "${2%%=*}" != "$planner" ] || run_options+=("$1" "${2#*=}")
+        shift 2 ;;
+      *) run_options+=("$1"); shift ;;
+    esac
+  done
   run_dir="$out/runs/${scenario}__${planner}__seed${seed}"
   label="$scenario $planner seed $seed"
   if finished "$run_dir"; then
@@ -80,7 +94,7 @@ if [ "${1:-}" = --run-one ]; then
     mkdir -p "$run_dir/logs"
     rc=0
     "$repo_root/launch_scripts/run_experiment.sh" --scenario "$file" --planner "$planner" --seed "$seed" \
-      --out "$run_dir" "$@" >"$run_dir/logs/run_experiment.log" 2>&1 </dev/null || rc=$?
+      --out "$run_dir" "${run_options[@]}" >"$run_dir/logs/run_experiment.log" 2>&1 </dev/null || rc=$?
     if finished "$run_dir" && [ "$rc" -ne 0 ]; then
       # Complete results, but the run did not exit cleanly (a crash at exit?): keep them, say so.
       result="results complete, but run_experiment.sh exited $rc (see $run_dir/logs/run_experiment.log)"
@@ -119,6 +133,8 @@ fi
 # ---------------------------------------------------------------------------------------------------
 scenarios="" planners="" seeds="" out="" jobs="" mode=inprocess duration="" timeout="" profile=""
 print_matrix=0
+planner_specs=()  # --planner-cmd NAME=CMD and --planner-config NAME=FILE, as option-value pairs
+declare -A planner_cmd_of=()
 while [ "$#" -gt 0 ]; do
   opt=$1 value=""
   case "$opt" in
@@ -127,6 +143,27 @@ while [ "$#" -gt 0 ]; do
   case "$opt" in
     -h | --help) usage; exit 0 ;;
     --print-matrix) print_matrix=1 ;;
+    --planner-cmd | --planner-config)
+      if [ -z "$value" ]; then
+        [ "$#" -ge 2 ] || usage_error "$opt needs NAME=VALUE"
+        value=$2
+        shift
+      fi
+      [[ $value == ?*=?* ]] || usage_error "$opt needs NAME=VALUE (got '$value')"
+      spec_name=${value%%=*} spec_value=${value#*=}
+      [[ $spec_name =~ ^[A-Za-z0-9.-]+(_[A-Za-z0-9.-]+)*$ ]] || usage_error "$opt: '$spec_name' is not a planner name (letters, digits, . _ -)"
+      case "$spec_value" in *$'\n'*) usage_error "$opt $spec_name: the value must be one line" ;; esac
+      if [ "$opt" = --planner-config ]; then
+        [ -f "$spec_value" ] && [ -r "$spec_value" ] || usage_error "--planner-config $spec_name: cannot read the file '$spec_value'"
+        spec_value=$(readlink -f "$spec_value")
+      else
+        planner_cmd_of[$spec_name]=$spec_value
+      fi
+      for ((k = 0; k < ${#planner_specs[@]}; k += 2)); do
+        [ "${planner_specs[k]}" != "$opt" ] || [ "${planner_specs[k + 1]%%=*}" != "$spec_name" ] ||
+          usage_error "$opt: planner '$spec_name' given twice"
+      done
+      planner_specs+=("$opt" "$spec_name=$spec_value") ;;
     --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile)
       if [ -z "$value" ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
@@ -197,11 +234,21 @@ IFS=',' read -r -a items <<<"$planners"
 for item in "${items[@]}"; do
   item=${item//[[:space:]]/}
   [ -n "$item" ] || continue
-  case "$item" in dwb | scl | sfw | none) ;; *) usage_error "--planners: '$item' is not dwb, scl, sfw or none" ;; esac
+  if [ -z "${planner_cmd_of[$item]:-}" ]; then
+    case "$item" in dwb | scl | sfw | none) ;; *) usage_error "--planners: '$item' is not dwb, scl, sfw or none, nor given --planner-cmd $item=CMD" ;; esac
+  fi
   for p in "${planner_list[@]}"; do [ "$p" != "$item" ] || usage_error "--planners: '$item' given twice"; done
   planner_list+=("$item")
 done
 [ "${#planner_list[@]}" -gt 0 ] || usage_error "--planners: no planner given"
+for ((k = 0; k < ${#planner_specs[@]}; k += 2)); do
+  name=${planner_specs[k + 1]%%=*} known=0
+  for p in "${planner_list[@]}"; do [ "$p" != "$name" ] || known=1; done
+  [ "$known" -eq 1 ] || usage_error "${planner_specs[k]}: '$name' is not in --planners"
+done
+if [ "${#planner_cmd_of[@]}" -gt 0 ] && [ "$mode" = inprocess ]; then
+  usage_error "--planner-cmd needs --mode lockstep or realtime (your planner is a process of its own)"
+fi
 
 seed_list=()
 IFS=',' read -r -a items <<<"$seeds"
@@ -258,6 +305,7 @@ run_args=(--mode "$mode")
 [ -z "$duration" ] || run_args+=(--duration "$duration")
 [ -z "$timeout" ] || run_args+=(--timeout "$timeout")
 [ -z "$profile" ] || run_args+=(--profile "$profile")
+run_args+=("${planner_specs[@]}")
 
 echo "run_batch: $total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"
 echo "run_batch: batch folder $out"

@@ -34,7 +34,15 @@ states.csv, run.json (and, with --record, run.lcmlog) into the output folder, th
 
 Options:
   --scenario FILE         scenario YAML (scenarios/README.md); required
-  --planner NAME          dwb (default), scl, sfw or none
+  --planner NAME          dwb (default), scl, sfw or none; with --planner-cmd, the name your planner
+                          is recorded under (letters, digits, . _ -; default: custom)
+  --planner-config FILE   YAML parameters of the built-in planner (planners/config/<name>.yaml shows
+                          every key and its default)
+  --planner-cmd "CMD"     lockstep/realtime only: start CMD (run by bash, in the run's namespace, with
+                          LCM_DEFAULT_URL set to the planner's bus) as the robot planner instead of
+                          hunav_planner; it must follow docs/planner_contract.md (answer the first
+                          observation within 10 s). Its output goes to DIR/logs/planner.log; it is
+                          stopped (SIGTERM) when the episode has ended
   --seed N                seed (integer >= 0); default: the scenario's seed
   --mode MODE             inprocess (default: one process, no network), lockstep (separate processes,
                           lock-stepped, bit-identical to inprocess) or realtime (separate processes, the
@@ -99,6 +107,9 @@ shared_bus=""
 profile=""
 tag=""
 timeout=""
+planner_given=0
+planner_config=""
+planner_cmd=""
 
 while [ "$#" -gt 0 ]; do
   opt=$1
@@ -113,7 +124,7 @@ while [ "$#" -gt 0 ]; do
       [ "$inline" -eq 0 ] || usage_error "--record takes no value"
       record=1 ;;
     --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
-      --experiment-tag | --timeout)
+      --experiment-tag | --timeout | --planner-config | --planner-cmd)
       if [ "$inline" -eq 0 ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
@@ -123,7 +134,9 @@ while [ "$#" -gt 0 ]; do
       [ -n "$value" ] || usage_error "$opt needs a non-empty value"
       case "$opt" in
         --scenario) scenario=$value ;;
-        --planner) planner=$value ;;
+        --planner) planner=$value; planner_given=1 ;;
+        --planner-config) planner_config=$value ;;
+        --planner-cmd) planner_cmd=$value ;;
         --seed) seed=$value ;;
         --mode) mode=$value ;;
         --out) out=$value ;;
@@ -141,7 +154,20 @@ done
 
 [ -n "$scenario" ] || usage_error "--scenario FILE is required (e.g. --scenario scenarios/passing.yaml)"
 if [ ! -f "$scenario" ] || [ ! -r "$scenario" ]; then usage_error "--scenario: cannot read the file '$scenario'"; fi
-case "$planner" in dwb | scl | sfw | none) ;; *) usage_error "--planner must be dwb, scl, sfw or none (got '$planner')" ;; esac
+if [ -n "$planner_cmd" ]; then
+  [ "$mode" != inprocess ] || usage_error "--planner-cmd needs --mode lockstep or realtime (your planner is a process of its own)"
+  [ -z "$planner_config" ] || usage_error "--planner-config is for the built-in planners; give your planner its parameters in --planner-cmd"
+  [ "$planner_given" -eq 1 ] || planner=custom
+  [[ $planner =~ ^[A-Za-z0-9._-]+$ ]] || usage_error "--planner: a name of letters, digits, '.', '_' or '-' (got '$planner')"
+  [ "$planner" != none ] || usage_error "--planner none runs without a planner; drop --planner-cmd or name your planner"
+else
+  case "$planner" in dwb | scl | sfw | none) ;; *) usage_error "--planner must be dwb, scl, sfw or none (got '$planner'), or name your own with --planner-cmd" ;; esac
+fi
+if [ -n "$planner_config" ]; then
+  [ "$planner" != none ] || usage_error "--planner-config needs a planner (got --planner none)"
+  if [ ! -f "$planner_config" ] || [ ! -r "$planner_config" ]; then usage_error "--planner-config: cannot read the file '$planner_config'"; fi
+  planner_config=$(readlink -f "$planner_config")
+fi
 case "$mode" in inprocess | lockstep | realtime) ;; *) usage_error "--mode must be inprocess, lockstep or realtime (got '$mode')" ;; esac
 if [ -n "$seed" ] && ! [[ $seed =~ ^[0-9]+$ ]]; then usage_error "--seed must be an integer >= 0 (got '$seed')"; fi
 if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
@@ -184,7 +210,7 @@ if [ "$mode" = inprocess ]; then
   need_bin hunav_run
 else
   for b in hunav_worldsim hunav_manager hunav_evaluator; do need_bin "$b"; done
-  [ "$planner" = none ] || need_bin hunav_planner
+  [ "$planner" = none ] || [ -n "$planner_cmd" ] || need_bin hunav_planner
   [ "$record" -eq 0 ] || need_bin hunav_record
 fi
 
@@ -441,6 +467,8 @@ seed_args=()
 [ -z "$seed" ] || seed_args=(--seed "$seed")
 duration_args=()
 [ -z "$duration" ] || duration_args=(--duration "$duration")
+planner_config_args=()
+[ -z "$planner_config" ] || planner_config_args=(--config "$planner_config")
 eval_args=()
 [ -z "$profile" ] || eval_args+=(--profile "$profile")
 [ -z "$tag" ] || eval_args+=(--experiment-tag "$tag")
@@ -448,11 +476,13 @@ eval_args=()
 
 log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
 log "results will be written to $out_dir"
+[ -z "$planner_config" ] || log "planner parameters from $planner_config"
 
 main=""
 if [ "$mode" = inprocess ]; then
   cmd=("$bin_dir/hunav_run" --scenario "$scenario" --planner "$planner" --out "$out_dir"
     "${seed_args[@]}" "${duration_args[@]}" "${eval_args[@]}")
+  [ -z "$planner_config" ] || cmd+=(--planner-config "$planner_config")
   [ "$record" -eq 0 ] || cmd+=(--record "$out_dir/run.lcmlog")
   start hunav_run "$log_dir/hunav_run.log" "${cmd[@]}"
   main=hunav_run
@@ -508,12 +538,18 @@ else
   # The manager runs until stopped: without --episodes it listens to STEP_REQUEST alone (on its own
   # port), not to the world states of the URL's port that it would otherwise hear every tick.
   start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url"
-  if [ "$planner" != none ]; then
+  if [ -n "$planner_cmd" ]; then
+    # Your planner hears the bus through LCM_DEFAULT_URL (the URL without our channel_ports option:
+    # every planner channel is on its port). It need not print "ready": the world resends its first
+    # observation until answered (10 s at most).
+    start planner "$log_dir/planner.log" bash -c "$planner_cmd"
+    log "your planner '$planner': $planner_cmd (output in $log_dir/planner.log)"
+  elif [ "$planner" != none ]; then
     start planner "$log_dir/planner.log" "$bin_dir/hunav_planner" --planner "$planner" --scenario "$scenario" \
-      --lcm-url "$url" --episodes 1
+      --lcm-url "$url" --episodes 1 "${planner_config_args[@]}"
   fi
   wait_ready manager || exit_failed manager
-  if [ "$planner" != none ]; then wait_ready planner || exit_failed planner; fi
+  if [ "$planner" != none ] && [ -z "$planner_cmd" ]; then wait_ready planner || exit_failed planner; fi
   log "processes ready (logs in $log_dir); starting the world"
   start world "$log_dir/worldsim.log" "$bin_dir/hunav_worldsim" --scenario "$scenario" --planner "$planner" \
     --mode "$mode" --run-id "$run_id" --lcm-url "$url" "${seed_args[@]}" "${duration_args[@]}"
@@ -533,12 +569,14 @@ else
     fi
     # The recorder writes what it has received, then exits.
     [ "$record" -eq 0 ] || stop recorder TERM "$stop_grace"
-    # The manager has nothing more to answer: stop it. The planner exits by itself after the END
-    # event (--episodes 1); without one, stop it.
+    # The manager has nothing more to answer: stop it. Our planner exits by itself after the END
+    # event (--episodes 1); without one, stop it. Your planner is stopped (the contract does not ask
+    # it to count episodes).
     stop manager TERM "$stop_grace"
     for name in planner; do
       [ -n "${pid_of[$name]:-}" ] || continue
-      case "${code_of[world]}" in 0 | 1) wait_exit "$name" 3 || stop "$name" TERM "$stop_grace" ;;
+      case "${code_of[world]}" in
+        0 | 1) if [ -n "$planner_cmd" ]; then stop "$name" TERM "$stop_grace"; else wait_exit "$name" 3 || stop "$name" TERM "$stop_grace"; fi ;;
         *) stop "$name" TERM "$stop_grace" ;;
       esac
     done

@@ -23,7 +23,7 @@ Usage:
       (What the final job runs.) hunav_summary DIR.
 
 Options of a submission (the matrix options are run_batch.sh's: --scenarios, --planners, --seeds,
---mode, --duration, --timeout, --profile):
+--mode, --duration, --timeout, --profile, --planner-config NAME=FILE, --planner-cmd NAME=CMD):
   --max-parallel N     at most N tasks at a time (sbatch --array=0-M%N)
   --sbatch-args "..."  more sbatch options for both jobs (e.g. "--partition=short --time=00:20:00")
   --dry-run            print the sbatch commands instead of submitting them
@@ -89,7 +89,7 @@ while [ "$#" -gt 0 ]; do
     --print-matrix) print_matrix=1 ;;
     --dry-run) dry_run=1 ;;
     --scenarios | --planners | --seeds | --out | --mode | --duration | --timeout | --profile | --max-parallel | \
-      --sbatch-args)
+      --sbatch-args | --planner-cmd | --planner-config)
       if [ -z "$value" ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
@@ -97,7 +97,11 @@ while [ "$#" -gt 0 ]; do
       fi
       case "$opt" in
         --scenarios | --planners | --seeds) matrix_args+=("$opt" "$value") ;;
-        --mode | --duration | --timeout | --profile) matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
+        --mode | --duration | --timeout | --profile | --planner-cmd) matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
+        --planner-config)
+          # The tasks may start in another folder: the file by its absolute path.
+          [[ $value != *=* ]] || [ ! -f "${value#*=}" ] || value="${value%%=*}=$(readlink -f "${value#*=}")"
+          matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
         --out) out=$value ;;
         --max-parallel) max_parallel=$value ;;
         --sbatch-args) sbatch_args=$value ;;

@@ -36,8 +36,12 @@ echo "$((4000 + $(wc -l <"$SBATCH_LOG")))"
 SB
 chmod +x "$WORK/bin/sbatch"
 out="$WORK/batch"
-SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" \
-  "$SLURM" "${matrix[@]}" --duration 2 --max-parallel 5 --sbatch-args "--partition=short" --out "$out" >"$WORK/submit.log"
+# dwb with a parameter file given by a relative path (the tasks get its absolute path).
+printf 'dwb:\n  sim_time: 1.5\n' >"$WORK/dwb_params.yaml"
+(cd "$WORK" && SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" \
+  "$SLURM" "${matrix[@]}" --duration 2 --max-parallel 5 --sbatch-args "--partition=short" \
+  --planner-config dwb=dwb_params.yaml --out "$out" >"$WORK/submit.log")
+grep -qx -- "dwb=$WORK/dwb_params.yaml" "$out/slurm_options" || fail "slurm_options lacks the absolute --planner-config"
 cmp -s "$out/matrix.tsv" "$WORK/matrix.tsv" || fail "the submitted matrix.tsv differs from --print-matrix"
 [ "$(wc -l <"$WORK/sbatch.log")" -eq 2 ] || fail "expected two sbatch calls"
 first=$(sed -n 1p "$WORK/sbatch.log") second=$(sed -n 2p "$WORK/sbatch.log")
@@ -57,6 +61,11 @@ SLURM_ARRAY_TASK_ID=18 "$SLURM" --task "$out" >/dev/null 2>&1 || rc=$?
 for t in 0 13; do SLURM_ARRAY_TASK_ID=$t "$SLURM" --task "$out" >/dev/null; done
 [ -s "$out/runs/passing__dwb__seed3/run.json" ] && [ -s "$out/runs/crossing__scl__seed4/run.json" ] || fail "task runs missing"
 grep -q '"sim_time": 2' "$out/runs/crossing__scl__seed4/run.json" || fail "the task ignored --duration 2"
+grep -q "planner parameters from $WORK/dwb_params.yaml" "$out/runs/passing__dwb__seed3/logs/run_experiment.log" ||
+  fail "the dwb task did not get --planner-config"
+if grep -q "planner parameters" "$out/runs/crossing__scl__seed4/logs/run_experiment.log"; then
+  fail "the scl task got dwb's --planner-config"
+fi
 "$SLURM" --aggregate "$out" >/dev/null
 [ "$(wc -l <"$out/summary.csv")" -eq 3 ] || fail "summary.csv should hold the two runs"
 grep -q '^crossing,scl,4,time_limit,2,' "$out/summary.csv" || fail "crossing scl seed 4 not in summary.csv"
