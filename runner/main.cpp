@@ -1,8 +1,10 @@
 // hunav_run: one episode with every component in this process (no network), then a metrics table.
 #include <iostream>
+#include <stdexcept>
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/signals.hpp"
@@ -43,6 +45,15 @@ int main(int argc, char** argv) {
   app.add_flag("--memq", options.use_memq,
                "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+
+  if (sample_rate >= 0.0) {
+    try {
+      hunav::evaluator::SampleRate{sample_rate};  // the evaluator's own check, before anything starts
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "hunav_run: --sample-rate: " << e.what() << "\n";
+      return hunav::kExitBadInput;
+    }
+  }
 
   return hunav::cli::run("hunav_run", [&] {
     hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);

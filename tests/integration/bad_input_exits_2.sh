@@ -21,5 +21,17 @@ rc=0
 rc=0
 "$RUN" --scenario "$REPO/tests/integration/data/does_not_exist.yaml" > "$WORK/out.txt" 2>&1 || rc=$?
 [ "$rc" -eq 2 ] || fail "missing scenario: exit $rc, want 2"
+# A sample rate out of range: exit 2 from hunav_run (directly and through the script) and from the
+# evaluator, before anything starts.
+for cmd in "$BIN/hunav_run --scenario $REPO/scenarios/passing.yaml --out $WORK/rate" \
+           "$RUN --scenario $REPO/scenarios/passing.yaml --out $WORK/rate" \
+           "$BIN/hunav_evaluator --out $WORK/rate --episodes 1"; do
+  rc=0
+  # shellcheck disable=SC2086 # $cmd holds a command and its arguments (no spaces in the paths)
+  $cmd --sample-rate 0.0000001 > "$WORK/out.txt" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "${cmd%% *} --sample-rate 1e-7: exit $rc, want 2"; }
+  grep -q "sample rate must be 0 (every tick) or between 1e-6 and 1e6 Hz" "$WORK/out.txt" || fail "${cmd%% *}: message"
+  [ ! -f "$WORK/rate/states.csv" ] || fail "${cmd%% *}: a run started"
+done
 no_orphans
 echo "bad input rejected with exit 2"
