@@ -102,6 +102,20 @@ TEST(WorldSim, PeopleWalkTowardTheirGoalsUntilTheTimeLimit) {
   EXPECT_EQ(last.agents[0].num_obstacles, 2);
 }
 
+TEST(WorldSim, SimTimeIsTheDecimalTimeOfTheTicksAndTheReasonNamesTheLimit) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  manager::ManagerNode manager(bus);
+  Scenario s = passing();
+  s.time_limit = 0.07;  // 7 ticks: 70000 us * 1e-6 = 0.07000000000000001, 70000 us / 1e6 = 0.07
+  WorldSim world(bus, s, fastOptions("none"));
+  const auto r = world.runEpisode();
+  ASSERT_EQ(r.status, "time_limit");
+  EXPECT_EQ(r.ticks, 8);
+  EXPECT_EQ(r.sim_time, 0.07);  // exactly the double run.json then writes as 0.07
+  EXPECT_EQ(r.reason, "the time limit of 0.07 s was reached");
+}
+
 TEST(WorldSim, SameSeedSameFingerprintDifferentRunDifferentFingerprint) {
   auto run = [](double time_limit) {
     lcm::LCM lcm("memq://");

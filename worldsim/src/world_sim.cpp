@@ -8,6 +8,8 @@
 #include <hunav/episode_event_t.hpp>
 #include <hunav/nav_goal_t.hpp>
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <ctime>
 #include <thread>
@@ -429,7 +431,8 @@ EpisodeResult WorldSim::runEpisode() {
       result.reason = "the robot is within its goal radius";
     } else if (time_us_ >= limit_us) {
       result.status = "time_limit";
-      result.reason = "the time limit of the scenario was reached";
+      // The limit in force (the scenario's, or --duration's), in the shortest text of its value.
+      result.reason = fmt::format("the time limit of {} s was reached", scenario_.time_limit);
     } else if (!agents_.empty() && !exchangeWithManager(failure)) {
       result.status = "aborted";
       result.reason = failure;

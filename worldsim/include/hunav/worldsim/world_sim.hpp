@@ -82,7 +82,8 @@ class WorldSim {
   bool robotAtGoal() const;
   void onStepReply(const step_reply_t& reply);
   void onCommand(const robot_command_t& cmd);
-  double simTime() const { return static_cast<double>(time_us_) * 1e-6; }
+  // Divided, not multiplied by 1e-6: the nearest double to the decimal time (18.26, not 18.259999999999998).
+  double simTime() const { return static_cast<double>(time_us_) / 1e6; }
 
   Bus& bus_;
   Scenario scenario_;
