@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
       ->check(CLI::PositiveNumber);
   app.add_option("--mode", mode, "lockstep (wait for every answer) or realtime (wall-clock paced)")
-      ->check(CLI::IsMember({"lockstep", "realtime", "inprocess"}));
+      ->check(CLI::IsMember({"lockstep", "realtime"}));
   app.add_option("--run-id", run_id,
                  "run id (default <scenario>_<planner>_s<seed>); with several episodes, episode k is <run-id>_e<k>");
   app.add_option("--episodes", episodes,
