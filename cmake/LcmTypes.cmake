@@ -3,6 +3,7 @@
 #   - C++ headers into ${CMAKE_CURRENT_BINARY_DIR}/cpp, exposed through an INTERFACE target;
 #   - Java classes compiled and packed into a jar (for lcm-spy), when a JDK is found.
 find_program(LCM_GEN_EXECUTABLE lcm-gen REQUIRED)
+find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
 function(lcm_add_types)
   cmake_parse_arguments(ARG "" "TARGET;JAR;PACKAGE" "FILES" ${ARGN})
@@ -22,6 +23,16 @@ function(lcm_add_types)
     DEPENDS ${ARG_FILES}
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
     COMMENT "lcm-gen: C++ types")
+  # <PACKAGE>/wire_checks.hpp: safeToDecode<T>(bytes), run before lcm-gen's decoder (see the script).
+  set(wire_checks ${cpp_dir}/${ARG_PACKAGE}/wire_checks.hpp)
+  set(wire_checks_script ${CMAKE_CURRENT_SOURCE_DIR}/gen_wire_checks.py)
+  add_custom_command(
+    OUTPUT ${wire_checks}
+    COMMAND ${Python3_EXECUTABLE} ${wire_checks_script} ${wire_checks} ${ARG_PACKAGE} ${ARG_FILES}
+    DEPENDS ${ARG_FILES} ${wire_checks_script}
+    WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
+    COMMENT "Wire checks of the LCM types")
+  list(APPEND headers ${wire_checks})
   add_custom_target(${ARG_TARGET}_generate DEPENDS ${headers})
   add_library(${ARG_TARGET} INTERFACE)
   add_dependencies(${ARG_TARGET} ${ARG_TARGET}_generate)

@@ -2,10 +2,24 @@
 
 #include <gtest/gtest.h>
 
+#include <hunav/episode_event_t.hpp>
 #include <hunav/laser_scan_t.hpp>
+#include <hunav/live_metrics_t.hpp>
 #include <hunav/nav_goal_t.hpp>
+#include <hunav/robot_command_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
+#include <hunav/wire_checks.hpp>
+#include <hunav/world_state_t.hpp>
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <cstdlib>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 using hunav::Bus;
 
@@ -83,12 +97,175 @@ TEST(Transport, AbsurdArrayCountsAreDroppedNotFatal) {
   bus.publishRaw("SCAN", bytes.data(), bytes.size());
   bytes[72] = 0x00, bytes[73] = 0x0f, bytes[74] = 0x42, bytes[75] = 0x40;  // 1,000,000 floats, 8 bytes sent
   bus.publishRaw("SCAN", bytes.data(), bytes.size());
-  // (Counts of 2^28 and more overflow a size check inside LCM 1.3.1's generated decoder itself and
-  // cannot be caught here; see lcmtypes/README.md.)
+  // 2^29 floats: the byte size overflows an int inside LCM 1.3.1's generated decoder, which would
+  // then read past the buffer; the wire check rejects the count first.
+  bytes[72] = 0x20, bytes[73] = 0x00, bytes[74] = 0x00, bytes[75] = 0x00;
+  bus.publishRaw("SCAN", bytes.data(), bytes.size());
   bus.publish("SCAN", scan);
   EXPECT_NO_THROW(bus.handleAvailable());
   EXPECT_EQ(n, 1);
-  EXPECT_EQ(bus.droppedMessages(), 2u);
+  EXPECT_EQ(bus.droppedMessages(), 3u);
+}
+
+namespace {
+// A world state with every kind of field filled: strings, nested structs, arrays of structs.
+hunav::world_state_t richWorldState() {
+  hunav::world_state_t ws{};
+  ws.utime = 1000;
+  ws.robot.name = "robot";
+  ws.robot.type = hunav::agent_state_t::TYPE_ROBOT;
+  ws.num_agents = 2;
+  ws.agents.resize(2);
+  for (int i = 0; i < 2; ++i) {
+    hunav::agent_state_t& a = ws.agents[static_cast<std::size_t>(i)];
+    a.id = i + 1;
+    a.name = "agent" + std::to_string(i + 1);
+    a.behavior_tree = "tree.xml";
+    a.num_goals = 2;
+    a.goals = {hunav::point2d_t{1.0, 2.0}, hunav::point2d_t{3.0, 4.0}};
+    a.num_obstacles = 1;
+    a.obstacles = {hunav::point2d_t{5.0, 6.0}};
+  }
+  ws.num_collisions = 0;
+  return ws;
+}
+
+long peakMemoryKb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;  // kB on Linux
+}
+
+// The byte offset of the int32 length of the first encoded string equal to `text`.
+std::size_t stringLengthOffset(const std::vector<std::uint8_t>& bytes, const std::string& text) {
+  const std::string needle = text + '\0';
+  const auto it = std::search(bytes.begin(), bytes.end(), needle.begin(), needle.end());
+  EXPECT_NE(it, bytes.end());
+  return static_cast<std::size_t>(it - bytes.begin()) - 4;
+}
+}  // namespace
+
+TEST(Transport, StringLengthsThatDoNotFitAreDroppedNotFatal) {
+  // LCM 1.3.1's generated decoder turns a length of INT32_MIN into a 2 GB copy (a crash).
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  int n = 0;
+  bus.subscribe<hunav::world_state_t>("WS", [&](const hunav::world_state_t&) { ++n; });
+  const std::vector<std::uint8_t> good = bus.encode(richWorldState());
+  const std::size_t at = stringLengthOffset(good, "agent2");
+  ASSERT_EQ(good[at + 3], 7);  // "agent2" and its NUL
+  const std::uint8_t lengths[][4] = {{0x80, 0, 0, 0}, {0xff, 0xff, 0xff, 0xff}, {0, 0, 0, 0}, {0x7f, 0xff, 0xff, 0xff}};
+  for (const auto& length : lengths) {
+    std::vector<std::uint8_t> bad = good;
+    std::copy(length, length + 4, bad.begin() + static_cast<std::ptrdiff_t>(at));
+    bus.publishRaw("WS", bad.data(), bad.size());
+  }
+  bus.publishRaw("WS", good.data(), good.size());
+  EXPECT_NO_THROW(bus.handleAvailable());
+  EXPECT_EQ(n, 1);
+  EXPECT_EQ(bus.droppedMessages(), 4u);
+}
+
+TEST(Transport, StructArrayCountsBeyondTheBytesAreDroppedBeforeAllocating) {
+  // num_agents = 5,000,000 in a message of a few hundred bytes: LCM's decoder would resize the
+  // vector of agent states to it (gigabytes) before finding the bytes missing.
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  int n = 0;
+  bus.subscribe<hunav::step_request_t>("REQ", [&](const hunav::step_request_t&) { ++n; });
+  hunav::step_request_t req{};
+  req.num_agents = 1;
+  req.agents.resize(1);
+  req.agents[0].name = "a";
+  std::vector<std::uint8_t> bytes = bus.encode(req);
+  // num_agents: after the hash (8), utime, seq, episode (3 x 8) and dt (8): byte 40.
+  ASSERT_EQ(bytes[43], 1);
+  bytes[40] = 0x00, bytes[41] = 0x4c, bytes[42] = 0x4b, bytes[43] = 0x40;  // 5,000,000
+  const long peak_before_kb = peakMemoryKb();
+  bus.publishRaw("REQ", bytes.data(), bytes.size());
+  bus.publish("REQ", req);
+  EXPECT_NO_THROW(bus.handleAvailable());
+  EXPECT_EQ(n, 1);
+  EXPECT_EQ(bus.droppedMessages(), 1u);
+  // 5,000,000 agent states would take over a gigabyte; nothing near that was allocated.
+  EXPECT_LT(peakMemoryKb() - peak_before_kb, 100 * 1024);
+}
+
+TEST(Transport, MutatedBytesAreDecodedOrDroppedNeverFatal) {
+  // 3000 encodings of a world state with random bytes overwritten or cut short (seeded): each is
+  // delivered or dropped, none crashes, and whatever is delivered holds no more elements than the
+  // bytes could (the wire check bounds every count by the bytes left).
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  std::size_t delivered = 0;
+  std::size_t largest = 0;
+  bus.subscribe<hunav::world_state_t>("WS", [&](const hunav::world_state_t& ws) {
+    ++delivered;
+    largest = std::max(largest, ws.agents.size());
+  });
+  const std::vector<std::uint8_t> good = bus.encode(richWorldState());
+  std::uint64_t state = 12345;
+  auto next = [&state] {  // 64-bit LCG (Knuth's MMIX constants): reproducible everywhere
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<std::uint32_t>(state >> 33);
+  };
+  constexpr int kMessages = 3000;
+  for (int k = 0; k < kMessages; ++k) {
+    std::vector<std::uint8_t> bad = good;
+    const int edits = 1 + static_cast<int>(next() % 4);
+    for (int e = 0; e < edits; ++e) {
+      // Past the 8-byte type hash (a wrong hash is the decoder's own check).
+      const std::size_t at = 8 + next() % (bad.size() - 8);
+      bad[at] = static_cast<std::uint8_t>(next());
+    }
+    if (next() % 8 == 0) bad.resize(8 + next() % (bad.size() - 8));
+    bus.publishRaw("WS", bad.data(), bad.size());
+    EXPECT_NO_THROW(bus.handleAvailable());
+  }
+  EXPECT_EQ(delivered + bus.droppedMessages(), static_cast<std::size_t>(kMessages));
+  EXPECT_GT(bus.droppedMessages(), 0u);
+  EXPECT_GT(delivered, 0u);  // edits of plain numbers decode
+  EXPECT_LE(largest, good.size() / 100);  // an agent state takes well over 100 bytes
+}
+
+TEST(Transport, WellFormedEncodingsOfEveryTypePassTheWireCheck) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  const hunav::world_state_t ws = richWorldState();
+  const auto check = [&bus](const auto& msg) {
+    using Msg = std::decay_t<decltype(msg)>;
+    const std::vector<std::uint8_t> bytes = bus.encode(msg);
+    EXPECT_TRUE(hunav::wire::safeToDecode<Msg>(bytes.data(), bytes.size()));
+    // One byte short is never safe: the walk needs every byte.
+    EXPECT_FALSE(hunav::wire::safeToDecode<Msg>(bytes.data(), bytes.size() - 1));
+  };
+  check(ws);
+  check(ws.agents[0]);
+  hunav::step_request_t req{};
+  req.num_agents = 2;
+  req.agents = ws.agents;
+  req.robot = ws.robot;
+  check(req);
+  hunav::step_reply_t reply{};
+  reply.num_agents = 2;
+  reply.agents = ws.agents;
+  check(reply);
+  hunav::live_metrics_t live{};
+  live.num_metrics = 2;
+  live.names = {"time_to_reach_goal", "path_length"};
+  live.values = {1.0, 2.0};
+  check(live);
+  hunav::robot_observation_t obs{};
+  obs.num_people = 1;
+  obs.people.resize(1);
+  obs.scan.num_ranges = 3;
+  obs.scan.ranges = {1.0f, 2.0f, 3.0f};
+  check(obs);
+  hunav::episode_event_t ev{};
+  ev.status = "running";
+  check(ev);
+  check(goal(1.0));
+  check(hunav::robot_command_t{});
 }
 
 TEST(Transport, UrlPrecedenceFlagThenEnvironmentThenDefault) {

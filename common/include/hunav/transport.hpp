@@ -24,6 +24,7 @@
 // context switches per message) but through a socket of our own (DirectReceiver, transport.cpp),
 // read in the calling thread. It speaks LCM's wire format, so LCM publishers, lcm-logger and lcm-spy
 // on those ports interoperate with it.
+#include <hunav/wire_checks.hpp>
 #include <lcm/lcm-cpp.hpp>
 
 #include <poll.h>
@@ -247,9 +248,15 @@ class Bus {
     void dispatch(const void* data, unsigned size) override {
       // A fresh message every time: LCM 1.3.1's decoders leave a primitive array untouched when its
       // count is 0, so a reused message would keep the previous one's elements.
+      // lcm-gen's decoder trusts string lengths and array counts (a bad one crashes or allocates
+      // gigabytes): the bytes are checked first (lcmtypes/gen_wire_checks.py).
+      if (!wire::safeToDecode<Msg>(data, size)) {
+        ++bus->dropped_;
+        return;
+      }
       Msg msg;
       int decoded = -1;
-      try {  // generated decoders throw (length_error, bad_alloc) on absurd array counts
+      try {
         decoded = msg.decode(data, 0, static_cast<int>(size));
       } catch (const std::exception&) {
         decoded = -1;
