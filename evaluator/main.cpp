@@ -9,7 +9,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <iostream>
+#include <system_error>
 
 namespace {
 
@@ -84,10 +86,17 @@ int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string
 }
 
 int runLog(const hunav::evaluator::LogReplayOptions& options) {
-  const auto results = hunav::evaluator::replayLog(options);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(options.log_file, ec)) {
+    std::cerr << "hunav_evaluator: --log " << options.log_file.string() << ": not a readable file\n";
+    return hunav::kExitBadInput;
+  }
+  std::string log_problem;
+  const auto results = hunav::evaluator::replayLog(options, &log_problem);
+  if (!log_problem.empty()) std::cerr << "hunav_evaluator: warning: " << log_problem << "\n";
   if (results.empty()) {
     std::cerr << "hunav_evaluator: " << options.log_file.string() << " holds no episode\n";
-    return 1;
+    return hunav::kExitBadInput;
   }
   for (const auto& r : results) {
     std::cout << r.formatTable();

@@ -4,6 +4,7 @@
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/channels.hpp"
+#include "hunav/lcm_log_reader.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -191,9 +192,8 @@ RunResult recomputeFromStates(const OfflineOptions& options) {
 }
 
 
-std::vector<RunResult> replayLog(const LogReplayOptions& options) {
-  lcm::LogFile log(options.log_file.string(), "r");
-  if (!log.good()) throw std::runtime_error("cannot read the LCM log " + options.log_file.string());
+std::vector<RunResult> replayLog(const LogReplayOptions& options, std::string* log_problem) {
+  LcmLogReader log(options.log_file);
   lcm::LCM lcm("memq://");
   if (!lcm.good()) throw std::runtime_error("cannot create a memq:// LCM instance");
   std::vector<RunResult> results;
@@ -209,16 +209,19 @@ std::vector<RunResult> replayLog(const LogReplayOptions& options) {
     eo.sample_rate = options.sample_rate;
     EvaluatorNode node(bus, eo);
     int ended = 0;
-    while (const lcm::LogEvent* ev = log.readNextEvent()) {
+    while (const LcmLogReader::Event* ev = log.next()) {
       if (ev->channel != channels::kWorldState && ev->channel != channels::kEpisodeEvent) continue;
-      bus.publishRaw(ev->channel, ev->data, static_cast<std::size_t>(ev->datalen));
+      bus.publishRaw(ev->channel, ev->data.data(), ev->data.size());
       bus.handleAvailable();
       if (node.episodesEnded() != ended) {
         ended = node.episodesEnded();
         results.push_back(*node.lastResult());
       }
     }
-    if (node.finishIncomplete("the log ended before the episode's END")) results.push_back(*node.lastResult());
+    const std::string& stopped = log.stopReason();
+    if (node.finishIncomplete(stopped.empty() ? "the log ended before the episode's END" : stopped))
+      results.push_back(*node.lastResult());
+    if (log_problem != nullptr) *log_problem = stopped;
   }
   return results;
 }

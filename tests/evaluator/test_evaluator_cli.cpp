@@ -14,6 +14,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
+#include <fstream>
 #include <thread>
 
 using namespace hunav::evaluator;
@@ -169,7 +171,7 @@ TEST(EvaluatorCli, MalformedStatesFileNamesLineAndKeyAndExitsWithTwo) {
   EXPECT_EQ(run(kBinary + " --states '" + (dir / "states.csv").string() + "' --out '" + (dir / "out").string() +
                 "' >/dev/null 2>'" + err.string() + "'"),
             2);
-  EXPECT_EQ(readFile(err), (dir / "states.csv").string() + ":3: x: expected a finite number, got 'zero'\n");
+  EXPECT_EQ(readFile(err), (dir / "states.csv").string() + ":3: x: expected a finite number within +-1e9, got 'zero'\n");
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "metrics.csv"));
 
   // A malformed run.json beside the states file is bad input too.
@@ -278,12 +280,64 @@ TEST(EvaluatorCli, ReplaysAnLcmLogWithProfileSelectionAndTxtFormat) {
                         "metrics.txt", "metrics_steps_exp.txt", "metrics_beh_4.txt", "metrics_beh_4_steps_exp.txt"})
     EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
 
-  // A selection naming an unknown metric is bad input (2); a missing log is an error (1).
+  // A selection naming an unknown metric, a missing log, a file that is no LCM log, and a folder
+  // are bad input (2).
   writeFile(dir / "bad.yaml", "metrics:\n  nope: false\n");
   EXPECT_EQ(run(kBinary + " --log '" + (dir / "run.lcmlog").string() + "' --out '" + (dir / "o2").string() +
                 "' --metrics '" + (dir / "bad.yaml").string() + "' >/dev/null 2>&1"),
             2);
   EXPECT_EQ(run(kBinary + " --log '" + (dir / "missing.lcmlog").string() + "' --out '" + (dir / "o3").string() +
                 "' >/dev/null 2>&1"),
-            1);
+            2);
+  writeFile(dir / "garbage.lcmlog", "this is not an LCM log at all, just text\n");
+  EXPECT_EQ(run(kBinary + " --log '" + (dir / "garbage.lcmlog").string() + "' --out '" + (dir / "o4").string() +
+                "' >/dev/null 2>&1"),
+            2);
+  EXPECT_EQ(run(kBinary + " --log '" + dir.string() + "' --out '" + (dir / "o5").string() + "' >/dev/null 2>&1"), 2);
+}
+
+TEST(EvaluatorCli, ACorruptLogKeepsTheEpisodeUpToTheCorruptEvent) {
+  // liblcm's reader would allocate and read an event length of 0x7fffffff (a crash); the replay
+  // stops there and writes the episode as incomplete, with the world states before it.
+  const auto dir = freshDir();
+  const auto log_file = dir / "cut.lcmlog";
+  std::vector<std::uint64_t> event_starts;
+  {
+    lcm::LCM lcm("memq://");
+    hunav::Bus enc(lcm);
+    lcm::LogFile log(log_file.string(), "w");
+    std::int64_t n = 0;
+    auto write = [&](const std::string& channel, const std::vector<std::uint8_t>& bytes) {
+      event_starts.push_back(static_cast<std::uint64_t>(std::ftell(log.getFilePtr())));
+      lcm::LogEvent ev;
+      ev.eventnum = n++;
+      ev.timestamp = 0;
+      ev.channel = channel;
+      ev.datalen = static_cast<std::int32_t>(bytes.size());
+      ev.data = const_cast<std::uint8_t*>(bytes.data());
+      log.writeEvent(&ev);
+    };
+    write(hunav::channels::kEpisodeEvent, enc.encode(startEvent(1, "cut")));
+    for (int k = 0; k < 5; ++k)
+      write(hunav::channels::kWorldState, enc.encode(worldState(1, k, 10000 * k, robotMsg(0.1 * k, 0, 0, 1.0, 0.0),
+                                                                {personMsg(1, 2.0, 0.5, 0.4, 1)})));
+  }
+  // The data length of the 4th event (the third world state): bytes 24..27 of its header.
+  {
+    std::fstream f(log_file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(event_starts[3] + 24));
+    const char length[4] = {0x7f, static_cast<char>(0xff), static_cast<char>(0xff), static_cast<char>(0xff)};
+    f.write(length, 4);
+  }
+  const auto out = dir / "out";
+  ASSERT_EQ(run(kBinary + " --log '" + log_file.string() + "' --out '" + out.string() + "' >'" +
+                (dir / "stdout.txt").string() + "' 2>'" + (dir / "stderr.txt").string() + "'"),
+            0);
+  const RunInfo info = readRunJson(out / "run.json");
+  EXPECT_EQ(info.status, "incomplete");
+  EXPECT_EQ(info.recorded_ticks, 2);  // the world states before the corrupt event
+  EXPECT_NE(info.reason.find("byte " + std::to_string(event_starts[3])), std::string::npos) << info.reason;
+  const auto err = readLines(dir / "stderr.txt");
+  ASSERT_FALSE(err.empty());
+  EXPECT_NE(err[0].find("warning: "), std::string::npos) << err[0];
 }

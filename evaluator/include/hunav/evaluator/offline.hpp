@@ -53,6 +53,9 @@ struct LogReplayOptions {
 // event timestamps are not used (messages carry their simulation time). An episode the log leaves
 // open is written as incomplete. Returns the results of every episode, in order. Throws
 // std::runtime_error when the log cannot be opened.
-std::vector<RunResult> replayLog(const LogReplayOptions& options);
+// The log is read with hunav::LcmLogReader: an event that does not fit in the file (a cut or corrupt
+// log) ends the replay there; `log_problem` (when given) then says where and why, else is empty.
+// Throws std::runtime_error when the file cannot be opened.
+std::vector<RunResult> replayLog(const LogReplayOptions& options, std::string* log_problem = nullptr);
 
 }  // namespace hunav::evaluator
