@@ -7,11 +7,13 @@
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "hunav/channels.hpp"
 #include "hunav/cli.hpp"
+#include "hunav/config_error.hpp"
 #include "hunav/report/log_recorder.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/transport.hpp"
@@ -48,7 +50,14 @@ int main(int argc, char** argv) {
       }
       listened.push_back(instances.back().get());
     }
-    hunav::report::LogRecorder recorder(listened, out, channels);
+    std::unique_ptr<hunav::report::LogRecorder> recording;
+    try {
+      recording = std::make_unique<hunav::report::LogRecorder>(listened, out, channels);
+    } catch (const std::invalid_argument& e) {  // a --channels expression LCM cannot compile
+      std::cerr << "hunav_record: " << e.what() << "\n";
+      return hunav::kExitBadInput;
+    }
+    hunav::report::LogRecorder& recorder = *recording;
     std::cout << "ready" << std::endl;
     auto last_flush = std::chrono::steady_clock::now();
     while (!stop.load()) {

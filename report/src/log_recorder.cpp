@@ -62,16 +62,22 @@ LogRecorder::LogRecorder(const std::vector<lcm::LCM*>& instances, const std::str
   if (instances_.empty()) throw std::invalid_argument("LogRecorder: no LCM instance to record");
   for (lcm::LCM* lcm : instances_) {
     if (lcm == nullptr || !lcm->good()) throw std::runtime_error("cannot open the LCM bus");
-    lcm::Subscription* sub = lcm->subscribe(channel_regex, &LogRecorder::onMessage, this);
-    if (sub == nullptr) throw std::runtime_error("cannot subscribe to '" + channel_regex + "'");
-    sub->setQueueCapacity(0);  // 0: unbounded (LCM's default of 30 drops messages in bursts)
+    // LCM's C API: it returns NULL for a regular expression it cannot compile, where the C++
+    // wrapper returns a subscription holding NULL (and crashes on its first use).
+    lcm_subscription_t* sub = lcm_subscribe(lcm->getUnderlyingLCM(), channel_regex.c_str(), &LogRecorder::onRaw, this);
+    if (sub == nullptr) {
+      for (std::size_t i = 0; i < subscriptions_.size(); ++i)
+        lcm_unsubscribe(instances_[i]->getUnderlyingLCM(), subscriptions_[i]);
+      throw std::invalid_argument("--channels '" + channel_regex + "': not a regular expression LCM accepts");
+    }
+    lcm_subscription_set_queue_capacity(sub, 0);  // 0: unbounded (LCM's default of 30 drops messages in bursts)
     subscriptions_.push_back(sub);
     poll_fds_.push_back(pollfd{lcm->getFileno(), POLLIN, 0});
   }
 }
 
 LogRecorder::~LogRecorder() {
-  for (std::size_t i = 0; i < subscriptions_.size(); ++i) instances_[i]->unsubscribe(subscriptions_[i]);
+  for (std::size_t i = 0; i < subscriptions_.size(); ++i) lcm_unsubscribe(instances_[i]->getUnderlyingLCM(), subscriptions_[i]);
 }
 
 bool LogRecorder::handle(std::chrono::milliseconds timeout) {
@@ -110,15 +116,19 @@ void LogRecorder::drain(std::chrono::milliseconds quiet) {
 
 void LogRecorder::flush() { std::fflush(log_.getFilePtr()); }
 
-void LogRecorder::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+void LogRecorder::onRaw(const lcm_recv_buf_t* rbuf, const char* channel, void* self) {
+  static_cast<LogRecorder*>(self)->onMessage(rbuf->data, rbuf->data_size, channel);
+}
+
+void LogRecorder::onMessage(void* data, std::uint32_t size, const std::string& channel) {
   std::int64_t utime = 0;
-  if (hunavUtime(rbuf->data, rbuf->data_size, utime)) last_stamp_ = std::max(last_stamp_, utime);
+  if (hunavUtime(data, size, utime)) last_stamp_ = std::max(last_stamp_, utime);
   lcm::LogEvent ev{};
   ev.eventnum = events_;
   ev.timestamp = last_stamp_;
   ev.channel = channel;
-  ev.datalen = static_cast<int32_t>(rbuf->data_size);
-  ev.data = rbuf->data;
+  ev.datalen = static_cast<int32_t>(size);
+  ev.data = data;
   // No exception may cross LCM's C code: handle() reports the failure.
   if (log_.writeEvent(&ev) != 0) {
     write_failed_ = true;

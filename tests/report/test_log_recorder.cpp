@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,25 @@ TEST(LogRecorder, TimesOutWhenNoInstanceHasAMessage) {
   hunav::report::LogRecorder recorder({&a, &b}, path);
   EXPECT_FALSE(recorder.handle(std::chrono::milliseconds(10)));
   EXPECT_EQ(recorder.events(), 0);
+  std::remove(path.c_str());
+}
+
+TEST(LogRecorder, AChannelExpressionLcmCannotCompileIsRejectedNotFatal) {
+  // LCM's C++ subscribe() hands back a subscription holding NULL for such an expression, which
+  // crashes on its first use; the recorder says what is wrong instead.
+  lcm::LCM a("memq://"), b("memq://");
+  const std::string path = (std::filesystem::current_path() / "hunav_test_log_recorder_regex.lcmlog").string();
+  for (const char* bad : {"(", "[z-a]"}) {
+    try {
+      hunav::report::LogRecorder recorder({&a, &b}, path, bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
+  // The instances are left usable: a recorder with a good expression records on them.
+  hunav::report::LogRecorder recorder({&a, &b}, path, "WORLD_.*");
+  EXPECT_FALSE(recorder.handle(std::chrono::milliseconds(1)));
   std::remove(path.c_str());
 }
 

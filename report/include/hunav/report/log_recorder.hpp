@@ -31,7 +31,8 @@ namespace hunav::report {
 class LogRecorder {
  public:
   // Opens `path` for writing (throws std::runtime_error when it cannot) and subscribes to every
-  // channel matching `channel_regex` (LCM's regular expressions) on `lcm`.
+  // channel matching `channel_regex` (LCM's regular expressions) on `lcm`; throws
+  // std::invalid_argument when LCM cannot compile `channel_regex`.
   LogRecorder(lcm::LCM& lcm, const std::string& path, const std::string& channel_regex = ".*");
   // The same over several LCM instances (one per port), all recorded into the one log.
   LogRecorder(const std::vector<lcm::LCM*>& instances, const std::string& path,
@@ -55,10 +56,11 @@ class LogRecorder {
   static bool hunavUtime(const void* data, std::size_t size, std::int64_t& utime);
 
  private:
-  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  static void onRaw(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
+  void onMessage(void* data, std::uint32_t size, const std::string& channel);
 
   std::vector<lcm::LCM*> instances_;
-  std::vector<lcm::Subscription*> subscriptions_;  // one per instance
+  std::vector<lcm_subscription_t*> subscriptions_;  // one per instance
   std::vector<pollfd> poll_fds_;                   // one per instance
   std::size_t next_ = 0;                           // round robin among ready instances
   lcm::LogFile log_;
