@@ -1,6 +1,7 @@
 #include "hunav/message_checks.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hunav {
 
@@ -21,7 +22,15 @@ void checkAgentState(const agent_state_t& a, const char* what) {
                 notFiniteMark(bp.social_force_factor) + notFiniteMark(bp.other_force_factor);
   for (const point2d_t& p : a.goals) mark += notFiniteMark(p.x) + notFiniteMark(p.y);
   for (const point2d_t& p : a.obstacles) mark += notFiniteMark(p.x) + notFiniteMark(p.y);
-  if (mark == 0.0 && a.radius >= 0.0 && a.desired_speed >= 0.0 && a.goal_radius >= 0.0 && a.num_goals >= 0 &&
+  // The largest magnitude (std::max: a NaN is caught by `mark` above).
+  double largest = 0.0;
+  for (const double v : {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius, a.desired_speed,
+                         a.goal_radius, bp.duration, bp.vel, bp.dist, bp.goal_force_factor, bp.obstacle_force_factor,
+                         bp.social_force_factor, bp.other_force_factor})
+    largest = std::max(largest, std::abs(v));
+  for (const point2d_t& p : a.goals) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
+  for (const point2d_t& p : a.obstacles) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
+  if (mark == 0.0 && largest <= kMaxMagnitude && a.radius >= 0.0 && a.desired_speed >= 0.0 && a.goal_radius >= 0.0 && a.num_goals >= 0 &&
       a.num_goals <= kMaxPointsPerAgent && a.num_obstacles >= 0 && a.num_obstacles <= kMaxPointsPerAgent)
     return;  // the common case; otherwise the checks below say what is wrong
   for (const double v : {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius,
@@ -30,6 +39,9 @@ void checkAgentState(const agent_state_t& a, const char* what) {
                          a.behavior_params.obstacle_force_factor, a.behavior_params.social_force_factor,
                          a.behavior_params.other_force_factor})
     checkFinite(v, "agent field", what);
+  if (!(largest <= kMaxMagnitude))
+    throw BadMessage(std::string(what) + ": a number of agent " + std::to_string(a.id) + " is beyond +-" +
+                     std::to_string(static_cast<long long>(kMaxMagnitude)));
   if (a.radius < 0.0 || a.desired_speed < 0.0 || a.goal_radius < 0.0)
     throw BadMessage(std::string(what) + ": negative radius or speed for agent " + std::to_string(a.id));
   if (a.num_goals < 0 || a.num_goals > kMaxPointsPerAgent || a.num_obstacles < 0 ||

@@ -23,6 +23,11 @@ namespace hunav::evaluator {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Numbers of a row lie within +-kMaxNumber (and are finite): beyond it the metrics' squared
+// distances and sums could overflow to infinity, and the episode would be lost. Positions and speeds
+// of live runs stay within +-1e6 (hunav::kMaxMagnitude); t may be larger.
+constexpr double kMaxNumber = 1e9;
 constexpr std::size_t kColumns = 19;
 const std::array<const char*, kColumns> kColumnNames{
     "t",           "kind",          "id",     "x",     "y",     "yaw",    "vx",          "vy",  "vyaw", "linear_vel",
@@ -197,7 +202,7 @@ class RowParser {
   double real(std::size_t column) const {
     const std::string_view s = fields_[column];
     double v = 0.0;
-    if (!parseReal(s, v)) fail(column, "expected a finite number, got '" + std::string(s) + "'");
+    if (!parseReal(s, v)) fail(column, "expected a finite number within +-1e9, got '" + std::string(s) + "'");
     return v;
   }
 
@@ -215,7 +220,7 @@ class RowParser {
 
   static bool parseReal(std::string_view s, double& v) {
     const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-    return !s.empty() && res.ec == std::errc() && res.ptr == s.data() + s.size() && std::isfinite(v);
+    return !s.empty() && res.ec == std::errc() && res.ptr == s.data() + s.size() && std::abs(v) <= kMaxNumber;
   }
 
   // "x:y;x:y" or empty, appended to `points` (cleared first).
@@ -469,7 +474,7 @@ class FastRow {
   }
   bool real(double& v, char sep, bool last = false) {
     const auto res = std::from_chars(p_, end_, v);
-    if (res.ec != std::errc() || res.ptr == p_ || !std::isfinite(v)) return false;
+    if (res.ec != std::errc() || res.ptr == p_ || !(std::abs(v) <= kMaxNumber)) return false;
     return separator(res.ptr, sep, last);
   }
   template <class Int>

@@ -4,6 +4,7 @@
 #include <xxhash.h>
 
 #include <cmath>
+#include <string>
 
 #include "hunav/fingerprint.hpp"
 #include "hunav/message_checks.hpp"
@@ -37,10 +38,39 @@ TEST(MessageChecks, DuplicateIdsAreRejectedInAnyOrder) {
   far[0].goals.push_back(point2d_t{1.0, HUGE_VAL});
   far[0].num_goals = 1;
   EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);  // an infinite goal
-  far[0].goals[0].y = 1e300;                                  // huge but finite: fine
+  far[0].goals[0].y = 1e6;                                    // at the bound: fine
   EXPECT_NO_THROW(checkAgentStates(far, 1, "test"));
   far[0].desired_speed = -0.5;
   EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);
+}
+
+TEST(MessageChecks, NumbersBeyondAMillionAreRejected) {
+  // A finite 1e308 at x would make the metrics' squared distances infinite (the evaluator would
+  // lose the episode): every number of an agent state lies within +-1e6.
+  const auto rejects = [](auto edit) {
+    auto agents = withIds({1});
+    agents[0].num_goals = 1;
+    agents[0].goals = {point2d_t{1.0, 2.0}};
+    agents[0].num_obstacles = 1;
+    agents[0].obstacles = {point2d_t{3.0, 4.0}};
+    EXPECT_NO_THROW(checkAgentStates(agents, 1, "test"));
+    edit(agents[0]);
+    try {
+      checkAgentStates(agents, 1, "test");
+      return false;
+    } catch (const BadMessage& e) {
+      EXPECT_NE(std::string(e.what()).find("beyond +-1000000"), std::string::npos) << e.what();
+      return true;
+    }
+  };
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.x = 1e308; }));
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.y = -1.5e6; }));
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.vx = 2e6; }));
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.radius = 1e7; }));
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.behavior_params.dist = 1e9; }));
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.goals[0].x = 1e300; }));
+  EXPECT_TRUE(rejects([](agent_state_t& a) { a.obstacles[0].y = -1e100; }));
+  EXPECT_FALSE(rejects([](agent_state_t& a) { a.x = -1e6; }));  // the bound itself is allowed
 }
 
 TEST(Fingerprint, ChainsXxh3OverMessagesInOrder) {

@@ -43,7 +43,7 @@ Recording awkward(const std::filesystem::path& file) {
     EntityState r = robotWithGoal(std::sin(k) / 3.0, -1.0 / (k + 3), 1e-300 * k, 2.0 / 3.0, 0.1 * 3);
     r.id = 100;
     r.yaw = std::atan2(k, 7.0) - 3.0;
-    r.vx = 1e15 / (k + 1);
+    r.vx = 1e9 / 3.0 / (k + 1);  // large (the reader takes up to 1e9) and with every digit used
     r.vy = -0.0;
     r.linear_vel = std::hypot(r.vx, r.vy);
     r.angular_vel = -std::exp(-k);
@@ -146,6 +146,9 @@ TEST(StatesCsv, MalformedFilesNameFileLineAndKey) {
   expectError(kRobotRow + "0.5,agent,1,0,0,0,0,0,0,0,0,0.3,1,0,-1,,,,\n", 3, "t");
   expectError(kRobotRow + "0,agent,1,0,0,0,0,0,0,0,0,0.3,1,0,-1,,,,1:2;3\n", 3, "obs");
   expectError("0,agent,1,0,0,0,0,0,0,0,0,0.3,1,0,-1,,,,\n", 2, "kind");
+  // Finite but beyond +-1e9: the metrics' squares would overflow to infinity.
+  expectError(kRobotRow + "0.1,robot,100,1e308,0,0,0,0,0,0,0,0.3,0,0,-1,4,0,0.3,\n", 3, "x");
+  expectError(kRobotRow + "0,agent,1,0,0,0,0,0,0,0,0,0.3,1,0,-1,,,,1:-2e9\n", 3, "obs");
 }
 
 TEST(StatesCsv, WrongHeaderIsLineOne) {

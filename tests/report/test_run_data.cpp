@@ -212,7 +212,7 @@ TEST(RunData, MissingOrMalformedInputsNameTheFile) {
   EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("run.json: missing file"), std::string::npos);
   writeTinyRun(dir);
   writeFile(dir / "states.csv", std::string(kStatesHeader) + "0,robot,0,zero,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
-  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv:2: x: expected a finite number, got 'zero'"),
+  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv:2: x: expected a finite number within +-1e9, got 'zero'"),
             std::string::npos);
   writeFile(dir / "states.csv", kStatesHeader);
   EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv: no samples"), std::string::npos);

@@ -13,9 +13,13 @@ namespace hunav {
 
 inline constexpr int kMaxAgentsPerMessage = 100000;
 inline constexpr int kMaxPointsPerAgent = 10000;
+// Every number of an agent state (m, m/s, rad, s, factors) lies within +-kMaxMagnitude: beyond it a
+// sender is broken (scenarios keep coordinates within +-1e5 m), and the products the social force
+// and the metrics form would overflow to infinity.
+inline constexpr double kMaxMagnitude = 1e6;
 
-// Throws BadMessage naming `what` when the agent state has a non-finite number, a negative radius
-// or speed, or inconsistent array sizes.
+// Throws BadMessage naming `what` when the agent state has a non-finite number or one beyond
+// +-kMaxMagnitude, a negative radius or speed, or inconsistent array sizes.
 void checkAgentState(const agent_state_t& a, const char* what);
 void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what);
 
