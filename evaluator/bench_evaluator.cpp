@@ -1,4 +1,4 @@
-// bench_evaluator: timing of the evaluator's heavy paths, printed as figures (DESIGN.md section 12).
+// bench_evaluator: timing of the evaluator's heavy paths, printed as figures.
 //   bench_evaluator [--ticks 360000] [--people 20] [--dir /tmp/bench_evaluator] [--profile default]
 //   bench_evaluator --replay RUN.lcmlog [--repeat 20] [--dir DIR] [--profile default] [--worker 0|1]
 //                   [--worker-min-people N]
@@ -131,7 +131,20 @@ int main(int argc, char** argv) {
   int repeat = 20;
   bool worker = false;
   std::size_t worker_min_people = kWorkerMinPeople;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  const char* usage =
+      "usage: bench_evaluator [--ticks 360000] [--people 20] [--dir /tmp/bench_evaluator] [--profile default]\n"
+      "       bench_evaluator --replay RUN.lcmlog [--repeat 20] [--dir DIR] [--profile default] [--worker 0|1]\n"
+      "                       [--worker-min-people N]\n";
+  for (int i = 1; i < argc; i += 2) {
+    if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) {
+      std::fputs(usage, stdout);
+      return 0;
+    }
+    // Every option takes a value: a lone last flag would otherwise start the hour-long default run.
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "bench_evaluator: %s needs a value\n%s", argv[i], usage);
+      return 2;
+    }
     if (!std::strcmp(argv[i], "--ticks")) ticks = std::atol(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--people")) people = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--dir")) dir = argv[i + 1];
@@ -141,10 +154,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--worker")) worker = std::atoi(argv[i + 1]) != 0;
     else if (!std::strcmp(argv[i], "--worker-min-people")) worker_min_people = std::strtoul(argv[i + 1], nullptr, 10);
     else {
-      std::fprintf(stderr,
-                   "usage: bench_evaluator [--ticks N] [--people N] [--dir DIR] [--profile P]\n"
-                   "       bench_evaluator --replay RUN.lcmlog [--repeat N] [--dir DIR] [--profile P] [--worker 0|1]\n"
-                   "                       [--worker-min-people N]\n");
+      std::fprintf(stderr, "bench_evaluator: unknown option %s\n%s", argv[i], usage);
       return 2;
     }
   }

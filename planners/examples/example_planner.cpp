@@ -6,12 +6,38 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
+namespace {
+const char* const kUsage =
+    "usage: example_planner [LCM_URL] [EPISODES]\n"
+    "  LCM_URL   e.g. udpm://239.255.76.67:7667?ttl=0 (default: $LCM_DEFAULT_URL, else that one)\n"
+    "  EPISODES  exit 0 after this many episodes ended (default 0: run until killed)\n"
+    "Answers every ROBOT_OBSERVATION with a ROBOT_COMMAND: drive to the goal, stop when the laser\n"
+    "sees something close ahead. Prints \"ready\" once subscribed.\n";
+
+int usageError(const char* what, const char* arg) {
+  std::fprintf(stderr, "example_planner: %s: %s\n%s", what, arg, kUsage);
+  return 2;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
+  if (argc > 1 && (!std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help"))) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (argc > 3) return usageError("too many arguments", argv[3]);
+  // LCM URLs are provider://address (udpm://, memq://, file://); anything else is a mistake.
+  if (argc > 1 && std::strstr(argv[1], "://") == nullptr) return usageError("not an LCM URL", argv[1]);
+  char* end = nullptr;
+  const long episodes = argc > 2 ? std::strtol(argv[2], &end, 10) : 0;
+  if (argc > 2 && (*end != '\0' || end == argv[2] || episodes < 0))
+    return usageError("EPISODES must be a whole number >= 0", argv[2]);
+
   const char* env = std::getenv("LCM_DEFAULT_URL");
   const std::string url = argc > 1 ? argv[1] : (env != nullptr ? env : "udpm://239.255.76.67:7667?ttl=0");
-  const long episodes = argc > 2 ? std::atol(argv[2]) : 0;
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     std::fprintf(stderr, "example_planner: cannot open LCM at %s\n", url.c_str());
