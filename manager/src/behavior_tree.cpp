@@ -7,6 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <system_error>
 #include <set>
 #include <utility>
 
@@ -173,12 +177,70 @@ NodeLibrary NodeLibrary::withBuiltins() {
 
 namespace {
 
+// Limits of a tree once its SubTrees are expanded (build() copies a SubTree's body at each use, so
+// a few trees that each use the next twice would grow exponentially, and a long chain of SubTrees would
+// overflow the stack of the recursive build).
+constexpr int kMaxSubTreeDepth = 64;
+constexpr std::size_t kMaxTreeNodes = 100000;
+
 struct Parser {
   const std::string& file;
   const NodeLibrary& lib;
   std::map<std::string, const tinyxml2::XMLElement*> trees;
 
+  // Nodes and SubTree nesting of a tree's body once expanded; computed once per tree.
+  struct Extent {
+    std::size_t nodes = 0;
+    int subtree_depth = 0;
+  };
+  std::map<std::string, Extent> extents{};
+  std::set<std::string> visiting{};
+
   [[noreturn]] void fail(int line, const std::string& what) const { throw ConfigError(file, line, "", what); }
+
+  // Checks the limits before anything is expanded. `depth` is the number of SubTrees around the tree.
+  // A tree is walked once (its extent is kept), so this stays linear in the document; the recursion
+  // is bounded by kMaxSubTreeDepth times tinyxml2's element depth limit. Missing and recursive
+  // SubTrees are left to build(), which reports them.
+  Extent treeExtent(const std::string& id, int depth) {
+    if (const auto known = extents.find(id); known != extents.end()) return known->second;
+    Extent x;
+    visiting.insert(id);
+    if (const tinyxml2::XMLElement* body = trees.at(id)->FirstChildElement()) x = elementExtent(body, depth);
+    visiting.erase(id);
+    extents.emplace(id, x);
+    return x;
+  }
+  Extent elementExtent(const tinyxml2::XMLElement* e, int depth) {
+    Extent x;
+    x.nodes = 1;
+    const int line = e->GetLineNum();
+    auto tooMany = [&] {
+      fail(line, "the tree would have more than " + std::to_string(kMaxTreeNodes) +
+                     " nodes once its SubTrees are expanded (each use of a SubTree copies it)");
+    };
+    if (std::string(e->Name()) == "SubTree") {
+      const char* id = e->Attribute("ID");
+      if (id != nullptr && trees.count(id) != 0 && visiting.count(id) == 0) {
+        if (depth + 1 > kMaxSubTreeDepth)
+          fail(line, "SubTree: nested more than " + std::to_string(kMaxSubTreeDepth) + " SubTrees deep");
+        const Extent sub = treeExtent(id, depth + 1);
+        if (depth + 1 + sub.subtree_depth > kMaxSubTreeDepth)
+          fail(line, "SubTree: '" + std::string(id) + "' nests more than " + std::to_string(kMaxSubTreeDepth) +
+                         " SubTrees deep");
+        x.nodes += sub.nodes;
+        x.subtree_depth = sub.subtree_depth + 1;
+        if (x.nodes > kMaxTreeNodes) tooMany();
+      }
+    }
+    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+      const Extent child = elementExtent(c, depth);
+      x.nodes += child.nodes;
+      x.subtree_depth = std::max(x.subtree_depth, child.subtree_depth);
+      if (x.nodes > kMaxTreeNodes) tooMany();
+    }
+    return x;
+  }
 
   PortValue parseValue(const tinyxml2::XMLElement* e, const PortSpec& spec, const std::string& text) const {
     PortValue v;
@@ -312,6 +374,7 @@ std::shared_ptr<const TreeDefinition> TreeDefinition::parse(const std::string& x
   auto it = p.trees.find(def->main_);
   if (it == p.trees.end())
     throw ConfigError(file, root->GetLineNum(), "", "main_tree_to_execute: no BehaviorTree '" + def->main_ + "'");
+  p.treeExtent(def->main_, 0);
   std::set<std::string> stack{def->main_};
   def->root_ = p.buildTreeBody(it->second, stack);
   int counter = 0;
@@ -320,6 +383,9 @@ std::shared_ptr<const TreeDefinition> TreeDefinition::parse(const std::string& x
 }
 
 std::shared_ptr<const TreeDefinition> TreeDefinition::load(const std::string& path, const NodeLibrary& lib) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw ConfigError(path, 0, "", "not a regular file");
   FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) throw ConfigError(path, 0, "", "cannot open behavior tree file");
   std::string text;
