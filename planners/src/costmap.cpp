@@ -5,6 +5,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "hunav/config_error.hpp"
+
 namespace hunav::planners {
 
 Costmap::Costmap(const Scenario& scenario, double robot_radius, const CostmapParams& params)
@@ -12,8 +16,7 @@ Costmap::Costmap(const Scenario& scenario, double robot_radius, const CostmapPar
   Vec2 lo, hi;
   scenario.bounds(lo, hi, params.margin);
   origin_ = lo;
-  width_ = static_cast<int>(std::ceil((hi.x() - lo.x()) / params_.resolution));
-  height_ = static_cast<int>(std::ceil((hi.y() - lo.y()) / params_.resolution));
+  sizeGrid(lo, hi, scenario.file, "costmap");
   buildStaticLayer();
   clearMarkingWindow();
 }
@@ -21,10 +24,24 @@ Costmap::Costmap(const Scenario& scenario, double robot_radius, const CostmapPar
 Costmap::Costmap(std::vector<Shape> shapes, const Vec2& lo, const Vec2& hi, double robot_radius,
                  const CostmapParams& params)
     : params_(params), shapes_(std::move(shapes)), robot_radius_(robot_radius), origin_(lo) {
-  width_ = static_cast<int>(std::ceil((hi.x() - lo.x()) / params_.resolution));
-  height_ = static_cast<int>(std::ceil((hi.y() - lo.y()) / params_.resolution));
+  sizeGrid(lo, hi, "costmap", "");
   buildStaticLayer();
   clearMarkingWindow();
+}
+
+void Costmap::sizeGrid(const Vec2& lo, const Vec2& hi, const std::string& file, const std::string& key) {
+  const double res = params_.resolution;
+  // In double first: a huge map must give a clear error, not an overflowing int.
+  const double columns = std::ceil((hi.x() - lo.x()) / res);
+  const double rows = std::ceil((hi.y() - lo.y()) / res);
+  if (!(columns * rows <= kMaxCells))
+    throw ConfigError(file, 0, key,
+                      fmt::format("the grid would have {:.3g} cells ({:.6g} m x {:.6g} m, the map plus a margin of "
+                                  "{} m on each side, at a resolution of {} m); at most 5e7: raise "
+                                  "costmap.resolution or lower costmap.margin in the planner configuration",
+                                  columns * rows, hi.x() - lo.x(), hi.y() - lo.y(), params_.margin, res));
+  width_ = static_cast<int>(columns);
+  height_ = static_cast<int>(rows);
 }
 
 Vec2 Costmap::cellCenter(int cx, int cy) const {

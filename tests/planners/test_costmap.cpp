@@ -1,9 +1,12 @@
 #include "hunav/planners/costmap.hpp"
 
+#include "hunav/config_error.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -295,4 +298,32 @@ TEST(Costmap, ClearingFreesEveryMarkedCellAfterOverlappingMarks) {
   // A circle entirely off the grid marks nothing: the layer stays empty.
   map.markCircle(Vec2(40.0, 40.0), 0.3);
   EXPECT_TRUE(map.transientEmpty());
+}
+
+// A grid larger than Costmap::kMaxCells is a configuration error (exit 2), not a bad_alloc or an
+// out-of-memory kill, and a huge map is named as such, not an overflowing int ("empty grid").
+TEST(Costmap, TooManyCellsIsAConfigError) {
+  // 2e5 m x 2e5 m at 5 cm: 1.6e13 cells.
+  try {
+    Costmap({wall(Vec2(-1e5, 0), Vec2(1e5, 0))}, Vec2(-1e5, -1e5), Vec2(1e5, 1e5), kRadius);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("costmap: the grid would have 1.6e+13 cells (200000 m x 200000 m", 0), 0u)
+        << e.what();
+  }
+  EXPECT_THROW(Costmap({}, Vec2(-1e30, -1e30), Vec2(1e30, 1e30), kRadius), ConfigError);
+  // crowd.yaml at 5 mm with a 100 m margin (the probe's 24 GB): the error names the scenario file.
+  const Scenario crowd = loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/crowd.yaml");
+  CostmapParams fine;
+  fine.resolution = 0.005;
+  fine.margin = 100.0;
+  try {
+    Costmap map(crowd, kRadius, fine);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), crowd.file);
+    EXPECT_EQ(e.key(), "costmap");
+    EXPECT_NE(std::string(e.what()).find("margin of 100 m on each side, at a resolution of 0.005 m"), std::string::npos)
+        << e.what();
+  }
 }

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace hunav::planners {
@@ -40,6 +41,9 @@ class Costmap {
   static constexpr std::uint8_t kInscribed = 253;    // the robot would touch an obstacle
   static constexpr std::uint8_t kLethal = 254;       // the obstacle itself
   static bool isLethal(std::uint8_t cost) { return cost >= kInscribed; }
+  // Largest grid: the costmap and the global planner's search keep about 20 bytes a cell, so 5e7
+  // cells (350 m x 350 m at 5 cm) is about 1 GB. A larger one throws ConfigError (exit 2).
+  static constexpr double kMaxCells = 5e7;
 
   // Grid over Scenario::bounds(margin), static layer from scenario.shapes.
   Costmap(const Scenario& scenario, double robot_radius, const CostmapParams& params = {});
@@ -204,6 +208,8 @@ class Costmap {
   bool capsuleRowSpan(double py, const Vec2& a, const Vec2& ab, double reach2, int x0, int x1, int& cx0,
                       int& cx1) const;
   void buildStaticLayer();
+  // width_ and height_ of the grid over [lo, hi]; ConfigError(file, key) above kMaxCells.
+  void sizeGrid(const Vec2& lo, const Vec2& hi, const std::string& file, const std::string& key);
   void raiseTransientIndex(int i, std::uint8_t cost) {
     std::uint8_t& cell = transient_[static_cast<std::size_t>(i)];
     if (cost <= cell) return;
