@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <set>
 #include <unordered_map>
@@ -84,7 +85,10 @@ void drawRandomParams(BehaviorParams& p, int behavior, std::uint64_t seed, int i
 }
 
 Vec2 readPoint(const YamlReader& yr, const YAML::Node& map, const std::string& where) {
-  return Vec2(yr.get<double>(map, "x", where), yr.get<double>(map, "y", where));
+  const Vec2 p(yr.get<double>(map, "x", where), yr.get<double>(map, "y", where));
+  if (std::abs(p.x()) > kMaxCoordinate || std::abs(p.y()) > kMaxCoordinate)
+    yr.fail(map, where, "coordinates must be within +-1e5 m");
+  return p;
 }
 
 
@@ -153,9 +157,12 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
   a.skin = yr.get<int>(m, "skin", aw, 0);
   a.group_id = yr.get<int>(m, "group_id", aw, -1);
   a.max_vel = yr.get<double>(m, "max_vel", aw, 1.0);
-  if (a.max_vel < 0.0) yr.fail(m["max_vel"], YamlReader::join(aw, "max_vel"), "must be >= 0");
+  if (a.max_vel < 0.0 || a.max_vel > kMaxSpeed)
+    yr.fail(m["max_vel"], YamlReader::join(aw, "max_vel"), "must be in [0, 10] m/s");
   a.radius = yr.get<double>(m, "radius", aw, 0.35);
   if (a.radius <= 0.0) yr.fail(m["radius"], YamlReader::join(aw, "radius"), "must be > 0");
+  if (!(a.radius >= kMinBodySize && a.radius <= kMaxBodySize))
+    yr.fail(m["radius"], YamlReader::join(aw, "radius"), "must be in [1e-3, 100] m");
   a.goal_radius = yr.get<double>(m, "goal_radius", aw, 0.0);
   if (a.goal_radius < 0.0) yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be >= 0");
   a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
@@ -165,6 +172,7 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
   const std::string posew = YamlReader::join(aw, "init_pose");
   a.position = readPoint(yr, pose, posew);
   a.yaw = yr.get<double>(pose, "h", posew, 0.0);
+  if (std::abs(a.yaw) > kMaxAngle) yr.fail(pose["h"], YamlReader::join(posew, "h"), "must be within +-1e3 rad");
 
   readBehavior(yr, m, aw, seed, a);
 
@@ -210,9 +218,9 @@ Box readBox(const YamlReader& yr, const YAML::Node& n, const std::string& key) {
   if (!n.IsMap()) yr.fail(n, key, "expected a box {x: [low, high], y: [low, high]}");
   const Box b{readInterval(yr, yr.child(n, "x", key, true), YamlReader::join(key, "x")),
               readInterval(yr, yr.child(n, "y", key, true), YamlReader::join(key, "y"))};
-  constexpr double kFar = 1e6;  // m: a world is not larger; keeps the placement grid's indices small
+  // Also keeps the placement grid's indices small.
   for (const double v : {b.x.lo, b.x.hi, b.y.lo, b.y.hi})
-    if (std::abs(v) > kFar) yr.fail(n, key, "coordinates must be within +-1e6 m");
+    if (std::abs(v) > kMaxCoordinate) yr.fail(n, key, "coordinates must be within +-1e5 m");
   return b;
 }
 
@@ -273,8 +281,14 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
   if (!g.IsMap()) yr.fail(g, gw, "expected a mapping (count, region, goals or routes, ...)");
   const int count = yr.get<int>(g, "count", gw);
   if (count < 0 || count > 100000) yr.fail(g["count"], YamlReader::join(gw, "count"), "must be 0..100000");
-  const int first_id = yr.get<int>(g, "first_id", gw, ids.empty() ? 1 : *ids.rbegin() + 1);
-  if (first_id < 0) yr.fail(g["first_id"], YamlReader::join(gw, "first_id"), "must be >= 0");
+  const long long first_id_wide =
+      yr.get<long long>(g, "first_id", gw, ids.empty() ? 1LL : static_cast<long long>(*ids.rbegin()) + 1);
+  if (first_id_wide < 0) yr.fail(g["first_id"], YamlReader::join(gw, "first_id"), "must be >= 0");
+  // Ids are ints: the last one, first_id + count - 1, must be one too.
+  if (first_id_wide + count - 1 > std::numeric_limits<int>::max())
+    yr.fail(g["first_id"] ? g["first_id"] : g["count"], YamlReader::join(gw, "first_id"),
+            "first_id + count - 1 must be at most " + std::to_string(std::numeric_limits<int>::max()));
+  const int first_id = static_cast<int>(first_id_wide);
   const std::string prefix = yr.get<std::string>(g, "name_prefix", gw, "person");
   const Box region = readBox(yr, yr.child(g, "region", gw, true), YamlReader::join(gw, "region"));
 
@@ -291,9 +305,11 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
 
   const YAML::Node vel_node = yr.child(g, "max_vel", gw, false);
   const Interval max_vel = vel_node ? readInterval(yr, vel_node, YamlReader::join(gw, "max_vel")) : Interval{1.0, 1.0};
-  if (max_vel.lo < 0.0) yr.fail(vel_node, YamlReader::join(gw, "max_vel"), "must be >= 0");
+  if (max_vel.lo < 0.0 || max_vel.hi > kMaxSpeed)
+    yr.fail(vel_node, YamlReader::join(gw, "max_vel"), "must be in [0, 10] m/s");
   const double radius = yr.get<double>(g, "radius", gw, 0.35);
-  if (radius <= 0.0 || radius > 10.0) yr.fail(g["radius"], YamlReader::join(gw, "radius"), "must be in (0, 10] m");
+  if (!(radius >= kMinBodySize && radius <= 10.0))
+    yr.fail(g["radius"], YamlReader::join(gw, "radius"), "must be in [1e-3, 10] m");
   const double goal_radius = yr.get<double>(g, "goal_radius", gw, 0.3);
   if (goal_radius < 0.0) yr.fail(g["goal_radius"], YamlReader::join(gw, "goal_radius"), "must be >= 0");
   const double spacing = yr.get<double>(g, "min_spacing", gw, 0.1);

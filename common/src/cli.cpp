@@ -29,8 +29,11 @@ int run(const char* program, const std::function<int()>& body) {
 }
 
 Scenario loadScenarioFor(const std::string& file, long long seed, double duration) {
+  // 0 = no override; anything else (NaN included, which CLI11's positive-number check lets through)
+  // is checked before loading, so a bad flag is named first.
+  if (duration != 0.0) checkDurationOverride(duration);
   Scenario s = loadScenario(file, seed);
-  if (duration > 0.0) s.time_limit = duration;
+  if (duration != 0.0) s.time_limit = duration;
   return s;
 }
 

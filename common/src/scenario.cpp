@@ -4,9 +4,12 @@
 #include "hunav/yaml_reader.hpp"
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <system_error>
+#include <utility>
 
 namespace hunav {
 
@@ -148,13 +151,45 @@ std::filesystem::path relativeTo(const std::string& file, const std::string& nam
   return p;
 }
 
+void checkCoordinates(const YamlReader& yr, const YAML::Node& at, const std::string& key, const Vec2& p) {
+  if (std::abs(p.x()) > kMaxCoordinate || std::abs(p.y()) > kMaxCoordinate)
+    yr.fail(at, key, "coordinates must be within +-1e5 m");
+}
+
 Vec2 readXY(const YamlReader& yr, const YAML::Node& n, const std::string& key) {
+  Vec2 p;
   if (n.IsSequence()) {
     if (n.size() != 2) yr.fail(n, key, "expected [x, y]");
-    return Vec2(yr.convert<double>(n[0], key), yr.convert<double>(n[1], key));
+    p = Vec2(yr.convert<double>(n[0], key), yr.convert<double>(n[1], key));
+  } else if (n.IsMap()) {
+    p = Vec2(yr.get<double>(n, "x", key), yr.get<double>(n, "y", key));
+  } else {
+    yr.fail(n, key, "expected [x, y] or {x, y}");
   }
-  if (n.IsMap()) return Vec2(yr.get<double>(n, "x", key), yr.get<double>(n, "y", key));
-  yr.fail(n, key, "expected [x, y] or {x, y}");
+  checkCoordinates(yr, n, key, p);
+  return p;
+}
+
+// A yaw (rad) within +-kMaxAngle: Box2D keeps angles in float.
+double readYaw(const YamlReader& yr, const YAML::Node& map, const std::string& key, const std::string& where) {
+  const double yaw = yr.get<double>(map, key, where, 0.0);
+  if (std::abs(yaw) > kMaxAngle) yr.fail(map[key], YamlReader::join(where, key), "must be within +-1e3 rad");
+  return yaw;
+}
+
+// A size (m) in [kMinBodySize, max].
+void checkSize(const YamlReader& yr, const YAML::Node& at, const std::string& key, double v, double max,
+               const char* max_text) {
+  if (v <= 0.0) yr.fail(at, key, "must be > 0");
+  if (!(v >= kMinBodySize && v <= max)) yr.fail(at, key, std::string("must be in [1e-3, ") + max_text + "] m");
+}
+
+// Every point of a static shape within +-kMaxCoordinate.
+void checkShapeExtent(const YamlReader& yr, const YAML::Node& at, const std::string& key, const Shape& sh) {
+  Vec2 lo, hi;
+  sh.bounds(lo, hi);
+  if (lo.cwiseAbs().maxCoeff() > kMaxCoordinate || hi.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    yr.fail(at, key, "the shape reaches beyond +-1e5 m");
 }
 
 std::vector<Vec2> readPoints(const YamlReader& yr, const YAML::Node& n, const std::string& key, std::size_t min) {
@@ -178,7 +213,10 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
       const std::string name = yr.convert<std::string>(f, "map.map_server");
       const std::filesystem::path p = relativeTo(yr.path(), name);
       if (!std::filesystem::is_regular_file(p)) yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'");
-      for (Shape& sh : loadOccupancyMap(p.string())) s.shapes.push_back(std::move(sh));
+      for (Shape& sh : loadOccupancyMap(p.string())) {
+        checkShapeExtent(yr, f, "map.map_server", sh);
+        s.shapes.push_back(std::move(sh));
+      }
     }
   }
   auto list = [&](const char* key) -> YAML::Node {
@@ -202,13 +240,15 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
     const Vec2 c = readXY(yr, b, "map.boxes");
     const double w = yr.get<double>(b, "width", "map.boxes");
     const double h = yr.get<double>(b, "height", "map.boxes");
-    const double yaw = yr.get<double>(b, "yaw", "map.boxes", 0.0);
-    if (w <= 0.0 || h <= 0.0) yr.fail(b, "map.boxes", "width and height must be > 0");
+    const double yaw = readYaw(yr, b, "yaw", "map.boxes");
+    checkSize(yr, b["width"], "map.boxes.width", w, 2.0 * kMaxCoordinate, "2e5");
+    checkSize(yr, b["height"], "map.boxes.height", h, 2.0 * kMaxCoordinate, "2e5");
     Shape sh;
     sh.kind = Shape::Kind::Polygon;
     const double cs = std::cos(yaw), sn = std::sin(yaw);
     for (const Vec2& corner : {Vec2(-w / 2, -h / 2), Vec2(w / 2, -h / 2), Vec2(w / 2, h / 2), Vec2(-w / 2, h / 2)})
       sh.points.push_back(c + Vec2(cs * corner.x() - sn * corner.y(), sn * corner.x() + cs * corner.y()));
+    checkShapeExtent(yr, b, "map.boxes", sh);
     s.shapes.push_back(sh);
   }
   for (const YAML::Node& c : list("circles")) {
@@ -216,7 +256,8 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
     sh.kind = Shape::Kind::Circle;
     sh.center = readXY(yr, c, "map.circles");
     sh.radius = yr.get<double>(c, "radius", "map.circles");
-    if (sh.radius <= 0.0) yr.fail(c["radius"], "map.circles.radius", "must be > 0");
+    checkSize(yr, c["radius"], "map.circles.radius", sh.radius, kMaxCoordinate, "1e5");
+    checkShapeExtent(yr, c, "map.circles", sh);
     s.shapes.push_back(sh);
   }
 }
@@ -227,15 +268,15 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   if (shape == "circle") {
     robot.shape = RobotShape::Circle;
     robot.radius = yr.get<double>(r, "radius", "robot", robot.radius);
-    if (robot.radius <= 0.0) yr.fail(r["radius"], "robot.radius", "must be > 0");
+    checkSize(yr, r["radius"], "robot.radius", robot.radius, kMaxBodySize, "100");
     for (const char* key : {"length", "width"})
       if (r[key]) yr.fail(r[key], std::string("robot.") + key, "only for shape: box");
   } else if (shape == "box") {
     robot.shape = RobotShape::Box;
     robot.length = yr.get<double>(r, "length", "robot");
     robot.width = yr.get<double>(r, "width", "robot");
-    if (robot.length <= 0.0) yr.fail(r["length"], "robot.length", "must be > 0");
-    if (robot.width <= 0.0) yr.fail(r["width"], "robot.width", "must be > 0");
+    checkSize(yr, r["length"], "robot.length", robot.length, kMaxBodySize, "100");
+    checkSize(yr, r["width"], "robot.width", robot.width, kMaxBodySize, "100");
     if (r["radius"]) yr.fail(r["radius"], "robot.radius", "a box robot's radius is its half diagonal: leave radius out");
     robot.radius = 0.5 * std::hypot(robot.length, robot.width);
   } else {
@@ -247,11 +288,11 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   else yr.fail(r["drive"], "robot.drive", "expected differential or holonomic, got '" + drive + "'");
   const YAML::Node start = yr.child(r, "start", "robot", true);
   robot.start = readXY(yr, start, "robot.start");
-  robot.start_yaw = yr.get<double>(start, "yaw", "robot.start", 0.0);
+  robot.start_yaw = readYaw(yr, start, "yaw", "robot.start");
   if (const YAML::Node goal = yr.child(r, "goal", "robot", false)) {
     robot.has_goal = true;
     robot.goal = readXY(yr, goal, "robot.goal");
-    robot.goal_yaw = yr.get<double>(goal, "yaw", "robot.goal", 0.0);
+    robot.goal_yaw = readYaw(yr, goal, "yaw", "robot.goal");
     robot.goal_radius = yr.get<double>(goal, "radius", "robot.goal", robot.goal_radius);
     if (robot.goal_radius <= 0.0) yr.fail(goal["radius"], "robot.goal.radius", "must be > 0");
   }
@@ -268,13 +309,22 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (robot.drive != RobotDrive::Holonomic)
       for (const char* key : {"max_vy", "max_acc_vy"})
         if (l[key]) yr.fail(l[key], std::string("robot.limits.") + key, "only for drive: holonomic");
+    // The forward limits first: max_vy and max_acc_vy default to them, and a bad max_v must be named
+    // as max_v, not as the max_vy it was copied into.
+    if (lim.max_v <= 0.0) yr.fail(l["max_v"], "robot.limits.max_v", "must be > 0");
+    if (lim.max_acc_v <= 0.0) yr.fail(l["max_acc_v"], "robot.limits.max_acc_v", "must be > 0");
     if (lim.max_vy < 0.0) yr.fail(l["max_vy"], "robot.limits.max_vy", "must be >= 0");
     if (lim.max_acc_vy <= 0.0) yr.fail(l["max_acc_vy"], "robot.limits.max_acc_vy", "must be > 0");
-    if (lim.max_v <= 0.0) yr.fail(l["max_v"], "robot.limits.max_v", "must be > 0");
     if (lim.min_v > lim.max_v) yr.fail(l["min_v"], "robot.limits.min_v", "must be <= max_v");
     if (lim.max_w <= 0.0) yr.fail(l["max_w"], "robot.limits.max_w", "must be > 0");
-    if (lim.max_acc_v <= 0.0) yr.fail(l["max_acc_v"], "robot.limits.max_acc_v", "must be > 0");
     if (lim.max_acc_w <= 0.0) yr.fail(l["max_acc_w"], "robot.limits.max_acc_w", "must be > 0");
+    if (lim.max_v > kMaxSpeed) yr.fail(l["max_v"], "robot.limits.max_v", "must be <= 10 m/s");
+    if (lim.min_v < -kMaxSpeed) yr.fail(l["min_v"], "robot.limits.min_v", "must be >= -10 m/s");
+    if (lim.max_vy > kMaxSpeed) yr.fail(l["max_vy"], "robot.limits.max_vy", "must be <= 10 m/s");
+    if (lim.max_w > kMaxYawRate) yr.fail(l["max_w"], "robot.limits.max_w", "must be <= 100 rad/s");
+    for (const auto& [key, value] : {std::pair<const char*, double>{"max_acc_v", lim.max_acc_v},
+                                     {"max_acc_w", lim.max_acc_w}, {"max_acc_vy", lim.max_acc_vy}})
+      if (value > kMaxAcceleration) yr.fail(l[key], std::string("robot.limits.") + key, "must be <= 1e3");
   }
   if (const YAML::Node l = yr.child(r, "laser", "robot", false)) {
     LaserConfig& las = robot.laser;
@@ -287,16 +337,20 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (las.fov <= 0.0 || las.fov > 2.0 * kPi) yr.fail(l["fov"], "robot.laser.fov", "must be in (0, 2*pi]");
     if (las.range_max <= las.range_min || las.range_min < 0.0)
       yr.fail(l, "robot.laser", "needs 0 <= range_min < range_max");
+    if (las.range_max > kMaxSensorRange) yr.fail(l["range_max"], "robot.laser.range_max", "must be <= 1e3 m");
     if (las.noise_std < 0.0) yr.fail(l["noise_std"], "robot.laser.noise_std", "must be >= 0");
   }
   robot.perception_range = yr.get<double>(r, "perception_range", "robot", robot.perception_range);
+  if (robot.perception_range < 0.0 || robot.perception_range > kMaxSensorRange)
+    yr.fail(r["perception_range"], "robot.perception_range", "must be in [0, 1e3] m");
   robot.perception_fov = yr.get<double>(r, "perception_fov", "robot", robot.perception_fov);
   if (robot.perception_fov <= 0.0 || robot.perception_fov > 2.0 * kPi)
     yr.fail(r["perception_fov"], "robot.perception_fov", "must be in (0, 2*pi]");
   robot.perception_noise_std = yr.get<double>(r, "perception_noise_std", "robot", robot.perception_noise_std);
   if (robot.perception_noise_std < 0.0) yr.fail(r["perception_noise_std"], "robot.perception_noise_std", "must be >= 0");
   robot.control_rate = yr.get<double>(r, "control_rate", "robot", robot.control_rate);
-  if (robot.control_rate <= 0.0) yr.fail(r["control_rate"], "robot.control_rate", "must be > 0");
+  // 1 / (control_rate * dt) ticks must be a number the clock can count.
+  if (!(robot.control_rate >= 1e-3)) yr.fail(r["control_rate"], "robot.control_rate", "must be >= 1e-3 Hz");
 }
 
 // A point must keep `clearance` from every static shape.
@@ -307,6 +361,11 @@ void checkClear(const YamlReader& yr, const Scenario& s, const YAML::Node& at, c
 }
 
 }  // namespace
+
+void checkDurationOverride(double duration) {
+  if (!(duration > 0.0 && duration <= kMaxTimeLimit))
+    throw ConfigError("--duration", 0, "", "must be a number of seconds in (0, 1e7]");
+}
 
 std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
   YamlReader yr(yaml_path);
@@ -319,7 +378,9 @@ std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
   if (!origin_node.IsSequence() || (origin_node.size() != 3 && origin_node.size() != 2))
     yr.fail(origin_node, "origin", "expected [x, y, yaw]");
   const Vec2 origin(yr.convert<double>(origin_node[0], "origin"), yr.convert<double>(origin_node[1], "origin"));
+  checkCoordinates(yr, origin_node, "origin", origin);
   const double yaw = origin_node.size() == 3 ? yr.convert<double>(origin_node[2], "origin") : 0.0;
+  if (std::abs(yaw) > kMaxAngle) yr.fail(origin_node, "origin", "the yaw must be within +-1e3 rad");
   const bool negate = readNegate(yr, root);
   const double occupied_thresh = yr.get<double>(root, "occupied_thresh", "", 0.65);
   const double free_thresh = yr.get<double>(root, "free_thresh", "", 0.196);
@@ -395,12 +456,15 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
   s.dt = yr.get<double>(root, "dt", "", s.dt);
   if (s.dt <= 0.0 || s.dt > 0.1) yr.fail(root["dt"], "dt", "must be in (0, 0.1] s");
   s.time_limit = yr.get<double>(root, "time_limit", "", s.time_limit);
-  if (s.time_limit <= 0.0) yr.fail(root["time_limit"], "time_limit", "must be > 0");
+  if (s.time_limit <= 0.0 || s.time_limit > kMaxTimeLimit)
+    yr.fail(root["time_limit"], "time_limit", "must be in (0, 1e7] s");
   const long long seed = yr.get<long long>(root, "seed", "", 1);
   if (seed < 0) yr.fail(root["seed"], "seed", "must be >= 0");
   s.seed = static_cast<std::uint64_t>(seed_override >= 0 ? seed_override : seed);
   s.obstacle_radius = yr.get<double>(root, "obstacle_radius", "", s.obstacle_radius);
-  if (s.obstacle_radius <= 0.0) yr.fail(root["obstacle_radius"], "obstacle_radius", "must be > 0");
+  // The world's obstacle grid reaches this far beyond the map.
+  if (s.obstacle_radius <= 0.0 || s.obstacle_radius > 1e3)
+    yr.fail(root["obstacle_radius"], "obstacle_radius", "must be in (0, 1e3] m");
   if (const YAML::Node evaluation = yr.child(root, "evaluation", "", false)) {
     s.evaluation_sample_rate = yr.get<double>(evaluation, "sample_rate", "evaluation", 0.0);
     // The evaluator's own bounds (sample_rate.hpp), checked here so that a bad value stops the run
@@ -417,6 +481,9 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
     if (people.IsScalar()) {  // a HuNavSim agents file, relative to the scenario
       std::filesystem::path p = people.Scalar();
       if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
+      std::error_code ec;
+      if (!std::filesystem::exists(p, ec)) yr.fail(people, "people", "cannot open the file '" + p.string() + "'");
+      if (!std::filesystem::is_regular_file(p, ec)) yr.fail(people, "people", "'" + p.string() + "' is not a regular file");
       s.agents = loadAgentsFile(p.string(), s.seed);
     } else {
       s.agents = parseAgents(yr, people, "people", s.seed, s.shapes);

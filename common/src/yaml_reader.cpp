@@ -1,10 +1,48 @@
 #include "hunav/yaml_reader.hpp"
 
+#include <filesystem>
 #include <fstream>
+#include <set>
+#include <system_error>
+#include <utility>
+#include <vector>
 
 namespace hunav {
 
+namespace {
+
+// yaml-cpp keeps every pair of a mapping, so `a: 1` twice would silently read the first: rejected
+// instead. One walk over the document with an explicit stack (no recursion on deep documents); a node
+// reached again through an alias (same mark) is walked once.
+void rejectDuplicateKeys(const YamlReader& yr) {
+  std::vector<std::pair<YAML::Node, std::string>> stack{{yr.root(), ""}};
+  std::set<int> walked;  // positions of the collections walked
+  while (!stack.empty()) {
+    const auto [node, where] = stack.back();
+    stack.pop_back();
+    if (!node.IsMap() && !node.IsSequence()) continue;
+    if (!node.Mark().is_null() && !walked.insert(node.Mark().pos).second) continue;
+    if (node.IsSequence()) {
+      std::size_t index = 0;
+      for (const YAML::Node& item : node) stack.emplace_back(item, where + "[" + std::to_string(index++) + "]");
+      continue;
+    }
+    std::set<std::string> keys;
+    for (const auto& entry : node) {
+      const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : std::string();
+      if (entry.first.IsScalar() && !keys.insert(key).second)
+        yr.fail(entry.first, YamlReader::join(where, key), "duplicate key");
+      stack.emplace_back(entry.second, YamlReader::join(where, key));
+    }
+  }
+}
+
+}  // namespace
+
 YamlReader::YamlReader(std::string path) : path_(std::move(path)) {
+  std::error_code ec;
+  if (std::filesystem::exists(path_, ec) && !std::filesystem::is_regular_file(path_, ec))
+    throw ConfigError(path_, 0, "", "not a regular file");
   std::ifstream in(path_);
   if (!in) throw ConfigError(path_, 0, "", "cannot open the file");
   try {
@@ -13,6 +51,7 @@ YamlReader::YamlReader(std::string path) : path_(std::move(path)) {
     throw ConfigError(path_, e.mark.line + 1, "", "not valid YAML: " + e.msg);
   }
   if (!root_.IsMap()) throw ConfigError(path_, lineOf(root_), "", "expected a mapping at the top level");
+  rejectDuplicateKeys(*this);
 }
 
 int YamlReader::lineOf(const YAML::Node& n) {

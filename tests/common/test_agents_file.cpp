@@ -198,9 +198,9 @@ TEST(PeopleGenerator, MistakesNameLineAndKey) {
               "generate[1].first_id", "used by another agent");
   expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  behavior: {type: dancing}\n", 4,
               "generate.behavior.type", "behavior must be");
-  expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  max_vel: [-1, 1]\n", 4, "generate.max_vel", ">= 0");
-  expectError("generate:\n  count: 1\n  region: {x: [0, 1e300], y: 0}\n", 3, "generate.region", "within +-1e6 m");
-  expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  radius: 1e9\n", 4, "generate.radius", "(0, 10]");
+  expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  max_vel: [-1, 1]\n", 4, "generate.max_vel", "in [0, 10] m/s");
+  expectError("generate:\n  count: 1\n  region: {x: [0, 1e300], y: 0}\n", 3, "generate.region", "within +-1e5 m");
+  expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  radius: 1e9\n", 4, "generate.radius", "[1e-3, 10]");
   expectError("nobody: 1\n", 1, "hunav_loader", "missing key");
 }
 

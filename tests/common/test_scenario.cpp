@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 
@@ -204,4 +206,111 @@ TEST(Scenario, RandomConfigurationsAreSeeded) {
   EXPECT_LE(s1[1].params.dist, 1.9);
   EXPECT_GE(s1[1].params.social_force_factor, 2.1);
   EXPECT_LE(s1[1].params.social_force_factor, 15.0);
+}
+
+// Values the loader used to accept and a component then crashed on (Box2D assertions in float, a
+// stalled run, an int64 overflow of the clock): each is now an error at its line and key.
+TEST(Scenario, BoundsThatKeepBox2DAndTheClockSafe) {
+  const std::string start = "  start: {x: 0, y: 0}\n";
+  expectError("far_start.yaml", "robot:\n  start: {x: 1e39, y: 0}\n", 2, "robot.start");
+  expectError("huge_yaw.yaml", "robot:\n  start: {x: 0, y: 0, yaw: 1e39}\n", 2, "robot.start.yaw");
+  expectError("far_goal.yaml", "robot:\n" + start + "  goal: {x: -100001, y: 0}\n", 3, "robot.goal");
+  expectError("tiny_box.yaml", "robot:\n  shape: box\n  length: 1e-4\n  width: 0.5\n" + start, 3, "robot.length");
+  expectError("tiny_radius.yaml", "robot:\n  radius: 1e-30\n" + start, 2, "robot.radius");
+  expectError("huge_radius.yaml", "robot:\n  radius: 101\n" + start, 2, "robot.radius");
+  expectError("far_wall.yaml", "map:\n  walls:\n    - [[-1e30, 0], [5, 0]]\nrobot:\n" + start, 3, "map.walls");
+  expectError("tiny_obstacle.yaml", "map:\n  boxes: [{x: 9, y: 9, width: 1e-4, height: 1}]\nrobot:\n" + start, 2,
+              "map.boxes.width");
+  expectError("far_circle.yaml", "map:\n  circles: [{x: 99999, y: 9, radius: 2}]\nrobot:\n" + start, 2,
+              "map.circles");
+  expectError("long_laser.yaml", "robot:\n" + start + "  laser: {range_max: 1e39}\n", 3, "robot.laser.range_max");
+  expectError("far_perception.yaml", "robot:\n" + start + "  perception_range: 1e39\n", 3, "robot.perception_range");
+  expectError("fast_robot.yaml", "robot:\n" + start + "  limits: {max_v: 1e300}\n", 3, "robot.limits.max_v");
+  // max_vy defaults to max_v: a negative max_v is named as max_v, on its line (it was "max_vy", no line).
+  expectError("backward_robot.yaml", "robot:\n" + start + "  limits: {max_v: -1}\n", 3, "robot.limits.max_v");
+  expectError("spinning_robot.yaml", "robot:\n" + start + "  limits: {max_w: 1e3}\n", 3, "robot.limits.max_w");
+  expectError("slow_control.yaml", "robot:\n" + start + "  control_rate: 1e-300\n", 3, "robot.control_rate");
+  expectError("wide_obstacles.yaml", "obstacle_radius: 1e300\nrobot:\n" + start, 1, "obstacle_radius");
+  // 9.3e12 s is where llround(time_limit * 1e6) overflows int64 and the episode ended at t = 0.
+  expectError("long_episode.yaml", std::string(kMinimal) + "time_limit: 1e13\n", 10, "time_limit");
+  // The bounds themselves are accepted.
+  const Scenario edge = loadScenario(writeFile("edge.yaml", "time_limit: 1e7\nrobot:\n  radius: 1e-3\n"
+                                                            "  start: {x: 1e5, y: -1e5, yaw: 1e3}\n"
+                                                            "  laser: {range_max: 1e3}\n"));
+  EXPECT_EQ(edge.time_limit, 1e7);
+  EXPECT_EQ(edge.robot.start.x(), 1e5);
+  EXPECT_EQ(edge.robot.radius, 1e-3);
+}
+
+TEST(Scenario, PeopleBounds) {
+  auto agent = [](const std::string& fields) {
+    return std::string(kMinimal) + "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1]\n"
+                                   "      a1:\n        id: 1\n" + fields;
+  };
+  // kMinimal has 9 lines; a1's first field after id is line 16.
+  const std::string a1 = "people.hunav_loader.ros__parameters.a1";
+  expectError("agent_far.yaml", agent("        init_pose: {x: 1e39, y: 1}\n"), 16, a1 + ".init_pose");
+  expectError("agent_yaw.yaml", agent("        init_pose: {x: 1, y: 1, h: 1e39}\n"), 16, a1 + ".init_pose.h");
+  expectError("agent_tiny.yaml", agent("        radius: 1e-30\n        init_pose: {x: 1, y: 1}\n"), 16,
+              a1 + ".radius");
+  expectError("agent_fast.yaml", agent("        max_vel: 1e300\n        init_pose: {x: 1, y: 1}\n"), 16,
+              a1 + ".max_vel");
+  expectError("agent_far_goal.yaml",
+              agent("        init_pose: {x: 1, y: 1}\n        goals: [g]\n        g: {x: 2e5, y: 0}\n"), 18,
+              a1 + ".g");
+  auto generator = [](const std::string& fields) {
+    return std::string(kMinimal) + "people:\n  generate:\n    count: 300\n" + fields;
+  };
+  expectError("region_far.yaml", generator("    region: {x: [-1e6, 1e6], y: [1, 2]}\n"), 13, "people.generate.region");
+  // 2147483647 + 299 does not fit an int: the ids went negative.
+  expectError("ids_overflow.yaml", generator("    first_id: 2147483647\n    region: {x: [10, 40], y: [10, 40]}\n"), 13,
+              "people.generate.first_id");
+  expectError("crowd_fast.yaml", generator("    region: {x: [10, 40], y: [10, 40]}\n    max_vel: [1, 11]\n"), 14,
+              "people.generate.max_vel");
+  expectError("crowd_tiny.yaml", generator("    region: {x: [10, 40], y: [10, 40]}\n    radius: 1e-4\n"), 14,
+              "people.generate.radius");
+  // The largest ids that fit are accepted.
+  const Scenario last_ids = loadScenario(
+      writeFile("ids_last.yaml", std::string(kMinimal) + "people:\n  generate:\n    count: 2\n    first_id: 2147483646\n"
+                                                         "    region: {x: [10, 40], y: [10, 40]}\n"));
+  ASSERT_EQ(last_ids.agents.size(), 2u);
+  EXPECT_EQ(last_ids.agents[1].id, 2147483647);
+}
+
+TEST(Scenario, FilesThatAreNotRegularFilesOrMissing) {
+  // A directory used to fail with "basic_filebuf::underflow error" (exit 1).
+  const std::string dir = std::filesystem::path(writeFile("dir_probe.yaml", "")).parent_path().string();
+  try {
+    loadScenario(dir);
+    FAIL() << "a directory loaded as a scenario";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + ": not a regular file");
+  }
+  // The people file is reported at the scenario's `people:` line.
+  expectError("people_missing.yaml", std::string(kMinimal) + "people: nofile.yaml\n", 10, "people");
+  expectError("people_dir.yaml", std::string(kMinimal) + "people: .\n", 10, "people");
+}
+
+TEST(Scenario, DuplicateKeysAreRejected) {
+  // yaml-cpp keeps both pairs and the first one won, silently.
+  expectError("dup_top.yaml", std::string(kMinimal) + "dt: 0.02\n", 10, "dt");
+  expectError("dup_nested.yaml", "robot:\n  start: {x: 0, y: 0, x: 1}\n", 2, "robot.start.x");
+  expectError("dup_in_list.yaml", "map:\n  boxes:\n    - {x: 1, y: 1, width: 1, width: 2, height: 1}\nrobot:\n"
+                                  "  start: {x: 5, y: 5}\n",
+              3, "map.boxes[0].width");
+  // The same key in different mappings, and an alias used twice, are fine.
+  const Scenario ok = loadScenario(writeFile("no_dup.yaml", "robot:\n  start: &p {x: 0, y: 0}\n  goal: *p\n"));
+  EXPECT_TRUE(ok.robot.has_goal);
+}
+
+TEST(Scenario, DurationOverrideIsBoundedLikeTimeLimit) {
+  EXPECT_THROW(checkDurationOverride(1e13), ConfigError);
+  EXPECT_NO_THROW(checkDurationOverride(1e7));
+  try {
+    checkDurationOverride(1e13);
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "--duration: must be a number of seconds in (0, 1e7]");
+  }
+  EXPECT_THROW(checkDurationOverride(std::nan("")), ConfigError);  // CLI11's positive check lets NaN through
+  EXPECT_THROW(checkDurationOverride(-1.0), ConfigError);
 }
