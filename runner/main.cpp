@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
                "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
-  if (sample_rate >= 0.0) {
+  if (sample_rate != -1.0) {  // given (NaN included: CLI11's check lets it through)
     try {
       hunav::evaluator::SampleRate{sample_rate};  // the evaluator's own check, before anything starts
     } catch (const std::invalid_argument& e) {

@@ -28,10 +28,11 @@ int main(int argc, char** argv) {
   app.add_option("--episodes", episodes,
                  "episodes to run back to back, each from a fresh world with the next seed and its own run id")
       ->check(CLI::PositiveNumber);
+  // At most 1e6 s (11 days): beyond ~9.2e6 s the limit overflows as nanoseconds and aborts at once.
   app.add_option("--silence-limit", silence_limit, "abort when a component is silent this long, s (wall clock)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-3, 1e6));
   app.add_option("--startup-limit", startup_limit, "the same for a component's first answer, s")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-3, 1e6));
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else udpm on this host only)");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 

@@ -33,5 +33,16 @@ for cmd in "$BIN/hunav_run --scenario $REPO/scenarios/passing.yaml --out $WORK/r
   grep -q "sample rate must be 0 (every tick) or between 1e-6 and 1e6 Hz" "$WORK/out.txt" || fail "${cmd%% *}: message"
   [ ! -f "$WORK/rate/states.csv" ] || fail "${cmd%% *}: a run started"
 done
+# Flags CLI11 lets through or that overflowed: NaN durations and rates, huge wall-clock limits.
+for cmd in "$BIN/hunav_run --scenario $REPO/scenarios/passing.yaml --out $WORK/flags --duration nan" \
+           "$BIN/hunav_run --scenario $REPO/scenarios/passing.yaml --out $WORK/flags --sample-rate nan" \
+           "$BIN/hunav_worldsim --scenario $REPO/scenarios/passing.yaml --startup-limit 1e10" \
+           "$BIN/hunav_worldsim --scenario $REPO/scenarios/passing.yaml --silence-limit 1e10"; do
+  rc=0
+  # shellcheck disable=SC2086 # $cmd holds a command and its arguments (no spaces in the paths)
+  timeout 60 $cmd > "$WORK/out.txt" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "$cmd: exit $rc, want 2"; }
+done
+[ ! -f "$WORK/flags/states.csv" ] || fail "a run with a bad flag started"
 no_orphans
 echo "bad input rejected with exit 2"
