@@ -1,7 +1,7 @@
 // One world tick with a crowd: 1000 people walking in a 40 x 40 m hall with walls and pillars.
 // A tick is what the world does every dt besides messaging: set the people's velocities, step Box2D,
 // the obstacle points within 3 m and the line of sight to the robot for every person, and one laser
-// scan of 360 beams. Target (issue 4): <= 1.5 ms per tick.
+// scan of 360 beams. Target: <= 1.5 ms per tick.
 //
 // Measured as CPU time of this thread (CLOCK_THREAD_CPUTIME_ID) per tick, so other processes on the
 // machine do not inflate it; the minimum and the median over many ticks are the figures to report.

@@ -1,5 +1,5 @@
 // hunav_planner: a robot planner process. Answers ROBOT_OBSERVATION with ROBOT_COMMAND (lockstep,
-// see DESIGN.md section 4). Prints "ready" once subscribed; SIGINT/SIGTERM end it with exit 0.
+// see docs/planner_contract.md). Prints "ready" once subscribed; SIGINT/SIGTERM end it with exit 0.
 #include "hunav/config_error.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"

@@ -1,5 +1,5 @@
 // The hunav_v1 profile: HuNavSim v1's evaluator (hunav_evaluator/metrics.py and sfm.py) reproduced
-// on our recordings, quirks included (shared/hunav_reference.md sections 5.2, 5.3, 9). Only the
+// on our recordings, quirks included (docs/metrics.md, "Profiles"). Only the
 // functions that differ from the default profile are here; docs/metrics.md lists every difference.
 // Sums run over the recorded samples, as the original's over its (1 Hz by default) samples.
 // Where the original crashes (division by zero, min/max of an empty list) the value is defined:

@@ -1,4 +1,4 @@
-// The HuNavSim node library: conditions and actions (reference 3.1, 3.3, 3.5; DESIGN.md section 5).
+// The HuNavSim node library: conditions and actions (manager/README.md, "Behavior trees").
 #include "hunav/manager/agent_manager.hpp"
 #include "hunav/manager/behavior_tree.hpp"
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs a command inside a private network namespace with multicast routed on loopback (DESIGN.md
-# section 11): root uses unshare --net, others an unprivileged user namespace. Exit 77 (ctest: skip)
+# Runs a command inside a private network namespace with multicast routed on loopback (README.md,
+# "Modes and separate processes"): root uses unshare --net, others an unprivileged user namespace. Exit 77 (ctest: skip)
 # when neither is allowed here.
 set -euo pipefail
 if [ -z "${HUNAV_IN_NETNS:-}" ]; then

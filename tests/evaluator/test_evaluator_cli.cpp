@@ -194,7 +194,7 @@ TEST(EvaluatorCli, PrintsReadyAndExitsCleanlyOnSigterm) {
 }
 
 // Two processes over UDP multicast: needs a private network namespace with a multicast route
-// (DESIGN.md section 11). Skipped where namespaces cannot be created.
+// (README.md, "Modes and separate processes"). Skipped where namespaces cannot be created.
 TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
   const auto dir = freshDir();
   const pid_t helper = fork();

@@ -223,7 +223,7 @@ TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
   o.out_dir = dir / "out";
   const RunResult r = recomputeFromStates(o);
   EXPECT_EQ(r.info.recorded_ticks, 2);
-  // The copy has the layout of DESIGN.md section 10: '\n' line ends, no blank line.
+  // The copy has the layout of evaluator/README.md: '\n' line ends, no blank line.
   EXPECT_EQ(readFile(dir / "out" / "states.csv"),
             std::string(kStatesCsvHeader) +
                 "\n0,robot,1,0,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,\n"

@@ -1,4 +1,4 @@
-// The six HuNavSim behaviors on small scripted worlds (reference 3.3 with the DESIGN.md section 5
+// The six HuNavSim behaviors on small scripted worlds (manager/README.md, "Behavior trees", with our
 // fixes), driven through the manager library: each reply becomes the next request.
 #include "hunav/manager/agent_manager.hpp"
 

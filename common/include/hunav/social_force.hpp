@@ -1,5 +1,5 @@
 #pragma once
-// The social force model of lightsfm as HuNavSim uses it (shared/hunav_reference.md section 1).
+// The social force model of lightsfm as HuNavSim uses it (docs/metrics.md and manager/README.md).
 // Forces are accelerations (unit mass). One implementation serves the manager (moving people), the
 // evaluator (social work metrics) and the SFW planner (predicting people).
 #include "hunav/geometry.hpp"
@@ -41,7 +41,7 @@ Vec2 desiredForce(const SfmBody& me, const Vec2* goal, double goal_radius, doubl
 Vec2 obstacleForceFrom(const SfmBody& me, const Vec2& point, const SfmParams& p);
 
 enum class ObstacleAggregation { Sum, Mean };
-// Sum over the points (our model, DESIGN.md section 5); Mean reproduces lightsfm-2022 / HuNavSim v1.
+// Sum over the points (our model, manager/README.md); Mean reproduces lightsfm-2022 / HuNavSim v1.
 Vec2 obstacleForce(const SfmBody& me, const std::vector<Vec2>& points, const SfmParams& p,
                    ObstacleAggregation aggregation = ObstacleAggregation::Sum);
 

@@ -15,7 +15,7 @@
 //   r.add<PathLength>("path_length", "m", MetricKind::Real);
 //
 // Metrics are evaluated and written in registration order, which follows HuNavSim's evaluation order
-// (shared/hunav_reference.md section 5.2). Every definition, including the value of each edge case
+// (docs/metrics.md). Every definition, including the value of each edge case
 // (no sample, no people, no goal, one sample), is documented beside its accumulator and in
 // docs/metrics.md. A metric may also be a plain function of the whole recording (MetricFunction);
 // the evaluation then keeps a copy of every sample for it (simple, but memory grows with the run).
@@ -227,7 +227,7 @@ double surpriseReactCost(const Recording& r);
 }  // namespace metrics
 
 // The same for the metrics of the hunav_v1 profile that differ from the default ones (HuNavSim v1's
-// evaluator, shared/hunav_reference.md section 5; docs/metrics.md lists every difference).
+// evaluator; docs/metrics.md lists every difference).
 namespace metrics_v1 {
 double avgDistanceToClosestPerson(const Recording& r);
 double maximumDistanceToPeople(const Recording& r);

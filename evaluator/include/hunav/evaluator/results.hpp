@@ -1,5 +1,5 @@
 #pragma once
-// Result files of a run (DESIGN.md section 10): the metrics.csv row, run.json, and the text table
+// Result files of a run (evaluator/README.md, "Files"): the metrics.csv row, run.json, and the text table
 // the in-process runner prints.
 #include "hunav/evaluator/metrics.hpp"
 

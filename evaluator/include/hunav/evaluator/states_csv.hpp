@@ -1,5 +1,5 @@
 #pragma once
-// states.csv (DESIGN.md section 10): one row per entity per recorded tick, robot row first.
+// states.csv (evaluator/README.md, "Files"): one row per entity per recorded tick, robot row first.
 //   t,kind,id,x,y,yaw,vx,vy,vyaw,linear_vel,angular_vel,radius,behavior,behavior_state,group,
 //   goal_x,goal_y,goal_radius,obs
 // Numbers are written with the shortest representation that reads back as the same double, so

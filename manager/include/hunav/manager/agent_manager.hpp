@@ -1,6 +1,6 @@
 #pragma once
 // The human model: given the states of all people and the robot at time t, computes their states at
-// t + dt (social force model, reference section 1; behaviors as behavior trees, DESIGN.md section 5).
+// t + dt (social force model; behaviors as behavior trees: manager/README.md).
 // An agent's goal queue and parameters travel in its agent_state_t; the behavior-tree memory
 // (timers, once flags, running nodes) lives here, keyed by (episode, agent id), and evolves with
 // each computed step. A new episode number resets it.
@@ -111,7 +111,7 @@ bool twoThreadsMayPay(std::size_t people);
 // that the ticks on a helper thread allocate nothing once it has started.
 void reserveTickScratch();
 
-// How the robot enters an agent's social force model (DESIGN.md section 5).
+// How the robot enters an agent's social force model (manager/README.md).
 enum class RobotAs { Person, Obstacle, Ignored };
 
 // The SFM parameters of an agent, from the weights it carries.

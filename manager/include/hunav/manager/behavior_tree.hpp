@@ -1,5 +1,5 @@
 #pragma once
-// A small behavior-tree engine reading the BehaviorTree.CPP v4 XML format (DESIGN.md section 5):
+// A small behavior-tree engine reading the BehaviorTree.CPP v4 XML format (manager/README.md, "Behavior trees"):
 // <root BTCPP_format="4" main_tree_to_execute="..."> with <BehaviorTree ID="..."> elements; control
 // nodes Sequence, Fallback, ReactiveSequence, ReactiveFallback; decorators Inverter, ForceSuccess,
 // ForceFailure, Repeat(num_cycles); SubTree(ID) (shares the parent's blackboard, like _autoremap);

@@ -1,6 +1,6 @@
 #pragma once
 // The planner process logic on the bus: answers each ROBOT_OBSERVATION with a ROBOT_COMMAND that
-// echoes its utime, seq and episode (DESIGN.md section 4).
+// echoes its utime, seq and episode (docs/planner_contract.md).
 //  - Replies are idempotent: an observation with the (episode, seq) answered last gets the same
 //    command again without replanning (the world resends on timeout). Older seqs are ignored.
 //  - A new episode (in an observation or an EPISODE_EVENT START) resets the planner.

@@ -1,5 +1,5 @@
 #pragma once
-// What a run page shows, extracted from one run folder (DESIGN.md section 10): run.json, states.csv,
+// What a run page shows, extracted from one run folder (evaluator/README.md, "Files"): run.json, states.csv,
 // metrics_steps.csv (or the same per-tick columns recomputed from states.csv), metrics_beh_<b>.csv,
 // and the map of the scenario named in run.json (or the obstacle points states.csv recorded).
 #include "hunav/evaluator/recording.hpp"

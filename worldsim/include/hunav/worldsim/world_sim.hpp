@@ -1,5 +1,5 @@
 #pragma once
-// The world process logic: owns the clock, runs episodes over the step protocol (DESIGN.md section 4)
+// The world process logic: owns the clock, runs episodes over the step protocol (lcmtypes/README.md, "One tick in lockstep")
 // and publishes what is true at every tick.
 #include "hunav/fingerprint.hpp"
 #include "hunav/scenario.hpp"
