@@ -342,19 +342,6 @@ TEST(BtNodes, StopResumeAndLookAtRobot) {
 
 // SubTrees are copied at each use, so nesting and sharing are bounded before anything is expanded.
 namespace {
-std::string limitError(const std::string& xml) {
-  const std::string path = std::string(HUNAV_BINARY_DIR) + "/bt_limits_test.xml";
-  std::ofstream(path) << xml;
-  AgentManager m;
-  try {
-    m.loadTreeFile(path);
-  } catch (const ConfigError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.rfind(path + ":", 0), 0u) << what;
-    return what.substr(path.size());
-  }
-  return "no error";
-}
 // Trees T0..T<n-1> on lines 2..n+1, each holding `uses` SubTrees of the next; the last one a leaf.
 std::string chainOfTrees(int n, int uses) {
   std::string xml = "<root BTCPP_format=\"4\" main_tree_to_execute=\"T0\">\n";
@@ -376,16 +363,16 @@ std::string chainOfTrees(int n, int uses) {
 TEST(BehaviorTreeXml, SubTreeNestingIsLimited) {
   // 30,000 nested SubTrees overflowed the stack. T0 is at depth 0, so the SubTree in T64 (line 66)
   // is the 65th level.
-  EXPECT_EQ(limitError(chainOfTrees(30000, 1)), ":66: SubTree: nested more than 64 SubTrees deep");
+  EXPECT_EQ(loadError(chainOfTrees(30000, 1)), ":66: SubTree: nested more than 64 SubTrees deep");
   // 64 levels load.
-  EXPECT_EQ(limitError(chainOfTrees(65, 1)), "no error");
+  EXPECT_EQ(loadError(chainOfTrees(65, 1)), "no error");
 }
 
 TEST(BehaviorTreeXml, ExpandedTreeSizeIsLimited) {
   // Each tree uses the next twice: the expanded size doubles per level and the load ran out of
   // memory. Nodes of T_i expanded: N(T39) = 1, N(T_i) = 1 (Sequence) + 2 * (1 + N(T_i+1)), so
   // N(T25) = 65533 and T24's Sequence (line 26) reaches 1 + 2 * 65534 = 131069 > 100000.
-  EXPECT_EQ(limitError(chainOfTrees(40, 2)).rfind(":26: the tree would have more than 100000 nodes", 0), 0u);
+  EXPECT_EQ(loadError(chainOfTrees(40, 2)).rfind(":26: the tree would have more than 100000 nodes", 0), 0u);
   // 15 trees (N(T0) = 65533 nodes) load.
-  EXPECT_EQ(limitError(chainOfTrees(15, 2)), "no error");
+  EXPECT_EQ(loadError(chainOfTrees(15, 2)), "no error");
 }
