@@ -16,6 +16,7 @@
 //    EvaluatorOptions::worker_thread (from --worker-min-people people, default kWorkerMinPeople); also reports the CPU time of the thread that publishes (the bus
 //    handler's share: what the evaluator costs the one-process runner's loop) and the wall time.
 #include "hunav/channels.hpp"
+#include "hunav/lcm_log_reader.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/evaluator/states_csv.hpp"
@@ -31,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 
 using namespace hunav::evaluator;
@@ -58,17 +60,19 @@ int replay(const std::string& log_file, int repeat, const std::string& dir, cons
   std::vector<Message> messages;
   long ticks = 0;
   {
-    lcm::LogFile log(log_file, "r");
-    if (!log.good()) {
-      std::fprintf(stderr, "cannot read %s\n", log_file.c_str());
+    std::unique_ptr<hunav::LcmLogReader> log;
+    try {
+      log = std::make_unique<hunav::LcmLogReader>(log_file);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
       return 1;
     }
-    while (const lcm::LogEvent* ev = log.readNextEvent()) {
+    while (const hunav::LcmLogReader::Event* ev = log->next()) {
       if (ev->channel != hunav::channels::kWorldState && ev->channel != hunav::channels::kEpisodeEvent) continue;
-      const auto* bytes = static_cast<const std::uint8_t*>(ev->data);
-      messages.push_back(Message{ev->channel, std::vector<std::uint8_t>(bytes, bytes + ev->datalen)});
+      messages.push_back(Message{ev->channel, ev->data});
       if (ev->channel == hunav::channels::kWorldState) ++ticks;
     }
+    if (!log->stopReason().empty()) std::fprintf(stderr, "warning: %s\n", log->stopReason().c_str());
   }
   double best = 1e300;
   double best_thread = 1e300;

@@ -9,11 +9,13 @@
 // preemption); the statistics are over those minima. Cycles that replanned the global path (A*)
 // are summarised apart: they are the expensive ones.
 #include "hunav/channels.hpp"
+#include "hunav/lcm_log_reader.hpp"
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/sim_tools.hpp"
 
 #include <CLI/CLI.hpp>
+#include <hunav/wire_checks.hpp>
 #include <lcm/lcm-cpp.hpp>
 
 #include <algorithm>
@@ -75,15 +77,18 @@ std::vector<Call> closedLoopEpisode(hp::DwbPlanner& planner, const hunav::Scenar
 }
 
 std::vector<hunav::robot_observation_t> readObservations(const std::string& log_file) {
-  lcm::LogFile log(log_file, "r");
-  if (!log.good()) throw std::runtime_error("cannot read the LCM log " + log_file);
+  hunav::LcmLogReader log(log_file);  // throws when the file cannot be read
   std::vector<hunav::robot_observation_t> observations;
-  for (const lcm::LogEvent* event = log.readNextEvent(); event != nullptr; event = log.readNextEvent()) {
+  while (const hunav::LcmLogReader::Event* event = log.next()) {
     if (event->channel != hunav::channels::kRobotObservation) continue;
     hunav::robot_observation_t obs;
-    if (obs.decode(event->data, 0, event->datalen) < 0) throw std::runtime_error("undecodable observation in " + log_file);
+    const int size = static_cast<int>(event->data.size());
+    if (!hunav::wire::safeToDecode<hunav::robot_observation_t>(event->data.data(), event->data.size()) ||
+        obs.decode(event->data.data(), 0, size) < 0)
+      throw std::runtime_error("undecodable observation in " + log_file);
     observations.push_back(std::move(obs));
   }
+  if (!log.stopReason().empty()) std::fprintf(stderr, "warning: %s\n", log.stopReason().c_str());
   if (observations.empty()) throw std::runtime_error(log_file + " holds no " + hunav::channels::kRobotObservation);
   return observations;
 }
