@@ -164,7 +164,8 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
   if (!(a.radius >= kMinBodySize && a.radius <= kMaxBodySize))
     yr.fail(m["radius"], YamlReader::join(aw, "radius"), "must be in [1e-3, 100] m");
   a.goal_radius = yr.get<double>(m, "goal_radius", aw, 0.0);
-  if (a.goal_radius < 0.0) yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be >= 0");
+  if (a.goal_radius < 0.0 || a.goal_radius > kMaxCoordinate)
+    yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be in [0, 1e5] m");
   a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
   a.behavior_tree = readTreePath(yr, m, aw);
 
@@ -311,7 +312,8 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
   if (!(radius >= kMinBodySize && radius <= 10.0))
     yr.fail(g["radius"], YamlReader::join(gw, "radius"), "must be in [1e-3, 10] m");
   const double goal_radius = yr.get<double>(g, "goal_radius", gw, 0.3);
-  if (goal_radius < 0.0) yr.fail(g["goal_radius"], YamlReader::join(gw, "goal_radius"), "must be >= 0");
+  if (goal_radius < 0.0 || goal_radius > kMaxCoordinate)
+    yr.fail(g["goal_radius"], YamlReader::join(gw, "goal_radius"), "must be in [0, 1e5] m");
   const double spacing = yr.get<double>(g, "min_spacing", gw, 0.1);
   if (spacing < 0.0 || spacing > 100.0) yr.fail(g["min_spacing"], YamlReader::join(gw, "min_spacing"), "must be in [0, 100] m");
   const bool cyclic = yr.get<bool>(g, "cyclic_goals", gw, true);

@@ -295,6 +295,7 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     robot.goal_yaw = readYaw(yr, goal, "yaw", "robot.goal");
     robot.goal_radius = yr.get<double>(goal, "radius", "robot.goal", robot.goal_radius);
     if (robot.goal_radius <= 0.0) yr.fail(goal["radius"], "robot.goal.radius", "must be > 0");
+    if (robot.goal_radius > kMaxCoordinate) yr.fail(goal["radius"], "robot.goal.radius", "must be <= 1e5 m");
   }
   if (const YAML::Node l = yr.child(r, "limits", "robot", false)) {
     RobotLimits& lim = robot.limits;
@@ -338,7 +339,9 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (las.range_max <= las.range_min || las.range_min < 0.0)
       yr.fail(l, "robot.laser", "needs 0 <= range_min < range_max");
     if (las.range_max > kMaxSensorRange) yr.fail(l["range_max"], "robot.laser.range_max", "must be <= 1e3 m");
-    if (las.noise_std < 0.0) yr.fail(l["noise_std"], "robot.laser.noise_std", "must be >= 0");
+    // Noise beyond the sensor's own reach is no measurement at all.
+    if (las.noise_std < 0.0 || las.noise_std > kMaxSensorRange)
+      yr.fail(l["noise_std"], "robot.laser.noise_std", "must be in [0, 1e3] m");
   }
   robot.perception_range = yr.get<double>(r, "perception_range", "robot", robot.perception_range);
   if (robot.perception_range < 0.0 || robot.perception_range > kMaxSensorRange)
@@ -347,7 +350,8 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   if (robot.perception_fov <= 0.0 || robot.perception_fov > 2.0 * kPi)
     yr.fail(r["perception_fov"], "robot.perception_fov", "must be in (0, 2*pi]");
   robot.perception_noise_std = yr.get<double>(r, "perception_noise_std", "robot", robot.perception_noise_std);
-  if (robot.perception_noise_std < 0.0) yr.fail(r["perception_noise_std"], "robot.perception_noise_std", "must be >= 0");
+  if (robot.perception_noise_std < 0.0 || robot.perception_noise_std > kMaxSensorRange)
+    yr.fail(r["perception_noise_std"], "robot.perception_noise_std", "must be in [0, 1e3] m");
   robot.control_rate = yr.get<double>(r, "control_rate", "robot", robot.control_rate);
   // 1 / (control_rate * dt) ticks must be a number the clock can count.
   if (!(robot.control_rate >= 1e-3)) yr.fail(r["control_rate"], "robot.control_rate", "must be >= 1e-3 Hz");

@@ -229,6 +229,10 @@ TEST(Scenario, BoundsThatKeepBox2DAndTheClockSafe) {
   // max_vy defaults to max_v: a negative max_v is named as max_v, on its line (it was "max_vy", no line).
   expectError("backward_robot.yaml", "robot:\n" + start + "  limits: {max_v: -1}\n", 3, "robot.limits.max_v");
   expectError("spinning_robot.yaml", "robot:\n" + start + "  limits: {max_w: 1e3}\n", 3, "robot.limits.max_w");
+  expectError("noisy_laser.yaml", "robot:\n" + start + "  laser: {noise_std: 1e300}\n", 3, "robot.laser.noise_std");
+  expectError("noisy_perception.yaml", "robot:\n" + start + "  perception_noise_std: 1001\n", 3,
+              "robot.perception_noise_std");
+  expectError("wide_goal.yaml", "robot:\n" + start + "  goal: {x: 1, y: 0, radius: 1e300}\n", 3, "robot.goal.radius");
   expectError("slow_control.yaml", "robot:\n" + start + "  control_rate: 1e-300\n", 3, "robot.control_rate");
   expectError("wide_obstacles.yaml", "obstacle_radius: 1e300\nrobot:\n" + start, 1, "obstacle_radius");
   // 9.3e12 s is where llround(time_limit * 1e6) overflows int64 and the episode ended at t = 0.
@@ -258,6 +262,8 @@ TEST(Scenario, PeopleBounds) {
   expectError("agent_far_goal.yaml",
               agent("        init_pose: {x: 1, y: 1}\n        goals: [g]\n        g: {x: 2e5, y: 0}\n"), 18,
               a1 + ".g");
+  expectError("agent_wide_goal.yaml", agent("        goal_radius: 1e300\n        init_pose: {x: 1, y: 1}\n"), 16,
+              a1 + ".goal_radius");
   auto generator = [](const std::string& fields) {
     return std::string(kMinimal) + "people:\n  generate:\n    count: 300\n" + fields;
   };
@@ -267,6 +273,8 @@ TEST(Scenario, PeopleBounds) {
               "people.generate.first_id");
   expectError("crowd_fast.yaml", generator("    region: {x: [10, 40], y: [10, 40]}\n    max_vel: [1, 11]\n"), 14,
               "people.generate.max_vel");
+  expectError("crowd_wide_goal.yaml", generator("    region: {x: [10, 40], y: [10, 40]}\n    goal_radius: 1e300\n"), 14,
+              "people.generate.goal_radius");
   expectError("crowd_tiny.yaml", generator("    region: {x: [10, 40], y: [10, 40]}\n    radius: 1e-4\n"), 14,
               "people.generate.radius");
   // The largest ids that fit are accepted.
