@@ -99,6 +99,11 @@ std::pair<std::vector<std::string>, MetricRow> readMetricsCsv(const fs::path& fi
   if (header.size() < kProvenanceColumns.size() ||
       !std::equal(kProvenanceColumns.begin(), kProvenanceColumns.end(), header.begin()))
     throw std::runtime_error(file.string() + ":1: header: expected it to start with experiment_tag,run_id,scenario,planner,seed,profile");
+  // A repeated metric name would leave one of its values unread (the row keeps the last one).
+  for (std::size_t i = kProvenanceColumns.size(); i < header.size(); ++i)
+    if (std::find(header.begin(), header.begin() + static_cast<std::ptrdiff_t>(i), header[i]) !=
+        header.begin() + static_cast<std::ptrdiff_t>(i))
+      throw std::runtime_error(file.string() + ":1: " + header[i] + ": duplicate column");
   std::vector<std::string> last;
   int line_no = 1, last_line = 0;
   while (std::getline(in, line)) {

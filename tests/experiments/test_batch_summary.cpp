@@ -198,3 +198,18 @@ TEST(BatchSummary, ScenarioOrderFollowsTheMatrix) {
   const std::string md = readFile(dir / "summary.md");
   EXPECT_LT(md.find("## Scenario `passing`"), md.find("## Scenario `crossing`"));
 }
+
+TEST(BatchSummary, ADuplicateMetricColumnIsAWarningNotASilentPick) {
+  const fs::path dir = freshDir("duplicate_column");
+  makeRun(dir, "passing", "dwb", 1, 10, 0.5, true);
+  const fs::path metrics = dir / "runs" / runFolderName({"passing", "dwb", 1}) / "metrics.csv";
+  // The same metric twice, with different values: which one is meant cannot be told.
+  std::ofstream(metrics) << "experiment_tag,run_id,scenario,planner,seed,profile,time_to_reach_goal,time_to_reach_goal\n"
+                            "exp,passing_dwb_s1,passing,dwb,1,default,10,12\n";
+  const Batch batch = loadBatch(dir);
+  ASSERT_EQ(batch.warnings.size(), 1u);
+  EXPECT_NE(batch.warnings[0].find(metrics.string() + ":1: time_to_reach_goal: duplicate column"), std::string::npos)
+      << batch.warnings[0];
+  ASSERT_EQ(batch.runs.size(), 1u);
+  EXPECT_TRUE(batch.runs[0].metrics.empty());  // neither value is used
+}
