@@ -6,38 +6,34 @@
 namespace hunav {
 
 namespace {
-// v - v is 0 for a finite v and NaN for an infinite or NaN one: a sum of such terms is 0 exactly when
-// all are finite. One test per agent instead of one branch per field (every receiver checks every
-// agent of every message).
-inline double notFiniteMark(double v) { return v - v; }
+// True when every coordinate of `points` is within +-kMaxMagnitude (false for a NaN or an infinity:
+// the comparison fails). Branch-free over the array, which the compiler vectorises.
+bool pointsWithinMagnitude(const std::vector<point2d_t>& points) {
+  bool ok = true;
+  for (const point2d_t& p : points) ok &= (std::abs(p.x) <= kMaxMagnitude) & (std::abs(p.y) <= kMaxMagnitude);
+  return ok;
+}
 }  // namespace
 
 void checkAgentState(const agent_state_t& a, const char* what) {
   const behavior_params_t& bp = a.behavior_params;
-  double mark = notFiniteMark(a.x) + notFiniteMark(a.y) + notFiniteMark(a.yaw) + notFiniteMark(a.vx) +
-                notFiniteMark(a.vy) + notFiniteMark(a.vyaw) + notFiniteMark(a.linear_vel) +
-                notFiniteMark(a.angular_vel) + notFiniteMark(a.radius) + notFiniteMark(a.desired_speed) +
-                notFiniteMark(a.goal_radius) + notFiniteMark(bp.duration) + notFiniteMark(bp.vel) +
-                notFiniteMark(bp.dist) + notFiniteMark(bp.goal_force_factor) + notFiniteMark(bp.obstacle_force_factor) +
-                notFiniteMark(bp.social_force_factor) + notFiniteMark(bp.other_force_factor);
-  for (const point2d_t& p : a.goals) mark += notFiniteMark(p.x) + notFiniteMark(p.y);
-  for (const point2d_t& p : a.obstacles) mark += notFiniteMark(p.x) + notFiniteMark(p.y);
-  // The largest magnitude (std::max: a NaN is caught by `mark` above).
+  // The common case in one pass: |v| <= kMaxMagnitude is false for NaN and infinities too, so one
+  // comparison per number (every receiver checks every agent of every message, every tick).
+  const double numbers[] = {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius, a.desired_speed,
+                            a.goal_radius, bp.duration, bp.vel, bp.dist, bp.goal_force_factor, bp.obstacle_force_factor,
+                            bp.social_force_factor, bp.other_force_factor};
+  bool ok = true;
+  for (const double v : numbers) ok &= std::abs(v) <= kMaxMagnitude;
+  if (ok && pointsWithinMagnitude(a.goals) && pointsWithinMagnitude(a.obstacles) && a.radius >= 0.0 &&
+      a.desired_speed >= 0.0 && a.goal_radius >= 0.0 && a.num_goals >= 0 && a.num_goals <= kMaxPointsPerAgent &&
+      a.num_obstacles >= 0 && a.num_obstacles <= kMaxPointsPerAgent)
+    return;
+  // Otherwise the checks below say what is wrong: non-finite first, then the magnitude.
   double largest = 0.0;
-  for (const double v : {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius, a.desired_speed,
-                         a.goal_radius, bp.duration, bp.vel, bp.dist, bp.goal_force_factor, bp.obstacle_force_factor,
-                         bp.social_force_factor, bp.other_force_factor})
-    largest = std::max(largest, std::abs(v));
+  for (const double v : numbers) largest = std::max(largest, std::abs(v));
   for (const point2d_t& p : a.goals) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
   for (const point2d_t& p : a.obstacles) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
-  if (mark == 0.0 && largest <= kMaxMagnitude && a.radius >= 0.0 && a.desired_speed >= 0.0 && a.goal_radius >= 0.0 && a.num_goals >= 0 &&
-      a.num_goals <= kMaxPointsPerAgent && a.num_obstacles >= 0 && a.num_obstacles <= kMaxPointsPerAgent)
-    return;  // the common case; otherwise the checks below say what is wrong
-  for (const double v : {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius,
-                         a.desired_speed, a.goal_radius, a.behavior_params.duration, a.behavior_params.vel,
-                         a.behavior_params.dist, a.behavior_params.goal_force_factor,
-                         a.behavior_params.obstacle_force_factor, a.behavior_params.social_force_factor,
-                         a.behavior_params.other_force_factor})
+  for (const double v : numbers)
     checkFinite(v, "agent field", what);
   if (!(largest <= kMaxMagnitude))
     throw BadMessage(std::string(what) + ": a number of agent " + std::to_string(a.id) + " is beyond +-" +

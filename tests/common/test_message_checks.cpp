@@ -73,6 +73,30 @@ TEST(MessageChecks, NumbersBeyondAMillionAreRejected) {
   EXPECT_FALSE(rejects([](agent_state_t& a) { a.x = -1e6; }));  // the bound itself is allowed
 }
 
+TEST(MessageChecks, EveryNumberAndPointIsChecked) {
+  // Each of the 18 numbers, a goal and an obstacle point, in turn NaN, then infinite: always rejected.
+  const auto fields = [](agent_state_t& a) {
+    behavior_params_t& bp = a.behavior_params;
+    return std::vector<double*>{&a.x, &a.y, &a.yaw, &a.vx, &a.vy, &a.vyaw, &a.linear_vel, &a.angular_vel,
+                                &a.radius, &a.desired_speed, &a.goal_radius, &bp.duration, &bp.vel, &bp.dist,
+                                &bp.goal_force_factor, &bp.obstacle_force_factor, &bp.social_force_factor,
+                                &bp.other_force_factor, &a.goals[0].x, &a.obstacles[1].y};
+  };
+  auto base = withIds({1});
+  base[0].goals = {point2d_t{1.0, 2.0}};
+  base[0].num_goals = 1;
+  base[0].obstacles = {point2d_t{3.0, 4.0}, point2d_t{5.0, 6.0}};
+  base[0].num_obstacles = 2;
+  ASSERT_NO_THROW(checkAgentStates(base, 1, "test"));
+  const std::size_t count = fields(base[0]).size();
+  for (std::size_t k = 0; k < count; ++k)
+    for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+      auto agents = base;
+      *fields(agents[0])[k] = bad;
+      EXPECT_THROW(checkAgentStates(agents, 1, "test"), BadMessage) << "number " << k << " = " << bad;
+    }
+}
+
 TEST(Fingerprint, ChainsXxh3OverMessagesInOrder) {
   // h0 = 0, h_k = XXH3_64bits_withSeed(message k, h_{k-1}) (docs/world.md).
   const char a[] = "first message", b[] = "second";
