@@ -51,6 +51,7 @@ struct Call {
   double cpu_us;
   bool replanned;
   std::size_t expansions;
+  double v, w;  // the command plan() returned (--dump)
 };
 
 std::vector<Call> closedLoopEpisode(hp::DwbPlanner& planner, const hunav::Scenario& scenario, bool& reached) {
@@ -65,7 +66,8 @@ std::vector<Call> closedLoopEpisode(hp::DwbPlanner& planner, const hunav::Scenar
       const hunav::robot_observation_t obs = world.observe();
       const double start = threadCpuMicros();
       cmd = planner.plan(obs);
-      calls.push_back({threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions()});
+      calls.push_back({threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions(),
+                       cmd.v, cmd.w});
       if (planner.lastDecision() == hp::DwbPlanner::Decision::AtGoal) {
         reached = true;
         break;
@@ -97,8 +99,9 @@ std::vector<Call> replayEpisode(hp::DwbPlanner& planner, const std::vector<hunav
   std::vector<Call> calls;
   for (const hunav::robot_observation_t& obs : observations) {
     const double start = threadCpuMicros();
-    planner.plan(obs);
-    calls.push_back({threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions()});
+    const hunav::robot_command_t cmd = planner.plan(obs);
+    calls.push_back({threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions(),
+                     cmd.v, cmd.w});
   }
   return calls;
 }
@@ -113,6 +116,7 @@ int main(int argc, char** argv) {
   std::string config_file;
   std::string log_file;
   int episodes = 10;
+  std::string dump_file;
   app.add_option("--scenario", scenario_file, "scenario YAML (its static map; in closed loop also the people)")
       ->capture_default_str();
   app.add_option("--planner", planner_name, "dwb, scl or sfw")->capture_default_str();
@@ -121,6 +125,10 @@ int main(int argc, char** argv) {
   app.add_option("--episodes", episodes, "identical episodes (replays) to take each call's minimum over")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--dump", dump_file,
+                 "write each call's command (v, w as exact hex floats), whether it ran A* and the cells it "
+                 "expanded, one line per call of the first episode: diff two builds' files to check that a "
+                 "change keeps every output bit-identical");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -145,6 +153,13 @@ int main(int argc, char** argv) {
       for (const Call& c : calls) every_us.push_back(c.cpu_us);
       if (e == 0) {
         best = calls;
+        if (!dump_file.empty()) {
+          FILE* out = std::fopen(dump_file.c_str(), "w");
+          if (out == nullptr) throw std::runtime_error("cannot write " + dump_file);
+          for (const Call& c : calls)
+            std::fprintf(out, "%a %a %d %zu\n", c.v, c.w, c.replanned ? 1 : 0, c.replanned ? c.expansions : 0);
+          std::fclose(out);
+        }
         continue;
       }
       if (calls.size() != best.size()) throw std::runtime_error("the episodes differ: the planner is not deterministic");

@@ -5,6 +5,10 @@
 #include <limits>
 #include <stdexcept>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <fmt/format.h>
 
 #include "hunav/config_error.hpp"
@@ -173,7 +177,10 @@ bool Costmap::clipToMarkingWindow(int& x0, int& y0, int& x1, int& y1) const {
   return x0 <= x1 && y0 <= y1;
 }
 
-Costmap::MarkingLoop::MarkingLoop(Costmap& map, const SquaredDistanceCosts& table, const Vec2& a, int x0, int x1)
+// Inline so that the loop object stays local to the marking functions: its fields then live in
+// registers instead of being reloaded after every store into the transient layer (bytes, which may
+// alias an object whose address escaped into a call).
+inline Costmap::MarkingLoop::MarkingLoop(Costmap& map, const SquaredDistanceCosts& table, const Vec2& a, int x0, int x1)
     : reach2(table.reach2),
       map_(map),
       table_(table),
@@ -190,6 +197,48 @@ Costmap::MarkingLoop::MarkingLoop(Costmap& map, const SquaredDistanceCosts& tabl
   for (int cx = x0; cx <= x1; ++cx)
     map.column_x_[static_cast<std::size_t>(cx - x0)] = (map.origin_.x() + (cx + 0.5) * res) - a.x();
   column_x_ = map.column_x_.data();
+  map.row_segment_.resize(map.column_x_.size());
+  map.row_from_a_.resize(map.column_x_.size());
+  row_segment_ = map.row_segment_.data();
+  row_from_a_ = map.row_from_a_.data();
+}
+
+// Two cells at a time with SSE2 (GCC does not vectorise the clamp itself), the same IEEE
+// operations in the same order as the scalar loop of the remaining cell.
+void rowSquaredDistancesToSegment(const double* x, int n, double y, const Vec2& ab, double inv_length2,
+                                  double* to_segment, double* from_origin) {
+  const double abx = ab.x(), aby = ab.y();
+  const double y_along = y * aby;
+  int k = 0;
+#if defined(__SSE2__)
+  const __m128d vabx = _mm_set1_pd(abx), vaby = _mm_set1_pd(aby), vy = _mm_set1_pd(y);
+  const __m128d vy_along = _mm_set1_pd(y_along), vinv = _mm_set1_pd(inv_length2);
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
+  for (; k + 2 <= n; k += 2) {
+    const __m128d vx = _mm_loadu_pd(x + k);
+    const __m128d raw = _mm_mul_pd(_mm_add_pd(_mm_mul_pd(vx, vabx), vy_along), vinv);
+    // max(0, raw) is raw < 0 ? 0 : raw and min(1, v) is 1 < v ? 1 : v (both keep a NaN raw and a
+    // negative zero): std::clamp(raw, 0.0, 1.0) exactly.
+    const __m128d t = _mm_min_pd(one, _mm_max_pd(zero, raw));
+    const __m128d qx = _mm_sub_pd(vx, _mm_mul_pd(t, vabx));
+    const __m128d qy = _mm_sub_pd(vy, _mm_mul_pd(t, vaby));
+    _mm_storeu_pd(to_segment + k, _mm_add_pd(_mm_mul_pd(qx, qx), _mm_mul_pd(qy, qy)));
+  }
+#endif
+  for (; k < n; ++k) {
+    const double t = std::clamp((x[k] * abx + y_along) * inv_length2, 0.0, 1.0);
+    const double qx = x[k] - t * abx, qy = y - t * aby;
+    to_segment[k] = qx * qx + qy * qy;
+  }
+  if (from_origin != nullptr)
+    for (int m = 0; m < n; ++m) from_origin[m] = x[m] * x[m] + y * y;
+}
+
+void Costmap::MarkingLoop::computeRow(int cx0, int cx1, double py, const Vec2& ab, double inv_length2,
+                                      bool from_a) const {
+  const int k0 = cx0 - x0_;
+  rowSquaredDistancesToSegment(column_x_ + k0, cx1 - cx0 + 1, py, ab, inv_length2, row_segment_ + k0,
+                               from_a ? row_from_a_ + k0 : nullptr);
 }
 
 bool Costmap::capsuleRowSpan(double py, const Vec2& a, const Vec2& ab, double reach2, int x0, int x1, int& cx0,
@@ -230,12 +279,10 @@ void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint
     int cx0, cx1;  // the row's cells that can be within reach (the others are skipped below anyway)
     if (!capsuleRowSpan(py, a, ab, loop.reach2, x0, x1, cx0, cx1)) continue;
     const int row = index(0, cy);
+    // Squared distances from the cell centres to the segment ab (closest point at parameter t).
+    loop.computeRow(cx0, cx1, py, ab, inv_length2, false);
     for (int cx = cx0; cx <= cx1; ++cx) {
-      // Squared distance from the cell centre to the segment ab (closest point at parameter t).
-      const double px = loop.columnX(cx);
-      const double t = std::clamp((px * ab.x() + py * ab.y()) * inv_length2, 0.0, 1.0);
-      const double qx = px - t * ab.x(), qy = py - t * ab.y();
-      const double d2 = qx * qx + qy * qy;
+      const double d2 = loop.segment(cx);
       if (d2 >= loop.reach2) continue;  // beyond the inflation: free
       const std::uint8_t cost = std::min(loop.cost(d2), max_cost);
       loop.raise(row + cx, cost);
@@ -261,13 +308,11 @@ void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius)
     int cx0, cx1;  // the row's cells that can be within reach (the others are skipped below anyway)
     if (!capsuleRowSpan(py, from, ab, loop.reach2, x0, x1, cx0, cx1)) continue;
     const int row = index(0, cy);
+    loop.computeRow(cx0, cx1, py, ab, inv_length2, true);
     for (int cx = cx0; cx <= cx1; ++cx) {
-      const double px = loop.columnX(cx);
-      const double t = std::clamp((px * ab.x() + py * ab.y()) * inv_length2, 0.0, 1.0);
-      const double qx = px - t * ab.x(), qy = py - t * ab.y();
-      const double d2 = qx * qx + qy * qy;
+      const double d2 = loop.segment(cx);
       if (d2 >= loop.reach2) continue;
-      const double from2 = px * px + py * py;
+      const double from2 = loop.fromA(cx);
       // The capsule's cost never exceeds the circle's (its distance is never larger), so only the
       // circle's lethal and inscribed cells differ from the capped capsule.
       const std::uint8_t cost = from2 <= blocking2 ? loop.cost(from2) : std::min(loop.cost(d2), kMaxInflated);
@@ -300,9 +345,11 @@ void Costmap::markScan(const laser_scan_t& scan, const std::vector<Circle>& alre
     if (!(r >= scan.range_min && r < scan.range_max) || r > far) continue;  // no return, or too far to matter
     const Vec2 hit(sensor.x() + r * c, sensor.y() + r * s);  // per component: no vector packing
     if (hit.x() < win_lo.x() || hit.y() < win_lo.y() || hit.x() > win_hi.x() || hit.y() > win_hi.y()) continue;
-    int cx, cy;
-    if (!worldToCell(hit, cx, cy)) continue;
-    const int cell = index(cx, cy);
+    // worldToCell(hit) without its clamps: for a finite coordinate, floor(f) lies in [0, size)
+    // exactly when f does, and there floor(f) is f truncated.
+    const double fx = (hit.x() - origin_.x()) * inv_resolution_, fy = (hit.y() - origin_.y()) * inv_resolution_;
+    if (!(fx >= 0.0 && fy >= 0.0 && fx < width_ && fy < height_)) continue;  // off the grid (or NaN)
+    const int cell = index(static_cast<int>(fx), static_cast<int>(fy));
     if (cell == last_marked) continue;  // neighbouring beams often hit the same cell
     if (near_static_[static_cast<std::size_t>(cell)]) continue;  // the map already has it
     const bool covered = std::any_of(already_marked.begin(), already_marked.end(), [&](const Circle& circle) {

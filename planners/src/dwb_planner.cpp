@@ -120,17 +120,33 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
 
   const bool map_changed = obs.radius != costmap_.robotRadius();  // the inflation changes with it
   costmap_.setRobotRadius(obs.radius);
-  // Every rollout stays within sim_time * max speed of the robot: the costmap is only read there,
-  // so only that neighbourhood is marked, unless the global path is replanned this cycle.
-  const double reach = params_.sim_time * maxSpeed(obs) + costmap_.resolution();
-  costmap_.setMarkingWindow(robot - Vec2::Constant(reach), robot + Vec2::Constant(reach));
-  updateTransientLayer(obs);
   // The nearest path point found by needsReplan() holds for prepareContext() unless the path changes.
   std::size_t robot_index = kUnknownIndex;
-  const Replan replan = map_changed ? Replan::Required : needsReplan(obs, robot, goal, &robot_index);
-  if (replan != Replan::No) {
+  // A replan the clock or the goal decides needs the whole map marked and no look at the map first:
+  // it is marked once, at once.
+  Replan replan = map_changed ? Replan::Required : scheduledReplan(obs, goal);
+  const bool whole_map_first = replan != Replan::No;
+  if (whole_map_first) {
     costmap_.clearMarkingWindow();
     updateTransientLayer(obs);
+    // A periodic replan skips A* on an unchanged static map, unless the path is blocked or left:
+    // with nothing transient marked the whole map is the one the window would have shown, so
+    // needsReplan() tells the two apart as it would have. Otherwise A* runs either way.
+    if (replan == Replan::Periodic && costmap_.transientEmpty() && path_map_static_)
+      replan = needsReplan(obs, robot, goal, &robot_index);
+  } else {
+    // Every rollout stays within sim_time * max speed of the robot: the costmap is only read there,
+    // so only that neighbourhood is marked, unless the global path is replanned this cycle.
+    const double reach = params_.sim_time * maxSpeed(obs) + costmap_.resolution();
+    costmap_.setMarkingWindow(robot - Vec2::Constant(reach), robot + Vec2::Constant(reach));
+    updateTransientLayer(obs);
+    replan = needsReplan(obs, robot, goal, &robot_index);
+  }
+  if (replan != Replan::No) {
+    if (!whole_map_first) {
+      costmap_.clearMarkingWindow();
+      updateTransientLayer(obs);
+    }
     // A periodic replan on the very map the path was planned on (nothing transient then or now)
     // would find the same path.
     if (replan == Replan::Required || !costmap_.transientEmpty() || !path_map_static_) {
@@ -199,11 +215,17 @@ void DwbPlanner::markPeople(const robot_observation_t& obs) {
   }
 }
 
-DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal,
-                                           std::size_t* robot_index) const {
+DwbPlanner::Replan DwbPlanner::scheduledReplan(const robot_observation_t& obs, const Vec2& goal) const {
   const double since_last_plan = static_cast<double>(obs.utime - path_utime_) * 1e-6;
   if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0) return Replan::Required;  // a new goal (or the clock went back)
   if (path_.empty()) return since_last_plan >= kFailedPlanRetryPeriod ? Replan::Required : Replan::No;
+  return params_.replan_period <= 0.0 || since_last_plan >= params_.replan_period ? Replan::Periodic : Replan::No;
+}
+
+DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal,
+                                           std::size_t* robot_index) const {
+  const Replan scheduled = scheduledReplan(obs, goal);
+  if (scheduled == Replan::Required || path_.empty()) return scheduled;
   double off_path;
   const std::size_t i = path_.nearest(robot, 0, path_.size(), &off_path);
   *robot_index = i;
@@ -215,7 +237,7 @@ DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const
     for (std::size_t k = i; k < path_.size() && path_.remaining(i) - path_.remaining(k) <= reach; ++k)
       if (costmap_.costAt(path_[k]) > path_costs_[k] + params_.replan_cost_rise) return Replan::Required;
   }
-  return params_.replan_period <= 0.0 || since_last_plan >= params_.replan_period ? Replan::Periodic : Replan::No;
+  return scheduled;
 }
 
 bool DwbPlanner::pathBlocked(const robot_observation_t& obs, std::size_t from) const {

@@ -19,12 +19,60 @@ std::size_t GlobalPath::nearest(const Vec2& p, std::size_t first, std::size_t la
   first = std::min(first, last - 1);
   std::size_t best = first;
   double best_d2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = first; i < last; ++i) {
+  // A short range (the critics' path window) or a path that is not finite: the plain scan (there
+  // the skips below would cost more than the points they save).
+  constexpr std::size_t kShortRange = 64;
+  const double length = remaining_[first];
+  const bool prune = last - first > kShortRange && length < std::numeric_limits<double>::infinity();
+  if (!prune) {
+    for (std::size_t i = first; i < last; ++i) {
+      const double d2 = (points_[i] - p).squaredNorm();
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = i;
+      }
+    }
+    if (distance != nullptr) *distance = std::sqrt(best_d2);
+    return best;
+  }
+  // The path between two points is at least as long as the straight line between them, so a point
+  // whose distance to p exceeds the best so far by D lets the scan skip the points less than D
+  // farther along the path: none of them can be as near as the best (the planner asks for the
+  // robot's point on its whole path every cycle; most of it is skipped in a few jumps once the scan
+  // has passed the robot). The margin covers the rounding of the distances and of remaining_, so
+  // only points that are certainly farther are skipped: the result is the plain scan's (the first
+  // nearest point, test NearestIsThePlainScanOnRandomPaths).
+  double best_distance = 0.0;  // sqrt(best_d2) once needed
+  bool best_distance_known = false;
+  for (std::size_t i = first; i < last;) {
     const double d2 = (points_[i] - p).squaredNorm();
     if (d2 < best_d2) {
       best_d2 = d2;
       best = i;
+      best_distance_known = false;
+      ++i;
+      continue;
     }
+    if (!(d2 < std::numeric_limits<double>::infinity())) {
+      ++i;
+      continue;
+    }
+    if (!best_distance_known) {
+      best_distance = std::sqrt(best_d2);
+      best_distance_known = true;
+    }
+    const double here = std::sqrt(d2);
+    const double skip = here - best_distance - 1e-6 * (1.0 + length + here);
+    // The first point at least `skip` along the path from i (remaining_ does not increase).
+    const double until = remaining_[i] - skip;
+    std::size_t next = i + 1;
+    if (next < last && remaining_[next] > until)
+      next = static_cast<std::size_t>(
+          std::partition_point(remaining_.begin() + static_cast<std::ptrdiff_t>(next),
+                               remaining_.begin() + static_cast<std::ptrdiff_t>(last),
+                               [until](double r) { return r > until; }) -
+          remaining_.begin());
+    i = next;
   }
   if (distance != nullptr) *distance = std::sqrt(best_d2);
   return best;
@@ -63,10 +111,19 @@ void AStarPlanner::siftDown(std::size_t i, std::uint64_t key) {
   for (;;) {
     const std::size_t first = 4 * i + 1;
     if (first >= n) break;
-    const std::size_t end = std::min(first + 4, n);
     std::size_t smallest = first;
-    for (std::size_t c = first + 1; c < end; ++c)
-      if (open_[c] < open_[smallest]) smallest = c;
+    if (first + 4 <= n) {
+      // All four children: the smallest by a tournament of selects (keys are unique, so it is the
+      // one the scan below finds), without the branches the comparisons would mispredict.
+      const std::uint64_t* child = open_.data() + first;
+      const bool right_of_first_pair = child[1] < child[0], right_of_second_pair = child[3] < child[2];
+      const std::uint64_t first_pair = right_of_first_pair ? child[1] : child[0];
+      const std::uint64_t second_pair = right_of_second_pair ? child[3] : child[2];
+      smallest = second_pair < first_pair ? first + 2 + right_of_second_pair : first + right_of_first_pair;
+    } else {
+      for (std::size_t c = first + 1; c < n; ++c)
+        if (open_[c] < open_[smallest]) smallest = c;
+    }
     if (key <= open_[smallest]) break;
     open_[i] = open_[smallest];
     nodes_[static_cast<std::size_t>(cellOf(open_[i]))].heap_pos = static_cast<std::int32_t>(i);
@@ -123,8 +180,9 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
     return !goal_cell_free && (costmap.cellCenter(cx, cy) - goal).squaredNorm() <= tolerance2;
   };
   // A step into a cell of cost c costs its length times this factor (c below lethal).
-  double step_factor[Costmap::kInscribed];
-  for (int c = 0; c < Costmap::kInscribed; ++c) step_factor[c] = 1.0 + params_.cost_weight * c / Costmap::kMaxInflated;
+  // (Also for the lethal costs, which the branch-free loop below computes with and then discards.)
+  double step_factor[256];
+  for (int c = 0; c < 256; ++c) step_factor[c] = 1.0 + params_.cost_weight * c / Costmap::kMaxInflated;
 
   open_.clear();
   auto key = [](float f, int cell) {
@@ -194,6 +252,33 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
     const float g_here = top.g;
     // Away from the grid's edge every neighbour exists: no bounds checks.
     const bool interior = cx > 0 && cy > 0 && cx < width - 1 && cy < height - 1;
+    if (interior && !start_trapped) {
+      // The common case without a branch per neighbour (whether a neighbour improves is a coin
+      // toss the branch predictor loses): first which of the eight a step improves, then those
+      // in the same order as the loop below. Updating one neighbour changes nothing the others'
+      // tests read (their g, whether they are closed), so the result is the loop's.
+      unsigned improved = 0;
+      float g_new[8];
+      for (int k = 0; k < 8; ++k) {
+        const int next = top_cell + offset[k];
+        const Node& node = nodes_[static_cast<std::size_t>(next)];
+        const std::uint8_t s = static_cells[next], t = transient_cells[next];
+        const std::uint8_t c = s > t ? s : t;  // costmap.cost(next)
+        g_new[k] = static_cast<float>(g_here + step_length[k] * step_factor[c]);
+        const bool better = !Costmap::isLethal(c) & (node.heap_pos != kClosed) & !(node.g <= g_new[k]);
+        improved |= static_cast<unsigned>(better) << k;
+      }
+      for (; improved != 0; improved &= improved - 1) {
+        const int k = __builtin_ctz(improved);
+        const int next = top_cell + offset[k];
+        Node& node = nodes_[static_cast<std::size_t>(next)];
+        if (node.g == std::numeric_limits<float>::infinity()) reached_.push_back(next);
+        node.g = g_new[k];
+        parent_step_[static_cast<std::size_t>(next)] = static_cast<std::uint8_t>(k);
+        push(g_new[k] + heuristic(cx + kDx[k], cy + kDy[k]), next);
+      }
+      continue;
+    }
     for (int k = 0; k < 8; ++k) {
       const int nx = cx + kDx[k], ny = cy + kDy[k];
       if (!interior && !costmap.inBounds(nx, ny)) continue;

@@ -6,7 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <string>
+#include <vector>
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -326,4 +330,45 @@ TEST(Costmap, TooManyCellsIsAConfigError) {
     EXPECT_NE(std::string(e.what()).find("margin of 100 m on each side, at a resolution of 0.005 m"), std::string::npos)
         << e.what();
   }
+}
+
+// The marking loops compute a row's squared distances at once (two cells at a time with SSE2);
+// each must be the double of the per-cell arithmetic, bit for bit, or marks would differ from
+// before on the cells where a cost steps. Rows of every length (the odd last cell included), many
+// segments (points, every direction, parameters clamped at both ends), and the NaN and negative
+// zero cases of std::clamp.
+TEST(Costmap, RowSquaredDistancesAreThePerCellArithmeticBitForBit) {
+  std::uint64_t state = 12345;
+  const auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int compared = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = 1 + trial % 37;
+    std::vector<double> x(static_cast<std::size_t>(n));
+    const double x0 = uniform(-3.0, 3.0);
+    for (int k = 0; k < n; ++k) x[static_cast<std::size_t>(k)] = (x0 + (k + 0.5) * 0.05) - 0.3 * (trial % 3);
+    if (trial % 7 == 0) x[0] = -0.0;
+    const double y = trial % 11 == 0 ? 0.0 : uniform(-2.0, 2.0);
+    Vec2 ab = trial % 5 == 0 ? Vec2::Zero() : Vec2(uniform(-2.0, 2.0), uniform(-2.0, 2.0));
+    if (trial % 13 == 0) ab = Vec2(0.0, uniform(-1.0, 1.0));  // raw 0 * x: zeros of either sign
+    double inv_length2 = ab.squaredNorm() > 0.0 ? 1.0 / ab.squaredNorm() : 0.0;
+    if (trial == 17) inv_length2 = std::numeric_limits<double>::infinity();  // raw NaN where x * ab.x() + ... is 0
+    std::vector<double> to_segment(x.size()), from_origin(x.size());
+    rowSquaredDistancesToSegment(x.data(), n, y, ab, inv_length2, to_segment.data(), from_origin.data());
+    for (int k = 0; k < n; ++k) {
+      const double px = x[static_cast<std::size_t>(k)];
+      const double t = std::clamp((px * ab.x() + y * ab.y()) * inv_length2, 0.0, 1.0);
+      const double qx = px - t * ab.x(), qy = y - t * ab.y();
+      const double expected = qx * qx + qy * qy;
+      const double expected_from = px * px + y * y;
+      EXPECT_TRUE(same(to_segment[static_cast<std::size_t>(k)], expected))
+          << "trial " << trial << " cell " << k << ": " << to_segment[static_cast<std::size_t>(k)] << " vs " << expected;
+      EXPECT_TRUE(same(from_origin[static_cast<std::size_t>(k)], expected_from)) << "trial " << trial << " cell " << k;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 5000);
 }

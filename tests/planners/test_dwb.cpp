@@ -422,3 +422,22 @@ TEST(Dwb, KeepsItsPathOnAnUnchangedMapAndReplansWhenSomeoneComesNearItByTheRobot
   EXPECT_FALSE(other.lastReplanned());  // replan_cost_rise 0: it waits for the period
   EXPECT_EQ(other.globalPlanner().searches(), 1u);
 }
+
+// A periodic replan marks the whole map at once (no window first). On a map with nothing transient
+// it still looks at the path as the window would have: a robot that has left its path (0.8 m, over
+// the 0.5 m allowed) replans, one on its path keeps it.
+TEST(Dwb, APeriodicReplanOnAStaticMapStillReplansARobotThatLeftItsPath) {
+  const Scenario s = passing();
+  DwbPlanner planner(s);
+  robot_observation_t obs = makeObservation(s, Vec2(0, 0), 0.0, 0.6, 0.0, 0);
+  planner.plan(obs);
+  ASSERT_EQ(planner.globalPlanner().searches(), 1u);
+  obs.utime = 1500000;  // past replan_period; nothing transient then or now
+  planner.plan(obs);
+  EXPECT_FALSE(planner.lastReplanned());
+  obs = makeObservation(s, Vec2(0.2, 0.8), 0.0, 0.6, 0.0, 2600000);  // past the period again, off the path
+  planner.plan(obs);
+  EXPECT_TRUE(planner.lastReplanned());
+  EXPECT_EQ(planner.globalPlanner().searches(), 2u);
+  EXPECT_NEAR(planner.globalPath()[0].y(), 0.8, 1e-9);  // planned from where the robot now is
+}

@@ -34,6 +34,15 @@ struct Circle {
   double radius = 0.0;
 };
 
+// Squared distances from the points (x[k], y) to the segment from the origin to ab, and (when
+// from_origin is not null) to the origin, for k in [0, n): to_segment[k] is exactly the double of
+//   t = std::clamp((x[k] * ab.x() + y * ab.y()) * inv_length2, 0.0, 1.0);
+//   qx = x[k] - t * ab.x(), qy = y - t * ab.y();  qx * qx + qy * qy
+// and from_origin[k] that of x[k] * x[k] + y * y (the marking loops' per-cell arithmetic, computed
+// a row at a time).
+void rowSquaredDistancesToSegment(const double* x, int n, double y, const Vec2& ab, double inv_length2,
+                                  double* to_segment, double* from_origin);
+
 class Costmap {
  public:
   static constexpr std::uint8_t kFree = 0;
@@ -165,7 +174,7 @@ class Costmap {
   // which may alias anything), after which the compiler would reload every vector's pointer.
   class MarkingLoop {
    public:
-    // For the columns [x0, x1], relative to `a` (columnX).
+    // For the columns [x0, x1], relative to `a` (computeRow()).
     MarkingLoop(Costmap& map, const SquaredDistanceCosts& table, const Vec2& a, int x0, int x1);
     ~MarkingLoop() { map_.touched_count_ = touched_count_; }
     MarkingLoop(const MarkingLoop&) = delete;
@@ -173,11 +182,17 @@ class Costmap {
     // squaredDistanceCost(table, x).
     std::uint8_t cost(double x) const {
       if (bins_per_x_ == 0.0) return map_.squaredDistanceCost(table_, x);
-      const auto bin = static_cast<std::size_t>(x * bins_per_x_);
+      // Through a signed integer: x is below reach2 (a bin of the table), where both conversions
+      // agree, and the signed one is a single instruction.
+      const auto bin = static_cast<std::size_t>(static_cast<std::int64_t>(x * bins_per_x_));
       return costs_[2 * bin + (x < boundary_[bin] ? 0 : 1)];
     }
-    // The x of the centres of column cx minus a.x().
-    double columnX(int cx) const { return column_x_[cx - x0_]; }
+    // The squared distances from the centres of the columns [cx0, cx1] of the row py above a.y()
+    // to the segment from a to a + ab, and with from_a also to a itself (a row at a time:
+    // rowSquaredDistancesToSegment()): segment(cx), fromA(cx) until the next call.
+    void computeRow(int cx0, int cx1, double py, const Vec2& ab, double inv_length2, bool from_a) const;
+    double segment(int cx) const { return row_segment_[cx - x0_]; }
+    double fromA(int cx) const { return row_from_a_[cx - x0_]; }
     // raiseTransientIndex(i, cost), without branches (the marks' edges would mispredict them): the
     // index is always written to the next free slot of touched_ (sized to the grid), and kept when
     // the cell was free and is raised. A cost of kFree changes nothing.
@@ -199,7 +214,9 @@ class Costmap {
     std::uint8_t* transient_;
     int* touched_;
     mutable std::size_t touched_count_;  // written back to the map's when the loop ends
-    const double* column_x_;
+    const double* column_x_;  // the x of the columns' centres minus a.x()
+    double* row_segment_;
+    double* row_from_a_;
     const int x0_;
   };
   // The cells [cx0, cx1] of [x0, x1] in the row whose centres lie py above a.y() that may be within
@@ -237,6 +254,8 @@ class Costmap {
   std::vector<int> touched_;
   std::size_t touched_count_ = 0;
   std::vector<double> column_x_;     // MarkingLoop's column centres
+  std::vector<double> row_segment_;  // and its row's squared distances (to the segment, to a)
+  std::vector<double> row_from_a_;
   int win_x0_ = 0, win_y0_ = 0, win_x1_ = -1, win_y1_ = -1;  // marking window, inclusive cell box
   std::vector<SquaredDistanceCosts> distance_costs_;  // a few radii, most recent last
   std::vector<std::uint8_t> decay_;  // cost beyond the robot radius, sampled every decay_step_

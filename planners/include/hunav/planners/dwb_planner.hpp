@@ -138,6 +138,10 @@ class DwbPlanner : public Planner {
   // Required: a new goal, no path yet (retried after a failed search), the path blocked or the
   // robot off it. Periodic: replan_period has passed.
   enum class Replan { No, Periodic, Required };
+  // What needsReplan() decides without looking at the map: Required for a new goal or a retry
+  // after a failed search, Periodic when replan_period has passed (the map may make it Required),
+  // else No (then only the map can ask for a replan, unless the path is empty).
+  Replan scheduledReplan(const robot_observation_t& obs, const Vec2& goal) const;
   // *robot_index: the path point nearest to the robot, when it was computed (SIZE_MAX: not).
   Replan needsReplan(const robot_observation_t& obs, const Vec2& robot, const Vec2& goal,
                      std::size_t* robot_index) const;
