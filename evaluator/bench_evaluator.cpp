@@ -1,7 +1,7 @@
 // bench_evaluator: timing of the evaluator's heavy paths, printed as figures.
 //   bench_evaluator [--ticks 360000] [--people 20] [--dir /tmp/bench_evaluator] [--profile default]
 //   bench_evaluator --replay RUN.lcmlog [--repeat 20] [--dir DIR] [--profile default] [--worker 0|1]
-//                   [--worker-min-people N]
+//                   [--worker-min-people N] [--typed 0|1]
 // 1. writes a synthetic states.csv (a 100 Hz recording: people walking in groups of every behavior,
 //    two obstacle points each) with StatesCsvWriter, as the live evaluator does tick by tick
 //    (flushing every EvaluatorNode::kFlushTicks ticks), and reports the CPU time per tick;
@@ -14,12 +14,18 @@
 //    an in-process bus (decoding, recording, states.csv, metrics and every result file at END),
 //    `repeat` times; reports the process CPU time per tick of the best repetition. --worker 1: with
 //    EvaluatorOptions::worker_thread (from --worker-min-people people, default kWorkerMinPeople); also reports the CPU time of the thread that publishes (the bus
-//    handler's share: what the evaluator costs the one-process runner's loop) and the wall time.
+//    handler's share: what the evaluator costs the one-process runner's loop), the worker thread's
+//    (the process's minus the publishing thread's, per repetition) and the wall time. --typed 1: the
+//    world states are decoded beforehand and published as objects (Bus::publish of a message given
+//    up, as the world does in the one-process runner), so the publishing thread's figure is the bus
+//    hand-off and the evaluator's handler without LCM decoding.
 #include "hunav/channels.hpp"
 #include "hunav/lcm_log_reader.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/evaluator/states_csv.hpp"
+
+#include <hunav/world_state_t.hpp>
 
 #include <lcm/lcm-cpp.hpp>
 #include <sys/resource.h>
@@ -52,10 +58,12 @@ double threadCpuSeconds() { return cpuSeconds(CLOCK_THREAD_CPUTIME_ID); }
 
 // The live evaluator on the messages of a log: CPU time per world state, END included.
 int replay(const std::string& log_file, int repeat, const std::string& dir, const std::string& profile, bool worker,
-           std::size_t worker_min_people) {
+           std::size_t worker_min_people, bool typed) {
   struct Message {
     std::string channel;
     std::vector<std::uint8_t> data;
+    bool is_world_state = false;
+    hunav::world_state_t state;  // decoded (typed)
   };
   std::vector<Message> messages;
   long ticks = 0;
@@ -69,16 +77,30 @@ int replay(const std::string& log_file, int repeat, const std::string& dir, cons
     }
     while (const hunav::LcmLogReader::Event* ev = log->next()) {
       if (ev->channel != hunav::channels::kWorldState && ev->channel != hunav::channels::kEpisodeEvent) continue;
-      messages.push_back(Message{ev->channel, ev->data});
-      if (ev->channel == hunav::channels::kWorldState) ++ticks;
+      Message m{ev->channel, ev->data, ev->channel == hunav::channels::kWorldState, {}};
+      if (m.is_world_state) {
+        ++ticks;
+        if (typed && m.state.decode(m.data.data(), 0, static_cast<int>(m.data.size())) < 0) {
+          std::fprintf(stderr, "%s: a world state does not decode\n", log_file.c_str());
+          return 1;
+        }
+      }
+      messages.push_back(std::move(m));
     }
     if (!log->stopReason().empty()) std::fprintf(stderr, "warning: %s\n", log->stopReason().c_str());
   }
   double best = 1e300;
   double best_thread = 1e300;
+  double best_others = 1e300;  // the process minus the publishing thread: the worker
   double best_wall = 1e300;
+  std::vector<hunav::world_state_t> to_publish;  // typed: this repetition's copies, given up to the bus
   for (int i = 0; i < repeat; ++i) {
     fs::remove_all(dir);
+    to_publish.clear();
+    if (typed)
+      for (const auto& m : messages)
+        if (m.is_world_state) to_publish.push_back(m.state);
+    std::size_t next_state = 0;
     const double c0 = processCpuSeconds();
     const double t0 = threadCpuSeconds();
     const auto w0 = std::chrono::steady_clock::now();
@@ -91,13 +113,20 @@ int replay(const std::string& log_file, int repeat, const std::string& dir, cons
       o.worker_min_people = worker_min_people;
       EvaluatorNode node(bus, o);
       for (const auto& m : messages) {
-        bus.publishRaw(m.channel, m.data.data(), m.data.size());
+        if (typed && m.is_world_state) {
+          bus.publish(m.channel, std::move(to_publish[next_state++]));  // as the world does
+        } else {
+          bus.publishRaw(m.channel, m.data.data(), m.data.size());
+        }
         bus.handleAvailable();
       }
       node.finishIncomplete("the log ended");
     }
-    best = std::min(best, processCpuSeconds() - c0);
-    best_thread = std::min(best_thread, threadCpuSeconds() - t0);
+    const double process_cpu = processCpuSeconds() - c0;
+    const double thread_cpu = threadCpuSeconds() - t0;
+    best = std::min(best, process_cpu);
+    best_thread = std::min(best_thread, thread_cpu);
+    best_others = std::min(best_others, process_cpu - thread_cpu);
     best_wall = std::min(best_wall, seconds(w0, std::chrono::steady_clock::now()));
   }
   const double per_tick = 1e6 / static_cast<double>(ticks);
@@ -105,6 +134,7 @@ int replay(const std::string& log_file, int repeat, const std::string& dir, cons
               worker ? " (worker thread)" : "", log_file.c_str(), ticks, repeat, best, best * per_tick);
   std::printf("  publishing thread: %.2f us CPU per tick; wall %.2f us per tick\n", best_thread * per_tick,
               best_wall * per_tick);
+  if (worker) std::printf("  worker thread: %.2f us CPU per tick\n", best_others * per_tick);
   return 0;
 }
 
@@ -134,11 +164,12 @@ int main(int argc, char** argv) {
   std::string replay_log;
   int repeat = 20;
   bool worker = false;
+  bool typed = false;
   std::size_t worker_min_people = kWorkerMinPeople;
   const char* usage =
       "usage: bench_evaluator [--ticks 360000] [--people 20] [--dir /tmp/bench_evaluator] [--profile default]\n"
       "       bench_evaluator --replay RUN.lcmlog [--repeat 20] [--dir DIR] [--profile default] [--worker 0|1]\n"
-      "                       [--worker-min-people N]\n";
+      "                       [--worker-min-people N] [--typed 0|1]\n";
   for (int i = 1; i < argc; i += 2) {
     if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) {
       std::fputs(usage, stdout);
@@ -156,13 +187,14 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--replay")) replay_log = argv[i + 1];
     else if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--worker")) worker = std::atoi(argv[i + 1]) != 0;
+    else if (!std::strcmp(argv[i], "--typed")) typed = std::atoi(argv[i + 1]) != 0;
     else if (!std::strcmp(argv[i], "--worker-min-people")) worker_min_people = std::strtoul(argv[i + 1], nullptr, 10);
     else {
       std::fprintf(stderr, "bench_evaluator: unknown option %s\n%s", argv[i], usage);
       return 2;
     }
   }
-  if (!replay_log.empty()) return replay(replay_log, repeat, dir, profile, worker, worker_min_people);
+  if (!replay_log.empty()) return replay(replay_log, repeat, dir, profile, worker, worker_min_people, typed);
   fs::remove_all(dir);
   fs::create_directories(dir + "/run");
   const fs::path states = fs::path(dir) / "run" / "states.csv";

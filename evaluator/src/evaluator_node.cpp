@@ -13,6 +13,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <csignal>
+#include <cstring>
 #include <exception>
 #include <mutex>
 #include <stdexcept>
@@ -53,13 +54,14 @@ constexpr std::chrono::milliseconds kFlushRequestPeriod{100};
 
 // The worker thread of worker_thread: a single-producer single-consumer ring of reusable items
 // (no allocation once their buffers have grown) filled by the bus handler's thread and emptied in
-// order by the worker. A hand-off is a copy of the world state into the item and one atomic store:
-// the mutex and the condition variables are taken only to sleep and to wake. The worker is woken
+// order by the worker. A hand-off is the world state's encoding written into the item and one atomic
+// store: the mutex and the condition variables are taken only to sleep and to wake. The worker is woken
 // when the ring is half full (then it works until the ring is empty: while the producer keeps it
 // busy it never sleeps), or when someone waits for it (drain, flushIfDue, a full ring, stop): a
 // wake-up costs the waking thread ~20 us in a virtual machine (an inter-processor interrupt), so
 // the ring is long (up to kCapacity items, fewer for large crowds: kAgentBudget). The producer waits
-// only when the ring is full; the worker never waits for the producer, so this cannot deadlock.
+// only when the ring is full, until it is half empty; the worker never waits for the producer, so
+// this cannot deadlock.
 class EvaluatorNode::Worker {
  public:
   struct Item {
@@ -67,7 +69,36 @@ class EvaluatorNode::Worker {
     bool flush_request = false;  // flushIfDue() instead of a world state
     bool keep = false;           // recorded (sample rate)
     double t = 0.0;              // s, the world state's time
-    world_state_t state;         // the world state as received (assigned: its buffers are reused)
+    // The world state as its LCM encoding (the usual case: writing these contiguous bytes costs the
+    // bus handler less than copying the message's scattered arrays and strings, and the worker needs
+    // them for the fingerprint anyway), or, when encodeWorldState cannot stand for it (see
+    // set()), as a copy of the message.
+    bool encoded = false;
+    std::vector<std::uint8_t> bytes;
+    world_state_t state;  // assigned: its buffers are reused
+
+    // Holds `ws` in the form process() or processEncoded() takes.
+    void set(const world_state_t& ws) {
+      // The encoding stands for the message when its arrays hold exactly what their counts say (the
+      // encoder writes `count` elements, toEntity() reads the arrays) and no string holds a NUL (the
+      // encoder throws; LCM's own encoder writes other bytes): always so for the world's messages.
+      auto countsMatch = [](const agent_state_t& a) {
+        return a.goals.size() == static_cast<std::size_t>(a.num_goals) &&
+               a.obstacles.size() == static_cast<std::size_t>(a.num_obstacles);
+      };
+      bool consistent = countsMatch(ws.robot) && ws.collisions.size() == static_cast<std::size_t>(ws.num_collisions);
+      for (const auto& a : ws.agents) consistent = consistent && countsMatch(a);
+      if (consistent) {
+        try {
+          encodeWorldState(ws, bytes);
+          encoded = true;
+          return;
+        } catch (const std::runtime_error&) {
+        }
+      }
+      encoded = false;
+      state = ws;  // element-wise: the item's vectors and strings keep their buffers
+    }
   };
 
   explicit Worker(EvaluatorNode& node) : node_(node), items_(kCapacity) {
@@ -102,7 +133,9 @@ class EvaluatorNode::Worker {
       urgent_ = true;
       producer_waiting_.store(true);
       work_.notify_one();
-      space_.wait(lock, [this] { return tail_ - head_.load() < limit_ || error_; });
+      // Until the ring is half empty: one wake-up per half ring, not one per item, while the worker
+      // is the slower of the two.
+      space_.wait(lock, [this] { return tail_ - head_.load() <= limit_ / 2 || error_; });
       producer_waiting_.store(false);
       head_cache_ = head_.load();
     }
@@ -171,6 +204,8 @@ class EvaluatorNode::Worker {
           try {
             if (item.flush_request) {
               node_.flushIfDue(*item.episode);
+            } else if (item.encoded) {
+              node_.processEncoded(*item.episode, item.bytes, item.t, item.keep);
             } else {
               node_.process(*item.episode, item.state, item.t, item.keep);
             }
@@ -181,7 +216,9 @@ class EvaluatorNode::Worker {
           }
         }
         head_.store(++head);  // seq_cst: pairs with producer_waiting_
-        if (producer_waiting_.load()) {
+        // The producer waits for a half-empty ring (next()); wake_at_ is half its limit.
+        if (producer_waiting_.load() &&
+            (tail_published_.load() - head <= wake_at_.load(std::memory_order_relaxed) || has_error_.load())) {
           { std::lock_guard<std::mutex> lock(mutex_); }
           space_.notify_one();
         }
@@ -258,6 +295,86 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
   e.obstacles_count = static_cast<std::uint32_t>(points.size());
   return e;
 }
+
+// Reads the entities back from a world state's LCM encoding as written by encodeWorldState
+// (fingerprint.cpp: the fields in declaration order, big-endian): the same numbers bit for bit as
+// toEntity() takes from the message, when its arrays hold as many elements as their counts.
+class EncodedWorldState {
+ public:
+  explicit EncodedWorldState(const std::vector<std::uint8_t>& bytes) : p_(bytes.data()) {
+    p_ += 4 * 8;  // hash, utime, tick, episode
+  }
+  // The next agent (the robot first, then each of numAgents()).
+  EntityState nextEntity(Recording& rec, std::vector<Vec2>& points) {
+    EntityState e;
+    p_ += 8;  // utime
+    e.id = i32();
+    p_ += 1;  // type
+    skipString();  // name
+    e.behavior = i8();
+    e.behavior_state = i8();
+    p_ += 1 + 8 + 1 + 6 * 8;  // behavior_params: configuration, duration, once, vel .. other_force_factor
+    skipString();  // behavior_tree
+    e.group = i32();
+    e.x = f64();
+    e.y = f64();
+    e.yaw = f64();
+    e.vx = f64();
+    e.vy = f64();
+    e.vyaw = f64();
+    e.linear_vel = f64();
+    e.angular_vel = f64();
+    e.radius = f64();
+    p_ += 8;  // desired_speed
+    const std::int32_t goals = i32();
+    if (goals > 0) {
+      e.has_goal = true;
+      e.goal_x = f64();
+      e.goal_y = f64();
+      p_ += 16 * static_cast<std::size_t>(goals - 1);
+      e.goal_radius = f64();
+    } else {
+      p_ += 8;  // goal_radius
+    }
+    p_ += 1;  // cyclic_goals
+    const std::int32_t obstacles = i32();
+    points.clear();
+    for (std::int32_t k = 0; k < obstacles; ++k) {
+      const double x = f64();
+      points.emplace_back(x, f64());
+    }
+    p_ += 1;  // robot_in_sight
+    e.obstacles_begin = rec.addObstacles(points);
+    e.obstacles_count = static_cast<std::uint32_t>(points.size());
+    return e;
+  }
+  // Read after the robot.
+  std::int32_t numAgents() { return i32(); }
+
+ private:
+  std::int8_t i8() { return static_cast<std::int8_t>(*p_++); }
+  std::int32_t i32() {
+    std::uint32_t be;
+    std::memcpy(&be, p_, 4);
+    p_ += 4;
+    return static_cast<std::int32_t>(__builtin_bswap32(be));
+  }
+  double f64() {
+    std::uint64_t be;
+    std::memcpy(&be, p_, 8);
+    p_ += 8;
+    const std::uint64_t bits = __builtin_bswap64(be);
+    double v;
+    std::memcpy(&v, &bits, 8);
+    return v;
+  }
+  void skipString() {
+    const std::int32_t n = i32();  // with the NUL
+    p_ += n;
+  }
+
+  const std::uint8_t* p_;
+};
 
 }  // namespace
 
@@ -374,7 +491,7 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
     item.flush_request = false;
     item.keep = keep;
     item.t = t;
-    item.state = ws;  // element-wise: the item's vectors and strings keep their buffers
+    item.set(ws);
     worker_->push(false);
   } else {
     process(ep, ws, t, keep);
@@ -394,6 +511,34 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   }
 }
 
+void EvaluatorNode::processEncoded(Episode& ep, std::vector<std::uint8_t>& bytes, double t, bool keep) {
+  // The bytes become encode_buffer_, as if process() had encoded them there: a later message that
+  // only LCM's encoder can write (a string holding a NUL) leaves the tail of the previous encoding
+  // in the buffer, and the fingerprint hashes it, as in the synchronous mode.
+  encode_buffer_.swap(bytes);
+  ep.fingerprint.add(encode_buffer_.data(), encode_buffer_.size());
+  if (!keep) return;
+  Recording& sample = ep.sample;
+  sample.clear();
+  EncodedWorldState reader(encode_buffer_);
+  const EntityState robot = reader.nextEntity(sample, points_scratch_);
+  const std::int32_t agents = reader.numAgents();
+  agents_scratch_.clear();
+  for (std::int32_t i = 0; i < agents; ++i) agents_scratch_.push_back(reader.nextEntity(sample, points_scratch_));
+  record(ep, sample, t, robot);
+}
+
+void EvaluatorNode::record(Episode& ep, Recording& sample, double t, const EntityState& robot) {
+  sample.addSample(t, robot, agents_scratch_);
+  ep.states->write(sample, sample.back());
+  ep.evaluation->add(sample, sample.back());
+  if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
+    flush(ep);
+  } else {
+    flushIfDue(ep);
+  }
+}
+
 void EvaluatorNode::process(Episode& ep, const world_state_t& ws, double t, bool keep) {
   try {
     encodeWorldState(ws, encode_buffer_);  // LCM's bytes, written in a few passes (fingerprint.hpp)
@@ -410,14 +555,7 @@ void EvaluatorNode::process(Episode& ep, const world_state_t& ws, double t, bool
   const EntityState robot = toEntity(ws.robot, sample, points_scratch_);
   agents_scratch_.clear();
   for (const auto& a : ws.agents) agents_scratch_.push_back(toEntity(a, sample, points_scratch_));
-  sample.addSample(t, robot, agents_scratch_);
-  ep.states->write(sample, sample.back());
-  ep.evaluation->add(sample, sample.back());
-  if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
-    flush(ep);
-  } else {
-    flushIfDue(ep);
-  }
+  record(ep, sample, t, robot);
 }
 
 void EvaluatorNode::flush(Episode& ep) {

@@ -3,6 +3,8 @@
 #include <fmt/compile.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace hunav::evaluator {
 
@@ -12,12 +14,51 @@ void twoDigits(char* out, unsigned v) {
   out[0] = static_cast<char>('0' + v / 10);
   out[1] = static_cast<char>('0' + v % 10);
 }
+
+// "00" .. "99".
+constexpr char kDigitPairs[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+void copyPair(char* out, std::uint32_t v) { std::memcpy(out, kDigitPairs + 2 * v, 2); }
+
+// The decimal digits of v (no leading zero; "0" for 0) written so that they end at `end`; returns
+// their first character. The same text as fmt::format_int, with fewer dependent 64-bit divisions:
+// blocks of eight digits split off in 32-bit arithmetic (a dragonbox significand has up to 17).
+char* digitsEndingAt(char* end, std::uint64_t v) {
+  char* p = end;
+  while (v >= 100000000) {
+    const auto block = static_cast<std::uint32_t>(v % 100000000);
+    v /= 100000000;
+    const std::uint32_t high = block / 10000;
+    const std::uint32_t low = block % 10000;
+    p -= 8;
+    copyPair(p, high / 100);
+    copyPair(p + 2, high % 100);
+    copyPair(p + 4, low / 100);
+    copyPair(p + 6, low % 100);
+  }
+  auto x = static_cast<std::uint32_t>(v);
+  while (x >= 100) {
+    p -= 2;
+    copyPair(p, x % 100);
+    x /= 100;
+  }
+  if (x >= 10) {
+    p -= 2;
+    copyPair(p, x);
+  } else {
+    *--p = static_cast<char>('0' + x);
+  }
+  return p;
+}
 }  // namespace
 
 char* NumberText::format(char* out, double v) {
   // fmt prints an integral double below 1e16 as its digits ("10000", "-3"); formatting it as an
   // integer gives the same text several times faster. -0 keeps fmt's "-0".
-  if (std::abs(v) < 1e15 && v == std::trunc(v) && !(v == 0.0 && std::signbit(v))) {
+  // (For |v| < 1e15 the conversion to long long is exact for an integral v and truncates otherwise.)
+  if (std::abs(v) < 1e15 && v == static_cast<double>(static_cast<long long>(v)) && !(v == 0.0 && std::signbit(v))) {
     const fmt::format_int digits(static_cast<long long>(v));
     std::memcpy(out, digits.data(), digits.size());
     return out + digits.size();
@@ -31,9 +72,9 @@ char* NumberText::format(char* out, double v) {
     v = -v;
   }
   const auto dec = fmt::detail::dragonbox::to_decimal(v);
-  const fmt::format_int significand(dec.significand);
-  const char* digits = significand.data();
-  const int size = static_cast<int>(significand.size());
+  char digit_buffer[24];
+  const char* digits = digitsEndingAt(digit_buffer + sizeof digit_buffer, dec.significand);
+  const int size = static_cast<int>(digit_buffer + sizeof digit_buffer - digits);
   const int output_exp = dec.exponent + size - 1;  // decimal exponent of the first digit
   if (output_exp < -4 || output_exp >= 16) {
     // d[.ddd]e(+|-)XX[X]

@@ -2,7 +2,6 @@
 
 #include "hunav/evaluator/number_text.hpp"
 
-#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <array>
@@ -103,13 +102,21 @@ class StepsFile {
       buffer_.push_back(sep);
       numbers_.append(buffer_, values[c]);
     }
-    if (active != nullptr) {
-      buffer_.push_back(sep);
-      numbers_.append(buffer_, *active);
+    endRow(active);
+  }
+  // The same row from the text of the values as valuesText() gives it for this file's separator.
+  void rowFromText(const fmt::memory_buffer& time, const fmt::memory_buffer& values_text, const double* active) {
+    buffer_.append(time.data(), time.data() + time.size());
+    buffer_.append(values_text.data(), values_text.data() + values_text.size());
+    endRow(active);
+  }
+  // The fields row() writes for `values` after the time: sep, value, sep, value...
+  static void valuesText(fmt::memory_buffer& out, char sep, const double* values, std::size_t n, NumberText& numbers) {
+    out.clear();
+    for (std::size_t c = 0; c < n; ++c) {
+      out.push_back(sep);
+      numbers.append(out, values[c]);
     }
-    if (txt_) buffer_.push_back('\t');
-    buffer_.push_back('\n');
-    if (buffer_.size() >= kStepsFlushBytes) flush();
   }
 
   void flush() {
@@ -144,6 +151,17 @@ class StepsFile {
   }
 
  private:
+  void endRow(const double* active) {
+    const char sep = txt_ ? '\t' : ',';
+    if (active != nullptr) {
+      buffer_.push_back(sep);
+      numbers_.append(buffer_, *active);
+    }
+    if (txt_) buffer_.push_back('\t');
+    buffer_.push_back('\n');
+    if (buffer_.size() >= kStepsFlushBytes) flush();
+  }
+
   fs::path final_;
   fs::path path_;
   bool txt_;
@@ -171,8 +189,11 @@ void appendTxtSummary(const fs::path& file, const std::string& tag, const std::v
 
 // The metrics and per-tick files of the people of one behavior.
 struct BehaviorTrack {
-  explicit BehaviorTrack(const MetricRegistry& registry) : set(registry) {}
-  MetricSet set;
+  // Null while the track mirrors the run: it began with the run's first sample and every sample so
+  // far held people of this behavior only, so its views were the run's and its metrics are the run's
+  // (the same accumulators fed the same views). It gets a copy of the run's metrics at the first
+  // sample where that ends.
+  std::unique_ptr<MetricSet> set;
   std::unique_ptr<StepsFile> csv;
   std::unique_ptr<StepsFile> txt;
 };
@@ -187,7 +208,8 @@ struct RunEvaluation::Impl {
         active_any_behavior(profile == "hunav_v1"),
         run(registry),
         columns(run.columnNames()),
-        row(run.columnCount()) {}
+        row(run.columnCount()),
+        run_row(run.columnCount()) {}
 
   fs::path stepsCsv(const std::string& stem) const { return options.run_dir / (stem + "_steps.csv"); }
   fs::path stepsTxt(const std::string& stem) const { return options.out_dir / (stem + "_steps_" + tag + ".txt"); }
@@ -198,12 +220,13 @@ struct RunEvaluation::Impl {
       txt = std::make_unique<StepsFile>(stepsTxt(stem), options.replace_at_end, true, columns, active, numbers);
   }
 
+  // The time fields of the per-tick rows: the same text as fmt "{}" (NumberText).
   void formatTimes(double t) {
     time_csv.clear();
-    fmt::format_to(std::back_inserter(time_csv), FMT_COMPILE("{}"), t);
+    numbers.append(time_csv, t);
     if (options.hunav_txt) {
       time_txt.clear();
-      fmt::format_to(std::back_inserter(time_txt), FMT_COMPILE("{}"), t - first_t);
+      numbers.append(time_txt, t - first_t);
     }
   }
 
@@ -213,18 +236,24 @@ struct RunEvaluation::Impl {
   }
 
   // Behavior b appears for the first time: its files get the rows of the samples before, where the
-  // behavior had nobody, computed from the robot's trajectory kept so far.
-  void startTrack(int b) {
-    auto track = std::make_unique<BehaviorTrack>(registry);
+  // behavior had nobody, computed from the robot's trajectory kept so far. `mirror`: the track begins
+  // with the run's first sample, which holds people of behavior b only (BehaviorTrack::set).
+  void startTrack(int b, bool mirror) {
+    auto track = std::make_unique<BehaviorTrack>();
     open(track->csv, track->txt, "metrics_beh_" + std::to_string(b), true);
-    SampleCache history_cache;
-    for (std::size_t k = 0; k < robot_history.size(); ++k) {
-      const Sample& s = robot_history[k];
-      history_cache.reset(0);
-      track->set.add(SampleView(robot_history, s, history_cache), row.data());
-      formatTimes(s.t);
-      const double active = active_any_behavior && history_active[k] ? 1.0 : 0.0;
-      writeRows(*track->csv, track->txt.get(), &active);
+    if (!mirror) {
+      track->set = std::make_unique<MetricSet>(registry);
+      SampleCache history_cache;
+      std::size_t k = 0;
+      for (const Recording& chunk : robot_history) {
+        for (const Sample& s : chunk.samples()) {
+          history_cache.reset(0);
+          track->set->add(SampleView(chunk, s, history_cache), row.data());
+          formatTimes(s.t);
+          const double active = active_any_behavior && history_active[k++] ? 1.0 : 0.0;
+          writeRows(*track->csv, track->txt.get(), &active);
+        }
+      }
     }
     tracks[static_cast<std::size_t>(b)] = std::move(track);
     ++started_tracks;
@@ -234,17 +263,19 @@ struct RunEvaluation::Impl {
     EntityState robot = s.robot;
     const auto pts = r.obstacles(s.robot);
     points.assign(pts.begin(), pts.end());
-    robot.obstacles_begin = robot_history.addObstacles(points);
-    robot_history.addSample(s.t, robot, no_agents);
+    if (robot_history.empty() || robot_history.back().size() == kHistoryChunk) {
+      robot_history.emplace_back();
+      robot_history.back().reserve(kHistoryChunk, 0, 0);
+    }
+    Recording& chunk = robot_history.back();
+    robot.obstacles_begin = chunk.addObstacles(points);
+    chunk.addSample(s.t, robot, no_agents);
     history_active.push_back(any_active);
   }
 
   void add(const Recording& r, const Sample& s) {
-    if (run.samples() == 0) first_t = s.t;
-    cache.reset(s.agents_count);
-    run.add(SampleView(r, s, cache), row.data());
-    formatTimes(s.t);
-    writeRows(*steps_csv, steps_txt.get(), nullptr);
+    const bool first_sample = run.samples() == 0;
+    if (first_sample) first_t = s.t;
 
     // People by behavior, and who is active.
     bool any_active = false;
@@ -260,18 +291,40 @@ struct RunEvaluation::Impl {
       members[b].push_back(static_cast<std::uint32_t>(j));
       active[b] = active[b] || is_active;
     }
+    // members[b] lists ascending positions: holding as many as the sample has people, it is all of
+    // them, and the view of behavior b is the run's view.
+    auto wholeSample = [&](std::size_t b) { return members[b].size() == agents.size(); };
+    // A mirroring track whose view now differs goes on from the run's metrics before this sample.
+    for (std::size_t b = 1; b <= 6; ++b) {
+      BehaviorTrack* track = tracks[b].get();
+      if (track != nullptr && !track->set && !wholeSample(b)) track->set = std::make_unique<MetricSet>(run);
+    }
+
+    cache.reset(s.agents_count);
+    run.add(SampleView(r, s, cache), run_row.data());
+    formatTimes(s.t);
+    // The values' text of the csv row, formatted once: a mirroring track's csv row has the same.
+    StepsFile::valuesText(run_text, ',', run_row.data(), run_row.size(), numbers);
+    steps_csv->rowFromText(time_csv, run_text, nullptr);
+    if (steps_txt) steps_txt->row(time_txt, run_row.data(), run_row.size(), nullptr);
+
     bool started_now = false;
-    for (int b = 1; b <= 6; ++b) {
-      if (members[static_cast<std::size_t>(b)].empty() || tracks[static_cast<std::size_t>(b)]) continue;
-      startTrack(b);
+    for (std::size_t b = 1; b <= 6; ++b) {
+      if (members[b].empty() || tracks[b]) continue;
+      startTrack(static_cast<int>(b), first_sample && wholeSample(b));
       started_now = true;
     }
     if (started_now) formatTimes(s.t);  // the replay formatted the times of earlier samples
     for (std::size_t b = 1; b <= 6; ++b) {
       BehaviorTrack* track = tracks[b].get();
       if (track == nullptr) continue;
-      track->set.add(SampleView(r, s, cache, members[b]), row.data());
       const double act = (active_any_behavior ? any_active : active[b]) ? 1.0 : 0.0;
+      if (!track->set) {
+        track->csv->rowFromText(time_csv, run_text, &act);
+        if (track->txt) track->txt->row(time_txt, run_row.data(), run_row.size(), &act);
+        continue;
+      }
+      track->set->add(SampleView(r, s, cache, members[b]), row.data());
       writeRows(*track->csv, track->txt.get(), &act);
     }
     if (started_tracks < 6) {
@@ -299,7 +352,9 @@ struct RunEvaluation::Impl {
   bool active_any_behavior;  // hunav_v1: behavior_active looks at every person
   MetricSet run;
   std::vector<std::string> columns;
-  std::vector<double> row;
+  std::vector<double> row;      // per-tick values of a behavior
+  std::vector<double> run_row;  // per-tick values of the run
+  fmt::memory_buffer run_text;  // run_row as the csv row writes it (",v,v,...")
   NumberText numbers;  // shared by the per-tick files: the robot's columns repeat in every one
   std::unique_ptr<StepsFile> steps_csv;
   std::unique_ptr<StepsFile> steps_txt;
@@ -311,7 +366,10 @@ struct RunEvaluation::Impl {
   fmt::memory_buffer time_csv;
   fmt::memory_buffer time_txt;
   // The robot's trajectory (and whether anyone was active), while some behavior has not appeared.
-  Recording robot_history;
+  // In chunks of kHistoryChunk samples: a growing vector would copy it at every doubling and touch
+  // twice its memory (fresh pages, a page fault each).
+  static constexpr std::size_t kHistoryChunk = 256;
+  std::vector<Recording> robot_history;
   std::vector<bool> history_active;
   std::vector<Vec2> points;
   const std::vector<EntityState> no_agents;
@@ -346,7 +404,7 @@ RunResult RunEvaluation::finish(RunInfo info) {
   result.metrics = m.run.values();
   std::array<std::vector<MetricValue>, 7> behavior_values;
   for (std::size_t b = 1; b <= 6; ++b)
-    if (m.tracks[b]) behavior_values[b] = m.tracks[b]->set.values();
+    if (m.tracks[b]) behavior_values[b] = m.tracks[b]->set ? m.tracks[b]->set->values() : result.metrics;
   m.forEachFile([](StepsFile& f) { f.finish(); });
   m.finished = true;
 

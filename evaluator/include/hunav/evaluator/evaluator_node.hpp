@@ -66,10 +66,11 @@ struct EvaluatorOptions {
   // Record and evaluate at most this many samples per second of simulation time (sample_rate.hpp);
   // 0 = every world state.
   double sample_rate = 0.0;
-  // Do the per-sample work (encoding for the fingerprint, the sample, states.csv rows, metrics,
-  // per-tick rows, flushes) on a worker thread fed through a lock-free ring by the bus handler,
-  // which keeps only the checks and a copy of the message. The files are byte for byte those of the
-  // synchronous mode.
+  // Do the per-sample work (the fingerprint, the sample, states.csv rows, metrics, per-tick rows,
+  // flushes) on a worker thread fed through a lock-free ring by the bus handler, which keeps only the
+  // checks and writes the message's LCM encoding into the ring (the worker hashes it and reads the
+  // sample back from it; a copy of the message when the encoding cannot stand for it). The files
+  // are byte for byte those of the synchronous mode.
   bool worker_thread = false;
   // With worker_thread, the worker takes over from the first world state with at least this many
   // people (0: from the start).
@@ -137,6 +138,12 @@ class EvaluatorNode {
   // The per-sample work: done in onWorldState, or by the worker thread.
   // `t`: the state's time in s; `keep`: recorded (sample rate), else only in the fingerprint.
   void process(Episode& ep, const world_state_t& ws, double t, bool keep);
+  // The same from the world state's encoding (encodeWorldState; the worker's usual input), which it
+  // takes (`bytes` is left with a spare buffer).
+  void processEncoded(Episode& ep, std::vector<std::uint8_t>& bytes, double t, bool keep);
+  // The sample of `t` (robot, agents_scratch_, obstacle points in `sample`) to states.csv and the
+  // metrics.
+  void record(Episode& ep, Recording& sample, double t, const EntityState& robot);
   void flush(Episode& ep);
   void flushIfDue(Episode& ep);
 
