@@ -22,15 +22,18 @@ Vec2 Shape::closestPoint(const Vec2& p) const {
   Vec2 best = points.front();
   double best_d2 = std::numeric_limits<double>::infinity();
   const std::size_t n = points.size();
-  const std::size_t edges = kind == Kind::Polygon ? n : n - 1;
-  for (std::size_t i = 0; i < edges; ++i) {
-    const Vec2 c = closestPointOnSegment(p, points[i], points[(i + 1) % n]);
+  // Each edge from its first vertex to the next; a polygon's closing edge last (no modulo per edge:
+  // the world and the costmap ask this for many points).
+  auto consider = [&](const Vec2& a, const Vec2& b) {
+    const Vec2 c = closestPointOnSegment(p, a, b);
     const double d2 = (c - p).squaredNorm();
     if (d2 < best_d2) {
       best_d2 = d2;
       best = c;
     }
-  }
+  };
+  for (std::size_t i = 0; i + 1 < n; ++i) consider(points[i], points[i + 1]);
+  if (kind == Kind::Polygon && n > 0) consider(points[n - 1], points[0]);
   return best;
 }
 
