@@ -263,7 +263,8 @@ void Costmap::markCircle(const Vec2& center, double radius, std::uint8_t max_cos
   markCapsule(center, center, radius, max_cost);
 }
 
-void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint8_t max_cost) {
+template <class CellCost>
+void Costmap::markSegment(const Vec2& a, const Vec2& b, double radius, bool with_distance_to_a, CellCost cell_cost) {
   const double reach = radius + inflation_;
   int x0, y0, x1, y1;
   worldToCell(a.cwiseMin(b) - Vec2(reach, reach), x0, y0);
@@ -280,45 +281,30 @@ void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint
     if (!capsuleRowSpan(py, a, ab, loop.reach2, x0, x1, cx0, cx1)) continue;
     const int row = index(0, cy);
     // Squared distances from the cell centres to the segment ab (closest point at parameter t).
-    loop.computeRow(cx0, cx1, py, ab, inv_length2, false);
+    loop.computeRow(cx0, cx1, py, ab, inv_length2, with_distance_to_a);
     for (int cx = cx0; cx <= cx1; ++cx) {
       const double d2 = loop.segment(cx);
       if (d2 >= loop.reach2) continue;  // beyond the inflation: free
-      const std::uint8_t cost = std::min(loop.cost(d2), max_cost);
-      loop.raise(row + cx, cost);
+      loop.raise(row + cx, cell_cost(loop, cx, d2));
     }
   }
 }
 
+void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint8_t max_cost) {
+  markSegment(a, b, radius, false, [max_cost](const MarkingLoop& loop, int, double d2) {
+    return std::min(loop.cost(d2), max_cost);
+  });
+}
+
 void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius) {
-  const double reach = radius + inflation_;
-  int x0, y0, x1, y1;
-  worldToCell(from.cwiseMin(to) - Vec2(reach, reach), x0, y0);
-  worldToCell(from.cwiseMax(to) + Vec2(reach, reach), x1, y1);
-  if (!clipToMarkingWindow(x0, y0, x1, y1)) return;
-  const MarkingLoop loop(*this, squaredDistanceCosts(radius), from, x0, x1);
-  const Vec2 ab = to - from;
-  const double length2 = ab.squaredNorm();
-  const double inv_length2 = length2 > 0.0 ? 1.0 / length2 : 0.0;
   // Within this distance of `from` the circle's own cost is inscribed or lethal, above the cap.
   const double blocking2 = (radius + robot_radius_) * (radius + robot_radius_);
-  const double res = params_.resolution;
-  for (int cy = y0; cy <= y1; ++cy) {
-    const double py = (origin_.y() + (cy + 0.5) * res) - from.y();
-    int cx0, cx1;  // the row's cells that can be within reach (the others are skipped below anyway)
-    if (!capsuleRowSpan(py, from, ab, loop.reach2, x0, x1, cx0, cx1)) continue;
-    const int row = index(0, cy);
-    loop.computeRow(cx0, cx1, py, ab, inv_length2, true);
-    for (int cx = cx0; cx <= cx1; ++cx) {
-      const double d2 = loop.segment(cx);
-      if (d2 >= loop.reach2) continue;
-      const double from2 = loop.fromA(cx);
-      // The capsule's cost never exceeds the circle's (its distance is never larger), so only the
-      // circle's lethal and inscribed cells differ from the capped capsule.
-      const std::uint8_t cost = from2 <= blocking2 ? loop.cost(from2) : std::min(loop.cost(d2), kMaxInflated);
-      loop.raise(row + cx, cost);
-    }
-  }
+  markSegment(from, to, radius, true, [blocking2](const MarkingLoop& loop, int cx, double d2) {
+    // The capsule's cost never exceeds the circle's (its distance is never larger), so only the
+    // circle's lethal and inscribed cells differ from the capped capsule.
+    const double from2 = loop.fromA(cx);
+    return from2 <= blocking2 ? loop.cost(from2) : std::min(loop.cost(d2), kMaxInflated);
+  });
 }
 
 void Costmap::markPoint(const Vec2& p) { markCircle(p, 0.0); }

@@ -219,6 +219,10 @@ class Costmap {
     double* row_from_a_;
     const int x0_;
   };
+  // Marks the cells within reach of the segment ab: cell_cost(loop, cx, d2) is the cost of column cx
+  // of the row, d2 its squared distance to ab (with_distance_to_a: loop.fromA(cx) is computed too).
+  template <class CellCost>
+  void markSegment(const Vec2& a, const Vec2& b, double radius, bool with_distance_to_a, CellCost cell_cost);
   // The cells [cx0, cx1] of [x0, x1] in the row whose centres lie py above a.y() that may be within
   // sqrt(reach2) of the segment from a to a + ab (a superset of those the marking loops keep);
   // false when there are none.
