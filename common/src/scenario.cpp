@@ -451,6 +451,37 @@ void Scenario::bounds(Vec2& lo, Vec2& hi, double margin) const {
   hi += Vec2(margin, margin);
 }
 
+const char* obstaclePointsName(ObstaclePoints p) {
+  switch (p) {
+    case ObstaclePoints::Closest: return "closest";
+    case ObstaclePoints::Each: return "each";
+    case ObstaclePoints::Mean: return "mean";
+  }
+  return "?";
+}
+
+const char* peopleNavigationName(PeopleNavigation n) { return n == PeopleNavigation::Path ? "path" : "direct"; }
+
+namespace {
+
+// The `people:` keys of the human model (besides hunav_loader and generate).
+void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel& m) {
+  const std::string points = yr.get<std::string>(people, "obstacle_points", "people", obstaclePointsName(m.obstacle_points));
+  if (points == "closest") m.obstacle_points = ObstaclePoints::Closest;
+  else if (points == "each") m.obstacle_points = ObstaclePoints::Each;
+  else if (points == "mean") m.obstacle_points = ObstaclePoints::Mean;
+  else yr.fail(people["obstacle_points"], "people.obstacle_points", "must be closest, each or mean, got '" + points + "'");
+  const std::string nav = yr.get<std::string>(people, "navigation", "people", peopleNavigationName(m.navigation));
+  if (nav == "path") m.navigation = PeopleNavigation::Path;
+  else if (nav == "direct") m.navigation = PeopleNavigation::Direct;
+  else yr.fail(people["navigation"], "people.navigation", "must be path or direct, got '" + nav + "'");
+  m.route_resolution = yr.get<double>(people, "route_resolution", "people", m.route_resolution);
+  if (!(m.route_resolution >= 0.02 && m.route_resolution <= 1.0))
+    yr.fail(people["route_resolution"], "people.route_resolution", "must be in [0.02, 1] m");
+}
+
+}  // namespace
+
 Scenario loadScenario(const std::string& path, long long seed_override) {
   YamlReader yr(path);
   const YAML::Node& root = yr.root();
@@ -469,6 +500,12 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
   // The world's obstacle grid reaches this far beyond the map.
   if (s.obstacle_radius <= 0.0 || s.obstacle_radius > 1e3)
     yr.fail(root["obstacle_radius"], "obstacle_radius", "must be in (0, 1e3] m");
+  s.stuck_timeout = yr.get<double>(root, "stuck_timeout", "", s.stuck_timeout);
+  if (s.stuck_timeout < 0.0 || s.stuck_timeout > kMaxTimeLimit)
+    yr.fail(root["stuck_timeout"], "stuck_timeout", "must be in [0, 1e7] s (0: never)");
+  s.stuck_distance = yr.get<double>(root, "stuck_distance", "", s.stuck_distance);
+  if (s.stuck_distance <= 0.0 || s.stuck_distance > 1e3)
+    yr.fail(root["stuck_distance"], "stuck_distance", "must be in (0, 1e3] m");
   if (const YAML::Node evaluation = yr.child(root, "evaluation", "", false)) {
     s.evaluation_sample_rate = yr.get<double>(evaluation, "sample_rate", "evaluation", 0.0);
     // The evaluator's own bounds (sample_rate.hpp), checked here so that a bad value stops the run
@@ -491,6 +528,7 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       s.agents = loadAgentsFile(p.string(), s.seed);
     } else {
       s.agents = parseAgents(yr, people, "people", s.seed, s.shapes);
+      readPeopleModel(yr, people, s.people_model);
     }
   }
 

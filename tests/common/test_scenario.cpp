@@ -322,3 +322,29 @@ TEST(Scenario, DurationOverrideIsBoundedLikeTimeLimit) {
   EXPECT_THROW(checkDurationOverride(std::nan("")), ConfigError);  // CLI11's positive check lets NaN through
   EXPECT_THROW(checkDurationOverride(-1.0), ConfigError);
 }
+
+TEST(Scenario, PeopleModelKeys) {
+  const std::string people = std::string(kMinimal) +
+                             "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1]\n"
+                             "      a1: {id: 1, init_pose: {x: 1, y: 1}}\n";
+  // Defaults: the closest point, routes over the map, cells of 0.1 m; never stuck.
+  const hunav::Scenario d = loadScenario(writeFile("people_defaults.yaml", people));
+  EXPECT_EQ(d.people_model.obstacle_points, hunav::ObstaclePoints::Closest);
+  EXPECT_EQ(d.people_model.navigation, hunav::PeopleNavigation::Path);
+  EXPECT_DOUBLE_EQ(d.people_model.route_resolution, 0.1);
+  EXPECT_EQ(d.stuck_timeout, 0.0);
+  EXPECT_EQ(d.stuck_distance, 0.5);
+  const hunav::Scenario m = loadScenario(
+      writeFile("people_mean.yaml", people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n"));
+  EXPECT_EQ(m.people_model.obstacle_points, hunav::ObstaclePoints::Mean);
+  EXPECT_EQ(m.people_model.navigation, hunav::PeopleNavigation::Direct);
+  EXPECT_DOUBLE_EQ(m.people_model.route_resolution, 0.05);
+  EXPECT_EQ(loadScenario(writeFile("people_each.yaml", people + "  obstacle_points: each\n")).people_model.obstacle_points,
+            hunav::ObstaclePoints::Each);
+  // kMinimal has 9 lines, the people block 5: the keys below it are on line 15.
+  expectError("people_points.yaml", people + "  obstacle_points: all\n", 15, "people.obstacle_points");
+  expectError("people_nav.yaml", people + "  navigation: astar\n", 15, "people.navigation");
+  expectError("people_res.yaml", people + "  route_resolution: 0.001\n", 15, "people.route_resolution");
+  expectError("stuck_neg.yaml", std::string(kMinimal) + "stuck_timeout: -1\n", 10, "stuck_timeout");
+  expectError("stuck_dist.yaml", std::string(kMinimal) + "stuck_distance: 0\n", 10, "stuck_distance");
+}

@@ -86,6 +86,28 @@ struct RobotConfig {
   double control_rate = 10.0;         // Hz of simulation time
 };
 
+// Which obstacle points feed a person's social-force obstacle term (scenarios/README.md, `people:`).
+enum class ObstaclePoints {
+  Closest,  // the closest point of all static geometry within obstacle_radius (HuNavSim's wrapper)
+  Each,     // the closest point of every shape within obstacle_radius, forces summed (lightsfm 2025)
+  Mean,     // the same points, forces averaged (lightsfm 2022)
+};
+const char* obstaclePointsName(ObstaclePoints p);
+
+// How a person finds its way to a goal.
+enum class PeopleNavigation {
+  Path,    // a route over the static map; the next visible waypoint is the desired direction
+  Direct,  // straight at the goal (HuNavSim)
+};
+const char* peopleNavigationName(PeopleNavigation n);
+
+// The human model's scenario-wide settings (`people:` keys besides the agents).
+struct PeopleModel {
+  ObstaclePoints obstacle_points = ObstaclePoints::Closest;
+  PeopleNavigation navigation = PeopleNavigation::Path;
+  double route_resolution = 0.1;  // m, cell side of the people's route grid
+};
+
 struct Scenario {
   std::string name;
   std::string file;            // path it was loaded from
@@ -99,6 +121,12 @@ struct Scenario {
   std::vector<Shape> shapes;   // static geometry (map_server maps become rectangles here)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
+  PeopleModel people_model;
+  // The episode ends with status `stuck` when, for stuck_timeout seconds of simulation time, the
+  // robot has neither left a circle of stuck_distance around where it last made progress nor come
+  // stuck_distance closer to its goal than ever before. 0 = never.
+  double stuck_timeout = 0.0;   // s
+  double stuck_distance = 0.5;  // m
 
   // Bounds of everything in the scenario, with a margin.
   void bounds(Vec2& lo, Vec2& hi, double margin = 1.0) const;
