@@ -15,8 +15,10 @@ int main(int argc, char** argv) {
   int episodes = 0;
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else udpm on this host only)");
   app.add_option("--scenario", scenario_file,
-                 "scenario YAML: load every agent's behavior tree at start (a bad one: exit 2 before anything "
-                 "runs); without it, tree files are read at the first step that names them");
+                 "scenario YAML: its human model (people.obstacle_points, people.navigation: routes over its map) and "
+                 "every agent's behavior tree, loaded at start (a bad one: exit 2 before anything runs); without it, "
+                 "people walk straight at their goals, every obstacle point sent adds its force, and tree files are "
+                 "read at the first step that names them");
   app.add_option("--episodes", episodes,
                  "exit after this many episode END events (0: run until SIGINT/SIGTERM, and, with channel_ports=1, "
                  "listen to nothing but STEP_REQUEST on its own port: cheaper per tick)")
@@ -29,7 +31,8 @@ int main(int argc, char** argv) {
     if (!scenario_file.empty()) scenario = hunav::loadScenario(scenario_file);
     hunav::Bus bus(hunav::resolveLcmUrl(url));  // its own LCM instances: one per port with channel_ports=1
     hunav::manager::ManagerNode node(bus, episodes > 0);
-    if (scenario) node.manager().loadTrees(*scenario);  // a bad tree file: exit 2 before "ready"
+    // The scenario's human model (obstacle points, routes); a bad tree file: exit 2 before "ready".
+    if (scenario) node.manager().useScenario(*scenario);
     std::cout << "ready" << std::endl;
     while (!stop.load() && (episodes == 0 || node.episodesEnded() < static_cast<std::uint64_t>(episodes)))
       bus.handleFor(std::chrono::milliseconds(100));

@@ -1,5 +1,7 @@
 #include "hunav/manager/agent_manager.hpp"
 
+#include "people_routes.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -35,6 +37,9 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
 
   for (const point2d_t& o : a.obstacles) f.obstacle += obstacleForceFrom(me, Vec2(o.x, o.y), p);
   if (robot == RobotAs::Obstacle) f.obstacle += obstacleForceFrom(me, snap.robot.position, p);
+  // lightsfm 2022 averages every point, the robot's too (hunav_reference.md 1.4 and 2.5).
+  const std::size_t points = a.obstacles.size() + (robot == RobotAs::Obstacle ? 1 : 0);
+  if (snap.obstacle_points == ObstaclePoints::Mean && points > 1) f.obstacle /= static_cast<double>(points);
 
   if (snap.people_social.size() == snap.agents.size()) {
     f.social = p.social_weight * snap.people_social[index];
@@ -165,6 +170,38 @@ ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_
                     a.desired_speed);
 }
 
+namespace {
+
+// How long a chosen waypoint (a target in sight) stands before it is chosen again (us of simulation
+// time), how far the target may move meanwhile (m), and how near the waypoint a person asks for the
+// next one (m).
+constexpr std::int64_t kRouteHoldUs = 200'000;
+constexpr std::int64_t kDirectHoldUs = 500'000;
+constexpr double kRouteTargetMove = 0.25;
+constexpr double kRouteWaypointReached = 0.5;
+
+// The point a person heads for on its way to `target` (people.navigation: path): the target itself
+// while it is in sight, else the farthest point of its route in sight, chosen anew every
+// kRouteHoldUs, when the target moves, or when the waypoint is reached.
+Vec2 routedTarget(TickContext& c, const Vec2& target) {
+  AgentMemory& m = c.memory;
+  const Vec2 here(c.in.x, c.in.y);
+  const std::int64_t now = c.snap.request->utime;
+  const bool fresh = m.has_route && now < m.route_until_utime &&
+                     (target - m.route_target).norm() <= kRouteTargetMove &&
+                     (m.route_direct || (m.route_waypoint - here).norm() > kRouteWaypointReached);
+  if (!fresh) {
+    m.route_waypoint = c.snap.routes->nextWaypoint(here, target, c.in.radius);
+    m.route_direct = m.route_waypoint == target;
+    m.route_target = target;
+    m.route_until_utime = now + (m.route_direct ? kDirectHoldUs : kRouteHoldUs);
+    m.has_route = true;
+  }
+  return m.route_direct ? target : m.route_waypoint;
+}
+
+}  // namespace
+
 void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal, const Vec2& extra, double goal_radius) {
   if (c.memory.stopped) speed = 0.0;
   Vec2 g;
@@ -172,8 +209,14 @@ void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal, cons
     g = Vec2(c.out.goals.front().x, c.out.goals.front().y);
     goal = &g;
   }
-  ForceSet f = forcesImpl(c.snap, c.index, c.in, goal, goal_radius >= 0.0 ? goal_radius : c.in.goal_radius, robot,
-                          speed);
+  double radius = goal_radius >= 0.0 ? goal_radius : c.in.goal_radius;
+  Vec2 waypoint;
+  if (goal != nullptr && c.snap.routes != nullptr) {
+    waypoint = routedTarget(c, *goal);
+    if (waypoint != *goal) radius = 0.0;  // a waypoint on the way: no slowing down there
+    goal = &waypoint;
+  }
+  ForceSet f = forcesImpl(c.snap, c.index, c.in, goal, radius, robot, speed);
   if (std::isfinite(extra.x()) && std::isfinite(extra.y())) f.total += extra;
   const SfmMotion m = integrate(Vec2(c.in.x, c.in.y), Vec2(c.in.vx, c.in.vy), c.in.yaw, f.total, speed, c.dt);
   c.out.x = m.position.x();
@@ -214,6 +257,19 @@ void AgentManager::setBuiltinTree(int behavior, const std::string& xml) {
 
 void AgentManager::loadTreeFile(const std::string& path) {
   if (definitions_.count(path) == 0) definitions_[path] = TreeDefinition::load(path, lib_);
+}
+
+void AgentManager::useScenario(const Scenario& scenario) {
+  obstacle_points_ = scenario.people_model.obstacle_points;
+  routes_.reset();
+  if (scenario.people_model.navigation == PeopleNavigation::Path && !scenario.shapes.empty() &&
+      !scenario.agents.empty()) {
+    Vec2 lo, hi;
+    scenario.bounds(lo, hi, 1.0);
+    routes_ = std::make_shared<const RouteMap>(scenario.shapes, lo, hi, scenario.people_model.route_resolution);
+  }
+  clearMemory();
+  loadTrees(scenario);
 }
 
 void AgentManager::loadTrees(const Scenario& scenario) {
@@ -287,6 +343,8 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   }
   StepSnapshot& snap = snap_;
   snap.request = &request;
+  snap.obstacle_points = obstacle_points_;
+  snap.routes = routes_.get();
   snap.agents.resize(request.agents.size());
   for (std::size_t i = 0; i < request.agents.size(); ++i) snap.agents[i] = bodyOf(request.agents[i]);
   snap.robot = bodyOf(request.robot);

@@ -38,6 +38,7 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
     eval_options.worker_min_people = static_cast<std::size_t>(options.evaluator_worker_min_people);
   evaluator::EvaluatorNode evaluator(bus, eval_options);
   manager::ManagerNode manager(bus);
+  manager.manager().useScenario(scenario);
   std::unique_ptr<planners::PlannerNode> planner;
   if (options.planner != "none")
     planner = std::make_unique<planners::PlannerNode>(

@@ -37,6 +37,7 @@ inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
 inline constexpr double kTurnRate = kPi;
 
 struct StepSnapshot;
+class RouteMap;
 
 // Uniform grid over the snapshot's people, cells of `cell` metres; agents of a cell sorted by id, so
 // a query visits neighbours in an order that does not depend on the request order. Rebuilding it
@@ -82,6 +83,10 @@ struct StepSnapshot {
   // Cut-off mode: per agent, the sum over the people within the cut-off of the social force without
   // its weight omega_s (computePeopleSocial). Empty: exact all pairs.
   std::vector<Vec2> people_social;
+  // The scenario's human model: how obstacle points add up, and the people's routes (null: walk
+  // straight at goals).
+  ObstaclePoints obstacle_points = ObstaclePoints::Each;
+  const RouteMap* routes = nullptr;
   // Fills by_id and the groups from agents (keeps the previous step's order when the ids are the same).
   void index();
 };
@@ -132,6 +137,13 @@ struct AgentMemory {
   BtTree tree;
   bool stopped = false;           // StopMovement / ResumeMovement
   bool moved = false;             // a motion action already ran this tick
+  // Route following (people.navigation: path): the waypoint chosen for route_target, kept until
+  // route_until_utime unless the target moves or the waypoint is reached.
+  bool has_route = false;
+  bool route_direct = false;      // the target was in sight: head straight for it
+  Vec2 route_target = Vec2::Zero();
+  Vec2 route_waypoint = Vec2::Zero();
+  std::int64_t route_until_utime = 0;
 };
 
 // What a node sees while ticking one agent.
@@ -164,6 +176,10 @@ class AgentManager {
   NodeLibrary& nodeLibrary() { return lib_; }
   // Replaces the built-in tree of a behavior code with this XML (for tests and tools).
   void setBuiltinTree(int behavior, const std::string& xml);
+  // Takes the scenario's human model: its obstacle-point rule and, with people.navigation: path, a
+  // route grid over its static map; then loads its trees (loadTrees). Without it, people walk
+  // straight at their goals and every obstacle point sent adds its force.
+  void useScenario(const Scenario& scenario);
   // Parses (and caches) a tree file now; throws ConfigError on any error.
   void loadTreeFile(const std::string& path);
   // Parses (and caches) the behavior_tree file of every agent of the scenario, so that a missing
@@ -191,6 +207,8 @@ class AgentManager {
   std::vector<AgentMemory*> memory_at_;             // per request index: the memory found last step
   NeighborGrid grid_;
   StepSnapshot snap_;
+  ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
+  std::shared_ptr<const RouteMap> routes_;
 };
 
 // loadTrees with a manager of its own: for a process that only needs the check.

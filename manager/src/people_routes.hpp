@@ -1,0 +1,69 @@
+#pragma once
+// People's routes around furniture (people.navigation: path). A grid over the static map knows each
+// cell's clearance; a route to a goal is a cost-to-go field over that grid (Dijkstra from the goal),
+// computed the first time someone needs it and shared by everyone heading to the same goal cell.
+// A person walks at the farthest point of its route that it can see; with its goal in sight that is
+// the goal itself, exactly as HuNavSim's direct walk.
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "hunav/geometry.hpp"
+
+namespace hunav::manager {
+
+class RouteMap {
+ public:
+  // The grid covers [lo, hi] with square cells of `resolution` metres (made coarser when it would
+  // exceed kMaxCells). A cell is occupied when a shape comes within half a cell diagonal of its centre.
+  RouteMap(const std::vector<Shape>& shapes, const Vec2& lo, const Vec2& hi, double resolution);
+
+  static constexpr std::size_t kMaxCells = 20'000'000;
+
+  double resolution() const { return res_; }
+  // Distance from p to the nearest occupied cell (m; 0 in an occupied cell, large outside the grid).
+  double clearance(const Vec2& p) const;
+  // Whether a body of radius r can walk the straight segment a -> b: every point of it has at least
+  // r - kSqueeze of clearance, except within r + one cell of an end that has less, where the line
+  // must keep that end's clearance (a person standing against a wall, a goal by a table).
+  bool clearLine(const Vec2& a, const Vec2& b, double r) const;
+  // Where a body of radius r at p should head for `target`: the target when the line is clear, else
+  // the farthest point in sight of the first stretch of its route. Safe to call from several threads.
+  Vec2 nextWaypoint(const Vec2& p, const Vec2& target, double r) const;
+
+  // How much less than its radius a body may have on a line it takes (the grid's own error).
+  static constexpr double kSqueeze = 0.1;
+
+ private:
+  // A route field: Dijkstra from the goal cell, expanded lazily (only as far as the people asking
+  // need; resuming the same search, so every settled cost is what a full search would give).
+  struct Field {
+    std::vector<float> cost;  // to the goal cell; final where settled
+    std::vector<std::uint8_t> settled;
+    std::vector<std::pair<float, int>> open;          // a min-heap on (cost, cell)
+    std::shared_ptr<const std::vector<float>> price;  // per metre through each cell
+  };
+  int cellOf(const Vec2& p) const;  // -1 outside the grid
+  Vec2 centreOf(int cell) const;
+  std::shared_ptr<const std::vector<float>> priceFor(int radius_class) const;  // mutex_ held
+  Field& fieldFor(int goal_cell, double r) const;                              // mutex_ held
+  bool settle(Field& field, int cell) const;                                   // mutex_ held
+  int freeCellNear(int cell) const;
+  std::vector<int> route(int start, int goal_cell, double r, std::size_t max_cells) const;
+
+  Vec2 origin_ = Vec2::Zero();
+  double res_ = 0.1;
+  int nx_ = 0, ny_ = 0;
+  std::vector<float> clearance_;  // per cell, m
+  mutable std::mutex mutex_;      // guards fields_ and prices_
+  mutable std::unordered_map<std::uint64_t, Field> fields_;
+  mutable std::unordered_map<int, std::shared_ptr<const std::vector<float>>> prices_;
+};
+
+// Squared Euclidean distance transform of a binary grid (Felzenszwalb & Huttenlocher): for every cell
+// the squared distance, in cells, to the nearest cell with occupied[c] != 0 (infinity when there is none).
+std::vector<double> squaredDistanceTransform(const std::vector<std::uint8_t>& occupied, int nx, int ny);
+
+}  // namespace hunav::manager

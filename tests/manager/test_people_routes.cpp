@@ -1,0 +1,201 @@
+// People's obstacle points (people.obstacle_points) and routes around furniture (people.navigation).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "hunav/manager/agent_manager.hpp"
+#include "people_routes.hpp"
+
+using namespace hunav;
+using namespace hunav::manager;
+
+namespace {
+
+agent_state_t person(int id, double x, double y) {
+  agent_state_t a{};
+  a.id = id;
+  a.type = agent_state_t::TYPE_PERSON;
+  a.behavior = agent_state_t::BEH_REGULAR;
+  a.group_id = -1;
+  a.x = x;
+  a.y = y;
+  a.radius = 0.35;
+  a.desired_speed = 1.0;
+  a.goal_radius = 0.3;
+  a.cyclic_goals = true;
+  a.behavior_params.goal_force_factor = 2.0;
+  a.behavior_params.obstacle_force_factor = 10.0;
+  a.behavior_params.social_force_factor = 5.0;
+  return a;
+}
+
+agent_state_t robotAt(double x, double y) {
+  agent_state_t r = person(0, x, y);
+  r.type = agent_state_t::TYPE_ROBOT;
+  r.behavior = agent_state_t::BEH_NONE;
+  return r;
+}
+
+Shape box(double x0, double y0, double x1, double y1) {
+  Shape s;
+  s.kind = Shape::Kind::Polygon;
+  s.points = {Vec2(x0, y0), Vec2(x1, y0), Vec2(x1, y1), Vec2(x0, y1)};
+  return s;
+}
+
+// A person at rest at the origin with two obstacle points, 1 m east and 2 m north.
+ForceSet obstacleForces(ObstaclePoints rule, bool robot_as_obstacle) {
+  agent_state_t a = person(1, 0, 0);
+  a.obstacles = {point2d_t{1, 0}, point2d_t{0, 2}};
+  a.num_obstacles = 2;
+  step_request_t req{};
+  req.agents = {a};
+  StepSnapshot snap;
+  snap.request = &req;
+  snap.obstacle_points = rule;
+  snap.agents.push_back(SfmBody{1, -1, Vec2(0, 0), Vec2(0, 0), 0.35});
+  snap.robot = SfmBody{0, -1, Vec2(-1, 0), Vec2(0, 0), 0.35};
+  return computeForces(snap, 0, a, nullptr, robot_as_obstacle);
+}
+
+}  // namespace
+
+// Each point pushes with 10 exp(-(|u| - 0.35) / 0.2) u/|u| (u = me - point, reference 1.4):
+//   (1, 0): d = 0.65, 10 exp(-3.25) = 0.38774207831722009, direction (-1, 0);
+//   (0, 2): d = 1.65, 10 exp(-8.25) = 0.0026125856335..., direction (0, -1);
+//   robot at (-1, 0) as an obstacle: d = 0.65, 0.38774207831722009 toward (+1, 0).
+TEST(ObstaclePoints, EachAddsTheForcesMeanAveragesThemWithTheRobotPoint) {
+  const double near = 10.0 * std::exp(-3.25), far = 10.0 * std::exp(-8.25);
+  const ForceSet each = obstacleForces(ObstaclePoints::Each, false);
+  EXPECT_NEAR(each.obstacle.x(), -near, 1e-15);
+  EXPECT_NEAR(each.obstacle.y(), -far, 1e-15);
+  // Mean of two: (-0.38774 / 2, -0.0026126 / 2).
+  const ForceSet mean = obstacleForces(ObstaclePoints::Mean, false);
+  EXPECT_NEAR(mean.obstacle.x(), -near / 2.0, 1e-15);
+  EXPECT_NEAR(mean.obstacle.y(), -far / 2.0, 1e-15);
+  // Mean of three with the robot point: x = (-near + near) / 3 = 0, y = -far / 3.
+  const ForceSet mean_robot = obstacleForces(ObstaclePoints::Mean, true);
+  EXPECT_NEAR(mean_robot.obstacle.x(), 0.0, 1e-15);
+  EXPECT_NEAR(mean_robot.obstacle.y(), -far / 3.0, 1e-15);
+  // Closest: the world sends one point; the manager adds what it gets (here both, as Each).
+  EXPECT_EQ(obstacleForces(ObstaclePoints::Closest, false).obstacle, each.obstacle);
+}
+
+TEST(RouteMap, DistanceTransformIsTheBruteForceMinimum) {
+  std::mt19937 rng(7);
+  const int nx = 23, ny = 17;
+  std::vector<std::uint8_t> occ(nx * ny, 0);
+  for (auto& c : occ) c = (rng() % 9 == 0) ? 1 : 0;
+  const std::vector<double> d2 = squaredDistanceTransform(occ, nx, ny);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int v = 0; v < ny; ++v)
+        for (int u = 0; u < nx; ++u)
+          if (occ[v * nx + u]) best = std::min(best, double((x - u) * (x - u) + (y - v) * (y - v)));
+      ASSERT_EQ(d2[y * nx + x], best) << x << "," << y;
+    }
+  // No occupied cell at all: infinitely far everywhere.
+  const std::vector<double> none = squaredDistanceTransform(std::vector<std::uint8_t>(12, 0), 4, 3);
+  for (double v : none) EXPECT_TRUE(std::isinf(v));
+}
+
+TEST(RouteMap, ClearanceAndLinesOfSight) {
+  // A 2 m x 2 m table centred at (5, 0) in a 10 m x 6 m hall (cells of 0.1 m).
+  const RouteMap map({box(4, -1, 6, 1)}, Vec2(0, -3), Vec2(10, 3), 0.1);
+  // A cell is occupied when the table comes within half a diagonal (0.0707 m) of its centre: the
+  // column at x = 4.0 is, the one at x = 3.9 (0.1 m away) is not. The cell at (2, 0) is 20 cells
+  // from the nearest occupied centre (4.0, 0): clearance 20 * 0.1 - 0.1 / 2 = 1.95 m.
+  EXPECT_NEAR(map.clearance(Vec2(2, 0)), 1.95, 1e-6);
+  EXPECT_EQ(map.clearance(Vec2(5, 0)), 0.0);
+  EXPECT_FALSE(map.clearLine(Vec2(1, 0), Vec2(9, 0), 0.35));     // through the table
+  EXPECT_TRUE(map.clearLine(Vec2(1, 2.2), Vec2(9, 2.2), 0.35));  // 1.2 m north of it
+  // 0.2 m north of the table: the occupied row is y = 1.0, so 2 * 0.1 - 0.05 = 0.15 m of clearance,
+  // less than 0.35 - kSqueeze = 0.25 m. At y = 2.2: 12 * 0.1 - 0.05 = 1.15 m.
+  EXPECT_FALSE(map.clearLine(Vec2(1, 1.2), Vec2(9, 1.2), 0.35));
+}
+
+TEST(RouteMap, AWaypointLeadsAroundTheTableAndTheGoalInSightIsTheGoal) {
+  const RouteMap map({box(4, -1, 6, 1)}, Vec2(0, -3), Vec2(10, 3), 0.1);
+  const Vec2 goal(9, 0);
+  // In sight: the goal itself, bit for bit (HuNavSim's direct walk).
+  EXPECT_EQ(map.nextWaypoint(Vec2(7, 0.5), goal, 0.35), goal);
+  // Behind the table: a point off the straight line, past the table's corner height, in sight.
+  const Vec2 from(1, 0);
+  const Vec2 w = map.nextWaypoint(from, goal, 0.35);
+  EXPECT_NE(w, goal);
+  EXPECT_GT(std::abs(w.y()), 1.0 + 0.35 - RouteMap::kSqueeze) << w.transpose();
+  EXPECT_GT(w.x(), from.x());
+  EXPECT_TRUE(map.clearLine(from, w, 0.35));
+  // From the waypoint on, the goal is (or the next waypoint is) reachable in sight again.
+  const Vec2 w2 = map.nextWaypoint(w, goal, 0.35);
+  EXPECT_TRUE(map.clearLine(w, w2, 0.35));
+}
+
+TEST(RouteMap, TheRouteTakesTheGapThatFitsTheBody) {
+  // A wall across the hall at x = 5 with two gaps: 0.5 m wide at y = 1 (too narrow for a 0.35 m
+  // body) and 1.4 m wide at y = -2.
+  const std::vector<Shape> wall{box(4.9, 1.25, 5.1, 3), box(4.9, -1.3, 5.1, 0.75), box(4.9, -3, 5.1, -2.7)};
+  const RouteMap map(wall, Vec2(0, -3), Vec2(10, 3), 0.1);
+  const Vec2 goal(9, 1);
+  Vec2 p(1, 1);
+  // Walk the waypoints (as a person would, a step at a time) and record where the wall is crossed.
+  double crossing_y = 99;
+  for (int i = 0; i < 400 && (p - goal).norm() > 0.2; ++i) {
+    const Vec2 w = map.nextWaypoint(p, goal, 0.35);
+    const Vec2 next = p + 0.05 * (w - p).normalized();
+    if (p.x() < 5.0 && next.x() >= 5.0) crossing_y = next.y();
+    p = next;
+  }
+  EXPECT_LT((p - goal).norm(), 0.2);
+  // Through the wide gap, y in (-2.7, -1.3), with the body's clearance (r - kSqueeze = 0.25 m) from
+  // both of its sides; the narrow one would be crossed at y in (0.75, 1.25).
+  EXPECT_GT(crossing_y, -2.7 + 0.25);
+  EXPECT_LT(crossing_y, -1.3 - 0.25);
+}
+
+// The motivating case: a person behind a table walking at its goal on the other side.
+// With people.navigation: direct it pushes against the table for ever; with path it arrives.
+TEST(PeopleNavigation, APersonBehindATableReachesItsGoalOnlyWithRoutes) {
+  auto walk = [](PeopleNavigation nav) {
+    Scenario s;
+    s.shapes = {box(4, -1, 6, 1)};
+    s.people_model.navigation = nav;
+    AgentConfig ac;
+    ac.id = 1;
+    ac.position = Vec2(1, 0);
+    ac.goals = {Vec2(9, 0)};
+    s.agents = {ac};
+    AgentManager m;
+    m.useScenario(s);
+    agent_state_t a = person(1, 1, 0);
+    a.goals = {point2d_t{9, 0}};
+    a.num_goals = 1;
+    a.cyclic_goals = false;
+    step_request_t req{};
+    req.episode = 1;
+    req.dt = 0.01;
+    req.robot = robotAt(-50, -50);
+    double best = 1e9;
+    for (int k = 0; k < 3000; ++k) {  // 30 s; the world's part (obstacle points, positions) by hand
+      req.seq = k;
+      req.utime = k * 10000;
+      // The closest point of the table, as the world sends it.
+      const Vec2 me(a.x, a.y);
+      const Vec2 q = s.shapes[0].closestPoint(me);
+      a.obstacles = {point2d_t{q.x(), q.y()}};
+      a.num_obstacles = 1;
+      req.agents = {a};
+      req.num_agents = 1;
+      const step_reply_t r = m.step(req);
+      a = r.agents[0];
+      best = std::min(best, std::hypot(a.x - 9.0, a.y));
+      if (a.num_goals == 0) break;  // reached and dropped (not cyclic)
+    }
+    return best;
+  };
+  EXPECT_LT(walk(PeopleNavigation::Path), 0.5);
+  EXPECT_GT(walk(PeopleNavigation::Direct), 3.0);  // stuck at the table's west face, x < 4
+}
