@@ -8,8 +8,8 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "hunav_worldsim: the world simulator. Runs episodes of a scenario in lockstep with the manager "
-      "and the planner (lcmtypes/README.md). Exit 0: every episode ended (goal reached or time "
-      "limit); 1: aborted or error; 2: bad input."};
+      "and the planner (lcmtypes/README.md). Exit 0: every episode ran to an end (goal reached, time "
+      "limit or stuck); 1: aborted or error; 2: bad input."};
   std::string scenario_file, url, planner = "dwb", mode = "lockstep", run_id;
   long long seed = -1;
   double duration = 0.0;

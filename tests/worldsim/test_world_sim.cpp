@@ -98,8 +98,9 @@ TEST(WorldSim, PeopleWalkTowardTheirGoalsUntilTheTimeLimit) {
   EXPECT_LE(last.agents[0].linear_vel, 0.9 + 1e-3);
   // The robot without planner stays put.
   EXPECT_NEAR(last.robot.x, 0.0, 1e-6);
-  // Walls feed obstacle points: in a 4 m corridor each person has the two long walls within 3 m.
-  EXPECT_EQ(last.agents[0].num_obstacles, 2);
+  // Walls feed obstacle points: in a 4 m corridor each person has the two long walls within 3 m, and
+  // gets the closer one's point (people.obstacle_points: closest, the default).
+  EXPECT_EQ(last.agents[0].num_obstacles, 1);
 }
 
 TEST(WorldSim, SimTimeIsTheDecimalTimeOfTheTicksAndTheReasonNamesTheLimit) {
@@ -519,4 +520,158 @@ TEST(WorldSim, PassingRunWithDwbKeepsItsFingerprintUnderOnePercentLoss) {
     return r.fingerprint;
   };
   EXPECT_EQ(run(0.0), run(0.01));
+}
+
+namespace {
+
+// The passing scenario's robot (radius 0.3 m, goal at (15, 0)) without people, in a 0.9 m square
+// room of walls around its start: 0.15 m of room either way, so it never leaves a 0.5 m circle.
+Scenario walledIn(double stuck_timeout) {
+  Scenario s = passing();
+  s.agents.clear();
+  Shape room;
+  room.kind = Shape::Kind::Polygon;
+  room.points = {Vec2(-0.45, -0.45), Vec2(0.45, -0.45), Vec2(0.45, 0.45), Vec2(-0.45, 0.45)};
+  s.shapes.push_back(room);
+  s.stuck_timeout = stuck_timeout;
+  s.time_limit = 20.0;
+  return s;
+}
+
+// A test-only planner: full speed ahead until x >= stop_x, then v = 0.
+class DriveThenStop {
+ public:
+  DriveThenStop(Bus& bus, double stop_x) : bus_(bus) {
+    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, stop_x](const robot_observation_t& o) {
+      robot_command_t c{};
+      c.utime = o.utime;
+      c.seq = o.seq;
+      c.episode = o.episode;
+      c.v = o.x < stop_x ? o.max_v : 0.0;
+      bus_.publish(channels::kRobotCommand, c);
+    });
+  }
+
+ private:
+  Bus& bus_;
+};
+
+// A test-only planner: v = +speed during even seconds of simulation time, -speed during odd ones.
+class BackAndForth {
+ public:
+  BackAndForth(Bus& bus, double speed) : bus_(bus) {
+    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, speed](const robot_observation_t& o) {
+      robot_command_t c{};
+      c.utime = o.utime;
+      c.seq = o.seq;
+      c.episode = o.episode;
+      c.v = (o.utime / 1000000) % 2 == 0 ? speed : -speed;
+      bus_.publish(channels::kRobotCommand, c);
+    });
+  }
+
+ private:
+  Bus& bus_;
+};
+
+}  // namespace
+
+TEST(WorldSimStuck, WalledInRobotEndsStuckAtTheTimeout) {
+  Bus bus(Bus::InProcess{});
+  FixedCommand planner(bus, 0.6, 0.0, 0.0);  // pushes into the wall ahead
+  Collector out(bus);
+  WorldSim world(bus, walledIn(5.0), fastOptions("test"));
+  const auto r = world.runEpisode();
+  bus.handleAvailable();
+  // The robot moves 0.15 m at most, never out of the 0.5 m circle around its start, where the anchor
+  // stays from t = 0: stuck at t = 0 + 5 s = 5.00 s exactly, tick 500 of 10 ms, so 501 world states.
+  ASSERT_EQ(r.status, "stuck") << r.reason;
+  EXPECT_TRUE(r.ended());  // an outcome of the experiment, not an abort
+  EXPECT_EQ(r.sim_time, 5.0);
+  EXPECT_EQ(r.ticks, 501);
+  EXPECT_EQ(r.reason.rfind("the robot made no progress for 5 s (stayed within 0.5 m of (0.00, 0.00), best distance "
+                           "to goal 14.8",
+                           0),
+            0u)
+      << r.reason;  // 15 m - 0.15 m of room
+  ASSERT_EQ(out.states.size(), 501u);
+  EXPECT_EQ(out.states.back().utime, 5000000);
+  EXPECT_GT(out.states.back().robot.x, 0.1);  // it did push forward
+  ASSERT_EQ(out.events.size(), 2u);
+  EXPECT_EQ(out.events[1].status, "stuck");
+  EXPECT_EQ(out.events[1].reason, r.reason);
+}
+
+TEST(WorldSimStuck, ZeroTimeoutNoGoalOrTheTimeLimitFirstNeverEndStuck) {
+  auto statusOf = [](Scenario s) {
+    Bus bus(Bus::InProcess{});
+    FixedCommand planner(bus, 0.6, 0.0, 0.0);
+    WorldSim world(bus, std::move(s), fastOptions("test"));
+    return world.runEpisode().status;
+  };
+  Scenario never = walledIn(0.0);  // the default: the walled-in robot runs to its time limit
+  never.time_limit = 8.0;
+  EXPECT_EQ(statusOf(never), "time_limit");
+  Scenario no_goal = walledIn(5.0);  // no goal, no progress to measure
+  no_goal.robot.has_goal = false;
+  no_goal.time_limit = 8.0;
+  EXPECT_EQ(statusOf(no_goal), "time_limit");
+  Scenario both = walledIn(5.0);  // stuck and out of time at the same tick: the time limit wins
+  both.time_limit = 5.0;
+  EXPECT_EQ(statusOf(both), "time_limit");
+}
+
+TEST(WorldSimStuck, RobotDrivingToItsGoalIsNeverStuck) {
+  auto run = [](double stuck_timeout) {
+    Bus bus(Bus::InProcess{});
+    PointAtGoal planner(bus);
+    Scenario s = passing();
+    s.agents.clear();
+    s.stuck_timeout = stuck_timeout;
+    WorldSim world(bus, s, fastOptions("test"));
+    return world.runEpisode();
+  };
+  // 0.6 m/s once at speed (after 0.6 s and 0.18 m): out of each 0.5 m circle within 1.14 s < 2 s.
+  const auto watched = run(2.0);
+  EXPECT_EQ(watched.status, "goal_reached") << watched.reason;
+  EXPECT_NEAR(watched.sim_time, 24.8, 0.05);
+  // Watching changes nothing in the world.
+  EXPECT_EQ(watched.fingerprint, run(0.0).fingerprint);
+}
+
+TEST(WorldSimStuck, RobotOscillatingWithinTheCircleIsStuck) {
+  Bus bus(Bus::InProcess{});
+  BackAndForth planner(bus, 0.3);
+  Scenario s = passing();
+  s.agents.clear();
+  s.robot.limits.min_v = -0.3;
+  s.stuck_timeout = 5.0;
+  WorldSim world(bus, s, fastOptions("test"));
+  const auto r = world.runEpisode();
+  // At 1 m/s^2: 0 -> 0.3 m/s in 0.3 s (0.045 m), 0.7 s at 0.3 (0.21 m): x = 0.255 at 1 s; reversing
+  // takes 0.6 s there and back (net 0), then 0.4 s at -0.3 (-0.12 m): x = 0.135 at 2 s; and so on
+  // between 0.135 and 0.255 m. Always within 0.5 m of the start: stuck at 5.00 s, 501 world states.
+  ASSERT_EQ(r.status, "stuck") << r.reason;
+  EXPECT_EQ(r.sim_time, 5.0);
+  EXPECT_EQ(r.ticks, 501);
+}
+
+TEST(WorldSimStuck, ProgressRestartsTheTimer) {
+  Bus bus(Bus::InProcess{});
+  DriveThenStop planner(bus, 1.0);
+  Scenario s = passing();
+  s.agents.clear();
+  s.stuck_timeout = 5.0;
+  WorldSim world(bus, s, fastOptions("test"));
+  const auto r = world.runEpisode();
+  // v grows 0.01 m/s per tick to 0.6 (tick 60, x = 0.0001 * (1 + ... + 60) = 0.183 m), then
+  // x = 0.183 + 0.006 (n - 60) after tick n. Out of the circle around (0, 0) at tick 113 (x = 0.501),
+  // anchor there; out of that one at tick 197 (x = 1.005 > 1.001), anchor there at t = 1.97 s. The
+  // planner sees x = 1.023 >= 1 at t = 2.0 s and stops: 0.177 m of braking, to x = 1.2, 0.195 m
+  // from the anchor. Stuck at 1.97 + 5 = 6.97 s: tick 697, 698 world states.
+  ASSERT_EQ(r.status, "stuck") << r.reason;
+  EXPECT_EQ(r.ticks, 698);
+  EXPECT_EQ(r.sim_time, 6.97);
+  EXPECT_EQ(r.reason.rfind("the robot made no progress for 5 s (stayed within 0.5 m of (1.0", 0), 0u) << r.reason;
+  EXPECT_NE(r.reason.find("best distance to goal 13.80 m"), std::string::npos) << r.reason;  // 15 - 1.2
 }

@@ -253,6 +253,12 @@ PhysicsWorld::PhysicsWorld(const Scenario& scenario)
     static_tree_.CreateProxy(box, reinterpret_cast<void*>(static_cast<std::uintptr_t>(i)));
   }
   buildGrid(scenario.obstacle_radius);
+  shape_bounds_.reserve(scenario.shapes.size());
+  for (const Shape& shape : scenario.shapes) {
+    Vec2 lo, hi;
+    shape.bounds(lo, hi);
+    shape_bounds_.push_back({lo.x(), lo.y(), hi.x(), hi.y()});
+  }
 
   people_.reserve(scenario.agents.size());
   for (const AgentConfig& a : scenario.agents) people_.push_back(Person{nullptr, Tag{collision_t::BODY_PERSON, a.id}});
@@ -563,6 +569,40 @@ void PhysicsWorld::closestObstaclePoints(const Vec2& p, double radius, std::vect
     const Vec2 c = scenario_.shapes[static_cast<std::size_t>(i)].closestPoint(p);
     if ((c - p).squaredNorm() <= radius * radius) out.push_back(c);
   }
+}
+
+bool PhysicsWorld::closestObstaclePoint(const Vec2& p, double radius, Vec2& out) const {
+  int ix, iy;
+  if (!(radius <= grid_.radius && grid_.nx > 0 && grid_.cellOf(p, ix, iy))) {
+    std::vector<Vec2> points;  // off the grid: the general query
+    closestObstaclePoints(p, radius, points);
+    bool found = false;
+    double best = 0.0;
+    for (const Vec2& q : points)
+      if (!found || (q - p).squaredNorm() < best) {
+        best = (q - p).squaredNorm();
+        out = q;
+        found = true;
+      }
+    return found;
+  }
+  const std::size_t c = static_cast<std::size_t>(iy) * static_cast<std::size_t>(grid_.nx) + static_cast<std::size_t>(ix);
+  bool found = false;
+  double best = radius * radius;
+  for (std::uint32_t k = grid_.shape_start[c]; k < grid_.shape_start[c + 1]; ++k) {
+    const auto& b = shape_bounds_[grid_.shapes[k]];
+    const double dx = std::max({0.0, b[0] - p.x(), p.x() - b[2]}), dy = std::max({0.0, b[1] - p.y(), p.y() - b[3]});
+    // A shape is never closer than its bounds: skip it when they are no closer than the best.
+    if (dx * dx + dy * dy > best || (found && dx * dx + dy * dy >= best)) continue;
+    const Vec2 q = scenario_.shapes[grid_.shapes[k]].closestPoint(p);
+    const double d2 = (q - p).squaredNorm();
+    if (found ? d2 < best : d2 <= best) {
+      best = d2;
+      out = q;
+      found = true;
+    }
+  }
+  return found;
 }
 
 std::vector<Vec2> PhysicsWorld::closestObstaclePoints(const Vec2& p, double radius) const {

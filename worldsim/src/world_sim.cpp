@@ -102,6 +102,11 @@ void WorldSim::reset() {
   obs_seq_ = 0;
   manager_answered_ = planner_answered_ = false;
   collisions_ = 0;
+  // Without a goal there is no progress to measure: never stuck.
+  const RobotConfig& rc = scenario_.robot;
+  const std::int64_t stuck_us =
+      rc.has_goal ? static_cast<std::int64_t>(std::llround(scenario_.stuck_timeout * 1e6)) : 0;
+  stuck_ = StuckDetector(stuck_us, scenario_.stuck_distance, rc.goal);
   fingerprint_ = Fingerprint();
   robot_state_ = robotState();
 }
@@ -125,12 +130,23 @@ void WorldSim::sense() {
     s.vyaw = body.GetAngularVelocity();
     s.linear_vel = v.norm();
     s.angular_vel = s.vyaw;
-    physics_->closestObstaclePoints(p, scenario_.obstacle_radius, obstacle_scratch_);
+    obstaclePoints(p, obstacle_scratch_);
     setObstacles(s, obstacle_scratch_);
     s.robot_in_sight = in_sight_[i] != 0;
   }
-  physics_->closestObstaclePoints(robot_pos, scenario_.obstacle_radius, robot_obstacles_);
+  obstaclePoints(robot_pos, robot_obstacles_);
   setRobotMotion(robot_state_);  // the rest is set once per episode (reset): no allocation per tick
+}
+
+void WorldSim::obstaclePoints(const Vec2& p, std::vector<Vec2>& out) const {
+  // people.obstacle_points: closest sends the one nearest point, as HuNavSim's wrapper does.
+  if (scenario_.people_model.obstacle_points != ObstaclePoints::Closest) {
+    physics_->closestObstaclePoints(p, scenario_.obstacle_radius, out);
+    return;
+  }
+  out.clear();
+  Vec2 q;
+  if (physics_->closestObstaclePoint(p, scenario_.obstacle_radius, q)) out.push_back(q);
 }
 
 agent_state_t WorldSim::robotState() const {
@@ -424,20 +440,24 @@ EpisodeResult WorldSim::runEpisode() {
   while (result.status.empty()) {
     std::string failure;
     if (options_.stop != nullptr && options_.stop->load()) {
-      result.status = "aborted";
+      result.status = episode_status::kAborted;
       result.reason = "interrupted (SIGINT/SIGTERM)";
     } else if (robotAtGoal()) {
-      result.status = "goal_reached";
+      result.status = episode_status::kGoalReached;
       result.reason = "the robot is within its goal radius";
     } else if (time_us_ >= limit_us) {
-      result.status = "time_limit";
+      result.status = episode_status::kTimeLimit;
       // The limit in force (the scenario's, or --duration's), in the shortest text of its value.
       result.reason = fmt::format("the time limit of {} s was reached", scenario_.time_limit);
+    } else if (stuck_.update(time_us_, Vec2(robot_state_.x, robot_state_.y))) {
+      // After the time limit: a tick that is both ends the episode as time_limit, as without stuck_timeout.
+      result.status = episode_status::kStuck;
+      result.reason = stuck_.reason();
     } else if (!agents_.empty() && !exchangeWithManager(failure)) {
-      result.status = "aborted";
+      result.status = episode_status::kAborted;
       result.reason = failure;
     } else if (with_planner && tick_ % control_every_ == 0 && !exchangeWithPlanner(failure)) {
-      result.status = "aborted";
+      result.status = episode_status::kAborted;
       result.reason = failure;
     } else {
       if (!agents_.empty()) applyReply();

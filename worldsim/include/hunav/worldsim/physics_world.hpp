@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <utility>
+#include <array>
 #include <vector>
 
 namespace hunav::worldsim {
@@ -56,6 +57,10 @@ class PhysicsWorld {
   // `out` (cleared first). Only the shapes whose fixtures are near p are looked at.
   void closestObstaclePoints(const Vec2& p, double radius, std::vector<Vec2>& out) const;
   std::vector<Vec2> closestObstaclePoints(const Vec2& p, double radius) const;
+  // The nearest of those points (the first of equals), or false when there is none: the same as
+  // picking from closestObstaclePoints, without computing the points of shapes whose bounds are
+  // farther than the best so far.
+  bool closestObstaclePoint(const Vec2& p, double radius, Vec2& out) const;
 
   // Static fixtures (edges of walls and polygons, circles) with the scenario shape each belongs to.
   struct StaticPart {
@@ -98,6 +103,7 @@ class PhysicsWorld {
   };
   void buildGrid(double radius);
   StaticGrid grid_;
+  std::vector<std::array<double, 4>> shape_bounds_;  // per scenario shape: x0, y0, x1, y1
   // Scratch space reused across calls (single-threaded).
   struct SightEntry {
     std::uint32_t bin;

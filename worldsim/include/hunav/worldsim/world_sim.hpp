@@ -1,10 +1,12 @@
 #pragma once
 // The world process logic: owns the clock, runs episodes over the step protocol (lcmtypes/README.md, "One tick in lockstep")
 // and publishes what is true at every tick.
+#include "hunav/episode_status.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/transport.hpp"
 #include "hunav/worldsim/physics_world.hpp"
+#include "hunav/worldsim/stuck_detector.hpp"
 
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
@@ -34,7 +36,7 @@ struct WorldOptions {
 };
 
 struct EpisodeResult {
-  std::string status;  // goal_reached | time_limit | aborted
+  std::string status;  // goal_reached | time_limit | stuck | aborted (episode_status.hpp)
   std::string reason;
   std::int64_t ticks = 0;  // world states published, tick 0 included
   double sim_time = 0.0;   // s
@@ -44,7 +46,9 @@ struct EpisodeResult {
   std::uint64_t collisions = 0;  // contact events of the episode (the sum over its world states)
   std::string run_id;
   std::uint64_t seed = 0;
-  bool ended() const { return status == "goal_reached" || status == "time_limit"; }
+  // The episode ran to an end of its own (goal_reached, time_limit or stuck: an outcome of the
+  // experiment), not aborted.
+  bool ended() const { return episode_status::ranToEnd(status); }
 };
 
 class WorldSim {
@@ -68,6 +72,8 @@ class WorldSim {
   void reset();
   void sense();
   // The robot as an agent: every field (robotState), or only those that change as it moves.
+  // The obstacle points of a body at p (people.obstacle_points), into out.
+  void obstaclePoints(const Vec2& p, std::vector<Vec2>& out) const;
   agent_state_t robotState() const;
   void setRobotMotion(agent_state_t& r) const;
   void publishWorldState();
@@ -125,6 +131,7 @@ class WorldSim {
   bool command_arrived_ = false;
   std::uint64_t collisions_ = 0;
   std::uint64_t resends_ = 0;
+  StuckDetector stuck_;  // of the current episode (reset())
   Fingerprint fingerprint_;
 };
 
