@@ -41,9 +41,10 @@ Layout of DIR:
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
 
 A run is finished when its folder holds a metrics.csv and a run.json with "complete": true and its
-episode ended on its own (status goal_reached or time_limit); a second invocation with the same DIR
-runs only the others (an interrupted, aborted or failed run starts again from an empty folder, and
-until then stays out of the summary's statistics). Exit status: 0 when every run finished and the
+episode ended on its own (status goal_reached, time_limit or stuck: a stuck run is a result, a
+failure to reach the goal, kept in the statistics); a second invocation with the same DIR runs only
+the others (an interrupted, aborted or failed run starts again from an empty folder, and until then
+stays out of the summary's statistics). Exit status: 0 when every run finished and the
 summary was written; 1 when some run did not finish (the summary covers the others) or exited
 non-zero after writing complete results (they are kept and count as finished); 2 on bad arguments.
 
@@ -59,12 +60,12 @@ usage_error() {
 }
 is_positive() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]] && awk -v v="$1" 'BEGIN { exit !(v > 0) }'; }
 
-# finished RUN_DIR: the episode ended on its own (goal reached or time limit, not aborted by a signal
-# or a silent component) and its results were written.
+# finished RUN_DIR: the episode ended on its own (goal reached, time limit or stuck; not aborted by a
+# signal or a silent component) and its results were written. The statuses of episode_status.hpp.
 finished() {
   [ -s "$1/metrics.csv" ] && [ -s "$1/run.json" ] &&
     grep -q -E '"complete"[[:space:]]*:[[:space:]]*true' "$1/run.json" &&
-    grep -q -E '"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit)"' "$1/run.json"
+    grep -q -E '"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit|stuck)"' "$1/run.json"
 }
 
 # ---------------------------------------------------------------------------------------------------

@@ -59,9 +59,9 @@ Options:
   --timeout SECONDS       wall-clock guard: stop the run (keeping what was recorded) after this long
   -h, --help              show this help
 
-Exit status: 0 when the episode ran to an end (goal reached or time limit); 1 when it was aborted or
-a process failed; 2 on bad arguments or a bad scenario; 124 when --timeout stopped it; 130/143 when
-interrupted by SIGINT/SIGTERM.
+Exit status: 0 when the episode ran to an end (goal reached, time limit or stuck); 1 when it was
+aborted or a process failed; 2 on bad arguments or a bad scenario; 124 when --timeout stopped it;
+130/143 when interrupted by SIGINT/SIGTERM.
 
 Separate-process modes run inside a private network namespace (unshare --net as root, unshare -rn
 otherwise), so parallel runs cannot hear each other. The script prints the namespace's PID; watch the

@@ -18,7 +18,8 @@ Usage:
       Prints the matrix: index (= SLURM_ARRAY_TASK_ID), scenario file, scenario, planner, seed.
   launch_scripts/slurm_batch.sh --task DIR [--dry-run]
       (What each array task runs.) Runs row $SLURM_ARRAY_TASK_ID of DIR/matrix.tsv, unless it is
-      finished already; --dry-run prints the row and the command instead.
+      finished already (ended goal_reached, time_limit or stuck: run_batch.sh --help); --dry-run
+      prints the row and the command instead.
   launch_scripts/slurm_batch.sh --aggregate DIR
       (What the final job runs.) hunav_summary DIR.
 

@@ -13,8 +13,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hunav_run: runs one episode of a scenario with the world, the manager, a planner and the "
       "evaluator in one process on one in-process bus (no network), writes the result files and prints the "
-      "metrics. Exit 0: the episode ended (goal reached or time limit); 1: aborted or error; 2: bad "
-      "input."};
+      "metrics. Exit 0: the episode ran to an end (goal reached, time limit or stuck); 1: aborted or "
+      "error; 2: bad input."};
   std::string scenario_file;
   hunav::runner::RunOptions options;
   long long seed = -1;

@@ -1,5 +1,6 @@
 #include "hunav/experiments/summary.hpp"
 
+#include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/scenario.hpp"
@@ -78,6 +79,40 @@ std::optional<double> valueOf(const BatchRun& r, const std::string& behavior, co
   if (row == nullptr) return std::nullopt;
   const auto it = row->find(metric);
   return it == row->end() ? std::nullopt : metricNumber(it->second);
+}
+
+// How each planner's runs of a scenario ended. Stuck has a column of its own: a planner that stalls
+// (pinned in a corner, dithering) is told apart from one that is only slow (time_limit); both count
+// in the statistics as runs that did not reach the goal. "not ended": left out (BatchRun::episodeEnded).
+std::string outcomeTable(const Batch& b, const std::string& scenario, const std::vector<std::string>& planners) {
+  namespace st = episode_status;
+  std::string md = "| planner | runs | goal_reached | time_limit | stuck | not ended |\n|---|---|---|---|---|---|\n";
+  for (const auto& p : planners) {
+    int runs = 0, goal = 0, limit = 0, stuck = 0;
+    std::map<std::string, int> not_ended;  // status -> runs
+    for (const auto& r : b.runs) {
+      if (r.key.scenario != scenario || r.key.planner != p) continue;
+      ++runs;
+      if (r.status == st::kGoalReached) {
+        ++goal;
+      } else if (r.status == st::kTimeLimit) {
+        ++limit;
+      } else if (r.status == st::kStuck) {
+        ++stuck;
+      } else {
+        ++not_ended[r.status];
+      }
+    }
+    int others = 0;
+    std::string names;
+    for (const auto& [status, n] : not_ended) {
+      others += n;
+      names += fmt::format("{}{} {}", names.empty() ? "" : ", ", n, status);
+    }
+    md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", p, runs, goal, limit, stuck,
+                      others == 0 ? std::string("0") : fmt::format("{} ({})", others, names));
+  }
+  return md;
 }
 
 void writeAtomically(const fs::path& file, const std::string& text) {
@@ -213,39 +248,28 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
   md += ".\n\n";
   const auto excluded = std::count_if(batch.runs.begin(), batch.runs.end(), [](const BatchRun& r) { return !r.episodeEnded(); });
   if (excluded > 0)
-    md += fmt::format("**{} run{} left out of every table**: only runs whose episode ended on its own (goal_reached, "
-                      "time_limit) count; an aborted, failed or incomplete run measured a cut-off episode (its values "
-                      "stay in summary.csv; run_batch.sh runs it again).\n\n",
-                      excluded, excluded == 1 ? "" : "s");
-  md += "Cells: mean ± sample standard deviation over the seeds, and below it the 95% confidence interval of the "
-        "mean, mean ± t(0.975, n−1)·s/√n (Student's t, n runs with a value; \"n=k\" is shown when some runs have "
-        "none). Booleans count as 1 (true) and 0 (false), so `completed` is the success rate. Metric definitions: "
-        "docs/metrics.md. Per-run values: summary.csv; every number of these tables: summary_stats.csv and "
-        "paired.csv.\n";
+    md += fmt::format(
+        "**{} run{} left out of every table**: only runs whose episode ended on its own (goal_reached, time_limit, "
+        "stuck) count; an aborted, failed or incomplete run measured a cut-off episode (its values stay in "
+        "summary.csv; run_batch.sh runs it again).\n\n",
+        excluded, excluded == 1 ? "" : "s");
+  md +=
+      "Cells: mean ± sample standard deviation over the seeds, and below it the 95% confidence interval of the "
+      "mean, mean ± t(0.975, n−1)·s/√n (Student's t, n runs with a value; \"n=k\" is shown when some runs have "
+      "none). Booleans count as 1 (true) and 0 (false), so `completed` is the success rate (a run that ended "
+      "`time_limit` or `stuck` counts 0). Metric definitions: docs/metrics.md. Per-run values: summary.csv; every "
+      "number of these tables: summary_stats.csv and paired.csv.\n";
   for (const auto& w : batch.warnings) md += "\n> warning: " + w + "\n";
 
   for (const std::string& scenario : scenarios) {
     if (std::find(present.begin(), present.end(), scenario) == present.end()) continue;
     const auto planners = plannersOf(batch, scenario);
     std::map<std::string, std::size_t> runs_of;
-    std::map<std::string, std::map<std::string, int>> statuses_of;
     for (const auto& r : batch.runs)
-      if (r.key.scenario == scenario) {
-        ++runs_of[r.key.planner];
-        ++statuses_of[r.key.planner][r.status];
-      }
-    md += fmt::format("\n## Scenario `{}`\n\nRuns:", scenario);
-    for (const auto& p : planners) {
-      md += fmt::format(" {} {} (", p, runs_of[p]);
-      bool first = true;
-      for (const auto& [st, n] : statuses_of[p]) {
-        md += fmt::format("{}{} {}", first ? "" : ", ", n, st);
-        first = false;
-      }
-      md += ");";
-    }
-    md.back() = '.';
-    md += "\n\n";
+      if (r.key.scenario == scenario) ++runs_of[r.key.planner];
+    md += fmt::format("\n## Scenario `{}`\n\nHow the runs ended (the tables count all but the not ended ones):\n\n",
+                      scenario);
+    md += outcomeTable(batch, scenario, planners) + "\n";
 
     // Table II/III: metrics x planners.
     md += "| metric | unit |";

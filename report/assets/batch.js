@@ -180,7 +180,7 @@
     var headers = [{ text: 'scenario', class: 'text' }, { text: 'planner', class: 'text' }, 'seed', { text: 'status', class: 'text' },
                    'sim time [s]', 'wall time [s]'].concat(keyMetrics.map(function (m) { return m; })).concat([{ text: 'report', class: 'text' }]);
     var rows = d.runs.map(function (r) {
-      var status = el('span', { class: 'badge ' + (r.status === 'goal_reached' ? 'ok' : r.status === 'time_limit' ? 'warn' : 'bad'), text: r.status });
+      var status = HR.statusBadge(r.status, r.statusClass);
       var link = r.link ? el('a', { href: r.link, text: 'run page' }) : el('span', { class: 'sub', title: r.note, text: 'none' });
       return [{ text: r.scenario, cls: 'text' }, { text: r.planner, cls: 'text' }, r.seed, { node: status, cls: 'text' },
               HR.fmt(r.sim_time), HR.fmt(r.wall_time, 3)].concat(keyMetrics.map(function (m) {

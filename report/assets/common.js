@@ -14,6 +14,11 @@
   HR.behaviorCode = function (name) { var i = HR.behaviorNames.indexOf(String(name)); return i > 0 ? i : 0; };
   HR.seriesColors = ['#0072B2', '#D55E00', '#009E73', '#CC79A7', '#E69F00', '#56B4E9', '#6a3d9a', '#b15928'];
 
+  // An episode status as a coloured badge; `cls` is the page data's statusClass (html_page.hpp:
+  // ok, warn, stuck, bad), so the colours follow one list, the C++ one.
+  HR.statusBadge = function (status, cls) {
+    return HR.el('span', { class: 'badge ' + (cls || 'bad'), text: status || 'unknown' });
+  };
   HR.data = function () { return JSON.parse(document.getElementById('hunav-data').textContent); };
 
   // el('div', {class: 'x', text: 'hello'}, [children...]): an HTML element.

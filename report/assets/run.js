@@ -3,11 +3,6 @@
   'use strict';
   var HR = window.HR, el = HR.el;
 
-  function statusBadge(status) {
-    var cls = status === 'goal_reached' ? 'ok' : (status === 'time_limit' ? 'warn' : 'bad');
-    return el('span', { class: 'badge ' + cls, text: status || 'unknown' });
-  }
-
   function metricValue(d, name) {
     for (var i = 0; i < d.metrics.length; i++) if (d.metrics[i][0] === name) return d.metrics[i];
     return null;
@@ -20,7 +15,7 @@
     app.appendChild(el('p', { class: 'subtitle' }, [
       'scenario ', el('b', { text: info.scenario || '?' }), ' · planner ', el('b', { text: info.planner || '?' }),
       ' · seed ', el('b', { text: String(info.seed) }), ' · mode ' + (info.mode || '?') + ' · profile ' + (info.profile || '?') + ' · ',
-      statusBadge(info.status), ' ', info.reason || '']));
+      HR.statusBadge(info.status, info.statusClass), ' ', info.reason || '']));
     var cards = el('div', { class: 'cards' });
     var card = function (label, value, unit) {
       cards.appendChild(el('div', { class: 'card' }, [el('div', { class: 'label', text: label }),

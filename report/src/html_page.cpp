@@ -1,5 +1,6 @@
 #include "hunav/report/html_page.hpp"
 
+#include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/report/assets.hpp"
 #include "hunav/report/json_writer.hpp"
@@ -74,6 +75,7 @@ void writeInfo(JsonWriter& j, const evaluator::RunInfo& info) {
   j.key("mode").value(info.mode);
   j.key("profile").value(info.profile);
   j.key("status").value(info.status);
+  j.key("statusClass").value(statusClass(info.status));
   j.key("reason").value(info.reason);
   j.key("sim_time").number(info.sim_time, 9);
   j.key("wall_time").number(info.wall_time, 6);
@@ -165,6 +167,13 @@ void writeSeries(JsonWriter& j, const RunData& d, const ReportLimits& limits) {
 
 }  // namespace
 
+std::string statusClass(const std::string& status) {
+  if (status == episode_status::kGoalReached) return "ok";
+  if (status == episode_status::kTimeLimit) return "warn";
+  if (status == episode_status::kStuck) return "stuck";
+  return "bad";
+}
+
 std::string runPageJson(const RunData& d, const ReportLimits& limits, const std::string& batch_link) {
   JsonWriter j;
   j.beginObject();
@@ -227,6 +236,7 @@ std::string batchPageJson(const BatchData& d) {
     j.key("planner").value(r.planner);
     j.key("seed").value(static_cast<std::int64_t>(r.seed));
     j.key("status").value(r.status);
+    j.key("statusClass").value(statusClass(r.status));
     j.key("sim_time").number(r.sim_time);
     j.key("wall_time").number(r.wall_time);
     j.key("run_dir").value(r.run_dir_text);

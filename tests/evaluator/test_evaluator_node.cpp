@@ -265,6 +265,46 @@ TEST_F(EvaluatorNodeTest, NoAgentsOneTickNoGoalGiveDefinedValues) {
   EXPECT_EQ(json.find("inf"), std::string::npos);
 }
 
+TEST_F(EvaluatorNodeTest, StuckEpisodeIsACompleteRunThatDidNotReachItsGoal) {
+  EvaluatorNode node(bus, options());
+  start(1, "stuck-run");
+  for (int k = 0; k < 20; ++k) publish(state(1, k));  // the robot within 0.1 m of x = 0, its goal at (4, 0)
+  hunav::episode_event_t end = endEvent(1, 20, 0.21, fingerprint.hex(), "stuck");
+  end.reason = "the robot made no progress for 5 s (stayed within 0.5 m of (0.00, 0.00), best distance to goal 3.90 m)";
+  world.publish(hunav::channels::kEpisodeEvent, end);
+  bus.handleAvailable();
+  ASSERT_TRUE(node.finished());
+  EXPECT_EQ(checkOutputs(dir), 0);
+  // The world's status and reason as they came; complete (the END arrived), so no different from a
+  // time_limit run but for the status.
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_EQ(info.status, "stuck");
+  EXPECT_EQ(info.reason, end.reason);
+  EXPECT_TRUE(info.complete);
+  EXPECT_EQ(info.ticks, 20);
+  EXPECT_EQ(info.recorded_fingerprint, info.fingerprint);
+  for (const auto& m : node.lastResult()->metrics) {
+    if (m.name == "completed") {
+      EXPECT_EQ(m.value, 0.0);  // the goal was not reached
+    }
+  }
+  EXPECT_NE(readFile(dir / "run.json").find("\"completed\": false"), std::string::npos);
+  EXPECT_EQ(readLines(dir / "metrics.csv").size(), 2u);
+}
+
+TEST_F(EvaluatorNodeTest, AnUnknownEndStatusIsKeptNotTakenForAnAbort) {
+  // A status this evaluator does not know (a newer world's) is recorded as given, complete.
+  EvaluatorNode node(bus, options());
+  start(1, "future");
+  for (int k = 0; k < 3; ++k) publish(state(1, k));
+  world.publish(hunav::channels::kEpisodeEvent, endEvent(1, 3, 0.04, fingerprint.hex(), "some_new_status"));
+  bus.handleAvailable();
+  ASSERT_TRUE(node.finished());
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_EQ(info.status, "some_new_status");
+  EXPECT_TRUE(info.complete);
+}
+
 TEST_F(EvaluatorNodeTest, EmptyEpisodeGivesDefinedValues) {
   EvaluatorNode node(bus, options());
   start(1, "empty");

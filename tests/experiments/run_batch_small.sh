@@ -2,7 +2,8 @@
 # run_batch.sh end to end on a small matrix (passing x dwb, sfw x seeds 1-2, 5 s of simulation each,
 # in-process: no network): the batch folder's layout, then resumability (a second invocation runs
 # nothing, a third reruns only the run whose results were removed, a fourth only the run marked
-# aborted, which the summary's statistics leave out), then bad arguments.
+# aborted, which the summary's statistics leave out, a fifth nothing after a run is marked stuck,
+# which they keep), then bad arguments.
 # Expects REPO and BIN (ctest sets them).
 set -euo pipefail
 export HUNAV_BIN_DIR="$BIN"
@@ -93,6 +94,27 @@ PY
 grep -q '^run_batch: 1 runs in ' "$WORK/fourth.log" || { cat "$WORK/fourth.log"; fail "the aborted run was not run again (alone)"; }
 grep -q 'passing dwb seed 1: time_limit' "$WORK/fourth.log" || fail "the rerun was not passing dwb seed 1"
 grep -q 'left out of every table' "$out/summary.md" && fail "summary.md still leaves a run out after the rerun"
+
+# A stuck run (no progress for the scenario's stuck_timeout) is a result, a failure to reach the goal:
+# kept in the statistics, shown apart in summary.md, and not run again.
+json="$out/runs/passing__sfw__seed1/run.json"
+sed -i -E 's/"status": *"time_limit"/"status": "stuck"/' "$json"
+grep -q '"status": "stuck"' "$json" || fail "could not mark $json stuck"
+"$BATCH" "${args[@]}" >"$WORK/fifth.log" 2>&1 || { cat "$WORK/fifth.log"; fail "fifth invocation failed"; }
+grep -q '^run_batch: 0 runs in ' "$WORK/fifth.log" || { cat "$WORK/fifth.log"; fail "the stuck run was run again"; }
+python3 - "$out" <<'PY'
+import csv, sys
+out = sys.argv[1]
+stats = list(csv.DictReader(open(out + "/summary_stats.csv")))
+n = {r["planner"]: r["n"] for r in stats if r["behavior"] == "all" and r["metric"] == "completed"}
+assert n == {"dwb": "2", "sfw": "2"}, n  # the stuck run counts
+rows = [r for r in csv.DictReader(open(out + "/summary.csv")) if r["planner"] == "sfw" and r["seed"] == "1"]
+assert len(rows) == 1 and rows[0]["status"] == "stuck", rows
+md = open(out + "/summary.md").read()
+assert "| planner | runs | goal_reached | time_limit | stuck | not ended |" in md, md
+assert "| sfw | 2 | 0 | 1 | 1 | 0 |" in md, md
+assert "left out of every table" not in md, md
+PY
 
 # Bad arguments: exit 2 and nothing run.
 for bad in "--planners xyz" "--seeds 3-1" "--scenarios nowhere" "--jobs 0" "--mode fast"; do

@@ -69,4 +69,14 @@ fi
 "$SLURM" --aggregate "$out" >/dev/null
 [ "$(wc -l <"$out/summary.csv")" -eq 3 ] || fail "summary.csv should hold the two runs"
 grep -q '^crossing,scl,4,time_limit,2,' "$out/summary.csv" || fail "crossing scl seed 4 not in summary.csv"
+
+# A stuck run is finished: its task does not run it again, and the summary keeps it with its status.
+json="$out/runs/passing__dwb__seed3/run.json"
+sed -i -E 's/"status": *"[a-z_]*"/"status": "stuck"/' "$json"
+before=$(stat -c '%Y' "$json")
+task_out=$(SLURM_ARRAY_TASK_ID=0 "$SLURM" --task "$out")
+[ "$task_out" = "run_batch: passing dwb seed 3: skipped (finished before)" ] || fail "the stuck run's task: $task_out"
+[ "$before" = "$(stat -c '%Y' "$json")" ] || fail "the stuck run was run again"
+"$SLURM" --aggregate "$out" >/dev/null
+grep -q '^passing,dwb,3,stuck,2,' "$out/summary.csv" || fail "the stuck run is not in summary.csv as stuck"
 echo "PASS slurm_batch_matrix"

@@ -44,9 +44,11 @@ std::vector<evaluator::MetricValue> values(double time, double min_dist, bool co
 }
 
 // One run folder as run_experiment.sh leaves it: metrics.csv, run.json and per-behavior files
-// (behavior code -> minimum distance of those people).
+// (behavior code -> minimum distance of those people). `status`: run.json's; empty: goal_reached when
+// completed, else time_limit.
 void makeRun(const fs::path& batch, const std::string& scenario, const std::string& planner, long long seed,
-             double time, double min_dist, bool completed, const std::map<int, double>& behaviors = {}) {
+             double time, double min_dist, bool completed, const std::map<int, double>& behaviors = {},
+             const std::string& status = "") {
   const fs::path dir = batch / "runs" / runFolderName({scenario, planner, seed});
   fs::create_directories(dir);
   evaluator::RunInfo info;
@@ -56,7 +58,7 @@ void makeRun(const fs::path& batch, const std::string& scenario, const std::stri
   info.scenario = scenario;
   info.planner = planner;
   info.seed = seed;
-  info.status = completed ? "goal_reached" : "time_limit";
+  info.status = !status.empty() ? status : completed ? "goal_reached" : "time_limit";
   info.sim_time = time;
   info.wall_time = 0.5;
   info.complete = true;
@@ -177,6 +179,43 @@ TEST(BatchSummary, WritesTheFourFilesWithHandComputedStatistics) {
   EXPECT_NE(md.find("| time_to_reach_goal | -1.00 [-3.48, 1.48] p="), std::string::npos) << md;
   EXPECT_NE(md.find("**n.s.**"), std::string::npos);
   EXPECT_NE(md.find("failed: 1"), std::string::npos);
+}
+
+TEST(BatchSummary, StuckRunsAreFinishedFailuresCountedApart) {
+  const fs::path dir = freshDir("stuck");
+  // Planner a: seed 1 reaches its goal in 10 s, seed 2 is stuck at 6 s, seed 3 was aborted; planner b
+  // runs out of time (20 s).
+  makeRun(dir, "s", "a", 1, 10, 0.5, true);
+  makeRun(dir, "s", "a", 2, 6, 0.7, false, {}, "stuck");
+  makeRun(dir, "s", "a", 3, 2, 0.9, false, {}, "aborted");
+  makeRun(dir, "s", "b", 1, 20, 1.0, false);
+  const Batch batch = writeBatchSummary(dir);
+  ASSERT_EQ(batch.runs.size(), 4u);
+  EXPECT_TRUE(batch.runs[1].episodeEnded());   // stuck: ran to its end
+  EXPECT_FALSE(batch.runs[2].episodeEnded());  // aborted: cut off
+
+  const auto summary = lines(readFile(dir / "summary.csv"));
+  ASSERT_EQ(summary.size(), 5u);
+  EXPECT_EQ(summary[2], "s,a,2,stuck,6,0.5,runs/s__a__seed2,6,0.7,false");
+
+  // The stuck run counts, as a failure: a's completed over seeds 1, 2 = (1 + 0) / 2; time (10 + 6) / 2.
+  std::map<std::string, std::vector<std::string>> by_key;  // "planner/behavior/metric" -> fields
+  const auto stat_lines = lines(readFile(dir / "summary_stats.csv"));
+  for (std::size_t i = 1; i < stat_lines.size(); ++i) {
+    const auto f = splitCsvLine(stat_lines[i]);
+    by_key[f[1] + "/" + f[2] + "/" + f[3]] = f;
+  }
+  EXPECT_EQ(by_key.at("a/all/completed")[4], "2");
+  EXPECT_DOUBLE_EQ(std::stod(by_key.at("a/all/completed")[5]), 0.5);
+  EXPECT_DOUBLE_EQ(std::stod(by_key.at("a/all/time_to_reach_goal")[5]), 8.0);
+
+  // summary.md: the status counts, and per planner a stuck column beside the other endings.
+  const std::string md = readFile(dir / "summary.md");
+  EXPECT_NE(md.find("4 runs (aborted: 1, goal_reached: 1, stuck: 1, time_limit: 1)"), std::string::npos) << md;
+  EXPECT_NE(md.find("| planner | runs | goal_reached | time_limit | stuck | not ended |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| a | 3 | 1 | 0 | 1 | 1 (1 aborted) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| b | 1 | 0 | 1 | 0 | 0 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("**1 run left out of every table**"), std::string::npos) << md;  // the aborted one only
 }
 
 TEST(BatchSummary, EmptyAndMissingFolders) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Report pages rendered in headless Chromium: a batch of real runs (the passing scenario, two planners,
 # two seeds) through hunav_run and hunav_report, then the DOM after the scripts ran must show every
-# figure drawn (data-points > 0) and no JavaScript error; a page broken on purpose must be reported.
+# figure drawn (data-points > 0), no JavaScript error and a stuck run's badge; a page broken on
+# purpose must be reported.
 # Needs REPO and BIN (set by ctest) and the Debian package chromium.
 set -euo pipefail
 : "${REPO:?set REPO to the repository}" "${BIN:?set BIN to the bin folder of a build}"
@@ -63,6 +64,9 @@ for planner in dwb sfw; do
       --out "$run_dir" --quiet >"$WORK/run.txt" 2>&1 || { cat "$WORK/run.txt"; fail "hunav_run $planner seed $seed failed"; }
   done
 done
+# One run shown as stuck (as the world ends a run that makes no progress for the scenario's
+# stuck_timeout): its badge must carry the stuck colour on both pages.
+sed -i -E 's/"status": *"[a-z_]*"/"status": "stuck"/' "$batch/runs/passing__sfw__seed1/run.json"
 # summary.csv, summary_stats.csv and paired.csv from the runs' metrics.csv rows (mean, sample std,
 # 95% CI with Student's t), as the batch aggregation writes them.
 python3 - "$batch" <<'PY'
@@ -122,6 +126,11 @@ render "$batch/report.html" "$WORK/batch_dom.html"
 check "$WORK/batch_dom.html" ci-passing paired-passing || fail "batch page: see above"
 grep -q 'id="runs-table"[^>]*data-rows="4"' "$WORK/batch_dom.html" || fail "batch page: the runs table does not list the 4 runs"
 grep -q 'href="runs/passing__sfw__seed2/report.html"' "$WORK/batch_dom.html" || fail "batch page: no link to a run page"
+[ "$(grep -o '<span class="badge stuck">stuck</span>' "$WORK/batch_dom.html" | wc -l)" -eq 1 ] ||
+  fail "batch page: the stuck run has no stuck badge"
+render "$batch/runs/passing__sfw__seed1/report.html" "$WORK/stuck_dom.html"
+grep -q '<span class="badge stuck">stuck</span>' "$WORK/stuck_dom.html" || fail "run page: no stuck badge"
+echo "the stuck run has its badge on both pages"
 
 # The check catches a page whose script fails: a run page with its data cut short.
 sed 's|"frameT":\[|"frameT":[oops|' "$run_page" >"$WORK/broken.html"

@@ -142,6 +142,28 @@ TEST(Pages, BatchPageLinksTheRunPages) {
   EXPECT_NE(run_page.find("\"batchLink\":\"../../report.html\""), std::string::npos);
 }
 
+TEST(Pages, StatusBadgeClasses) {
+  EXPECT_EQ(statusClass("goal_reached"), "ok");
+  EXPECT_EQ(statusClass("time_limit"), "warn");
+  EXPECT_EQ(statusClass("stuck"), "stuck");  // its own colour: ran to its end, no progress
+  for (const char* cut : {"aborted", "incomplete", "failed", "unknown", ""}) EXPECT_EQ(statusClass(cut), "bad") << cut;
+}
+
+TEST(Pages, StuckRunsShowTheirStatusOnBothPages) {
+  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  writeFile(dir / "summary.csv",
+            "scenario,planner,seed,status,sim_time,wall_time,run_dir,time_to_reach_goal,completed\n"
+            "tiny,dwb,1,stuck,0.3,0.01,runs/tiny__dwb__seed1,0.3,false\n");
+  std::string json = runJson((dir / "runs" / "tiny__dwb__seed1" / "tiny.yaml").string());
+  json.replace(json.find("\"time_limit\""), 12, "\"stuck\"");
+  writeFile(dir / "runs" / "tiny__dwb__seed1" / "run.json", json);
+  writeBatchReport(dir, ReportOptions{});
+  EXPECT_NE(readFile(dir / "report.html").find("\"status\":\"stuck\",\"statusClass\":\"stuck\""), std::string::npos);
+  const std::string run_page = readFile(dir / "runs" / "tiny__dwb__seed1" / "report.html");
+  EXPECT_NE(run_page.find("\"status\":\"stuck\",\"statusClass\":\"stuck\""), std::string::npos);
+  EXPECT_NE(run_page.find(".badge.stuck"), std::string::npos);  // the colour is in the page's stylesheet
+}
+
 TEST(Pages, LongCrowdedRunStaysSmall) {
   // 2000 samples of 100 people: the replay is downsampled (stride max(ceil(2000 / 1500),
   // ceil(2000 * 101 / 250000)) = 2) and the plots to about 2 x 1000 points each.

@@ -21,7 +21,7 @@ struct RunInfo {
   std::int64_t seed = 0;
   std::string mode;             // inprocess, lockstep, realtime
   std::int64_t episode = 0;
-  std::string status;           // goal_reached, time_limit, aborted (END), or incomplete
+  std::string status;           // goal_reached, time_limit, stuck, aborted (END, as is), or incomplete
   std::string reason;
   double sim_time = 0.0;        // s
   double wall_time = 0.0;       // s

@@ -2,6 +2,8 @@
 // A batch folder (launch_scripts/run_batch.sh, slurm_batch.sh): one run folder per
 // (scenario, planner, seed) under DIR/runs/, each the output folder of run_experiment.sh. This file
 // reads it; summary.hpp writes the aggregated files.
+#include "hunav/episode_status.hpp"
+
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -37,10 +39,11 @@ struct BatchRun {
   MetricRow metrics;      // the last row of the run's metrics.csv (empty without it)
   std::map<std::string, MetricRow> by_behavior;  // behavior name -> the row of metrics_beh_<code>.csv
 
-  // The episode ended on its own (goal_reached or time_limit): only such runs enter the statistics.
+  // The episode ended on its own (goal_reached, time_limit or stuck: episode_status.hpp): only such
+  // runs enter the statistics (a stuck run as a failure to reach the goal: `completed` false).
   // An aborted run (interrupted, a component gone silent) or one that never ended measured a cut-off
   // episode; it stays in summary.csv with its status, and run_batch.sh runs it again.
-  bool episodeEnded() const { return status == "goal_reached" || status == "time_limit"; }
+  bool episodeEnded() const { return episode_status::ranToEnd(status); }
 };
 
 struct Batch {

@@ -13,6 +13,11 @@ std::string renderRunPage(const RunData& data, const ReportLimits& limits, const
 // The page of a batch; run pages are linked as BatchRun::page_link says.
 std::string renderBatchPage(const BatchData& data);
 
+// The colour class of an episode status's badge (report.css): "ok" goal_reached, "warn" time_limit,
+// "stuck" stuck (ran to its end without progress: told apart from a slow run), "bad" anything else
+// (aborted, incomplete, failed, unknown). Written into the pages' JSON as `statusClass`.
+std::string statusClass(const std::string& status);
+
 // The JSON each page embeds (exposed for tests).
 std::string runPageJson(const RunData& data, const ReportLimits& limits, const std::string& batch_link = "");
 std::string batchPageJson(const BatchData& data);
