@@ -221,8 +221,8 @@ people: gen_agents.yaml
 
 TEST(ShippedScenarios, EveryScenarioLoadsWithItsPeople) {
   const std::pair<const char*, std::size_t> expected[] = {
-      {"passing", 2}, {"crossing", 4}, {"combined", 3}, {"cafe", 5}, {"warehouse", 4},
-      {"house", 5},   {"crowd", 300},  {"crowd_1000", 1000}};
+      {"passing", 2}, {"crossing", 4}, {"combined", 3}, {"cafe", 6}, {"warehouse", 6},
+      {"house", 6},   {"crowd", 300},  {"crowd_1000", 1000}};
   for (const auto& [name, count] : expected) {
     const Scenario s = loadScenario(source(std::string("scenarios/") + name + ".yaml"));
     EXPECT_EQ(s.name, name);
