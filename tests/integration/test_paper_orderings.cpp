@@ -1,0 +1,76 @@
+// The paper's orderings of the three planners on passing, crossing and combined (HuNavSim paper,
+// section V): dwb is the fastest, scl keeps out of personal space best in passing, sfw does the least
+// social work. Means over seeds 1-5 in one process; a change to the people or the planners that
+// breaks an ordering fails here.
+#include "hunav/runner/in_process_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kSeeds = 5;
+const char* const kPlanners[] = {"dwb", "scl", "sfw"};
+
+// Per planner, the mean over seeds 1-5 of each metric; every run must reach its goal.
+std::map<std::string, std::map<std::string, double>> meansOf(const std::string& scenario) {
+  const fs::path out = fs::temp_directory_path() / ("hunav_orderings_" + std::to_string(::getpid()) + "_" +
+                                                    std::to_string(std::random_device{}()));
+  std::map<std::string, std::map<std::string, double>> means;
+  for (const char* planner : kPlanners) {
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+      const hunav::Scenario s =
+          hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/" + scenario + ".yaml", seed);
+      hunav::runner::RunOptions o;
+      o.planner = planner;
+      o.out_dir = (out / (std::string(planner) + std::to_string(seed))).string();
+      const hunav::runner::RunOutcome r = hunav::runner::runInProcess(s, o);
+      EXPECT_EQ(r.episode.status, "goal_reached") << scenario << " " << planner << " seed " << seed;
+      if (!r.result) {
+        ADD_FAILURE() << scenario << " " << planner << " seed " << seed << ": no result";
+        continue;
+      }
+      for (const auto& m : r.result->metrics) means[planner][m.name] += m.value / kSeeds;
+    }
+  }
+  std::error_code ec;
+  fs::remove_all(out, ec);
+  return means;
+}
+
+void expectLowest(const std::map<std::string, std::map<std::string, double>>& means, const std::string& metric,
+                  const std::string& best, const std::string& scenario) {
+  for (const char* other : kPlanners) {
+    if (other == best) continue;
+    EXPECT_LT(means.at(best).at(metric), means.at(other).at(metric))
+        << scenario << ": " << best << " should have the lowest mean " << metric << ", " << other << " has "
+        << means.at(other).at(metric) << " against " << means.at(best).at(metric);
+  }
+}
+
+}  // namespace
+
+TEST(PaperOrderings, Passing) {
+  const auto means = meansOf("passing");
+  expectLowest(means, "time_to_reach_goal", "dwb", "passing");
+  expectLowest(means, "personal_space_intrusions", "scl", "passing");
+  expectLowest(means, "social_work", "sfw", "passing");
+}
+
+TEST(PaperOrderings, Crossing) {
+  const auto means = meansOf("crossing");
+  expectLowest(means, "time_to_reach_goal", "dwb", "crossing");
+  expectLowest(means, "social_work", "sfw", "crossing");
+}
+
+// In combined the threatening person's blocking, not the planner, sets the time; social work still
+// orders the planners.
+TEST(PaperOrderings, Combined) { expectLowest(meansOf("combined"), "social_work", "sfw", "combined"); }
