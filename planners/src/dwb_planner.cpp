@@ -16,6 +16,8 @@ constexpr double kMaxPathDeviation = 0.5;  // m off the path before it is replan
 constexpr double kFailedPlanRetryPeriod = 1.0;
 constexpr double kPathWindowMargin = 0.5;  // m of path beyond the farthest reachable point
 constexpr std::size_t kUnknownIndex = std::numeric_limits<std::size_t>::max();
+// m/s: a robot slower than this stands; so does a best sample slower than it (the window's slowest).
+constexpr double kStandingSpeed = 0.05;
 }  // namespace
 
 CostmapParams readCostmapParams(const YamlReader* config) {
@@ -70,23 +72,29 @@ void DwbParams::readDwbSection(const YamlReader* config) {
 }
 
 DwbParams DwbParams::fromConfig(const YamlReader* config) {
-  checkSections(config, {"costmap", "global_planner", "dwb"});
+  checkSections(config, {"costmap", "global_planner", "dwb", "recovery"});
   DwbParams p;
   p.costmap = readCostmapParams(config);
   p.global_planner = readGlobalPlannerParams(config);
   p.readDwbSection(config);
+  p.recovery = readRecoveryParams(config);
   return p;
 }
 
 DwbPlanner::DwbPlanner(const Scenario& scenario, const DwbParams& params)
-    : params_(params), costmap_(scenario, scenario.robot.radius, params.costmap), astar_(params.global_planner) {
+    : params_(params),
+      costmap_(scenario, scenario.robot.radius, params.costmap),
+      astar_(params.global_planner),
+      recovery_(params.recovery) {
   if (!(params_.sim_time > 0.0) || !(params_.sim_step > 0.0) || params_.v_samples < 1 || params_.w_samples < 1 ||
       !(params_.people_sigma > 0.0))
     throw std::invalid_argument("dwb: sim_time, sim_step, people_sigma must be > 0 and the sample counts >= 1");
   astar_.reserve(static_cast<std::size_t>(costmap_.width()) * static_cast<std::size_t>(costmap_.height()));
   // Critics judging only the end pose (the path and goal ones, oscillation) score every sample;
   // those walking the whole rollout (obstacle, people) only the samples that can still win.
-  addCritic(std::make_unique<GoalDistanceCritic>(params_.goal_distance_weight));
+  auto goal_critic = std::make_unique<GoalDistanceCritic>(params_.goal_distance_weight);
+  goal_critic_ = goal_critic.get();
+  addCritic(std::move(goal_critic));
   addCritic(std::make_unique<PathDistanceCritic>(params_.path_distance_weight));
   addCritic(std::make_unique<PathAlignCritic>(params_.path_align_weight, params_.forward_point_distance));
   addCritic(std::make_unique<OscillationCritic>(params_.oscillation_weight, params_.oscillation_reset_distance,
@@ -103,21 +111,50 @@ void DwbPlanner::reset() {
   last_decision_ = Decision::Idle;
   last_admissible_ = 0;
   last_command_.reset();
+  recovery_.reset();
+  last_recovery_ = RecoveryBehavior::None;
 }
 
 robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
   robot_command_t cmd = stopCommand(obs);
   last_admissible_ = 0;
   last_replanned_ = false;
+  last_recovery_ = RecoveryBehavior::None;
   const Vec2 robot(obs.x, obs.y);
   const Vec2 goal(obs.goal.x, obs.goal.y);
   if (!obs.goal.valid || (goal - robot).norm() <= obs.goal.radius) {
     last_decision_ = obs.goal.valid ? Decision::AtGoal : Decision::Idle;
     path_ = GlobalPath();
     path_goal_.reset();
+    recovery_.reset();
     return cmd;
   }
+  last_recovery_ = recovery_.update(obs);
+  if (last_recovery_ == RecoveryBehavior::ClearAndReplan) clearPathAndMemory();
 
+  updateMapAndPath(obs);
+  goal_critic_->setWeight(params_.goal_distance_weight * recovery_.goalWeightFactor(obs));
+  for (auto& critic : critics_) critic->prepare(ctx_);
+
+  const VelocityWindow window = VelocityWindow::fromObservation(obs);
+  const double heading_error = headingErrorToPath();
+  double v, w;
+  const auto safe = [this](double sv, double sw, double duration) { return motionIsSafe(sv, sw, duration); };
+  if (recovery_.active() != RecoveryBehavior::None && recovery_.command(obs, window, heading_error, safe, v, w)) {
+    last_decision_ = Decision::Recovery;
+  } else {
+    chooseCommand(window, heading_error, v, w);
+  }
+  for (auto& critic : critics_) critic->commit(v, w, ctx_);
+  last_command_ = Vec2(v, w);
+  cmd.v = v;
+  cmd.w = w;
+  return cmd;
+}
+
+void DwbPlanner::updateMapAndPath(const robot_observation_t& obs) {
+  const Vec2 robot(obs.x, obs.y);
+  const Vec2 goal(obs.goal.x, obs.goal.y);
   const bool map_changed = obs.radius != costmap_.robotRadius();  // the inflation changes with it
   costmap_.setRobotRadius(obs.radius);
   // The nearest path point found by needsReplan() holds for prepareContext() unless the path changes.
@@ -161,11 +198,9 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
     path_utime_ = obs.utime;
   }
   prepareContext(obs, robot_index);
-  for (auto& critic : critics_) critic->prepare(ctx_);
+}
 
-  const VelocityWindow window = VelocityWindow::fromObservation(obs);
-  const double heading_error = headingErrorToPath();
-  double v, w;
+void DwbPlanner::chooseCommand(const VelocityWindow& window, double heading_error, double& v, double& w) {
   const bool rotate = std::abs(heading_error) > params_.rotate_in_place_angle;
   if (rotate) {
     // The path lies far to the side or behind: arcs toward it would sweep wide, turn first.
@@ -177,6 +212,8 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
     // Turning on the spot (with evade_people: unless a person would walk into the turning robot).
   } else if (sampleBest(window, v, w)) {
     last_decision_ = Decision::Sampled;
+    if (recovery_.stuck() && std::abs(ctx_.obs->v) < kStandingSpeed && v < kStandingSpeed && v <= window.v_min + 1e-9)
+      accelerateIfCheaper(window, v, w);
   } else if (params_.evade_people && !ctx_.people.empty() && sampleEvade(window, v, w)) {
     last_decision_ = Decision::Evade;
   } else {
@@ -186,11 +223,54 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
                                                                                : 0.0);
     last_decision_ = Decision::NoAdmissible;
   }
-  for (auto& critic : critics_) critic->commit(v, w, ctx_);
-  last_command_ = Vec2(v, w);
-  cmd.v = v;
-  cmd.w = w;
-  return cmd;
+}
+
+void DwbPlanner::accelerateIfCheaper(const VelocityWindow& window, double& v, double& w) {
+  // The speeds beyond this cycle's window, sampled as finely as the window's.
+  const double dv = params_.v_samples > 1 ? (window.v_max - window.v_min) / (params_.v_samples - 1) : 0.0;
+  VelocityWindow beyond = window;
+  beyond.v_min = window.v_max + dv;
+  beyond.v_max = ctx_.obs->max_v;
+  if (!(dv > 0.0) || beyond.v_min > beyond.v_max) return;
+  const double standing_cost = last_best_cost_;
+  const std::size_t admissible = last_admissible_;
+  double faster_v, faster_w;
+  if (sampleBest(beyond, faster_v, faster_w) && last_best_cost_ < standing_cost) {
+    v = window.v_max;  // toward it, as fast as this cycle allows
+    w = faster_w;      // within the window: beyond shares its yaw rates
+    last_decision_ = Decision::Accelerate;
+  }
+  last_admissible_ = admissible;
+}
+
+void DwbPlanner::clearPathAndMemory() {
+  path_ = GlobalPath();
+  path_goal_.reset();  // a new goal to scheduledReplan(): the whole map is marked and A* runs
+  path_costs_.clear();
+  for (auto& critic : critics_) critic->reset();
+  last_command_.reset();
+}
+
+bool DwbPlanner::motionIsSafe(double v, double w, double duration) {
+  // At least the planner's horizon: a person walking into the robot is seen as early as by the critics.
+  rollout(start_, v, w, std::max(duration, params_.sim_time), params_.sim_step, trajectory_);
+  // The obstacle critic's test, but a robot already in a lethal cell (a person stepped within
+  // contact, or braking carried it into the inscribed band) may still turn there or move out: it
+  // may cross lethal cells no costlier than its own and no nearer the map's obstacles.
+  int start_x, start_y;
+  costmap_.worldToCell(ctx_.robot, start_x, start_y);
+  const std::uint8_t start_cost = costmap_.cost(start_x, start_y);
+  const double start_distance = costmap_.staticDistance(start_x, start_y);
+  for (const Vec2& p : trajectory_.positions) {
+    const std::uint8_t cost = costmap_.costAt(p);
+    if (!Costmap::isLethal(cost)) continue;
+    int x, y;
+    if (!Costmap::isLethal(start_cost) || cost > start_cost || !costmap_.worldToCell(p, x, y) ||
+        costmap_.staticDistance(x, y) < start_distance)
+      return false;
+  }
+  const PeopleCritic people(1.0, params_.people_safety_margin, params_.people_sigma);
+  return people.score(trajectory_, ctx_) != TrajectoryCritic::kReject;
 }
 
 double DwbPlanner::maxSpeed(const robot_observation_t& obs) { return std::max(std::abs(obs.max_v), std::abs(obs.min_v)); }
@@ -372,6 +452,7 @@ bool DwbPlanner::sampleBest(const VelocityWindow& window, double& v, double& w) 
     v = c.v;
     w = c.w;
   }
+  last_best_cost_ = best;
   return last_admissible_ > 0;
 }
 

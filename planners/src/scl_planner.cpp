@@ -103,7 +103,7 @@ std::uint8_t SclPlanner::exponentCost(double e, int top) const {
 }
 
 std::unique_ptr<Planner> SclPlanner::create(const Scenario& scenario, const YamlReader* config) {
-  checkSections(config, {"costmap", "global_planner", "dwb", "scl"});
+  checkSections(config, {"costmap", "global_planner", "dwb", "recovery", "scl"});
   DwbParams dwb;
   dwb.evade_people = true;  // this planner's default (see config/scl.yaml)
   dwb.costmap = readCostmapParams(config);
@@ -112,6 +112,7 @@ std::unique_ptr<Planner> SclPlanner::create(const Scenario& scenario, const Yaml
   global.heuristic_weight = kSclHeuristicWeight;  // and the search stays cheap on the costlier map
   dwb.global_planner = readGlobalPlannerParams(config, global);
   dwb.readDwbSection(config);
+  dwb.recovery = readRecoveryParams(config);
   SclParams scl;
   scl.readSection(config);
   return std::make_unique<SclPlanner>(scenario, dwb, scl);

@@ -106,12 +106,13 @@ SfwPlanner::SfwPlanner(const Scenario& scenario, const DwbParams& dwb, const Sfw
 }
 
 std::unique_ptr<Planner> SfwPlanner::create(const Scenario& scenario, const YamlReader* config) {
-  checkSections(config, {"costmap", "global_planner", "dwb", "sfw"});
+  checkSections(config, {"costmap", "global_planner", "dwb", "recovery", "sfw"});
   DwbParams dwb;
   dwb.evade_people = true;  // this planner's default (see config/sfw.yaml)
   dwb.costmap = readCostmapParams(config);
   dwb.global_planner = readGlobalPlannerParams(config);
   dwb.readDwbSection(config);
+  dwb.recovery = readRecoveryParams(config);
   SfwParams sfw;
   sfw.readSection(config);
   return std::make_unique<SfwPlanner>(scenario, dwb, sfw);

@@ -207,7 +207,7 @@ TEST(Dwb, CommandsStayWithinTheDynamicWindowAndLimits) {
   std::uniform_real_distribution<double> ux(-1.0, 16.0), uy(-1.6, 1.6), uyaw(-kPi, kPi);
   const RobotLimits& lim = s.robot.limits;
   std::uniform_real_distribution<double> uv(lim.min_v, lim.max_v), uw(-lim.max_w, lim.max_w);
-  int decisions[5] = {0, 0, 0, 0, 0};
+  int decisions[8] = {};
   for (int i = 0; i < 400; ++i) {
     const Vec2 p(ux(rng), uy(rng));
     const double yaw = uyaw(rng);

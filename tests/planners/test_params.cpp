@@ -68,10 +68,16 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   EXPECT_EQ(file.mark_scan, d.mark_scan);
   EXPECT_EQ(file.mark_people, d.mark_people);
   EXPECT_EQ(file.evade_people, d.evade_people);
+  const double RecoveryParams::*recovery[] = {
+      &RecoveryParams::progress_distance, &RecoveryParams::progress_timeout, &RecoveryParams::spin_angle,
+      &RecoveryParams::spin_speed,        &RecoveryParams::backup_distance,  &RecoveryParams::backup_speed,
+      &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience};
+  for (auto member : recovery) EXPECT_EQ(file.recovery.*member, d.recovery.*member);
+  EXPECT_EQ(file.recovery.enabled, d.recovery.enabled);
   // Every key of the file is one the code reads (else fromConfig would have thrown): all are listed.
   std::size_t keys = 0;
   for (const auto& section : config.root()) keys += section.second.size();
-  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 6u);
+  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 6u + std::size(recovery) + 1u);
 }
 
 TEST(DwbParams, ConfigFileOverridesOnlyWhatItNames) {
@@ -83,7 +89,10 @@ TEST(DwbParams, ConfigFileOverridesOnlyWhatItNames) {
                                        "dwb:\n"
                                        "  sim_time: 2.0\n"
                                        "  w_samples: 11\n"
-                                       "  mark_scan: false\n");
+                                       "  mark_scan: false\n"
+                                       "recovery:\n"
+                                       "  enabled: false\n"
+                                       "  wait_duration: 2.5\n");
   YamlReader config(path);
   const DwbParams p = DwbParams::fromConfig(&config);
   EXPECT_EQ(p.costmap.resolution, 0.1);
@@ -93,6 +102,9 @@ TEST(DwbParams, ConfigFileOverridesOnlyWhatItNames) {
   EXPECT_EQ(p.w_samples, 11);
   EXPECT_FALSE(p.mark_scan);
   EXPECT_EQ(p.v_samples, DwbParams().v_samples);
+  EXPECT_FALSE(p.recovery.enabled);
+  EXPECT_EQ(p.recovery.wait_duration, 2.5);
+  EXPECT_EQ(p.recovery.spin_angle, RecoveryParams().spin_angle);
 }
 
 TEST(DwbParams, BadValuesNameFileLineAndKey) {
@@ -106,6 +118,10 @@ TEST(DwbParams, BadValuesNameFileLineAndKey) {
   EXPECT_NE(configError("dwbb:\n  sim_time: 1.0\n").find("bad.yaml:1: dwbb: unknown section"), std::string::npos);
   EXPECT_NE(configError("dwb: [1, 2]\n").find("dwb: expected a mapping"), std::string::npos);
   EXPECT_EQ(configError("dwb:\n"), "");  // an empty section keeps the defaults
+  EXPECT_NE(configError("recovery:\n  progress_timeout: 0\n").find("bad.yaml:2: recovery.progress_timeout: must be in"),
+            std::string::npos);
+  EXPECT_NE(configError("recovery:\n  spin_time: 1\n").find("recovery.spin_time: unknown parameter"),
+            std::string::npos);
 }
 
 TEST(PlannerRegistry, CreatesPlannersByName) {

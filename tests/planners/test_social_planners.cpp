@@ -64,6 +64,19 @@ LoopResult closedLoop(Planner& planner, const Scenario& scenario, double time_li
   return result;
 }
 
+// The `recovery:` section every shipped config file lists (the same keys and defaults as dwb.yaml).
+constexpr std::size_t kRecoveryKeys = 10;
+void expectDefaultRecovery(const RecoveryParams& file) {
+  const RecoveryParams d;
+  const double RecoveryParams::*doubles[] = {
+      &RecoveryParams::progress_distance, &RecoveryParams::progress_timeout, &RecoveryParams::spin_angle,
+      &RecoveryParams::spin_speed,        &RecoveryParams::backup_distance,  &RecoveryParams::backup_speed,
+      &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience};
+  for (auto m : doubles) EXPECT_EQ(file.*m, d.*m);
+  EXPECT_EQ(file.enabled, d.enabled);
+  EXPECT_EQ(std::size(doubles) + 1, kRecoveryKeys);
+}
+
 }  // namespace
 
 TEST(SocialCost, AsymmetricAroundThePersonAndStretchedBySpeed) {
@@ -130,14 +143,20 @@ TEST(SocialWork, HeadingAtAPersonCostsMoreThanBearingAway) {
   EXPECT_GT(w_straight, 0.0);
   EXPECT_GT(w_straight, w_away);
 
-  // Near a wall the obstacle force adds work.
+  // Near a wall the obstacle force adds work when obstacle_forces is on (off by default: the
+  // obstacle critic keeps the robot off walls).
   PlanningContext wall = ctx;
   wall.people.clear();
   wall.robot = Vec2(5, 1.5);
   critic.prepare(wall);
   Trajectory along;
   rollout(wall.robot, 0.0, 0.6, 0.0, 1.7, 0.05, along);
-  EXPECT_GT(critic.score(along, wall), 0.1);
+  EXPECT_EQ(critic.score(along, wall), 0.0);
+  SfwParams with_walls;
+  with_walls.obstacle_forces = 0.2;
+  SocialWorkCritic wall_critic(1.0, with_walls);
+  wall_critic.prepare(wall);
+  EXPECT_GT(wall_critic.score(along, wall), 0.1);
 }
 
 TEST(Sfw, AddsTheSocialWorkCriticAndReadsItsSection) {
@@ -166,9 +185,10 @@ TEST(SocialPlanners, ShippedConfigFilesListEveryDefault) {
                                           &SclParams::sigma_side,   &SclParams::speed_factor, &SclParams::cutoff,
                                           &SclParams::moving_speed};
     for (auto m : doubles) EXPECT_EQ(file.*m, d.*m);
+    expectDefaultRecovery(dynamic_cast<DwbPlanner&>(*planner).params().recovery);
     std::size_t keys = 0;
     for (const auto& section : config.root()) keys += section.second.size();
-    EXPECT_EQ(keys, std::size(doubles));
+    EXPECT_EQ(keys, std::size(doubles) + kRecoveryKeys);
   }
   {
     YamlReader config(std::string(HUNAV_SOURCE_DIR) + "/planners/config/sfw.yaml");
@@ -183,9 +203,10 @@ TEST(SocialPlanners, ShippedConfigFilesListEveryDefault) {
                                       &SfmParams::social_weight, &SfmParams::lambda, &SfmParams::gamma,
                                       &SfmParams::n, &SfmParams::n_prime, &SfmParams::relaxation_time};
     for (auto m : sfm) EXPECT_EQ(file.sfm.*m, d.sfm.*m);
+    expectDefaultRecovery(dynamic_cast<DwbPlanner&>(*planner).params().recovery);
     std::size_t keys = 0;
     for (const auto& section : config.root()) keys += section.second.size();
-    EXPECT_EQ(keys, std::size(doubles) + std::size(sfm));
+    EXPECT_EQ(keys, std::size(doubles) + std::size(sfm) + kRecoveryKeys);
   }
 }
 

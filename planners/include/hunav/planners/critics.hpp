@@ -49,6 +49,8 @@ class TrajectoryCritic {
 
   const std::string& name() const { return name_; }
   double weight() const { return weight_; }
+  // The planner may reweigh a critic between cycles (recovery's impatience raises goal_distance).
+  void setWeight(double weight) { weight_ = weight; }
 
   // Once per cycle, before any score().
   virtual void prepare(const PlanningContext& /*ctx*/) {}

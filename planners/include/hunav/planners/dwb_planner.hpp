@@ -14,13 +14,18 @@
 //     were scored;
 //  4. sends that sample; it turns on the spot when the path lies far to the
 //     side or behind, and brakes (turning toward the path when that helps) when no sample is
-//     admissible. At the goal, or without one, it sends (0, 0).
+//     admissible. At the goal, or without one, it sends (0, 0);
+//  5. when the robot has made no progress for a while, it runs a recovery behaviour instead
+//     (recovery.hpp: clear and replan, spin, back up, wait, in turn); while it stays stuck, the
+//     goal_distance critic weighs more and more (impatience), and a robot that would stay standing
+//     accelerates when a sample beyond the dynamic window costs less (accelerateIfCheaper()).
 // Planners built on the same machinery (`scl`, `sfw`) derive from it, add costmap layers in
 // updateLayers() and critics with addCritic().
 #include "hunav/planners/costmap.hpp"
 #include "hunav/planners/critics.hpp"
 #include "hunav/planners/global_planner.hpp"
 #include "hunav/planners/planner.hpp"
+#include "hunav/planners/recovery.hpp"
 #include "hunav/planners/trajectory.hpp"
 
 #include <cstdint>
@@ -87,8 +92,9 @@ struct DwbParams {
 
   CostmapParams costmap;                // section `costmap:`
   GlobalPlannerParams global_planner;   // section `global_planner:`
+  RecoveryParams recovery;              // section `recovery:`
 
-  // Reads sections costmap, global_planner and dwb of the --config file (null: defaults).
+  // Reads sections costmap, global_planner, dwb and recovery of the --config file (null: defaults).
   static DwbParams fromConfig(const YamlReader* config);
   // Reads only the `dwb:` section into this (planners that extend dwb call it on their params).
   void readDwbSection(const YamlReader* config);
@@ -117,8 +123,14 @@ class DwbPlanner : public Planner {
   const std::vector<std::unique_ptr<TrajectoryCritic>>& critics() const { return critics_; }
   const PlanningContext& context() const { return ctx_; }
   // What the last plan() did, for tests and diagnostics.
-  enum class Decision { Idle, AtGoal, Sampled, RotateInPlace, NoAdmissible, Evade };
+  // Recovery: a recovery behaviour chose the command (lastRecovery() says which).
+  // Accelerate: the best sample stood still, but a faster one beyond the window costs less.
+  enum class Decision { Idle, AtGoal, Sampled, RotateInPlace, NoAdmissible, Evade, Recovery, Accelerate };
   Decision lastDecision() const { return last_decision_; }
+  // The recovery behaviour that started or ran in the last plan() (ClearAndReplan: it cleared, then
+  // planned normally); None when there was none.
+  RecoveryBehavior lastRecovery() const { return last_recovery_; }
+  const Recovery& recovery() const { return recovery_; }
   // Admissible samples scored in full, each cheaper than the ones before (the search skips the
   // samples that cannot beat the best): 0 when nothing was admissible.
   std::size_t lastAdmissible() const { return last_admissible_; }
@@ -132,6 +144,22 @@ class DwbPlanner : public Planner {
 
  private:
   static double maxSpeed(const robot_observation_t& obs);
+  // Marks the costmap, keeps or replans the global path and prepares the critics' context.
+  void updateMapAndPath(const robot_observation_t& obs);
+  // The command of a cycle without recovery: turn on the spot, the best sample, evade, or brake.
+  void chooseCommand(const VelocityWindow& window, double heading_error, double& v, double& w);
+  // While the robot is stuck (a recovery started and no progress since) and the best sample (v, w)
+  // keeps it standing: if a sample beyond the window, at the speeds the robot would reach by
+  // accelerating, costs less, accelerate toward it (Decision::Accelerate). Constant-speed rollouts
+  // rate a start by its slow speed alone: near people (sfw's social work) the slow samples can cost
+  // more than standing and the fast ones less, and the robot would never start.
+  void accelerateIfCheaper(const VelocityWindow& window, double& v, double& w);
+  // Recovery's ClearAndReplan: forgets the path and the critics' memory (the next lines replan).
+  void clearPathAndMemory();
+  // Whether (v, w) for `duration` s (at least sim_time) from the robot's pose keeps clear of
+  // obstacles and people (the obstacle and people critics' rejections, but for the cell the robot
+  // is in): recovery behaviours move only where this allows.
+  bool motionIsSafe(double v, double w, double duration);
   // Clears the transient layer and marks people, scan and derived layers in the marking window.
   void updateTransientLayer(const robot_observation_t& obs);
   void markPeople(const robot_observation_t& obs);
@@ -167,6 +195,7 @@ class DwbPlanner : public Planner {
   bool path_map_static_ = false;      // it was planned with nothing in the transient layer
   std::vector<std::uint8_t> path_costs_;  // the cost of each path point when it was planned
   std::vector<std::unique_ptr<TrajectoryCritic>> critics_;
+  TrajectoryCritic* goal_critic_ = nullptr;  // among critics_: recovery's impatience reweighs it
   std::vector<Circle> people_marked_;  // this cycle's people in the costmap
   PlanningContext ctx_;
   struct Candidate {
@@ -181,7 +210,10 @@ class DwbPlanner : public Planner {
   Trajectory trajectory_;  // rollout buffer, reused
   Decision last_decision_ = Decision::Idle;
   std::size_t last_admissible_ = 0;
+  double last_best_cost_ = 0.0;  // the total of the sample sampleBest() chose
   bool last_replanned_ = false;
+  Recovery recovery_;
+  RecoveryBehavior last_recovery_ = RecoveryBehavior::None;
 };
 
 }  // namespace hunav::planners

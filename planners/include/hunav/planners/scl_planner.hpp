@@ -36,7 +36,7 @@ class SclPlanner : public DwbPlanner {
   SclPlanner(const Scenario& scenario, const DwbParams& dwb, const SclParams& scl = {});
   const SclParams& sclParams() const { return scl_; }
 
-  // Reads sections costmap, global_planner, dwb and scl.
+  // Reads sections costmap, global_planner, dwb, recovery and scl.
   static std::unique_ptr<Planner> create(const Scenario& scenario, const YamlReader* config);
 
  protected:

@@ -1,0 +1,112 @@
+#pragma once
+// Recovery behaviours of the costmap planners (dwb, scl, sfw), after nav2's behavior server and
+// its default recovery sequence. When the robot makes no progress for progress_timeout, the planner
+// runs the next behaviour of a fixed sequence, then plans normally again with a fresh timeout; each
+// further failure escalates to the next behaviour, and the sequence starts over after the last:
+//   1. clear and replan: drop the global path and the critics' memory (oscillation, last command)
+//      and replan on a freshly marked map (the transient layer is rebuilt every cycle anyway: what
+//      persists between cycles is the path and the memory);
+//   2. spin: turn on the spot by spin_angle, toward the path (away from it did not work);
+//   3. back up: drive straight backwards backup_distance; only for a robot allowed to reverse
+//      (min_v < 0 in the scenario's robot.limits: the world clamps commands to them), else skipped;
+//   4. wait: stand still wait_duration (people move on).
+// A behaviour that would take the robot into an obstacle or a person is cut short (the planner's
+// safety check along the motion). Progress: the robot gets progress_distance away from where it
+// last progressed and from every place a recovery started or ended since (backing up and driving
+// back is no progress); it restarts the sequence. All timing comes from the observations' utime.
+#include "hunav/geometry.hpp"
+#include "hunav/planners/trajectory.hpp"
+#include "hunav/yaml_reader.hpp"
+
+#include <hunav/robot_observation_t.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace hunav::planners {
+
+// Section `recovery:` of --config (the same keys and defaults for dwb, scl and sfw).
+struct RecoveryParams {
+  bool enabled = true;             // false: never recover (the planner as it was before recoveries)
+  double progress_distance = 0.5;  // m the robot must get from where it last progressed (nav2: 0.5)
+  double progress_timeout = 5.0;   // s without progress before the next recovery starts
+  double spin_angle = 1.57;        // rad turned on the spot (nav2's default spin_dist)
+  double spin_speed = 1.0;         // rad/s, at most; capped by the robot's max_w
+  double backup_distance = 0.3;    // m driven backwards (nav2's default backup_dist)
+  double backup_speed = 0.1;       // m/s, at most; capped by -min_v
+  double wait_duration = 5.0;      // s standing still (nav2's default wait)
+  double time_allowance = 10.0;    // s a spin or a back-up may take at most (nav2's default)
+  // 1/s: while the robot is stuck (a recovery has started since its last progress), the weight of
+  // the goal_distance critic grows by this fraction of itself per second since that first recovery
+  // (0: never). A robot held by costs (people standing by its path, sfw's social work) accepts
+  // them in the end rather than waiting forever.
+  double impatience = 0.2;
+};
+
+// Reads the `recovery:` section (null: defaults).
+RecoveryParams readRecoveryParams(const YamlReader* config);
+
+enum class RecoveryBehavior { None, ClearAndReplan, Spin, BackUp, Wait };
+const char* recoveryName(RecoveryBehavior behavior);
+
+// Progress tracking and the recovery sequence; the planner asks it every cycle.
+class Recovery {
+ public:
+  // Whether the robot may follow (v, w) for `duration` s from its pose without moving into an
+  // obstacle or a person (the planner's costmap and people).
+  using SafetyCheck = std::function<bool(double v, double w, double duration)>;
+
+  explicit Recovery(const RecoveryParams& params);
+  const RecoveryParams& params() const { return params_; }
+
+  // Forgets everything (a new episode). A new goal does the same by itself.
+  void reset();
+  // Every cycle the robot has a goal to reach, before planning: tracks progress and starts the next
+  // behaviour when the robot has made none for progress_timeout. Returns the behaviour running
+  // (None: plan normally). ClearAndReplan is returned once and is over at once: the caller clears,
+  // then plans normally.
+  RecoveryBehavior update(const robot_observation_t& obs);
+  // The running behaviour's command (within the dynamic window); false when it ended this cycle
+  // (done, out of time, or unsafe): plan normally. heading_error: to the path, rad (the spin's side).
+  bool command(const robot_observation_t& obs, const VelocityWindow& window, double heading_error,
+               const SafetyCheck& safe, double& v, double& w);
+
+  RecoveryBehavior active() const { return active_; }
+  // Whether a recovery has started since the robot last made progress.
+  bool stuck() const { return !stuck_places_.empty(); }
+  // The factor on the goal_distance weight: 1 + impatience * (s since the first recovery since the
+  // last progress); 1 when not stuck.
+  double goalWeightFactor(const robot_observation_t& obs) const;
+  // How many behaviours have started since the last reset (tests and diagnostics).
+  int started() const { return started_; }
+
+ private:
+  bool madeProgress(const Vec2& p) const;
+  void startTracking(const robot_observation_t& obs);
+  void start(RecoveryBehavior behavior, const robot_observation_t& obs);
+  void finish(const robot_observation_t& obs);  // back to normal planning, a fresh timeout
+  bool spin(const robot_observation_t& obs, const VelocityWindow& window, double heading_error, const SafetyCheck& safe,
+            double& v, double& w);
+  bool backUp(const robot_observation_t& obs, const VelocityWindow& window, const SafetyCheck& safe, double& v,
+              double& w);
+  double elapsed(const robot_observation_t& obs) const;
+
+  RecoveryParams params_;
+  bool tracking_ = false;           // a goal is being tracked
+  Vec2 goal_ = Vec2::Zero();        // the goal tracked
+  Vec2 anchor_ = Vec2::Zero();      // where the robot last made progress
+  std::int64_t window_start_ = 0;   // utime the current timeout started
+  std::int64_t stuck_start_ = 0;    // utime the first recovery since the last progress started
+  std::vector<Vec2> stuck_places_;  // where recoveries started and ended since the last progress
+  std::size_t next_ = 0;            // next behaviour of the sequence
+  RecoveryBehavior active_ = RecoveryBehavior::None;
+  std::int64_t active_start_ = 0;    // utime the running behaviour started
+  Vec2 active_from_ = Vec2::Zero();  // where it started
+  double last_yaw_ = 0.0;            // spin: the yaw at the previous cycle
+  double turned_ = 0.0;              // spin: rad turned so far, toward spin_side_
+  int spin_side_ = 0;                // spin: +1 counter-clockwise, -1 clockwise, 0 not chosen yet
+  int started_ = 0;
+};
+
+}  // namespace hunav::planners

@@ -1,0 +1,193 @@
+#include "hunav/planners/recovery.hpp"
+
+#include "hunav/planners/params.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace hunav::planners {
+
+namespace {
+constexpr std::array<RecoveryBehavior, 4> kSequence = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
+                                                       RecoveryBehavior::BackUp, RecoveryBehavior::Wait};
+constexpr double kSpinTolerance = 0.02;  // rad short of spin_angle that counts as done (the last cycle's braking)
+// Recovery places kept (a robot stuck for a whole episode adds two per behaviour): the oldest go first.
+constexpr std::size_t kMaxStuckPlaces = 64;
+constexpr double kMinMotionTime = 0.1;  // s, shortest motion a safety check looks along
+}  // namespace
+
+RecoveryParams readRecoveryParams(const YamlReader* config) {
+  RecoveryParams p;
+  ParamSection s(config, "recovery");
+  s.read("enabled", p.enabled);
+  s.read("progress_distance", p.progress_distance, 0.01, 100.0);
+  s.read("progress_timeout", p.progress_timeout, 0.1, 3600.0);
+  s.read("spin_angle", p.spin_angle, 0.0, 2.0 * kPi);
+  s.read("spin_speed", p.spin_speed, 0.01, 100.0);
+  s.read("backup_distance", p.backup_distance, 0.0, 10.0);
+  s.read("backup_speed", p.backup_speed, 0.01, 10.0);
+  s.read("wait_duration", p.wait_duration, 0.0, 3600.0);
+  s.read("time_allowance", p.time_allowance, 0.1, 3600.0);
+  s.read("impatience", p.impatience, 0.0, 100.0);
+  s.finish();
+  return p;
+}
+
+const char* recoveryName(RecoveryBehavior behavior) {
+  switch (behavior) {
+    case RecoveryBehavior::None:
+      return "none";
+    case RecoveryBehavior::ClearAndReplan:
+      return "clear_and_replan";
+    case RecoveryBehavior::Spin:
+      return "spin";
+    case RecoveryBehavior::BackUp:
+      return "back_up";
+    case RecoveryBehavior::Wait:
+      return "wait";
+  }
+  return "?";
+}
+
+Recovery::Recovery(const RecoveryParams& params) : params_(params) {
+  if (!(params_.progress_distance > 0.0) || !(params_.progress_timeout > 0.0) || !(params_.spin_speed > 0.0) ||
+      !(params_.backup_speed > 0.0) || !(params_.time_allowance > 0.0))
+    throw std::invalid_argument(
+        "recovery: progress_distance, progress_timeout, the speeds and time_allowance must be > 0");
+}
+
+void Recovery::reset() {
+  tracking_ = false;
+  stuck_places_.clear();
+  next_ = 0;
+  active_ = RecoveryBehavior::None;
+  started_ = 0;
+}
+
+void Recovery::startTracking(const robot_observation_t& obs) {
+  reset();
+  tracking_ = true;
+  goal_ = Vec2(obs.goal.x, obs.goal.y);
+  anchor_ = Vec2(obs.x, obs.y);
+  window_start_ = obs.utime;
+}
+
+bool Recovery::madeProgress(const Vec2& p) const {
+  const double d2 = params_.progress_distance * params_.progress_distance;
+  if ((p - anchor_).squaredNorm() < d2) return false;
+  return std::all_of(stuck_places_.begin(), stuck_places_.end(),
+                     [&](const Vec2& place) { return (p - place).squaredNorm() >= d2; });
+}
+
+RecoveryBehavior Recovery::update(const robot_observation_t& obs) {
+  const Vec2 p(obs.x, obs.y);
+  // A new goal, or the clock went back (a new episode without reset()): track afresh.
+  if (!tracking_ || Vec2(obs.goal.x, obs.goal.y) != goal_ || obs.utime < window_start_) startTracking(obs);
+  if (active_ != RecoveryBehavior::None) return active_;
+  if (madeProgress(p)) {
+    anchor_ = p;
+    window_start_ = obs.utime;
+    stuck_places_.clear();
+    next_ = 0;  // the next time the robot is stuck, the sequence starts over
+    return RecoveryBehavior::None;
+  }
+  if (!params_.enabled || static_cast<double>(obs.utime - window_start_) * 1e-6 < params_.progress_timeout)
+    return RecoveryBehavior::None;
+  RecoveryBehavior behavior = kSequence[next_];
+  next_ = (next_ + 1) % kSequence.size();
+  // A robot that may not reverse cannot back up: the world would clamp the command to min_v.
+  if (behavior == RecoveryBehavior::BackUp && !(obs.min_v < 0.0 && params_.backup_distance > 0.0)) {
+    behavior = kSequence[next_];
+    next_ = (next_ + 1) % kSequence.size();
+  }
+  start(behavior, obs);
+  if (behavior == RecoveryBehavior::ClearAndReplan) {
+    finish(obs);  // the caller clears now and plans normally
+    return behavior;
+  }
+  return active_;
+}
+
+void Recovery::start(RecoveryBehavior behavior, const robot_observation_t& obs) {
+  active_ = behavior;
+  active_start_ = obs.utime;
+  active_from_ = Vec2(obs.x, obs.y);
+  last_yaw_ = obs.yaw;
+  turned_ = 0.0;
+  spin_side_ = 0;
+  ++started_;
+  if (stuck_places_.empty()) stuck_start_ = obs.utime;
+  if (stuck_places_.size() >= kMaxStuckPlaces) stuck_places_.erase(stuck_places_.begin());
+  stuck_places_.push_back(active_from_);
+}
+
+void Recovery::finish(const robot_observation_t& obs) {
+  active_ = RecoveryBehavior::None;
+  window_start_ = obs.utime;
+  if (stuck_places_.size() >= kMaxStuckPlaces) stuck_places_.erase(stuck_places_.begin());
+  stuck_places_.push_back(Vec2(obs.x, obs.y));
+}
+
+double Recovery::goalWeightFactor(const robot_observation_t& obs) const {
+  if (!stuck() || !params_.enabled) return 1.0;
+  return 1.0 + params_.impatience * std::max(0.0, static_cast<double>(obs.utime - stuck_start_) * 1e-6);
+}
+
+double Recovery::elapsed(const robot_observation_t& obs) const {
+  return static_cast<double>(obs.utime - active_start_) * 1e-6;
+}
+
+bool Recovery::command(const robot_observation_t& obs, const VelocityWindow& window, double heading_error,
+                       const SafetyCheck& safe, double& v, double& w) {
+  bool running = false;
+  switch (active_) {
+    case RecoveryBehavior::Spin:
+      running = spin(obs, window, heading_error, safe, v, w);
+      break;
+    case RecoveryBehavior::BackUp:
+      running = backUp(obs, window, safe, v, w);
+      break;
+    case RecoveryBehavior::Wait:
+      // Brake as hard as the window allows and stand.
+      running = elapsed(obs) < params_.wait_duration;
+      v = window.clampV(0.0);
+      w = window.clampW(0.0);
+      break;
+    case RecoveryBehavior::None:
+    case RecoveryBehavior::ClearAndReplan:
+      return false;
+  }
+  if (!running) finish(obs);
+  return running;
+}
+
+bool Recovery::spin(const robot_observation_t& obs, const VelocityWindow& window, double heading_error,
+                    const SafetyCheck& safe, double& v, double& w) {
+  // Toward the path: the robot failed facing where it was; turning further that way opens arcs
+  // that swing around what blocked it.
+  if (spin_side_ == 0) spin_side_ = heading_error < 0.0 ? -1 : 1;
+  turned_ += spin_side_ * normalizeAngle(obs.yaw - last_yaw_);
+  last_yaw_ = obs.yaw;
+  const double remaining = params_.spin_angle - turned_;
+  if (remaining <= kSpinTolerance || elapsed(obs) >= params_.time_allowance) return false;
+  // As fast as allowed, slowing down so as to stop at the angle (nav2's spin does the same).
+  const double speed = std::min({params_.spin_speed, obs.max_w, std::sqrt(2.0 * obs.max_acc_w * remaining)});
+  v = window.clampV(0.0);
+  w = window.clampW(spin_side_ * speed);
+  return safe(v, w, std::max(kMinMotionTime, remaining / speed));
+}
+
+bool Recovery::backUp(const robot_observation_t& obs, const VelocityWindow& window, const SafetyCheck& safe, double& v,
+                      double& w) {
+  const double remaining = params_.backup_distance - (Vec2(obs.x, obs.y) - active_from_).norm();
+  if (remaining <= 0.0 || elapsed(obs) >= params_.time_allowance) return false;
+  const double speed = std::min(params_.backup_speed, -obs.min_v);
+  v = window.clampV(-speed);
+  w = window.clampW(0.0);
+  // The whole rest of the way must be free, not only the next cycle's.
+  return safe(-speed, 0.0, std::max(kMinMotionTime, remaining / speed));
+}
+
+}  // namespace hunav::planners
