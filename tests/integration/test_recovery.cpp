@@ -1,0 +1,126 @@
+// A robot boxed in on purpose: a person parks in a dead-end corridor in front of it
+// (data/dead_end/). Each planner must recover (its spin shows in the trajectory: the robot turns on
+// the spot while the person blocks it) and reach its goal once the person leaves after 20 s; with a
+// person who never leaves, the episode ends `stuck` instead of running to its time limit.
+#include "hunav/runner/in_process_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kData = std::string(HUNAV_SOURCE_DIR) + "/tests/integration/data/dead_end/";
+
+struct Pose {
+  double t, x, y, yaw;
+};
+
+struct Tracks {
+  std::vector<Pose> robot, person;
+};
+
+// The robot's and the person's rows of states.csv (t, x, y, yaw are its first columns but kind and id).
+Tracks readTracks(const fs::path& states) {
+  Tracks tracks;
+  std::ifstream in(states);
+  std::string line;
+  std::getline(in, line);  // header: t,kind,id,x,y,yaw,...
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string t, kind, id, x, y, yaw;
+    std::getline(row, t, ',');
+    std::getline(row, kind, ',');
+    std::getline(row, id, ',');
+    std::getline(row, x, ',');
+    std::getline(row, y, ',');
+    std::getline(row, yaw, ',');
+    const Pose p{std::stod(t), std::stod(x), std::stod(y), std::stod(yaw)};
+    (kind == "robot" ? tracks.robot : tracks.person).push_back(p);
+  }
+  return tracks;
+}
+
+class TempDir {
+ public:
+  TempDir()
+      : path_(fs::temp_directory_path() /
+              ("hunav_recovery_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()))) {
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+hunav::runner::RunOutcome run(const std::string& planner, bool person_leaves, const fs::path& out) {
+  hunav::Scenario s = hunav::loadScenario(kData + "dead_end.yaml");
+  if (!person_leaves) s.agents.at(0).behavior_tree = kData + "blocker_forever.xml";
+  hunav::runner::RunOptions o;
+  o.planner = planner;
+  o.out_dir = out.string();
+  return hunav::runner::runInProcess(s, o);
+}
+
+// The largest turn on the spot while the person blocks the corridor (t in [3, 20) s): over any
+// 3 s stretch in which the robot moves less than 0.15 m, the total |yaw change|.
+double largestTurnOnTheSpot(const std::vector<Pose>& robot) {
+  double best = 0.0;
+  for (std::size_t i = 0; i < robot.size() && robot[i].t < 20.0; ++i) {
+    if (robot[i].t < 3.0) continue;
+    double turned = 0.0;
+    for (std::size_t j = i + 1; j < robot.size() && robot[j].t < robot[i].t + 3.0 && robot[j].t < 20.0; ++j) {
+      if (std::hypot(robot[j].x - robot[i].x, robot[j].y - robot[i].y) > 0.15) break;
+      turned += std::abs(std::remainder(robot[j].yaw - robot[j - 1].yaw, 2.0 * M_PI));
+      best = std::max(best, turned);
+    }
+  }
+  return best;
+}
+
+class BoxedIn : public ::testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+TEST_P(BoxedIn, RecoversAndReachesTheGoalOnceThePersonLeaves) {
+  TempDir tmp;
+  const auto outcome = run(GetParam(), true, tmp.path());
+  EXPECT_EQ(outcome.episode.status, "goal_reached") << outcome.episode.reason;
+  const Tracks tracks = readTracks(tmp.path() / "states.csv");
+  ASSERT_EQ(tracks.robot.size(), tracks.person.size());
+  // Boxed in: until the person leaves (20 s) the robot stays behind it (0.65 m between centres is
+  // contact), never passes it.
+  for (std::size_t i = 0; i < tracks.robot.size() && tracks.robot[i].t < 20.0; ++i)
+    ASSERT_LT(tracks.robot[i].x, tracks.person[i].x - 0.6) << "t = " << tracks.robot[i].t;
+  // The recovery's spin (1.57 rad by default) shows as a turn on the spot; with nothing in the way of
+  // the corridor's axis, normal planning would not turn by more than a few tenths of a radian.
+  EXPECT_GT(largestTurnOnTheSpot(tracks.robot), 1.0) << GetParam() << ": no recovery spin while boxed in";
+}
+
+TEST_P(BoxedIn, APersonWhoNeverLeavesEndsTheEpisodeStuck) {
+  TempDir tmp;
+  const auto outcome = run(GetParam(), false, tmp.path());
+  // stuck_timeout 60 s from the robot's last progress, which is in the first seconds (or none: 60.00 s).
+  EXPECT_EQ(outcome.episode.status, "stuck") << outcome.episode.reason;
+  EXPECT_LT(outcome.episode.sim_time, 70.0);
+  EXPECT_GE(outcome.episode.sim_time, 60.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Planners, BoxedIn, ::testing::Values("dwb", "scl", "sfw"),
+                         [](const auto& param_info) { return param_info.param; });
