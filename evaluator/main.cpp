@@ -159,7 +159,10 @@ int main(int argc, char** argv) {
                                  "offline: replay the EPISODE_EVENT and WORLD_STATE events of this LCM log into --out");
   states_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(log_opt);
   log_opt->excludes(episodes_opt)->excludes(url_opt);
-  app.add_option("--metrics", metrics_file, "metric selection YAML ('metrics: {name: false}'); default: every metric")
+  app.add_option("--metrics", metrics_file,
+                 "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
+                 "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics, "
+                 "else every metric")
       ->check(CLI::ExistingFile);
   app.add_option("--format", format,
                  "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's tab-separated .txt files")
@@ -185,14 +188,22 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : hunav::kExitBadInput;
   }
 
-  if (!scenario_file.empty() && rate_opt->count() == 0) {
-    try {
-      sample_rate = hunav::loadScenario(scenario_file).evaluation_sample_rate;
-    } catch (const hunav::ConfigError& e) {
-      std::cerr << e.what() << "\n";
-      return hunav::kExitBadInput;
+  // The scenario's evaluation.sample_rate and evaluation.metrics, then the metrics file's frequency
+  // and experiment_tag (HuNavSim's file), each unless given on the command line.
+  const std::string default_tag = experiment_tag;
+  try {
+    if (!scenario_file.empty()) {
+      const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
+      if (rate_opt->count() == 0) sample_rate = scenario.evaluation_sample_rate;
+      if (metrics_file.empty()) metrics_file = scenario.evaluation_metrics;
     }
+    hunav::evaluator::applyMetricsFile(metrics_file, profile, rate_opt->count() > 0, sample_rate,
+                                       tag_opt->count() > 0, experiment_tag);
+  } catch (const hunav::ConfigError& e) {
+    std::cerr << e.what() << "\n";
+    return hunav::kExitBadInput;
   }
+  const bool tag_set = tag_opt->count() > 0 || experiment_tag != default_tag;
   try {
     hunav::evaluator::SampleRate{sample_rate};
   } catch (const std::invalid_argument& e) {
@@ -206,7 +217,7 @@ int main(int argc, char** argv) {
       options.states_file = states_file;
       options.out_dir = out_dir;
       options.profile = profile;
-      if (tag_opt->count() > 0) options.experiment_tag = experiment_tag;
+      if (tag_set) options.experiment_tag = experiment_tag;
       options.metrics_file = metrics_file;
       options.hunav_txt = format == "hunav_txt";
       options.sample_rate = sample_rate;

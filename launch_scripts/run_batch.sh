@@ -25,6 +25,9 @@ time (GNU parallel), then writes the batch summary (hunav_summary DIR).
   --duration S       simulated time limit of every run (default: each scenario's time_limit)
   --timeout S        wall-clock limit of every run (run_experiment.sh --timeout)
   --profile P        metrics profile: default or hunav_v1
+  --metrics FILE     metric selection of every run (run_experiment.sh --metrics; HuNavSim's
+                     metrics.yaml too); default: each scenario's evaluation.metrics
+  --format F         csv (default) or hunav_txt (run_experiment.sh --format)
   --planner-config NAME=FILE   parameters of built-in planner NAME (run_experiment.sh --planner-config);
                      repeat for several planners
   --planner-cmd NAME=CMD       planner NAME of --planners is your program CMD (run_experiment.sh
@@ -132,7 +135,7 @@ fi
 # ---------------------------------------------------------------------------------------------------
 # Arguments
 # ---------------------------------------------------------------------------------------------------
-scenarios="" planners="" seeds="" out="" jobs="" mode=inprocess duration="" timeout="" profile=""
+scenarios="" planners="" seeds="" out="" jobs="" mode=inprocess duration="" timeout="" profile="" metrics="" format=""
 print_matrix=0
 planner_specs=()  # --planner-cmd NAME=CMD and --planner-config NAME=FILE, as option-value pairs
 declare -A planner_cmd_of=()
@@ -165,7 +168,7 @@ while [ "$#" -gt 0 ]; do
           usage_error "$opt: planner '$spec_name' given twice"
       done
       planner_specs+=("$opt" "$spec_name=$spec_value") ;;
-    --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile)
+    --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile | --metrics | --format)
       if [ -z "$value" ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
@@ -182,6 +185,8 @@ while [ "$#" -gt 0 ]; do
         --duration) duration=$value ;;
         --timeout) timeout=$value ;;
         --profile) profile=$value ;;
+        --metrics) metrics=$value ;;
+        --format) format=$value ;;
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
@@ -197,6 +202,11 @@ if [ -n "$jobs" ] && ! [[ $jobs =~ ^[1-9][0-9]*$ ]]; then usage_error "--jobs mu
 if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
 if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
 case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
+case "$format" in "" | csv | hunav_txt) ;; *) usage_error "--format must be csv or hunav_txt (got '$format')" ;; esac
+if [ -n "$metrics" ]; then
+  if [ ! -f "$metrics" ] || [ ! -r "$metrics" ]; then usage_error "--metrics: cannot read the file '$metrics'"; fi
+  metrics=$(readlink -f "$metrics")  # the runs may start in another folder
+fi
 
 # Scenarios: NAME -> scenarios/NAME.yaml, else a file. The label (folder names, tables) is the file
 # name without .yaml, made safe for folder names.
@@ -306,6 +316,8 @@ run_args=(--mode "$mode")
 [ -z "$duration" ] || run_args+=(--duration "$duration")
 [ -z "$timeout" ] || run_args+=(--timeout "$timeout")
 [ -z "$profile" ] || run_args+=(--profile "$profile")
+[ -z "$metrics" ] || run_args+=(--metrics "$metrics")
+[ -z "$format" ] || run_args+=(--format "$format")
 run_args+=("${planner_specs[@]}")
 
 echo "run_batch: $total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"

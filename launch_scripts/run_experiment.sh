@@ -56,6 +56,11 @@ Options:
                           private network namespace (needs a multicast route, see below)
   --profile PROFILE       metrics profile: default or hunav_v1
   --experiment-tag TAG    free text stored in the experiment_tag column of metrics.csv
+  --metrics FILE          metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml:
+                          its frequency is the sample rate and its experiment_tag the tag unless
+                          --sample-rate / --experiment-tag are given); default: the scenario's
+                          evaluation.metrics, else every metric
+  --format FORMAT         result files: csv (default), or hunav_txt = csv plus HuNavSim v1's .txt files
   --timeout SECONDS       wall-clock guard: stop the run (keeping what was recorded) after this long
   -h, --help              show this help
 
@@ -102,6 +107,8 @@ mode=inprocess
 out=""
 duration=""
 sample_rate=""
+metrics=""
+format=""
 record=0
 shared_bus=""
 profile=""
@@ -124,7 +131,7 @@ while [ "$#" -gt 0 ]; do
       [ "$inline" -eq 0 ] || usage_error "--record takes no value"
       record=1 ;;
     --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
-      --experiment-tag | --timeout | --planner-config | --planner-cmd)
+      --experiment-tag | --timeout | --planner-config | --planner-cmd | --metrics | --format)
       if [ "$inline" -eq 0 ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
@@ -145,6 +152,8 @@ while [ "$#" -gt 0 ]; do
         --shared-bus) shared_bus=$value ;;
         --profile) profile=$value ;;
         --experiment-tag) tag=$value ;;
+        --metrics) metrics=$value ;;
+        --format) format=$value ;;
         --timeout) timeout=$value ;;
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
@@ -175,6 +184,11 @@ if [ -n "$sample_rate" ] && ! is_number "$sample_rate"; then usage_error "--samp
 if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
 case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
 case "$tag" in *[,\"$'\n'$'\r']*) usage_error "--experiment-tag must not contain commas, quotes or line breaks" ;; esac
+case "$format" in "" | csv | hunav_txt) ;; *) usage_error "--format must be csv or hunav_txt (got '$format')" ;; esac
+if [ -n "$metrics" ]; then
+  if [ ! -f "$metrics" ] || [ ! -r "$metrics" ]; then usage_error "--metrics: cannot read the file '$metrics'"; fi
+  metrics=$(readlink -f "$metrics")  # the processes may run elsewhere
+fi
 for v in HUNAV_READY_TIMEOUT:"$ready_timeout" HUNAV_EVAL_GRACE:"$eval_grace" HUNAV_STOP_GRACE:"$stop_grace"; do
   is_number "${v#*:}" || usage_error "${v%%:*} must be a number of seconds (got '${v#*:}')"
 done
@@ -473,6 +487,8 @@ eval_args=()
 [ -z "$profile" ] || eval_args+=(--profile "$profile")
 [ -z "$tag" ] || eval_args+=(--experiment-tag "$tag")
 [ -z "$sample_rate" ] || eval_args+=(--sample-rate "$sample_rate")
+[ -z "$metrics" ] || eval_args+=(--metrics "$metrics")
+[ -z "$format" ] || eval_args+=(--format "$format")
 
 log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
 log "results will be written to $out_dir"

@@ -24,7 +24,8 @@ Usage:
       (What the final job runs.) hunav_summary DIR.
 
 Options of a submission (the matrix options are run_batch.sh's: --scenarios, --planners, --seeds,
---mode, --duration, --timeout, --profile, --planner-config NAME=FILE, --planner-cmd NAME=CMD):
+--mode, --duration, --timeout, --profile, --metrics FILE, --format F, --planner-config NAME=FILE,
+--planner-cmd NAME=CMD):
   --max-parallel N     at most N tasks at a time (sbatch --array=0-M%N)
   --sbatch-args "..."  more sbatch options for both jobs (e.g. "--partition=short --time=00:20:00")
   --dry-run            print the sbatch commands instead of submitting them
@@ -90,7 +91,7 @@ while [ "$#" -gt 0 ]; do
     --print-matrix) print_matrix=1 ;;
     --dry-run) dry_run=1 ;;
     --scenarios | --planners | --seeds | --out | --mode | --duration | --timeout | --profile | --max-parallel | \
-      --sbatch-args | --planner-cmd | --planner-config)
+      --sbatch-args | --planner-cmd | --planner-config | --metrics | --format)
       if [ -z "$value" ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
@@ -98,7 +99,11 @@ while [ "$#" -gt 0 ]; do
       fi
       case "$opt" in
         --scenarios | --planners | --seeds) matrix_args+=("$opt" "$value") ;;
-        --mode | --duration | --timeout | --profile | --planner-cmd) matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
+        --mode | --duration | --timeout | --profile | --planner-cmd | --format) matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
+        --metrics)
+          # The tasks may start in another folder: the file by its absolute path.
+          [ ! -f "$value" ] || value=$(readlink -f "$value")
+          matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
         --planner-config)
           # The tasks may start in another folder: the file by its absolute path.
           [[ $value != *=* ]] || [ ! -f "${value#*=}" ] || value="${value%%=*}=$(readlink -f "${value#*=}")"

@@ -92,6 +92,37 @@ Vec2 readPoint(const YamlReader& yr, const YAML::Node& map, const std::string& w
 }
 
 
+// `configuration`: 0..3, or HuNavSim 2's names of the modes.
+int readConfiguration(const YamlReader& yr, const YAML::Node& beh, const std::string& bw) {
+  const YAML::Node n = yr.child(beh, "configuration", bw, false);
+  if (!n) return 0;
+  const std::string key = YamlReader::join(bw, "configuration");
+  static const char* const kNames[] = {"default", "custom", "random_normal", "random_uniform"};
+  if (n.IsScalar())
+    for (int c = 0; c < 4; ++c)
+      if (n.Scalar() == kNames[c]) return c;
+  const int c = yr.convert<int>(n, key);
+  if (c < 0 || c > 3) yr.fail(n, key, "must be 0..3 (or default, custom, random_normal, random_uniform)");
+  return c;
+}
+
+// HuNavSim 2's per-behaviour distance (reference 4.4), custom configuration: it is the `dist` of
+// that behaviour here. scared's safe_distance (the distance it keeps from the robot) becomes the
+// distance within which it runs away; another behaviour's key is an error, not silently dropped.
+void readV2Distance(const YamlReader& yr, const YAML::Node& beh, const std::string& bw, int behavior,
+                    BehaviorParams& p) {
+  static const std::pair<const char*, int> kKeys[] = {{"stop_dist", 5}, {"front_dist", 6}, {"safe_distance", 4}};
+  for (const auto& [key, owner] : kKeys) {
+    const YAML::Node n = yr.child(beh, key, bw, false);
+    if (!n) continue;
+    const std::string kw = YamlReader::join(bw, key);
+    if (behavior != owner)
+      yr.fail(n, kw, std::string("belongs to the ") + behaviorName(owner) + " behavior, not " + behaviorName(behavior));
+    p.dist = yr.convert<double>(n, kw);
+    if (p.dist < 0.0) yr.fail(n, kw, "must be >= 0");
+  }
+}
+
 // An agent's `behavior` key (absent: regular with its defaults), into a.behavior and a.params.
 // Reads a.max_vel and a.id, so those must be set first.
 void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& aw, std::uint64_t seed, AgentConfig& a) {
@@ -115,9 +146,7 @@ void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& 
   a.params = defaultParams(a.behavior, a.max_vel);
   if (beh_is_map) {
     BehaviorParams& p = a.params;
-    p.configuration = yr.get<int>(beh, "configuration", bw, 0);
-    if (p.configuration < 0 || p.configuration > 3)
-      yr.fail(beh["configuration"], YamlReader::join(bw, "configuration"), "must be 0..3");
+    p.configuration = readConfiguration(yr, beh, bw);
     if (p.configuration == 1) {  // custom: the file's values
       p.duration = yr.get<double>(beh, "duration", bw, p.duration);
       p.once = yr.get<bool>(beh, "once", bw, p.once);
@@ -127,6 +156,7 @@ void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& 
       p.obstacle_force_factor = yr.get<double>(beh, "obstacle_force_factor", bw, p.obstacle_force_factor);
       p.social_force_factor = yr.get<double>(beh, "social_force_factor", bw, p.social_force_factor);
       p.other_force_factor = yr.get<double>(beh, "other_force_factor", bw, p.other_force_factor);
+      readV2Distance(yr, beh, bw, a.behavior, p);
     } else if (p.configuration >= 2) {
       p.once = yr.get<bool>(beh, "once", bw, p.once);
       drawRandomParams(p, a.behavior, seed, a.id);
@@ -135,16 +165,19 @@ void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& 
   }
 }
 
-// `behavior_tree`, relative to the file that names it, not to wherever the run was started.
-std::string readTreePath(const YamlReader& yr, const YAML::Node& m, const std::string& aw) {
+// `behavior_tree`, relative to the file that names it, not to wherever the run was started; `line`
+// gets the key's line, where a bad tree file is reported.
+std::string readTreePath(const YamlReader& yr, const YAML::Node& m, const std::string& aw, int& line) {
   std::string tree = yr.get<std::string>(m, "behavior_tree", aw, "");
+  line = tree.empty() ? 0 : YamlReader::lineOf(m["behavior_tree"]);
   if (!tree.empty() && std::filesystem::path(tree).is_relative())
     tree = (std::filesystem::path(yr.path()).parent_path() / tree).lexically_normal().string();
   return tree;
 }
 
 AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, const std::string& pw,
-                            const std::string& name, std::uint64_t seed, std::set<int>& ids) {
+                            const std::string& name, std::uint64_t seed, std::set<int>& ids,
+                            const YAML::Node& global_goals) {
   AgentConfig a;
   a.name = name;
   const YAML::Node m = yr.child(params, a.name, pw, true);
@@ -167,7 +200,7 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
   if (a.goal_radius < 0.0 || a.goal_radius > kMaxCoordinate)
     yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be in [0, 1e5] m");
   a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
-  a.behavior_tree = readTreePath(yr, m, aw);
+  a.behavior_tree = readTreePath(yr, m, aw, a.behavior_tree_line);
 
   const YAML::Node pose = yr.child(m, "init_pose", aw, true);
   const std::string posew = YamlReader::join(aw, "init_pose");
@@ -182,6 +215,14 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
     if (!goal_names.IsSequence()) yr.fail(goal_names, YamlReader::join(aw, "goals"), "expected a list of goal names");
     for (const YAML::Node& g : goal_names) {
       const std::string gname = yr.convert<std::string>(g, YamlReader::join(aw, "goals"));
+      // A goal of the agent's own mapping (v1, v1.5), else an id of global_goals (HuNavSim 2).
+      if (!m[gname] && global_goals && global_goals[gname]) {
+        a.goals.push_back(readPoint(yr, global_goals[gname], YamlReader::join(YamlReader::join(pw, "global_goals"), gname)));
+        continue;
+      }
+      if (!m[gname])
+        yr.fail(g, YamlReader::join(aw, "goals"),
+                "goal '" + gname + "' is neither a key of " + a.name + " nor an id of global_goals");
       a.goals.push_back(readPoint(yr, yr.child(m, gname, aw, true), YamlReader::join(aw, gname)));
     }
   }
@@ -319,7 +360,8 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
   const bool cyclic = yr.get<bool>(g, "cyclic_goals", gw, true);
   const int group_id = yr.get<int>(g, "group_id", gw, -1);
   const int skin = yr.get<int>(g, "skin", gw, 0);
-  const std::string tree = readTreePath(yr, g, gw);
+  int tree_line = 0;
+  const std::string tree = readTreePath(yr, g, gw, tree_line);
 
   std::vector<KeepClear> keep_clear;
   if (const YAML::Node kc = yr.child(g, "keep_clear", gw, false)) {
@@ -383,6 +425,7 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
     a.group_id = group_id;
     a.skin = skin;
     a.behavior_tree = tree;
+    a.behavior_tree_line = tree_line;
     readBehavior(yr, g, gw, seed, a);
     agents.push_back(std::move(a));
   }
@@ -403,9 +446,13 @@ std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc
     const std::string pw = YamlReader::join(lw, "ros__parameters");
     const YAML::Node names = yr.child(params, "agents", pw, true);
     if (!names.IsSequence()) yr.fail(names, YamlReader::join(pw, "agents"), "expected a list of agent names");
+    // HuNavSim 2: goals shared by the agents, {<id>: {x, y}}, named by id in an agent's goals.
+    const YAML::Node global_goals = yr.child(params, "global_goals", pw, false);
+    if (global_goals && !global_goals.IsMap())
+      yr.fail(global_goals, YamlReader::join(pw, "global_goals"), "expected a mapping id -> {x, y}");
     for (const YAML::Node& name_node : names)
-      agents.push_back(
-          readListedAgent(yr, params, pw, yr.convert<std::string>(name_node, YamlReader::join(pw, "agents")), seed, ids));
+      agents.push_back(readListedAgent(yr, params, pw, yr.convert<std::string>(name_node, YamlReader::join(pw, "agents")),
+                                       seed, ids, global_goals));
   }
   if (generate) {
     const std::string gw = YamlReader::join(where, "generate");

@@ -464,6 +464,22 @@ const char* peopleNavigationName(PeopleNavigation n) { return n == PeopleNavigat
 
 namespace {
 
+// evaluation.metrics: a file relative to the scenario's folder, which must exist (its contents are
+// the evaluator's to check, with its own file:line: key errors, before the run starts).
+std::string readMetricsPath(const YamlReader& yr, const YAML::Node& evaluation, const std::string& scenario_file) {
+  const YAML::Node node = yr.child(evaluation, "metrics", "evaluation", false);
+  if (!node) return "";
+  const std::string written = yr.convert<std::string>(node, "evaluation.metrics");
+  if (written.empty()) yr.fail(node, "evaluation.metrics", "must name a metrics file");
+  std::filesystem::path p = written;
+  if (p.is_relative()) p = std::filesystem::path(scenario_file).parent_path() / p;
+  std::error_code ec;
+  if (!std::filesystem::exists(p, ec)) yr.fail(node, "evaluation.metrics", "cannot open the file '" + p.string() + "'");
+  if (!std::filesystem::is_regular_file(p, ec))
+    yr.fail(node, "evaluation.metrics", "'" + p.string() + "' is not a regular file");
+  return p.lexically_normal().string();
+}
+
 // The `people:` keys of the human model (besides hunav_loader and generate).
 void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel& m) {
   const std::string points = yr.get<std::string>(people, "obstacle_points", "people", obstaclePointsName(m.obstacle_points));
@@ -481,6 +497,25 @@ void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel
 }
 
 }  // namespace
+
+std::string behaviorTreeReference(const std::string& scenario_file, const std::string& tree_path) {
+  if (scenario_file.empty() || tree_path.empty()) return tree_path;
+  // Both made absolute from the same working directory, so the relative path between them is the
+  // same from wherever the run was started.
+  std::error_code ec;
+  const std::filesystem::path tree = std::filesystem::absolute(tree_path, ec).lexically_normal();
+  const std::filesystem::path dir =
+      std::filesystem::absolute(std::filesystem::path(scenario_file).parent_path(), ec).lexically_normal();
+  if (ec) return tree_path;
+  const std::filesystem::path rel = tree.lexically_relative(dir);
+  return rel.empty() ? tree.string() : rel.string();
+}
+
+std::string resolveBehaviorTree(const std::string& scenario_file, const std::string& reference) {
+  const std::filesystem::path ref = reference;
+  if (scenario_file.empty() || reference.empty() || ref.is_absolute()) return reference;
+  return (std::filesystem::path(scenario_file).parent_path() / ref).lexically_normal().string();
+}
 
 Scenario loadScenario(const std::string& path, long long seed_override) {
   YamlReader yr(path);
@@ -513,6 +548,7 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
     const double r = s.evaluation_sample_rate;
     if (r != 0.0 && !(r >= 1e-6 && r <= 1e6))
       yr.fail(evaluation["sample_rate"], "evaluation.sample_rate", "must be 0 (every tick) or between 1e-6 and 1e6 Hz");
+    s.evaluation_metrics = readMetricsPath(yr, evaluation, path);
   }
 
   if (const YAML::Node map = yr.child(root, "map", "", false)) readMap(yr, map, s);

@@ -269,18 +269,22 @@ void AgentManager::useScenario(const Scenario& scenario) {
     routes_ = std::make_shared<const RouteMap>(scenario.shapes, lo, hi, scenario.people_model.route_resolution);
   }
   clearMemory();
+  scenario_file_ = scenario.file;
   loadTrees(scenario);
 }
 
 void AgentManager::loadTrees(const Scenario& scenario) {
   for (const AgentConfig& a : scenario.agents) {
     if (a.behavior_tree.empty()) continue;  // a built-in tree
+    // Cached under the name the world's messages carry (relative to the scenario's folder).
+    const std::string ref = behaviorTreeReference(scenario.file, a.behavior_tree);
     try {
-      loadTreeFile(a.behavior_tree);
+      if (definitions_.count(ref) == 0) definitions_[ref] = TreeDefinition::load(a.behavior_tree, lib_);
     } catch (const ConfigError& e) {
       const std::string agent = a.name.empty() ? "agent " + std::to_string(a.id) : a.name;
-      throw ConfigError(a.source_file.empty() ? scenario.file : a.source_file, a.source_line,
-                        agent + ".behavior_tree", e.what());
+      throw ConfigError(a.source_file.empty() ? scenario.file : a.source_file,
+                        a.behavior_tree_line > 0 ? a.behavior_tree_line : a.source_line, agent + ".behavior_tree",
+                        e.what());
     }
   }
 }
@@ -290,8 +294,9 @@ void checkBehaviorTrees(const Scenario& scenario) { AgentManager().loadTrees(sce
 std::shared_ptr<const TreeDefinition> AgentManager::definitionFor(const agent_state_t& a, std::string& source) {
   if (!a.behavior_tree.empty()) {
     source = a.behavior_tree;
-    loadTreeFile(source);
-    return definitions_[source];
+    auto known = definitions_.find(source);
+    if (known != definitions_.end()) return known->second;
+    return definitions_[source] = TreeDefinition::load(resolveBehaviorTree(scenario_file_, source), lib_);
   }
   int code = a.behavior;
   if (code < agent_state_t::BEH_REGULAR || code > agent_state_t::BEH_THREATENING) code = agent_state_t::BEH_REGULAR;

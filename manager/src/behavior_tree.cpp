@@ -140,6 +140,11 @@ class RepeatNode : public BtNode {
   int count_ = 0;
 };
 
+class SucceedNode : public BtNode {
+ protected:
+  Status onTick(TickContext&) override { return Status::Success; }
+};
+
 class SubTreeNode : public BtNode {
  protected:
   Status onTick(TickContext& c) override { return child(0).tick(c); }
@@ -150,7 +155,7 @@ class SubTreeNode : public BtNode {
 void registerHunavNodes(NodeLibrary& lib);  // bt_nodes.cpp
 
 void NodeLibrary::add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory) {
-  entries_[name] = Entry{kind, std::move(ports), std::move(factory), nullptr, 0, 0};
+  entries_[name] = Entry{kind, std::move(ports), std::move(factory), nullptr, 0, 0, false};
 }
 
 const NodeLibrary::Entry* NodeLibrary::find(const std::string& name) const {
@@ -169,231 +174,11 @@ NodeLibrary NodeLibrary::withBuiltins() {
   lib.addNode<ForceNode>("ForceFailure", Kind::Decorator, {}, Status::Failure);
   lib.addNode<RepeatNode>("Repeat", Kind::Decorator, {{"num_cycles", PortType::Number, true, "", {}}});
   registerHunavNodes(lib);
+  // Every node of the HuNavSim library takes HuNavSim's agent_id / time_step ports (bt_xml.cpp).
+  for (auto& [name, entry] : lib.entries_) entry.agent_ports = entry.kind == Kind::Leaf;
+  // SetBlackboard is resolved when the tree is loaded (bt_xml.cpp); at run time it only succeeds.
+  lib.addNode<SucceedNode>("SetBlackboard", Kind::Leaf, {});
   return lib;
-}
-
-// ---------------------------------------------------------------------------------------------------
-// XML loading
-
-namespace {
-
-// Limits of a tree once its SubTrees are expanded (build() copies a SubTree's body at each use, so
-// a few trees that each use the next twice would grow exponentially, and a long chain of SubTrees would
-// overflow the stack of the recursive build).
-constexpr int kMaxSubTreeDepth = 64;
-constexpr std::size_t kMaxTreeNodes = 100000;
-
-struct Parser {
-  const std::string& file;
-  const NodeLibrary& lib;
-  std::map<std::string, const tinyxml2::XMLElement*> trees;
-
-  // Nodes and SubTree nesting of a tree's body once expanded; computed once per tree.
-  struct Extent {
-    std::size_t nodes = 0;
-    int subtree_depth = 0;
-  };
-  std::map<std::string, Extent> extents{};
-  std::set<std::string> visiting{};
-
-  [[noreturn]] void fail(int line, const std::string& what) const { throw ConfigError(file, line, "", what); }
-
-  // Checks the limits before anything is expanded. `depth` is the number of SubTrees around the tree.
-  // A tree is walked once (its extent is kept), so this stays linear in the document; the recursion
-  // is bounded by kMaxSubTreeDepth times tinyxml2's element depth limit. Missing and recursive
-  // SubTrees are left to build(), which reports them.
-  Extent treeExtent(const std::string& id, int depth) {
-    if (const auto known = extents.find(id); known != extents.end()) return known->second;
-    Extent x;
-    visiting.insert(id);
-    if (const tinyxml2::XMLElement* body = trees.at(id)->FirstChildElement()) x = elementExtent(body, depth);
-    visiting.erase(id);
-    extents.emplace(id, x);
-    return x;
-  }
-  Extent elementExtent(const tinyxml2::XMLElement* e, int depth) {
-    Extent x;
-    x.nodes = 1;
-    const int line = e->GetLineNum();
-    auto tooMany = [&] {
-      fail(line, "the tree would have more than " + std::to_string(kMaxTreeNodes) +
-                     " nodes once its SubTrees are expanded (each use of a SubTree copies it)");
-    };
-    if (std::string(e->Name()) == "SubTree") {
-      const char* id = e->Attribute("ID");
-      if (id != nullptr && trees.count(id) != 0 && visiting.count(id) == 0) {
-        if (depth + 1 > kMaxSubTreeDepth)
-          fail(line, "SubTree: nested more than " + std::to_string(kMaxSubTreeDepth) + " SubTrees deep");
-        const Extent sub = treeExtent(id, depth + 1);
-        if (depth + 1 + sub.subtree_depth > kMaxSubTreeDepth)
-          fail(line, "SubTree: '" + std::string(id) + "' nests more than " + std::to_string(kMaxSubTreeDepth) +
-                         " SubTrees deep");
-        x.nodes += sub.nodes;
-        x.subtree_depth = sub.subtree_depth + 1;
-        if (x.nodes > kMaxTreeNodes) tooMany();
-      }
-    }
-    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
-      const Extent child = elementExtent(c, depth);
-      x.nodes += child.nodes;
-      x.subtree_depth = std::max(x.subtree_depth, child.subtree_depth);
-      if (x.nodes > kMaxTreeNodes) tooMany();
-    }
-    return x;
-  }
-
-  PortValue parseValue(const tinyxml2::XMLElement* e, const PortSpec& spec, const std::string& text) const {
-    PortValue v;
-    const int line = e->GetLineNum();
-    if (text.size() >= 2 && text.front() == '{' && text.back() == '}') {
-      const std::string key = text.substr(1, text.size() - 2);
-      for (int k = 0; k < static_cast<int>(BbKey::Count); ++k)
-        if (key == kBbNames[k]) {
-          if (spec.type == PortType::String)
-            fail(line, std::string(e->Name()) + ": port " + spec.name + ": a text port cannot read the blackboard");
-          v.from_blackboard = true;
-          v.key = static_cast<BbKey>(k);
-          return v;
-        }
-      fail(line, std::string(e->Name()) + ": port " + spec.name + ": unknown blackboard entry {" + key + "}");
-    }
-    v.text = text;
-    if (spec.type == PortType::Number) {
-      char* end = nullptr;
-      v.number = std::strtod(text.c_str(), &end);
-      if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(v.number))
-        fail(line, std::string(e->Name()) + ": port " + spec.name + ": '" + text + "' is not a number");
-    } else if (spec.type == PortType::Bool) {
-      if (text == "true" || text == "True" || text == "1") v.number = 1.0;
-      else if (text == "false" || text == "False" || text == "0") v.number = 0.0;
-      else fail(line, std::string(e->Name()) + ": port " + spec.name + ": '" + text + "' is not true/false");
-    } else if (!spec.choices.empty()) {
-      const auto it = std::find(spec.choices.begin(), spec.choices.end(), text);
-      if (it == spec.choices.end()) {
-        std::string list;
-        for (const std::string& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
-        fail(line, std::string(e->Name()) + ": port " + spec.name + ": '" + text + "' is not one of " + list);
-      }
-      v.number = static_cast<double>(it - spec.choices.begin());
-    }
-    return v;
-  }
-
-  TreeDefinition::Spec build(const tinyxml2::XMLElement* e, std::set<std::string>& stack) const {
-    TreeDefinition::Spec s;
-    s.name = e->Name();
-    s.line = e->GetLineNum();
-    if (s.name == "SubTree") {
-      const char* id = e->Attribute("ID");
-      if (id == nullptr) fail(s.line, "SubTree: missing attribute ID");
-      auto it = trees.find(id);
-      if (it == trees.end()) fail(s.line, std::string("SubTree: no BehaviorTree with ID '") + id + "'");
-      if (stack.count(id) != 0) fail(s.line, std::string("SubTree: '") + id + "' includes itself");
-      for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
-        const std::string n = a->Name();
-        if (n != "ID" && n != "name" && n != "_autoremap")
-          fail(s.line, "SubTree: port remapping (" + n + ") is not supported; subtrees share the blackboard");
-      }
-      stack.insert(id);
-      s.children.push_back(buildTreeBody(it->second, stack));
-      stack.erase(id);
-      return s;
-    }
-    const NodeLibrary::Entry* entry = lib.find(s.name);
-    if (entry == nullptr) fail(s.line, "unknown node '" + s.name + "'");
-    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
-      const std::string n = a->Name();
-      if (n == "name" || n == "ID") continue;
-      bool known = false;
-      for (const PortSpec& p : entry->ports) known = known || p.name == n;
-      if (!known) fail(s.line, s.name + ": unknown port '" + n + "'");
-    }
-    for (const PortSpec& p : entry->ports) {
-      const char* value = e->Attribute(p.name.c_str());
-      if (value == nullptr && p.required) fail(s.line, s.name + ": missing port '" + p.name + "'");
-      s.ports.push_back(parseValue(e, p, value != nullptr ? std::string(value) : p.default_value));
-    }
-    int count = 0;
-    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
-      s.children.push_back(build(c, stack));
-      ++count;
-    }
-    if (entry->kind == NodeLibrary::Kind::Leaf && count != 0) fail(s.line, s.name + ": takes no children");
-    if (entry->kind == NodeLibrary::Kind::Decorator && count != 1)
-      fail(s.line, s.name + ": needs exactly one child");
-    if (entry->kind == NodeLibrary::Kind::Control && count == 0) fail(s.line, s.name + ": needs children");
-    return s;
-  }
-
-  TreeDefinition::Spec buildTreeBody(const tinyxml2::XMLElement* tree, std::set<std::string>& stack) const {
-    const tinyxml2::XMLElement* body = tree->FirstChildElement();
-    if (body == nullptr) fail(tree->GetLineNum(), "BehaviorTree: empty");
-    if (body->NextSiblingElement() != nullptr)
-      fail(body->NextSiblingElement()->GetLineNum(), "BehaviorTree: must have exactly one root node");
-    return build(body, stack);
-  }
-};
-
-// Pre-order numbering of the nodes (the order the instances are built and ticked in).
-void numberNodes(BtSpec& s, int& counter) {
-  s.index = counter++;
-  for (BtSpec& c : s.children) numberNodes(c, counter);
-}
-
-}  // namespace
-
-std::shared_ptr<const TreeDefinition> TreeDefinition::parse(const std::string& xml, const std::string& file,
-                                                            const NodeLibrary& lib) {
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
-    throw ConfigError(file, doc.ErrorLineNum(), "", std::string("XML: ") + doc.ErrorStr());
-  const tinyxml2::XMLElement* root = doc.RootElement();
-  if (root == nullptr || std::string(root->Name()) != "root")
-    throw ConfigError(file, root ? root->GetLineNum() : 0, "", "the document element must be <root>");
-  const char* format = root->Attribute("BTCPP_format");
-  if (format == nullptr || std::string(format) != "4")
-    throw ConfigError(file, root->GetLineNum(), "", "root: BTCPP_format=\"4\" required");
-  Parser p{file, lib, {}};
-  std::string first;
-  for (const tinyxml2::XMLElement* e = root->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
-    const std::string n = e->Name();
-    if (n == "TreeNodesModel") continue;  // Groot's palette: ignored
-    if (n != "BehaviorTree") throw ConfigError(file, e->GetLineNum(), "", "unexpected <" + n + "> under <root>");
-    const char* id = e->Attribute("ID");
-    if (id == nullptr) throw ConfigError(file, e->GetLineNum(), "", "BehaviorTree: missing attribute ID");
-    if (!p.trees.emplace(id, e).second)
-      throw ConfigError(file, e->GetLineNum(), "", std::string("BehaviorTree: duplicate ID '") + id + "'");
-    if (first.empty()) first = id;
-  }
-  auto def = std::make_shared<TreeDefinition>();
-  def->file_ = file;
-  const char* main = root->Attribute("main_tree_to_execute");
-  def->main_ = main != nullptr ? main : (p.trees.size() == 1 ? first : "");
-  if (def->main_.empty())
-    throw ConfigError(file, root->GetLineNum(), "", "several trees: main_tree_to_execute required");
-  auto it = p.trees.find(def->main_);
-  if (it == p.trees.end())
-    throw ConfigError(file, root->GetLineNum(), "", "main_tree_to_execute: no BehaviorTree '" + def->main_ + "'");
-  p.treeExtent(def->main_, 0);
-  std::set<std::string> stack{def->main_};
-  def->root_ = p.buildTreeBody(it->second, stack);
-  int counter = 0;
-  numberNodes(def->root_, counter);
-  return def;
-}
-
-std::shared_ptr<const TreeDefinition> TreeDefinition::load(const std::string& path, const NodeLibrary& lib) {
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw ConfigError(path, 0, "", "not a regular file");
-  FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) throw ConfigError(path, 0, "", "cannot open behavior tree file");
-  std::string text;
-  char buf[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-  std::fclose(f);
-  return parse(text, path, lib);
 }
 
 // ---------------------------------------------------------------------------------------------------

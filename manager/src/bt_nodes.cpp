@@ -57,12 +57,12 @@ PortSpec flag(const std::string& name, const std::string& def) {
   return PortSpec{name, PortType::Bool, false, def, {}};
 }
 
-// TimeExpiredCondition(seconds, only_once): adds dt (simulation time) on every tick; FAILURE until
-// `seconds` have accumulated, then SUCCESS (and restarts unless only_once).
+// TimeExpiredCondition(seconds, only_once, ts): adds ts (default {dt}, simulation time) on every tick;
+// FAILURE until `seconds` have accumulated, then SUCCESS (and restarts unless only_once).
 class TimeExpired : public BtNode {
  protected:
   Status onTick(TickContext& c) override {
-    acc_ += c.dt;
+    acc_ += number(2, c);
     if (acc_ + 1e-9 < number(0, c)) return Status::Failure;
     if (!flag(1, c)) acc_ = 0.0;
     return Status::Success;
@@ -119,7 +119,7 @@ void registerHunavNodes(NodeLibrary& lib) {
     const double b = normalizeAngle(angleOf(agentPos(c) - robotPos(c)) - c.snap.request->robot.yaw);
     return std::abs(b) < n.value(0, c);
   });
-  lib.addNode<TimeExpired>("TimeExpiredCondition", Kind::Leaf, {num("seconds", "1.0"), flag("only_once", "false")});
+  lib.addNode<TimeExpired>("TimeExpiredCondition", Kind::Leaf, {num("seconds", "1.0"), flag("only_once", "false"), num("ts", "{dt}")});
   lib.addNode<RandomChance>("RandomChance", Kind::Leaf, {num("probability", "0.3")});
 
   // --- goal queue

@@ -270,3 +270,78 @@ TEST(ShippedScenarios, Crowd1000IsCrowdWithAnotherCount) {
   ASSERT_FALSE(a.empty());
   EXPECT_EQ(a, b);
 }
+
+// HuNavSim's own agents.yaml (tests/data/hunav_files, v1) loads as it is.
+TEST(HunavAgentsFiles, HunavsimsAgentsFileLoadsUnchanged) {
+  const auto agents = loadAgentsFile(source("tests/data/hunav_files/agents.yaml"), 1);
+  ASSERT_EQ(agents.size(), 5u);
+  EXPECT_EQ(agents[0].behavior, 4);
+  EXPECT_EQ(agents[2].name, "agent7");
+  EXPECT_EQ(agents[2].goals.size(), 3u);
+}
+
+// HuNavSim 2's layout (reference 4.4): global_goals by id, behavior type names, configuration
+// names, and the per-behaviour stop_dist / front_dist / safe_distance.
+TEST(HunavAgentsFiles, Version2LayoutLoads) {
+  const std::string v2 = R"(hunav_loader:
+  ros__parameters:
+    yaml_base_name: demo
+    simulator: Gazebo Fortress
+    global_goals:
+      1: {x: 2.0, y: 1.0}
+      2: {x: -3.0, y: 4.5}
+    agents: [curious, blocker, shy]
+    curious:
+      id: 1
+      behavior: {type: Curious, configuration: custom, stop_dist: 2.2, vel: 0.9}
+      init_pose: {x: 0.0, y: 0.0, z: 1.25, h: 0.0}
+      goals: [1, 2]
+    blocker:
+      id: 2
+      behavior: {type: Threatening, configuration: 1, front_dist: 0.8}
+      init_pose: {x: 1.0, y: 0.0}
+      goals: [2]
+    shy:
+      id: 3
+      behavior: {type: Scared, configuration: custom, safe_distance: 5.0}
+      init_pose: {x: 2.0, y: 0.0}
+      goals: [1, own]
+      own: {x: 7.0, y: 7.0}
+)";
+  const auto agents = parse(v2, 1);
+  ASSERT_EQ(agents.size(), 3u);
+  EXPECT_EQ(agents[0].behavior, 5);
+  EXPECT_EQ(agents[0].params.configuration, 1);
+  EXPECT_EQ(agents[0].params.dist, 2.2);
+  EXPECT_EQ(agents[0].params.vel, 0.9);
+  ASSERT_EQ(agents[0].goals.size(), 2u);
+  EXPECT_EQ(agents[0].goals[0], Vec2(2.0, 1.0));
+  EXPECT_EQ(agents[0].goals[1], Vec2(-3.0, 4.5));
+  EXPECT_EQ(agents[1].behavior, 6);
+  EXPECT_EQ(agents[1].params.dist, 0.8);
+  EXPECT_EQ(agents[2].behavior, 4);
+  EXPECT_EQ(agents[2].params.dist, 5.0);
+  ASSERT_EQ(agents[2].goals.size(), 2u);
+  EXPECT_EQ(agents[2].goals[1], Vec2(7.0, 7.0));
+
+  // Mistakes name file, line and key.
+  std::string bad = v2;
+  bad.replace(bad.find("goals: [2]"), 10, "goals: [9]");
+  expectError(bad, 18, "hunav_loader.ros__parameters.blocker.goals", "neither a key of blocker nor an id of global_goals");
+  bad = v2;
+  bad.replace(bad.find("front_dist"), 10, "stop_dist");
+  expectError(bad, 16, "hunav_loader.ros__parameters.blocker.behavior.stop_dist", "belongs to the curious behavior");
+  bad = v2;
+  bad.replace(bad.find("configuration: custom"), 21, "configuration: bespoke");
+  expectError(bad, 11, "hunav_loader.ros__parameters.curious.behavior.configuration");
+}
+
+// A bad tree file is reported at the behavior_tree key's line, not at the agent's first key.
+TEST(HunavAgentsFiles, BehaviorTreeLineIsRecorded) {
+  const auto agents = parse("hunav_loader:\n  ros__parameters:\n    agents: [a]\n    a:\n      id: 1\n"
+                            "      init_pose: {x: 0.0, y: 0.0}\n      behavior_tree: trees/t.xml\n",
+                            1);
+  ASSERT_EQ(agents.size(), 1u);
+  EXPECT_EQ(agents[0].source_line, 5);
+  EXPECT_EQ(agents[0].behavior_tree_line, 7);
+}

@@ -250,3 +250,32 @@ TEST(Outputs, MetricSelectionFile) {
   writeFile(dir / "bad2.yaml", "metrics:\n  social_work: maybe\n");
   EXPECT_THROW(selectMetrics(metricsForProfile("default"), (dir / "bad2.yaml").string()), hunav::ConfigError);
 }
+
+TEST(Outputs, HunavsimsMetricsFileLoadsUnchanged) {
+  // HuNavSim's metrics.yaml as shipped: the ROS wrapper, frequency, experiment_tag, every metric on.
+  const std::string file = std::string(HUNAV_SOURCE_DIR) + "/tests/data/hunav_files/metrics.yaml";
+  const MetricsFile m = readMetricsFile(file, "default");
+  ASSERT_TRUE(m.frequency.has_value());
+  EXPECT_EQ(*m.frequency, 1.0);
+  EXPECT_EQ(m.experiment_tag.value_or(""), "1");
+  EXPECT_TRUE(m.disabled.empty());
+  EXPECT_EQ(metricsFor("hunav_v1", file).names(), metricsForProfile("hunav_v1").names());
+
+  const fs::path dir = freshDir();
+  writeFile(dir / "bad.yaml", "hunav_evaluator_node:\n  ros__parameters:\n    frequency: 1.0\n    colour: red\n");
+  try {
+    readMetricsFile((dir / "bad.yaml").string(), "default");
+    FAIL() << "no error";
+  } catch (const hunav::ConfigError& e) {
+    EXPECT_EQ(e.line(), 4);
+    EXPECT_EQ(e.key(), "hunav_evaluator_node.ros__parameters.colour");
+  }
+  writeFile(dir / "neg.yaml", "hunav_evaluator_node:\n  ros__parameters:\n    frequency: -1\n");
+  try {
+    readMetricsFile((dir / "neg.yaml").string(), "default");
+    FAIL() << "no error";
+  } catch (const hunav::ConfigError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.key(), "hunav_evaluator_node.ros__parameters.frequency");
+  }
+}

@@ -39,11 +39,11 @@ YAML
 scenario missing trees/nowhere.xml
 scenario malformed trees/malformed.xml
 scenario unknown trees/unknown.xml
-# The agent's mapping starts on line 17 (its first key, id).
+# The agent's behavior_tree key is on line 19: the error names it (not the agent's first key).
 declare -A want=(
-  [missing]="missing.yaml:17: walker.behavior_tree: $WORK/trees/nowhere.xml: cannot open behavior tree file"
-  [malformed]="malformed.yaml:17: walker.behavior_tree: $WORK/trees/malformed.xml:"
-  [unknown]="unknown.yaml:17: walker.behavior_tree: $WORK/trees/unknown.xml:3: unknown node 'Dance'"
+  [missing]="missing.yaml:19: walker.behavior_tree: $WORK/trees/nowhere.xml: cannot open behavior tree file"
+  [malformed]="malformed.yaml:19: walker.behavior_tree: $WORK/trees/malformed.xml:"
+  [unknown]="unknown.yaml:19: walker.behavior_tree: $WORK/trees/unknown.xml:3: unknown node 'Dance'"
 )
 
 expect_2() {  # expect_2 WHAT MESSAGE COMMAND...: exit 2 and MESSAGE in the output

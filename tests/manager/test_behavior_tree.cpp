@@ -122,7 +122,8 @@ TEST(BehaviorTreeXml, ErrorsNameFileLineAndWhat) {
             ":3: SubTree: no BehaviorTree with ID 'Nope'");
   EXPECT_EQ(loadError(head + "<Inverter>\n<IsGoalReached/>\n<UpdateGoal/>\n</Inverter>\n</BehaviorTree>\n</root>\n"),
             ":3: Inverter: needs exactly one child");
-  EXPECT_EQ(loadError("<root BTCPP_format=\"3\">\n</root>\n"), ":1: root: BTCPP_format=\"4\" required");
+  EXPECT_EQ(loadError("<root BTCPP_format=\"5\">\n</root>\n"),
+            ":1: root: BTCPP_format must be \"3\" or \"4\" (absent: BehaviorTree.CPP v3)");
   EXPECT_NE(loadError("<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n<Sequence>\n</root>\n").find(": XML:"),
             std::string::npos);
   EXPECT_EQ(loadError(head + "<SubTree ID=\"T\"/>\n</BehaviorTree>\n</root>\n"), ":3: SubTree: 'T' includes itself");

@@ -31,7 +31,8 @@ struct AgentConfig {
   int skin = 0;
   int behavior = 1;
   BehaviorParams params;
-  std::string behavior_tree;  // empty = built-in tree of the behavior
+  std::string behavior_tree;  // empty = built-in tree of the behavior; else a path to open
+  int behavior_tree_line = 0;  // of the behavior_tree key, for error messages (0: unknown)
   int group_id = -1;
   double max_vel = 1.0;       // m/s, desired speed
   double radius = 0.35;       // m
@@ -118,6 +119,9 @@ struct Scenario {
   // evaluation.sample_rate: Hz of simulation time at which the evaluator records states.csv and
   // evaluates the metrics (its --sample-rate); 0 = every world state. A `--sample-rate` flag overrides it.
   double evaluation_sample_rate = 0.0;
+  // evaluation.metrics: the evaluator's metrics file (its --metrics), resolved against the scenario's
+  // folder; empty = every metric. A `--metrics` flag overrides it.
+  std::string evaluation_metrics;
   std::vector<Shape> shapes;   // static geometry (map_server maps become rectangles here)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
@@ -147,6 +151,14 @@ inline constexpr double kMaxTimeLimit = 1e7;     // s of simulation time (116 da
 
 // A --duration override, checked like the file's time_limit; throws ConfigError("--duration: ...").
 void checkDurationOverride(double duration);
+
+// How an agent's behavior_tree travels in agent_state_t: relative to the scenario file's folder, so
+// that the run's fingerprint (which hashes the messages) does not depend on the working directory or
+// on how the scenario's path was written. Empty scenario_file: the path as it is.
+std::string behaviorTreeReference(const std::string& scenario_file, const std::string& tree_path);
+// The file a reference names: resolved against the scenario file's folder (absolute references as
+// they are; without a scenario, relative to the working directory).
+std::string resolveBehaviorTree(const std::string& scenario_file, const std::string& reference);
 
 // Loads and validates a scenario file. Throws ConfigError("file:line: key: what").
 // `seed_override` >= 0 replaces the file's seed (it drives the random agent parameters too).

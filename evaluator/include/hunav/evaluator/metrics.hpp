@@ -23,6 +23,8 @@
 #include "hunav/evaluator/sample_view.hpp"
 
 #include <memory>
+#include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -163,8 +165,23 @@ const MetricRegistry& metricsForProfile(const std::string& profile);
 // Metric selection (YAML), all metrics on by default:
 //   metrics:
 //     social_work: false        # names not listed stay on
+// or HuNavSim's evaluator parameter file (evaluator/README.md), unchanged:
+//   hunav_evaluator_node:
+//     ros__parameters: {frequency: 1.0, experiment_tag: '1', metrics: {...}, ...}
 // Throws hunav::ConfigError (file:line: key: what) on a malformed file or an unknown metric name.
+struct MetricsFile {
+  std::set<std::string> disabled;             // metrics set to false
+  std::optional<double> frequency;            // HuNavSim's capture rate, Hz (0: every world state)
+  std::optional<std::string> experiment_tag;  // HuNavSim's experiment_tag
+};
+// `names`: the metrics a name may be (those of the profile).
+MetricsFile readMetricsFile(const std::string& yaml_file, const std::vector<std::string>& names);
+MetricsFile readMetricsFile(const std::string& yaml_file, const std::string& profile);
 MetricRegistry selectMetrics(const MetricRegistry& base, const std::string& yaml_file);
+// What a run takes from its metrics file besides the selection (empty `file`: nothing): its
+// frequency as the sample rate and its experiment_tag, each unless given on the command line.
+void applyMetricsFile(const std::string& file, const std::string& profile, bool rate_given, double& sample_rate,
+                      bool tag_given, std::string& experiment_tag);
 // metricsForProfile(profile) filtered by `selection_file` (empty: every metric).
 MetricRegistry metricsFor(const std::string& profile, const std::string& selection_file);
 

@@ -182,9 +182,10 @@ class AgentManager {
   void useScenario(const Scenario& scenario);
   // Parses (and caches) a tree file now; throws ConfigError on any error.
   void loadTreeFile(const std::string& path);
-  // Parses (and caches) the behavior_tree file of every agent of the scenario, so that a missing
+  // Parses (and caches, under the name agent_state_t carries: behaviorTreeReference) the
+  // behavior_tree file of every agent of the scenario, so that a missing
   // file, malformed XML or an unknown node stops a run before it starts. Throws ConfigError
-  // "<agents file>:<line>: <agent>.behavior_tree: <tree file>:<line>: what is wrong".
+  // "<agents file>:<behavior_tree line>: <agent>.behavior_tree: <tree file>:<line>: what is wrong".
   void loadTrees(const Scenario& scenario);
 
   step_reply_t step(const step_request_t& request);
@@ -209,6 +210,8 @@ class AgentManager {
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
   std::shared_ptr<const RouteMap> routes_;
+  // The scenario's file: agent_state_t.behavior_tree is relative to its folder (useScenario).
+  std::string scenario_file_;
 };
 
 // loadTrees with a manager of its own: for a process that only needs the check.

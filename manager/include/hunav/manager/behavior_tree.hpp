@@ -1,11 +1,12 @@
 #pragma once
-// A small behavior-tree engine reading the BehaviorTree.CPP v4 XML format (manager/README.md, "Behavior trees"):
-// <root BTCPP_format="4" main_tree_to_execute="..."> with <BehaviorTree ID="..."> elements; control
-// nodes Sequence, Fallback, ReactiveSequence, ReactiveFallback; decorators Inverter, ForceSuccess,
-// ForceFailure, Repeat(num_cycles); SubTree(ID) (shares the parent's blackboard, like _autoremap);
-// leaf nodes from a NodeLibrary. Input ports are attributes; a value "{key}" reads the blackboard.
-// Every error (unknown node, missing or unknown port, bad value, unknown blackboard entry, cycles of
-// subtrees) throws hunav::ConfigError "file:line: what" at load time.
+// A small behavior-tree engine reading the BehaviorTree.CPP v3 and v4 XML formats (manager/README.md,
+// "Behavior trees"): <root [BTCPP_format="3"|"4"] main_tree_to_execute="..."> with <BehaviorTree ID="...">
+// elements and <include path="..."/> of other files; control nodes Sequence, Fallback,
+// ReactiveSequence, ReactiveFallback; decorators Inverter, ForceSuccess, ForceFailure,
+// Repeat(num_cycles); SubTree(ID) (shares the parent's blackboard, like _autoremap, plus remappings);
+// SetBlackboard; leaf nodes from a NodeLibrary. Input ports are attributes; a value "{key}" reads the
+// blackboard. Every error (unknown node, missing or unknown port, bad value, unknown blackboard entry,
+// cycles of subtrees or includes) throws hunav::ConfigError "file:line: what" at load time.
 #include "hunav/config_error.hpp"
 
 #include <array>
@@ -103,6 +104,9 @@ class NodeLibrary {
     Factory factory;
     Placer placer;  // optional: nodes constructed in the tree's own block of memory
     std::size_t size = 0, align = 0;
+    // Accepts HuNavSim's agent_id ("{id}") and time_step ("{dt}") ports, which mean this agent and
+    // the world's step here (set for the leaves of withBuiltins()).
+    bool agent_ports = false;
   };
   // A node type made by `factory` (each node a heap object).
   void add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory);
@@ -129,6 +133,7 @@ class TreeDefinition {
   // Parses XML text; `file` names it in error messages.
   static std::shared_ptr<const TreeDefinition> parse(const std::string& xml, const std::string& file,
                                                      const NodeLibrary& lib);
+  // Reads a file; <include path="..."/> is relative to the including file.
   static std::shared_ptr<const TreeDefinition> load(const std::string& path, const NodeLibrary& lib);
   const std::string& file() const { return file_; }
   const std::string& mainTree() const { return main_; }
