@@ -35,6 +35,7 @@ PACKAGES=(
   iproute2 util-linux python3 procps xvfb xauth
   chromium  # the report test renders hunav_report's pages headless
   parallel libboost-dev  # batches: GNU parallel runs the matrix; Boost.Math (headers) for the Student t statistics
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
 )
 
 do_install=1

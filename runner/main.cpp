@@ -4,6 +4,7 @@
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/in_process_run.hpp"
@@ -39,7 +40,14 @@ int main(int argc, char** argv) {
   app.add_option("--out", options.out_dir, "output folder (default results/<scenario>_<planner>_<seed>)");
   app.add_option("--record", options.record_file, "also write every message to this LCM log file");
   app.add_option("--profile", options.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
-  app.add_option("--experiment-tag", options.experiment_tag, "experiment tag in metrics.csv");
+  auto* tag_opt = app.add_option("--experiment-tag", options.experiment_tag, "experiment tag in metrics.csv");
+  app.add_option("--metrics", options.metrics_file,
+                 "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
+                 "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics")
+      ->check(CLI::ExistingFile);
+  std::string format = "csv";
+  app.add_option("--format", format, "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's .txt files")
+      ->check(CLI::IsMember({"csv", "hunav_txt"}));
   app.add_option("--run-id", options.run_id, "run id (default <scenario>_<planner>_s<seed>)");
   app.add_flag("--quiet", quiet, "do not print the metrics table");
   app.add_flag("--memq", options.use_memq,
@@ -58,6 +66,11 @@ int main(int argc, char** argv) {
   return hunav::cli::run("hunav_run", [&] {
     hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
     if (sample_rate >= 0.0) scenario.evaluation_sample_rate = sample_rate;
+    // The metrics file (or the scenario's): a bad one stops the run here, exit 2.
+    if (options.metrics_file.empty()) options.metrics_file = scenario.evaluation_metrics;
+    hunav::evaluator::applyMetricsFile(options.metrics_file, options.profile, sample_rate >= 0.0,
+                                       scenario.evaluation_sample_rate, tag_opt->count() > 0, options.experiment_tag);
+    options.hunav_txt = format == "hunav_txt";
     if (options.planner != "none" && !hunav::planners::hasPlanner(options.planner)) {
       std::cerr << "hunav_run: unknown planner '" << options.planner << "'\n";
       return hunav::kExitBadInput;

@@ -33,6 +33,8 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   eval_options.experiment_tag = options.experiment_tag;
   eval_options.episodes = 1;
   eval_options.sample_rate = scenario.evaluation_sample_rate;
+  eval_options.metrics_file = options.metrics_file.empty() ? scenario.evaluation_metrics : options.metrics_file;
+  eval_options.hunav_txt = options.hunav_txt;
   eval_options.worker_thread = true;  // the evaluator's per-sample work off this loop
   if (options.evaluator_worker_min_people >= 0)
     eval_options.worker_min_people = static_cast<std::size_t>(options.evaluator_worker_min_people);

@@ -5,7 +5,6 @@
 #include "hunav/worldsim/diff_drive.hpp"
 #include "hunav/worldsim/sensors.hpp"
 
-#include <hunav/episode_event_t.hpp>
 #include <hunav/nav_goal_t.hpp>
 
 #include <fmt/format.h>
@@ -26,7 +25,7 @@ double threadCpuSeconds() {
   return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
 }
 
-agent_state_t initialAgentState(const AgentConfig& a) {
+agent_state_t initialAgentState(const AgentConfig& a, const std::string& scenario_file) {
   agent_state_t s{};
   s.id = a.id;
   s.type = agent_state_t::TYPE_PERSON;
@@ -42,7 +41,7 @@ agent_state_t initialAgentState(const AgentConfig& a) {
   s.behavior_params.obstacle_force_factor = a.params.obstacle_force_factor;
   s.behavior_params.social_force_factor = a.params.social_force_factor;
   s.behavior_params.other_force_factor = a.params.other_force_factor;
-  s.behavior_tree = a.behavior_tree;
+  s.behavior_tree = behaviorTreeReference(scenario_file, a.behavior_tree);  // independent of the working directory
   s.group_id = a.group_id;
   s.x = a.position.x();
   s.y = a.position.y();
@@ -92,7 +91,7 @@ void WorldSim::reset() {
   physics_ = std::make_unique<PhysicsWorld>(scenario_);
   robot_obstacles_.clear();
   agents_.clear();
-  for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a));
+  for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a, scenario_.file));
   robot_v_ = robot_vy_ = robot_w_ = cmd_v_ = cmd_vy_ = cmd_w_ = 0.0;
   seedStream(laser_rng_, scenario_.seed, 0x6c61u /* "la": laser noise */);
   seedStream(perception_rng_, scenario_.seed, 0x7065u /* "pe": people detection noise */);
@@ -102,6 +101,7 @@ void WorldSim::reset() {
   obs_seq_ = 0;
   manager_answered_ = planner_answered_ = false;
   collisions_ = 0;
+  robot_collisions_ = 0;
   // Without a goal there is no progress to measure: never stuck.
   const RobotConfig& rc = scenario_.robot;
   const std::int64_t stuck_us =
@@ -196,6 +196,8 @@ void WorldSim::publishWorldState() {
   ws.collisions = physics_->newContacts();
   ws.num_collisions = static_cast<int32_t>(ws.collisions.size());
   collisions_ += ws.collisions.size();
+  for (const collision_t& c : ws.collisions)
+    if (c.kind_a == collision_t::BODY_ROBOT || c.kind_b == collision_t::BODY_ROBOT) ++robot_collisions_;
   // Encoded once (the bytes of world_state_t::encode(), written faster): the fingerprint hashes these
   // bytes, LCM sends them, in process subscribers get the object itself (no decoding).
   encodeWorldState(ws, encoded_);
@@ -405,13 +407,24 @@ EpisodeResult WorldSim::runEpisode(Scenario scenario, std::string run_id) {
 }
 
 EpisodeResult WorldSim::runEpisode() {
+  beginEpisode();
+  EpisodeResult result;
+  while (!tick(result)) {
+  }
+  endEpisode(result);
+  return result;
+}
+
+void WorldSim::beginEpisode() {
   ++episode_;
   reset();
-  const Clock::time_point wall_start = Clock::now();
-  const double cpu_start = threadCpuSeconds();
-  const std::int64_t limit_us = static_cast<std::int64_t>(std::llround(scenario_.time_limit * 1e6));
+  awaiting_command_ = false;
+  wall_start_ = Clock::now();
+  cpu_start_ = threadCpuSeconds();
+  limit_us_ = static_cast<std::int64_t>(std::llround(scenario_.time_limit * 1e6));
 
-  episode_event_t ev{};
+  episode_event_t& ev = event_;
+  ev = episode_event_t{};
   ev.utime = 0;
   ev.event = episode_event_t::START;
   ev.episode = episode_;
@@ -434,53 +447,88 @@ EpisodeResult WorldSim::runEpisode() {
 
   sense();
   publishWorldState();
+}
 
-  EpisodeResult result;
-  const bool with_planner = options_.planner != "none";
-  while (result.status.empty()) {
+bool WorldSim::endReached(EpisodeResult& result) {
+  if (options_.stop != nullptr && options_.stop->load()) {
+    result.status = episode_status::kAborted;
+    result.reason = "interrupted (SIGINT/SIGTERM)";
+  } else if (robotAtGoal()) {
+    result.status = episode_status::kGoalReached;
+    result.reason = "the robot is within its goal radius";
+  } else if (time_us_ >= limit_us_) {
+    result.status = episode_status::kTimeLimit;
+    // The limit in force (the scenario's, or --duration's), in the shortest text of its value.
+    result.reason = fmt::format("the time limit of {} s was reached", scenario_.time_limit);
+  } else if (stuck_.update(time_us_, Vec2(robot_state_.x, robot_state_.y))) {
+    // After the time limit: a tick that is both ends the episode as time_limit, as without stuck_timeout.
+    result.status = episode_status::kStuck;
+    result.reason = stuck_.reason();
+  }
+  return !result.status.empty();
+}
+
+bool WorldSim::tick(EpisodeResult& result) {
+  if (!result.status.empty()) return true;
+  // The second call of an external control tick resumes after its exchanges.
+  if (!awaiting_command_) {
+    if (endReached(result)) return true;
     std::string failure;
-    if (options_.stop != nullptr && options_.stop->load()) {
-      result.status = episode_status::kAborted;
-      result.reason = "interrupted (SIGINT/SIGTERM)";
-    } else if (robotAtGoal()) {
-      result.status = episode_status::kGoalReached;
-      result.reason = "the robot is within its goal radius";
-    } else if (time_us_ >= limit_us) {
-      result.status = episode_status::kTimeLimit;
-      // The limit in force (the scenario's, or --duration's), in the shortest text of its value.
-      result.reason = fmt::format("the time limit of {} s was reached", scenario_.time_limit);
-    } else if (stuck_.update(time_us_, Vec2(robot_state_.x, robot_state_.y))) {
-      // After the time limit: a tick that is both ends the episode as time_limit, as without stuck_timeout.
-      result.status = episode_status::kStuck;
-      result.reason = stuck_.reason();
-    } else if (!agents_.empty() && !exchangeWithManager(failure)) {
+    const bool control_tick = options_.planner != "none" && tick_ % control_every_ == 0;
+    if (!agents_.empty() && !exchangeWithManager(failure)) {
       result.status = episode_status::kAborted;
       result.reason = failure;
-    } else if (with_planner && tick_ % control_every_ == 0 && !exchangeWithPlanner(failure)) {
+      return true;
+    }
+    if (control_tick && options_.external_control) {
+      pending_observation_ = observation();
+      awaiting_command_ = true;
+      return false;
+    }
+    if (control_tick && !exchangeWithPlanner(failure)) {
       result.status = episode_status::kAborted;
       result.reason = failure;
-    } else {
-      if (!agents_.empty()) applyReply();
-      driveRobot();
-      physics_->step(scenario_.dt);
-      ++tick_;
-      time_us_ += dt_us_;
-      sense();
-      publishWorldState();
-      if (realtime_)
-        std::this_thread::sleep_until(wall_start + std::chrono::microseconds(time_us_));
+      return true;
     }
   }
+  awaiting_command_ = false;
+  advanceTick();
+  return false;
+}
 
+void WorldSim::command(double v, double vy, double w) {
+  checkFinite(v, "v", "robot command");
+  checkFinite(w, "w", "robot command");
+  const bool holonomic = scenario_.robot.drive == RobotDrive::Holonomic;
+  if (holonomic) checkFinite(vy, "vy", "robot command");
+  cmd_v_ = v;
+  cmd_vy_ = holonomic ? vy : 0.0;
+  cmd_w_ = w;
+}
+
+void WorldSim::advanceTick() {
+  if (!agents_.empty()) applyReply();
+  driveRobot();
+  physics_->step(scenario_.dt);
+  ++tick_;
+  time_us_ += dt_us_;
+  sense();
+  publishWorldState();
+  if (realtime_) std::this_thread::sleep_until(wall_start_ + std::chrono::microseconds(time_us_));
+}
+
+void WorldSim::endEpisode(EpisodeResult& result) {
+  awaiting_command_ = false;
   result.ticks = tick_ + 1;
   result.sim_time = simTime();
-  result.wall_time = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  result.thread_cpu_time = threadCpuSeconds() - cpu_start;
+  result.wall_time = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+  result.thread_cpu_time = threadCpuSeconds() - cpu_start_;
   result.fingerprint = fingerprint_.hex();
   result.collisions = collisions_;
   result.run_id = options_.run_id;
   result.seed = scenario_.seed;
 
+  episode_event_t& ev = event_;
   ev.utime = time_us_;
   ev.event = episode_event_t::END;
   ev.status = result.status;
@@ -491,7 +539,6 @@ EpisodeResult WorldSim::runEpisode() {
   ev.fingerprint = result.fingerprint;
   ev.collisions = static_cast<int64_t>(result.collisions);
   bus_.publish(channels::kEpisodeEvent, ev);
-  return result;
 }
 
 }  // namespace hunav::worldsim

@@ -17,6 +17,11 @@ struct RunOptions {
   std::string planner_config;    // YAML parameters of the planner (empty: defaults)
   std::string out_dir;           // result files
   std::string profile = "default";
+  // The evaluator's metrics file (--metrics); empty: the scenario's evaluation.metrics, else every
+  // metric. Only its selection is used here: hunav_run's main applies its frequency and
+  // experiment_tag (evaluator::applyMetricsFile) before the run.
+  std::string metrics_file;
+  bool hunav_txt = false;        // also HuNavSim v1's tab-separated result files (--format hunav_txt)
   std::string experiment_tag = "exp";
   std::string run_id;            // default <scenario>_<planner>_s<seed>
   std::string record_file;       // LCM log of every message (empty: none)

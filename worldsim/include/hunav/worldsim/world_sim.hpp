@@ -8,6 +8,7 @@
 #include "hunav/worldsim/physics_world.hpp"
 #include "hunav/worldsim/stuck_detector.hpp"
 
+#include <hunav/episode_event_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 #include <hunav/step_reply_t.hpp>
@@ -33,6 +34,9 @@ struct WorldOptions {
   std::chrono::milliseconds silence_limit{1000};  // abort after this long without an answer
   std::chrono::milliseconds startup_limit{10000}; // same, for a component's first answer of an episode
   const std::atomic<bool>* stop = nullptr;        // set (e.g. by SIGINT) to end the episode early
+  // The caller of tick() drives the robot (command()), not a planner on the bus: a control tick stops
+  // before the planner exchange with the observation pending (the Python module's step()).
+  bool external_control = false;
 };
 
 struct EpisodeResult {
@@ -64,6 +68,33 @@ class WorldSim {
   // the episode counter.
   EpisodeResult runEpisode(Scenario scenario, std::string run_id);
 
+  // runEpisode() in pieces, for a caller that advances the episode itself (the same ticks, so the
+  // same results): beginEpisode(), then tick() until it returns true, then endEpisode().
+  void beginEpisode();
+  // One tick of the loop; true when the episode has ended (result's status and reason set). With
+  // external_control a control tick returns false early with awaitingCommand() set: give command()
+  // (else the last command holds) and call tick() again to finish that tick.
+  bool tick(EpisodeResult& result);
+  // Fills the rest of `result` and publishes the END event.
+  void endEpisode(EpisodeResult& result);
+  bool awaitingCommand() const { return awaiting_command_; }
+  // The observation of the pending control tick (external_control).
+  const robot_observation_t& pendingObservation() const { return pending_observation_; }
+  // The command for the pending control tick; throws BadMessage on a non-finite value.
+  void command(double v, double vy, double w);
+
+  // Ground truth at the current tick (what the last world state held).
+  const std::vector<agent_state_t>& agents() const { return agents_; }
+  const agent_state_t& robot() const { return robot_state_; }
+  std::int64_t tickCount() const { return tick_; }
+  std::int64_t episode() const { return episode_; }
+  double time() const { return simTime(); }
+  std::uint64_t collisions() const { return collisions_; }
+  // Of those, the contacts the robot is in (with a person or static geometry).
+  std::uint64_t robotCollisions() const { return robot_collisions_; }
+  // Of the world states published so far in this episode.
+  std::string fingerprintSoFar() const { return fingerprint_.hex(); }
+
   const Scenario& scenario() const { return scenario_; }
   std::uint64_t resends() const { return resends_; }
 
@@ -86,6 +117,10 @@ class WorldSim {
   void applyReply();
   void driveRobot();
   bool robotAtGoal() const;
+  // The end conditions of the loop, in order; true (status and reason set) when one holds.
+  bool endReached(EpisodeResult& result);
+  // Moves everything one tick (after the exchanges) and publishes the new world state.
+  void advanceTick();
   void onStepReply(const step_reply_t& reply);
   void onCommand(const robot_command_t& cmd);
   // Divided, not multiplied by 1e-6: the nearest double to the decimal time (18.26, not 18.259999999999998).
@@ -129,7 +164,15 @@ class WorldSim {
   std::vector<NextMotion> next_motion_;
   bool reply_arrived_ = false;
   bool command_arrived_ = false;
+  bool awaiting_command_ = false;  // external_control: a control tick waits for command()
+  robot_observation_t pending_observation_;
+  // Of the episode in progress (beginEpisode()).
+  std::chrono::steady_clock::time_point wall_start_;
+  double cpu_start_ = 0.0;
+  std::int64_t limit_us_ = 0;
+  episode_event_t event_;  // START, then END
   std::uint64_t collisions_ = 0;
+  std::uint64_t robot_collisions_ = 0;
   std::uint64_t resends_ = 0;
   StuckDetector stuck_;  // of the current episode (reset())
   Fingerprint fingerprint_;

@@ -1,0 +1,110 @@
+#include "hunav/runner/stepped_run.hpp"
+
+#include <stdexcept>
+
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/manager/manager_node.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/planner_node.hpp"
+#include "hunav/yaml_reader.hpp"
+
+namespace hunav::runner {
+
+SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool external)
+    : options_(options), external_(external) {
+  if (options_.planner != "none" && !external_ && !planners::hasPlanner(options_.planner))
+    throw std::invalid_argument("unknown planner '" + options_.planner + "'");
+  manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts
+  std::unique_ptr<YamlReader> planner_config;
+  if (!options_.planner_config.empty()) planner_config = std::make_unique<YamlReader>(options_.planner_config);
+
+  // Built as runInProcess() builds them (the same subscriptions in the same order): the same results.
+  bus_ = std::make_unique<Bus>(Bus::InProcess{});
+  evaluator::EvaluatorOptions eval_options;
+  eval_options.out_dir = options_.out_dir;
+  eval_options.profile = options_.profile;
+  eval_options.experiment_tag = options_.experiment_tag;
+  eval_options.episodes = 1;
+  eval_options.sample_rate = scenario.evaluation_sample_rate;
+  eval_options.metrics_file = options_.metrics_file.empty() ? scenario.evaluation_metrics : options_.metrics_file;
+  eval_options.hunav_txt = options_.hunav_txt;
+  eval_options.worker_thread = true;
+  eval_options.live_metrics = true;  // metrics() while the episode runs
+  if (options_.evaluator_worker_min_people >= 0)
+    eval_options.worker_min_people = static_cast<std::size_t>(options_.evaluator_worker_min_people);
+  evaluator_ = std::make_unique<evaluator::EvaluatorNode>(*bus_, eval_options);
+  manager_ = std::make_unique<manager::ManagerNode>(*bus_);
+  manager_->manager().useScenario(scenario);
+  if (options_.planner != "none" && !external_)
+    planner_ = std::make_unique<planners::PlannerNode>(
+        *bus_, planners::createPlanner(options_.planner, scenario, planner_config.get()));
+  bus_->subscribe<live_metrics_t>(channels::kLiveMetrics, [this](const live_metrics_t& m) { live_ = m; });
+  // After the planner's own subscription: it answers first, as in runInProcess().
+  if (planner_)
+    bus_->subscribe<robot_observation_t>(channels::kRobotObservation,
+                                         [this](const robot_observation_t& o) { planner_observation_ = o; });
+
+  worldsim::WorldOptions world_options;
+  world_options.planner = options_.planner;
+  world_options.mode = "inprocess";
+  world_options.run_id = options_.run_id;
+  world_options.stop = options_.stop;
+  world_options.external_control = external_;
+  world_ = std::make_unique<worldsim::WorldSim>(*bus_, scenario, world_options);
+}
+
+SteppedRun::~SteppedRun() = default;
+
+void SteppedRun::start() {
+  world_->beginEpisode();
+  if (external_) {
+    runToControl();
+    return;
+  }
+  // A built-in planner: up to its first observation (the first tick), which reset() returns.
+  while (planner_ && planner_observation_.seq == 0 && !world_->tick(episode_)) {
+  }
+  if (!episode_.status.empty()) collect();
+}
+
+const robot_observation_t& SteppedRun::observation() const {
+  return external_ ? world_->pendingObservation() : planner_observation_;
+}
+
+void SteppedRun::step(double v, double vy, double w) {
+  if (!external_) throw std::logic_error("planner '" + options_.planner + "' drives the robot: use run()");
+  if (ended()) throw std::logic_error("the episode has ended (" + episode_.status + "): call reset()");
+  world_->command(v, vy, w);
+  world_->tick(episode_);  // the rest of the pending control tick
+  runToControl();
+}
+
+const RunOutcome& SteppedRun::finish() {
+  while (!ended()) {
+    world_->tick(episode_);
+    runToControl();
+  }
+  return *outcome_;
+}
+
+void SteppedRun::runToControl() {
+  while (!world_->tick(episode_)) {
+    if (world_->awaitingCommand()) return;
+  }
+  collect();
+}
+
+void SteppedRun::collect() {
+  // As runInProcess() ends a run.
+  world_->endEpisode(episode_);
+  bus_->handleAvailable();
+  if (!evaluator_->finished()) evaluator_->finishIncomplete("the runner stopped before the episode END was recorded");
+  RunOutcome outcome;
+  outcome.episode = episode_;
+  outcome.result = evaluator_->lastResult();
+  outcome.dropped_messages = bus_->droppedMessages();
+  outcome_ = std::move(outcome);
+}
+
+}  // namespace hunav::runner
