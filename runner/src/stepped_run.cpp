@@ -8,6 +8,7 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/yaml_reader.hpp"
+#include "run_components.hpp"
 
 namespace hunav::runner {
 
@@ -16,23 +17,12 @@ SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool
   if (options_.planner != "none" && !external_ && !planners::hasPlanner(options_.planner))
     throw std::invalid_argument("unknown planner '" + options_.planner + "'");
   manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts
-  std::unique_ptr<YamlReader> planner_config;
-  if (!options_.planner_config.empty()) planner_config = std::make_unique<YamlReader>(options_.planner_config);
+  const std::unique_ptr<YamlReader> planner_config = plannerConfig(options_);
 
   // Built as runInProcess() builds them (the same subscriptions in the same order): the same results.
   bus_ = std::make_unique<Bus>(Bus::InProcess{});
-  evaluator::EvaluatorOptions eval_options;
-  eval_options.out_dir = options_.out_dir;
-  eval_options.profile = options_.profile;
-  eval_options.experiment_tag = options_.experiment_tag;
-  eval_options.episodes = 1;
-  eval_options.sample_rate = scenario.evaluation_sample_rate;
-  eval_options.metrics_file = options_.metrics_file.empty() ? scenario.evaluation_metrics : options_.metrics_file;
-  eval_options.hunav_txt = options_.hunav_txt;
-  eval_options.worker_thread = true;
+  evaluator::EvaluatorOptions eval_options = evaluatorOptions(scenario, options_);
   eval_options.live_metrics = true;  // metrics() while the episode runs
-  if (options_.evaluator_worker_min_people >= 0)
-    eval_options.worker_min_people = static_cast<std::size_t>(options_.evaluator_worker_min_people);
   evaluator_ = std::make_unique<evaluator::EvaluatorNode>(*bus_, eval_options);
   manager_ = std::make_unique<manager::ManagerNode>(*bus_);
   manager_->manager().useScenario(scenario);
@@ -45,11 +35,7 @@ SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool
     bus_->subscribe<robot_observation_t>(channels::kRobotObservation,
                                          [this](const robot_observation_t& o) { planner_observation_ = o; });
 
-  worldsim::WorldOptions world_options;
-  world_options.planner = options_.planner;
-  world_options.mode = "inprocess";
-  world_options.run_id = options_.run_id;
-  world_options.stop = options_.stop;
+  worldsim::WorldOptions world_options = worldOptions(options_);
   world_options.external_control = external_;
   world_ = std::make_unique<worldsim::WorldSim>(*bus_, scenario, world_options);
 }
