@@ -1,6 +1,8 @@
 #include "hunav/channels.hpp"
 #include "hunav/manager/manager_node.hpp"
 
+#include "people_fixtures.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,22 +14,8 @@ using namespace hunav::manager;
 
 namespace {
 
-agent_state_t person(int id, double x, double y) {
-  agent_state_t a{};
-  a.id = id;
-  a.type = agent_state_t::TYPE_PERSON;
-  a.behavior = agent_state_t::BEH_REGULAR;
-  a.group_id = -1;
-  a.x = x;
-  a.y = y;
-  a.radius = 0.35;
-  a.desired_speed = 1.0;
-  a.goal_radius = 0.3;
-  a.behavior_params.goal_force_factor = 2.0;
-  a.behavior_params.obstacle_force_factor = 10.0;
-  a.behavior_params.social_force_factor = 5.0;
-  return a;
-}
+using test::person;
+using test::robotAt;
 
 step_request_t request(std::vector<agent_state_t> agents, agent_state_t robot, int64_t seq = 1) {
   step_request_t r{};
@@ -41,12 +29,6 @@ step_request_t request(std::vector<agent_state_t> agents, agent_state_t robot, i
   return r;
 }
 
-agent_state_t robotAt(double x, double y) {
-  agent_state_t r = person(0, x, y);
-  r.type = agent_state_t::TYPE_ROBOT;
-  r.behavior = agent_state_t::BEH_NONE;
-  return r;
-}
 
 // Step `seq` of one person at the origin walking to (3, 0), the robot at (-5, 0).
 step_request_t onePersonWalkingToX3(int64_t seq) {

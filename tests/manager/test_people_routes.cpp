@@ -1,4 +1,6 @@
 // People's obstacle points (people.obstacle_points) and routes around furniture (people.navigation).
+#include "people_fixtures.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,30 +15,8 @@ using namespace hunav::manager;
 
 namespace {
 
-agent_state_t person(int id, double x, double y) {
-  agent_state_t a{};
-  a.id = id;
-  a.type = agent_state_t::TYPE_PERSON;
-  a.behavior = agent_state_t::BEH_REGULAR;
-  a.group_id = -1;
-  a.x = x;
-  a.y = y;
-  a.radius = 0.35;
-  a.desired_speed = 1.0;
-  a.goal_radius = 0.3;
-  a.cyclic_goals = true;
-  a.behavior_params.goal_force_factor = 2.0;
-  a.behavior_params.obstacle_force_factor = 10.0;
-  a.behavior_params.social_force_factor = 5.0;
-  return a;
-}
-
-agent_state_t robotAt(double x, double y) {
-  agent_state_t r = person(0, x, y);
-  r.type = agent_state_t::TYPE_ROBOT;
-  r.behavior = agent_state_t::BEH_NONE;
-  return r;
-}
+using test::person;
+using test::robotAt;
 
 Shape box(double x0, double y0, double x1, double y1) {
   Shape s;
