@@ -1,7 +1,9 @@
 # lcm_add_types(TARGET <name> JAR <jar-target> FILES <.lcm files>)
 # Debian's LCM 1.3.1 ships no CMake config, so the types are generated here with lcm-gen:
 #   - C++ headers into ${CMAKE_CURRENT_BINARY_DIR}/cpp, exposed through an INTERFACE target;
-#   - Java classes compiled and packed into a jar (for lcm-spy), when a JDK is found.
+#   - Java classes compiled and packed into a jar (for lcm-spy), when a JDK is found;
+#   - Python modules into ${CMAKE_CURRENT_BINARY_DIR}/python/<PACKAGE> (lcm-gen --python), so that a
+#     planner process in Python can encode and decode the messages (docs/planner_contract.md).
 find_program(LCM_GEN_EXECUTABLE lcm-gen REQUIRED)
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
@@ -34,6 +36,24 @@ function(lcm_add_types)
     COMMENT "Wire checks of the LCM types")
   list(APPEND headers ${wire_checks})
   add_custom_target(${ARG_TARGET}_generate DEPENDS ${headers})
+
+  # Python: <PACKAGE>/<type>.py and the package's __init__.py (plain `struct` code; the lcm module
+  # is only needed to publish and subscribe).
+  set(python_dir ${CMAKE_CURRENT_BINARY_DIR}/python)
+  set(python_files ${python_dir}/${ARG_PACKAGE}/__init__.py)
+  foreach(lcm_file ${ARG_FILES})
+    get_filename_component(type_name ${lcm_file} NAME_WE)
+    list(APPEND python_files ${python_dir}/${ARG_PACKAGE}/${type_name}.py)
+  endforeach()
+  add_custom_command(
+    OUTPUT ${python_files}
+    # lcm-gen appends to an existing __init__.py: start from none, so a removed type leaves no import.
+    COMMAND ${CMAKE_COMMAND} -E rm -f ${python_dir}/${ARG_PACKAGE}/__init__.py
+    COMMAND ${LCM_GEN_EXECUTABLE} -p --ppath ${python_dir} ${ARG_FILES}
+    DEPENDS ${ARG_FILES}
+    WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
+    COMMENT "lcm-gen: Python types")
+  add_custom_target(${ARG_TARGET}_python ALL DEPENDS ${python_files})
   add_library(${ARG_TARGET} INTERFACE)
   add_dependencies(${ARG_TARGET} ${ARG_TARGET}_generate)
   # SYSTEM: generated code is not ours to keep warning-free.

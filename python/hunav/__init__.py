@@ -1,5 +1,6 @@
-"""HuNav-LCM in Python: the simulation in process (``hunav.Simulation``) and a Gymnasium-style
-environment (``hunav.gym.HuNavEnv``). See python/README.md."""
-from ._hunav import ConfigError, Simulation, planners
+"""HuNav-LCM in Python: the simulation in process (``hunav.Simulation``), many worlds stepped together
+over threads (``hunav.VectorSimulation``) and Gymnasium-style environments (``hunav.gym.HuNavEnv``,
+``hunav.gym.HuNavVectorEnv``). See python/README.md."""
+from ._hunav import ConfigError, Simulation, VectorSimulation, planners
 
-__all__ = ["ConfigError", "Simulation", "planners"]
+__all__ = ["ConfigError", "Simulation", "VectorSimulation", "planners"]

@@ -1,5 +1,6 @@
-"""A Gymnasium-style environment on hunav.Simulation: the robot driven by the agent's actions among
-HuNavSim's people.
+"""Gymnasium-style environments on hunav.Simulation (HuNavEnv) and hunav.VectorSimulation
+(HuNavVectorEnv, many worlds stepped together over threads): the robot driven by the agent's actions
+among HuNavSim's people.
 
 Gymnasium is not a Debian package: the spaces below are small classes of our own with the attributes
 Gymnasium's have (shape, dtype, low, high, sample(), contains(), seed()); HuNavEnv subclasses
@@ -38,12 +39,14 @@ import numpy as np
 from . import _hunav
 from .render import render_top_view
 
-try:  # subclass gymnasium.Env when it is installed
+try:  # subclass gymnasium.Env (and VectorEnv) when it is installed
     import gymnasium as _gymnasium
     _EnvBase = _gymnasium.Env
+    _VecBase = getattr(getattr(_gymnasium, "vector", None), "VectorEnv", object)
 except ImportError:  # pragma: no cover - the usual case on Debian
     _gymnasium = None
     _EnvBase = object
+    _VecBase = object
 
 
 class Box:
@@ -137,7 +140,7 @@ class RewardWeights:
 def default_reward(env, before, after, info, weights=None):
     """The documented default reward from the ground truth before and after a step (sim.state())."""
     w = weights or env.reward_weights
-    goal = env.sim.robot["goal"][:2]
+    goal = np.asarray(env._goal)
     d_before = math.hypot(*(before["robot"][:2] - goal))
     d_after = math.hypot(*(after["robot"][:2] - goal))
     r = w.progress * (d_before - d_after)
@@ -177,10 +180,17 @@ class HuNavEnv(_EnvBase):
         self.render_size = render_size
         robot = self.sim.robot
         self.holonomic = robot["holonomic"]
+        self._goal = (float(robot["goal"][0]), float(robot["goal"][1]))
         self.max_people = max(1, int(max_people) if max_people is not None else self._people_count())
         self.action_space = self._make_action_space(robot)
         self.observation_space = self._make_observation_space(robot)
-        self._state = None
+        # The action box as Python floats (clipping a 2-vector with them is cheaper than np.clip).
+        self._low = [float(x) for x in self.action_space.low]
+        self._high = [float(x) for x in self.action_space.high]
+        self._scan_max = self.observation_space["scan"].high[0]
+        self._started = False
+        self._state = None  # sim.state() of the last step, kept for a reward_fn only
+        self._goal_distance = 0.0
         self._robot_collisions = 0
 
     def _people_count(self):
@@ -206,38 +216,45 @@ class HuNavEnv(_EnvBase):
         """Starts an episode (with `seed`, or the last one); returns (obs, info)."""
         if seed is not None:
             self.action_space.seed(seed)
-        raw = self.sim.reset(seed=seed)
-        self._state = self.sim.state()
+        self.sim.reset(seed=seed)
+        self._started = True
         self._robot_collisions = 0
-        info = self._info(collided=False)
-        return self._observe(raw), info
+        self._state = self.sim.state() if self.reward_fn is not None else None
+        self._goal_distance = self.sim.reward_terms(self.reward_weights.personal_distance)[0]
+        info = self.sim.info()
+        info["collided"] = False
+        return self._observe(), info
 
     def step(self, action):
         """Applies `action` for one control period; returns (obs, reward, terminated, truncated, info)."""
-        if self._state is None:
+        if not self._started:
             raise RuntimeError("call reset() before step()")
         if self.sim.done:
             raise RuntimeError("the episode has ended: call reset()")
         a = np.asarray(action, dtype=np.float64)
         if a.shape != self.action_space.shape:
             raise ValueError(f"action of shape {a.shape}, expected {self.action_space.shape}")
-        if not np.all(np.isfinite(a)):
+        a = a.tolist()
+        if not all(math.isfinite(x) for x in a):
             raise ValueError(f"action {a} is not finite")
-        a = np.clip(a, self.action_space.low, self.action_space.high)
-        raw = self.sim.step(float(a[0]), float(a[1]), float(a[2]) if self.holonomic else 0.0)
-        before, self._state = self._state, self.sim.state()
-        collided = self._state["robot_collisions"] > self._robot_collisions
-        self._robot_collisions = self._state["robot_collisions"]
-        info = self._info(collided)
-        fn = self.reward_fn or default_reward
-        reward = float(fn(self, before, self._state, info))
+        a = [min(max(x, lo), hi) for x, lo, hi in zip(a, self._low, self._high)]
+        self.sim.step(a[0], a[1], a[2] if self.holonomic else 0.0)
+        info = self.sim.info()
+        collided = info["robot_collisions"] > self._robot_collisions
+        self._robot_collisions = info["robot_collisions"]
+        info["collided"] = bool(collided)
+        if self.reward_fn is None:
+            reward = self._default_reward(info)
+        else:
+            before, self._state = self._state, self.sim.state()
+            reward = float(self.reward_fn(self, before, self._state, info))
         terminated = info["goal_reached"] or info["stuck"] or (collided and self.terminate_on_collision)
         truncated = info["time_limit"] and not terminated
-        return self._observe(raw), reward, bool(terminated), bool(truncated), info
+        return self._observe(), reward, bool(terminated), bool(truncated), info
 
     def render(self):
         """The top view as a (height, width, 3) uint8 array (render_mode "rgb_array")."""
-        if self._state is None:
+        if not self._started:
             raise RuntimeError("call reset() before render()")
         w, h = self.render_size or (None, None)
         return render_top_view(self.sim, width=w, height=h, resolution=0.05)
@@ -246,31 +263,174 @@ class HuNavEnv(_EnvBase):
         self.sim = None
 
     # --- helpers ---
-    def _info(self, collided):
-        info = self.sim.info()
-        info["collided"] = bool(collided)
-        return info
+    def _default_reward(self, info):
+        """default_reward's formula on sim.reward_terms() (computed natively: no sim.state() a step)."""
+        w = self.reward_weights
+        d_after, intrusion, _ = self.sim.reward_terms(w.personal_distance)
+        r = w.progress * (self._goal_distance - d_after) - w.intrusion * intrusion
+        self._goal_distance = d_after
+        if info["collided"]:
+            r -= w.collision
+        if info["goal_reached"]:
+            r += w.goal
+        return float(r)
 
-    def _observe(self, raw):
-        x, y, yaw, v, w = raw["robot"]
-        c, s = math.cos(yaw), math.sin(yaw)
-        rot = np.array([[c, s], [-s, c]])  # world -> robot frame
-        goal = rot @ (raw["goal"][:2] - (x, y))
-        people = np.zeros((self.max_people, 6), dtype=np.float32)
-        p = raw["people"]
-        if len(p):
-            rel = (p[:, 0:2] - (x, y)) @ rot.T
-            vel = p[:, 3:5] @ rot.T
-            order = np.argsort(np.hypot(rel[:, 0], rel[:, 1]))[: self.max_people]
-            k = len(order)
-            people[:k, 0:2] = rel[order]
-            people[:k, 2:4] = vel[order]
-            people[:k, 4] = p[order, 5]
-            people[:k, 5] = 1.0
-        scan = np.clip(raw["scan"], 0.0, self.observation_space["scan"].high[0]).astype(np.float32)
+    def _observe(self):
+        """The observation (module docstring), computed natively from the simulation's last one."""
+        return self.sim.robot_frame_observation(self.max_people, self._scan_max)
+
+
+def default_vector_reward(env, before, after, infos, weights=None):
+    """default_reward for every world at once: (num_envs,) float64. before/after: vsim.state()."""
+    w = weights or env.reward_weights
+    goal = env._goal
+    d_before = np.hypot(*(before["robot"][:, :2] - goal).T)
+    d_after = np.hypot(*(after["robot"][:, :2] - goal).T)
+    r = w.progress * (d_before - d_after)
+    agents = after["agents"]
+    if agents["pose"].shape[1]:
+        d = np.hypot(*(agents["pose"][:, :, :2] - after["robot"][:, None, :2]).transpose(2, 0, 1))
+        intrusion = np.maximum(0.0, (w.personal_distance - d) / w.personal_distance)
+        r = r - w.intrusion * np.where(agents["id"] >= 0, intrusion, 0.0).sum(axis=1)
+    r = r - w.collision * infos["collided"] + w.goal * infos["goal_reached"]
+    return r.astype(np.float64)
+
+
+class HuNavVectorEnv(_VecBase):
+    """num_envs worlds of one scenario on a hunav.VectorSimulation, stepped together over threads.
+
+    The Gymnasium vector API (num_envs, single_observation_space, single_action_space, batched
+    observation_space/action_space; reset(seed, options) -> (obs, infos); step(actions) -> (obs,
+    rewards, terminations, truncations, infos)) with each world's observation, action, reward and
+    end conditions those of HuNavEnv (module docstring), stacked on a first axis of num_envs.
+
+    Autoreset in the same step (as Stable-Baselines3's VecEnv and Gymnasium's SAME_STEP mode): a
+    world whose episode ends in step() is reset at once; step() returns its new episode's first
+    observation, and infos["final_observation"][i] (a dict of that world's arrays) and
+    infos["final_info"][i] its last. World i's episodes use seeds s_i, s_i + num_envs,
+    s_i + 2 num_envs, ... (s_i: its first seed), so the worlds never replay each other's episodes.
+
+    seeds: the first episodes' seeds (default: the scenario's seed + i); threads: the pool's
+    threads (default: the machine's cores, at most num_envs); reward_fn(env, before, after, infos)
+    -> (num_envs,) replaces default_vector_reward (before/after: vsim.state()). Further keyword
+    arguments go to hunav.VectorSimulation (duration, sample_rate, metrics, profile...).
+    """
+
+    metadata = {"autoreset_mode": "same_step"}
+
+    def __init__(self, scenario, num_envs, seeds=None, threads=None, max_people=None, reward_fn=None,
+                 reward_weights=None, terminate_on_collision=True, **sim_kwargs):
+        self.vsim = _hunav.VectorSimulation(num_envs, scenario, seeds=seeds, planner=None, threads=threads,
+                                            **sim_kwargs)
+        self.num_envs = int(num_envs)
+        self.scenario = scenario
+        self.reward_fn = reward_fn
+        self.reward_weights = reward_weights or RewardWeights()
+        self.terminate_on_collision = terminate_on_collision
+        robot = self.vsim.robot
+        self.holonomic = robot["holonomic"]
+        self._goal = np.asarray(robot["goal"][:2])
+        self.max_people = max(1, int(max_people) if max_people is not None else self.vsim.max_people)
+        single = HuNavEnv._make_action_space(self, robot)
+        self.single_action_space = single
+        self.single_observation_space = HuNavEnv._make_observation_space(self, robot)
+        self.action_space = Box(np.broadcast_to(single.low, (self.num_envs,) + single.shape),
+                                np.broadcast_to(single.high, (self.num_envs,) + single.shape))
+        self.observation_space = Dict({k: Box(np.broadcast_to(s.low, (self.num_envs,) + s.shape),
+                                              np.broadcast_to(s.high, (self.num_envs,) + s.shape))
+                                       for k, s in self.single_observation_space.spaces.items()})
+        self._scan_max = self.single_observation_space["scan"].high[0]
+        self._started = False
+        self._state = None  # vsim.state() of the last step, kept for a reward_fn only
+        self._goal_distance = None
+        self._robot_collisions = None
+        self._next_seed = None
+
+    def reset(self, seed=None, options=None):
+        """Starts every world's episode: seed an int (world i gets seed + i), a list of num_envs
+        seeds, or None (each world's next seed). Returns (obs, infos)."""
+        if seed is None:
+            seeds = self._next_seed if self._next_seed is not None else self.vsim.seeds
+        elif np.ndim(seed) == 0:
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = [int(s) for s in seed]
+        seeds = [int(s) for s in seeds]
+        self.vsim.reset(seeds=seeds)
+        self._next_seed = [s + self.num_envs for s in seeds]
+        self._started = True
+        self._after_reset()
+        infos = self._infos(np.zeros(self.num_envs, dtype=bool), self._robot_collisions)
+        return self._observe(), infos
+
+    def step(self, actions):
+        """Applies actions (num_envs, action dims) for one control period in every world."""
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        a = np.asarray(actions, dtype=np.float64)
+        expected = (self.num_envs,) + self.single_action_space.shape
+        if a.shape != expected:
+            raise ValueError(f"actions of shape {a.shape}, expected {expected}")
+        if not np.all(np.isfinite(a)):
+            bad = int(np.flatnonzero(~np.all(np.isfinite(a), axis=1))[0])
+            raise ValueError(f"action {a[bad]} of world {bad} is not finite")
+        a = np.clip(a, self.single_action_space.low, self.single_action_space.high)
+        if not self.holonomic:
+            a = np.concatenate([a, np.zeros((self.num_envs, 1))], axis=1)
+        self.vsim.step(a)
+        w = self.reward_weights
+        d_after, intrusion, robot_collisions = self.vsim.reward_terms(w.personal_distance)
+        collided = robot_collisions > self._robot_collisions
+        infos = self._infos(collided, robot_collisions)
+        if self.reward_fn is None:  # default_vector_reward's formula, on the native terms
+            rewards = (w.progress * (self._goal_distance - d_after) - w.intrusion * intrusion
+                       - w.collision * collided + w.goal * infos["goal_reached"])
+        else:
+            before, self._state = self._state, self.vsim.state()
+            rewards = np.asarray(self.reward_fn(self, before, self._state, infos), dtype=np.float64)
+        self._goal_distance, self._robot_collisions = d_after, robot_collisions
+        terminated = infos["goal_reached"] | infos["stuck"] | (collided & self.terminate_on_collision)
+        truncated = infos["time_limit"] & ~terminated
+        obs = self._observe()
+        ended = np.flatnonzero(terminated | truncated)
+        if len(ended):
+            infos["final_observation"] = np.array([None] * self.num_envs, dtype=object)
+            infos["final_info"] = np.array([None] * self.num_envs, dtype=object)
+            for i in ended:
+                infos["final_observation"][i] = {k: v[i].copy() for k, v in obs.items()}
+                infos["final_info"][i] = {k: v[i] for k, v in infos.items() if isinstance(v, np.ndarray)
+                                          and v.dtype != object}
+            seeds = [self._next_seed[i] for i in ended]
+            for i in ended:
+                self._next_seed[i] += self.num_envs
+            self.vsim.reset(seeds=seeds, indices=[int(i) for i in ended])
+            fresh = self._observe()
+            for k in obs:
+                obs[k][ended] = fresh[k][ended]
+            self._after_reset()
+        return obs, rewards, terminated, truncated, infos
+
+    def close(self):
+        self.vsim = None
+
+    def _after_reset(self):
+        d, _, collisions = self.vsim.reward_terms(self.reward_weights.personal_distance)
+        self._goal_distance, self._robot_collisions = d, collisions
+        self._state = self.vsim.state() if self.reward_fn is not None else None
+
+    def _infos(self, collided, robot_collisions):
+        status = np.array(self.vsim.status)
         return {
-            "robot": np.array([v, w], dtype=np.float32),
-            "goal": goal.astype(np.float32),
-            "scan": scan,
-            "people": people,
+            "status": status,
+            "goal_reached": status == "goal_reached",
+            "time_limit": status == "time_limit",
+            "stuck": status == "stuck",
+            "collided": np.asarray(collided, dtype=bool),
+            "time": self.vsim.time,
+            "robot_collisions": robot_collisions.copy(),
+            "seed": np.array(self.vsim.seeds),
         }
+
+    def _observe(self):
+        """HuNavEnv's observation of every world, stacked (computed natively)."""
+        return self.vsim.robot_frame_observation(self.max_people, self._scan_max)

@@ -4,21 +4,27 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/message_checks.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/stepped_run.hpp"
+#include "worker_pool.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -108,6 +114,42 @@ fs::path makeTempDir() {
   return templ;
 }
 
+// hunav.gym's observation of one world (python/hunav/gym.py): robot [v, w]; goal relative to the
+// robot in its frame (x ahead, y left); the scan clipped to [0, range_max]; the perceived people
+// nearest first as [dx, dy, vx, vy, radius, 1] in the robot frame, then rows of 0. Done here: the
+// same arithmetic in numpy on arrays of a few elements took ~50 us a step.
+void robotFrame(const hunav::robot_observation_t& o, std::size_t max_people, float range_max, float* robot, float* goal,
+                float* scan, std::size_t beams, float* people) {
+  const double c = std::cos(o.yaw), s = std::sin(o.yaw);
+  robot[0] = static_cast<float>(o.v);
+  robot[1] = static_cast<float>(o.w);
+  const double gx = o.goal.x - o.x, gy = o.goal.y - o.y;
+  goal[0] = static_cast<float>(c * gx + s * gy);
+  goal[1] = static_cast<float>(-s * gx + c * gy);
+  const auto& r = o.scan.ranges;
+  for (std::size_t i = 0; i < beams; ++i) scan[i] = i < r.size() ? std::min(std::max(r[i], 0.0f), range_max) : 0.0f;
+  const std::size_t k = o.people.size();
+  thread_local std::vector<std::pair<double, std::size_t>> order;
+  order.clear();
+  for (std::size_t i = 0; i < k; ++i) {
+    const double dx = o.people[i].x - o.x, dy = o.people[i].y - o.y;
+    order.emplace_back(std::hypot(c * dx + s * dy, -s * dx + c * dy), i);
+  }
+  std::sort(order.begin(), order.end());  // by distance, then index
+  std::fill(people, people + max_people * 6, 0.0f);
+  for (std::size_t j = 0; j < std::min(k, max_people); ++j) {
+    const auto& p = o.people[order[j].second];
+    const double dx = p.x - o.x, dy = p.y - o.y;
+    float* row = people + j * 6;
+    row[0] = static_cast<float>(c * dx + s * dy);
+    row[1] = static_cast<float>(-s * dx + c * dy);
+    row[2] = static_cast<float>(c * p.vx + s * p.vy);
+    row[3] = static_cast<float>(-s * p.vx + c * p.vy);
+    row[4] = static_cast<float>(p.radius);
+    row[5] = 1.0f;
+  }
+}
+
 }  // namespace
 
 // Python's hunav.Simulation: loads the scenario once per seed and builds a SteppedRun per episode.
@@ -115,13 +157,18 @@ class Simulation {
  public:
   Simulation(std::string scenario_file, std::optional<long long> seed, std::optional<std::string> planner,
              std::optional<double> duration, std::optional<double> sample_rate, std::string planner_config,
-             std::string profile, std::string out_dir, std::string experiment_tag, std::string run_id)
+             std::string profile, std::string out_dir, std::optional<std::string> experiment_tag, std::string run_id,
+             std::string metrics_file, std::string format, bool evaluator_thread = true)
       : file_(std::move(scenario_file)),
         duration_(duration.value_or(0.0)),
         sample_rate_(sample_rate),
+        metrics_file_(std::move(metrics_file)),
+        experiment_tag_(std::move(experiment_tag)),
         keep_out_dir_(!out_dir.empty()) {
     if (seed && *seed < 0) throw std::invalid_argument("seed must be >= 0");
     if (sample_rate) hunav::evaluator::SampleRate{*sample_rate};  // the evaluator's own check
+    if (format != "csv" && format != "hunav_txt")
+      throw std::invalid_argument("format must be 'csv' or 'hunav_txt', not '" + format + "'");
     // Without a built-in planner the robot is driven from Python, recorded as planner "python".
     external_ = !planner.has_value();
     options_.planner = planner.value_or("python");
@@ -130,9 +177,12 @@ class Simulation {
     options_.planner_config = std::move(planner_config);
     options_.profile = std::move(profile);
     options_.out_dir = std::move(out_dir);
-    options_.experiment_tag = std::move(experiment_tag);
+    options_.hunav_txt = format == "hunav_txt";
     options_.run_id = std::move(run_id);
-    load(seed.value_or(-1));  // a bad scenario raises here, before any reset()
+    // Without its worker thread the evaluator takes each tick's sample on the stepping thread (the
+    // same results): what VectorSimulation wants, whose own threads keep the cores busy.
+    if (!evaluator_thread) options_.evaluator_worker_min_people = std::numeric_limits<int>::max();
+    load(seed.value_or(-1));  // a bad scenario or metrics file raises here, before any reset()
   }
   ~Simulation() {
     run_.reset();
@@ -140,23 +190,38 @@ class Simulation {
   }
 
   py::dict reset(std::optional<long long> seed) {
-    if (seed) {
-      if (*seed < 0) throw std::invalid_argument("seed must be >= 0");
-      if (static_cast<std::uint64_t>(*seed) != scenario_.seed) load(*seed);
-    }
-    run_.reset();
-    removeTempDir();
-    hunav::runner::RunOptions o = options_;
-    if (o.out_dir.empty()) o.out_dir = (temp_dir_ = makeTempDir()).string();
-    run_ = std::make_unique<SteppedRun>(scenario_, o, external_);
+    checkSeed(seed);
     {
       py::gil_scoped_release release;
-      run_->start();
+      resetNative(seed);
     }
     return observation();
   }
 
   py::dict step(double v, double w, double vy) {
+    checkCommand(v, w, vy);
+    {
+      py::gil_scoped_release release;
+      run_->step(v, vy, w);
+    }
+    return observation();
+  }
+
+  // The parts of reset() and step() without Python (VectorSimulation runs them on its threads).
+  static void checkSeed(std::optional<long long> seed) {
+    if (seed && *seed < 0) throw std::invalid_argument("seed must be >= 0");
+  }
+  void resetNative(std::optional<long long> seed) {
+    if (seed && static_cast<std::uint64_t>(*seed) != scenario_.seed) load(*seed);
+    run_.reset();
+    removeTempDir();
+    hunav::runner::RunOptions o = options_;
+    if (o.out_dir.empty()) o.out_dir = (temp_dir_ = makeTempDir()).string();
+    run_ = std::make_unique<SteppedRun>(scenario_, o, external_);
+    run_->start();
+  }
+  // Throws what step() would for this command, before anything moves.
+  void checkCommand(double v, double w, double vy) const {
     SteppedRun& r = started();
     if (!r.external()) throw std::logic_error("planner '" + options_.planner + "' drives the robot: use run()");
     if (r.ended()) throw std::logic_error("the episode has ended (" + r.episode().status + "): call reset()");
@@ -164,18 +229,20 @@ class Simulation {
       if (!std::isfinite(x)) throw std::invalid_argument(std::string(name) + " is not finite");
     if (vy != 0.0 && scenario_.robot.drive != hunav::RobotDrive::Holonomic)
       throw std::invalid_argument("vy is for a holonomic robot; this one has a differential drive");
-    {
-      py::gil_scoped_release release;
-      r.step(v, vy, w);
-    }
-    return observation();
   }
+  void stepNative(double v, double w, double vy) { run_->step(v, vy, w); }
+  void finishNative() {
+    if (!run_) resetNative(std::nullopt);
+    run_->finish();
+  }
+  const hunav::robot_observation_t& rawObservation() const { return started().observation(); }
+  const hunav::worldsim::WorldSim& world() const { return started().world(); }
+  bool hasEpisode() const { return run_ != nullptr; }
 
   py::dict run() {
-    if (!run_) reset(std::nullopt);
     {
       py::gil_scoped_release release;
-      run_->finish();
+      finishNative();
     }
     return info();
   }
@@ -213,6 +280,50 @@ class Simulation {
     d["collisions"] = w.collisions();
     d["robot_collisions"] = w.robotCollisions();
     return d;
+  }
+
+  // hunav.gym's observation (robotFrame) as a dict of float32 arrays.
+  py::dict robotFrameObservation(std::size_t max_people, float range_max) const {
+    const auto& o = started().observation();
+    const std::size_t beams = static_cast<std::size_t>(std::max(0, scenario_.robot.laser.beams));
+    py::array_t<float> robot(2), goal(2), scan(static_cast<py::ssize_t>(beams));
+    py::array_t<float> people({static_cast<py::ssize_t>(max_people), py::ssize_t{6}});
+    robotFrame(o, max_people, range_max, robot.mutable_data(), goal.mutable_data(), scan.mutable_data(), beams,
+               people.mutable_data());
+    py::dict d;
+    d["robot"] = robot;
+    d["goal"] = goal;
+    d["scan"] = scan;
+    d["people"] = people;
+    return d;
+  }
+
+  // The terms of hunav.gym's default reward after the step: the robot's distance to its goal,
+  // sum_i max(0, (personal_distance - d_i) / personal_distance) over every person i (d_i centre to
+  // centre), and the robot's collision count.
+  py::tuple rewardTerms(double personal_distance) const {
+    const auto& w = started().world();
+    const auto& rb = w.robot();
+    double intrusion = 0.0;
+    for (const auto& a : w.agents())
+      intrusion += std::max(0.0, (personal_distance - std::hypot(a.x - rb.x, a.y - rb.y)) / personal_distance);
+    const auto& g = scenario_.robot.goal;
+    return py::make_tuple(std::hypot(rb.x - g.x(), rb.y - g.y()), intrusion, w.robotCollisions());
+  }
+
+  // The ground truth a reward needs, cheaply: robot [x, y, yaw], people positions (n, 2), and the
+  // robot's collision count (hunav.gym's default reward, every step).
+  py::tuple positions() const {
+    const auto& w = started().world();
+    const auto& rb = w.robot();
+    const auto& a = w.agents();
+    return py::make_tuple(doubles({rb.x, rb.y, rb.yaw}),
+                          table(a.size(), 2,
+                                [&](std::size_t i, double* r) {
+                                  r[0] = a[i].x;
+                                  r[1] = a[i].y;
+                                }),
+                          w.robotCollisions());
   }
 
   py::dict metrics() const {
@@ -262,6 +373,10 @@ class Simulation {
   const hunav::Scenario& scenario() const { return scenario_; }
   bool done() const { return run_ && run_->ended(); }
   std::string planner() const { return options_.planner; }
+  bool external() const { return external_; }
+  double sampleRate() const { return scenario_.evaluation_sample_rate; }
+  std::string experimentTag() const { return options_.experiment_tag; }
+  std::string metricsFile() const { return options_.metrics_file; }
 
  private:
   // The map's walls as segments (x0, y0, x1, y1), circles (x, y, r) and the scenario's bounds.
@@ -289,9 +404,17 @@ class Simulation {
     return d;
   }
 
+  // As hunav_run: the seed and duration replace the scenario's; the metrics file (else the
+  // scenario's evaluation.metrics) selects the metrics, and its frequency and experiment_tag apply
+  // unless sample_rate / experiment_tag were given.
   void load(long long seed) {
     scenario_ = hunav::cli::loadScenarioFor(file_, seed, duration_);
     if (sample_rate_) scenario_.evaluation_sample_rate = *sample_rate_;
+    options_.metrics_file = metrics_file_.empty() ? scenario_.evaluation_metrics : metrics_file_;
+    options_.experiment_tag = experiment_tag_.value_or("exp");
+    hunav::evaluator::applyMetricsFile(options_.metrics_file, options_.profile, sample_rate_.has_value(),
+                                       scenario_.evaluation_sample_rate, experiment_tag_.has_value(),
+                                       options_.experiment_tag);
   }
   SteppedRun& started() const {
     if (!run_) throw std::logic_error("no episode yet: call reset() first");
@@ -307,12 +430,338 @@ class Simulation {
   std::string file_;
   double duration_;
   std::optional<double> sample_rate_;
+  std::string metrics_file_;
+  std::optional<std::string> experiment_tag_;
   bool keep_out_dir_;
   bool external_ = false;
   hunav::runner::RunOptions options_;
   hunav::Scenario scenario_;
   fs::path temp_dir_;
   std::unique_ptr<SteppedRun> run_;
+};
+
+// Python's hunav.VectorSimulation: n Simulations of one scenario, each with its own seed, reset and
+// stepped together on a pool of threads it owns, with the GIL released. Each world's state is its
+// own (no shared mutable state between worlds), so each episode is the one a single Simulation
+// with the same seed and commands gives, whatever thread steps it.
+class VectorSimulation {
+ public:
+  VectorSimulation(int n, const std::string& scenario, std::optional<std::vector<long long>> seeds,
+                   std::optional<std::string> planner, std::optional<int> threads, std::optional<int> max_people,
+                   std::optional<double> duration, std::optional<double> sample_rate, const std::string& planner_config,
+                   const std::string& profile, std::optional<std::string> experiment_tag,
+                   const std::string& metrics_file, const std::string& format, bool evaluator_thread) {
+    if (n < 1) throw std::invalid_argument("n must be >= 1");
+    if (seeds && seeds->size() != static_cast<std::size_t>(n))
+      throw std::invalid_argument("seeds has " + std::to_string(seeds->size()) + " values for " + std::to_string(n) +
+                                  " worlds");
+    if (threads && *threads < 1) throw std::invalid_argument("threads must be >= 1");
+    if (max_people && *max_people < 0) throw std::invalid_argument("max_people must be >= 0");
+    auto make = [&](std::optional<long long> seed) {
+      return std::make_shared<Simulation>(scenario, seed, planner, duration, sample_rate, planner_config, profile, "",
+                                          experiment_tag, "", metrics_file, format, evaluator_thread);
+    };
+    // Default seeds: the scenario's seed, then one more per world.
+    sims_.push_back(make(seeds ? std::optional<long long>((*seeds)[0]) : std::nullopt));
+    const auto base = static_cast<long long>(sims_[0]->scenario().seed);
+    for (int i = 1; i < n; ++i) sims_.push_back(make(seeds ? (*seeds)[static_cast<std::size_t>(i)] : base + i));
+    std::size_t people = 0;
+    for (const auto& s : sims_) people = std::max(people, s->scenario().agents.size());
+    max_people_ = max_people ? static_cast<std::size_t>(*max_people) : people;
+    const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    pool_ = std::make_unique<hunav::python::WorkerPool>(std::min(n, threads.value_or(cores)));
+  }
+
+  std::size_t size() const { return sims_.size(); }
+  int threads() const { return pool_->threads(); }
+  std::size_t maxPeople() const { return max_people_; }
+  std::shared_ptr<Simulation> world(long long i) const { return sims_.at(index(i)); }
+
+  py::dict reset(std::optional<std::vector<long long>> seeds, std::optional<std::vector<long long>> indices) {
+    std::vector<std::size_t> worlds;
+    if (indices) {
+      std::vector<bool> seen(sims_.size());
+      for (long long i : *indices) {
+        const std::size_t k = index(i);
+        if (seen[k]) throw std::invalid_argument("world " + std::to_string(k) + " is listed twice in indices");
+        seen[k] = true;
+        worlds.push_back(k);
+      }
+    } else {
+      for (std::size_t k = 0; k < sims_.size(); ++k) worlds.push_back(k);
+    }
+    if (seeds && seeds->size() != worlds.size())
+      throw std::invalid_argument("seeds has " + std::to_string(seeds->size()) + " values for " +
+                                  std::to_string(worlds.size()) + " worlds");
+    if (seeds)
+      for (long long s : *seeds) Simulation::checkSeed(s);
+    parallel(worlds.size(), [&](std::size_t k) {
+      sims_[worlds[k]]->resetNative(seeds ? std::optional<long long>((*seeds)[k]) : std::nullopt);
+    });
+    return observation();
+  }
+
+  // actions: (n, 2) [v, w] or (n, 3) [v, w, vy]; the rows of worlds whose episode has ended are
+  // ignored (those worlds do not move).
+  py::dict step(const py::array_t<double, py::array::c_style | py::array::forcecast>& actions) {
+    requireEpisodes();
+    const std::size_t n = sims_.size();
+    if (actions.ndim() != 2 || actions.shape(0) != static_cast<py::ssize_t>(n) ||
+        (actions.shape(1) != 2 && actions.shape(1) != 3)) {
+      std::string shape;
+      for (py::ssize_t d = 0; d < actions.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(actions.shape(d));
+      if (actions.ndim() == 1) shape += ",";  // as Python writes a 1-tuple
+      throw std::invalid_argument("actions of shape (" + shape + "), expected (" + std::to_string(n) +
+                                  ", 2) [v, w] or (" + std::to_string(n) + ", 3) [v, w, vy]");
+    }
+    const std::size_t cols = static_cast<std::size_t>(actions.shape(1));
+    const double* a = actions.data();
+    std::vector<std::size_t> running;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (sims_[i]->done()) continue;
+      const double* row = a + i * cols;
+      try {
+        sims_[i]->checkCommand(row[0], row[1], cols == 3 ? row[2] : 0.0);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("world " + std::to_string(i) + ": " + e.what());
+      } catch (const std::logic_error& e) {
+        throw std::logic_error("world " + std::to_string(i) + ": " + e.what());
+      }
+      running.push_back(i);
+    }
+    if (running.empty()) throw std::logic_error("every world's episode has ended: call reset()");
+    parallel(running.size(), [&](std::size_t k) {
+      const double* row = a + running[k] * cols;
+      sims_[running[k]]->stepNative(row[0], row[1], cols == 3 ? row[2] : 0.0);
+    });
+    return observation();
+  }
+
+  // Plays every world's episode to its end (starting those not started) and returns their info().
+  py::list run() {
+    parallel(sims_.size(), [&](std::size_t k) { sims_[k]->finishNative(); });
+    return infos();
+  }
+
+  // The worlds' observations stacked: robot (n, 5), goal (n, 4), goal_valid (n,), scan (n, beams)
+  // float32, people (n, max_people, 6) and people_ids (n, max_people) padded with 0 and -1,
+  // people_count (n,), time (n,), seq (n,).
+  py::dict observation() const {
+    requireEpisodes();
+    const std::size_t n = sims_.size(), m = max_people_;
+    std::vector<const hunav::robot_observation_t*> obs(n);
+    std::size_t beams = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      obs[i] = &sims_[i]->rawObservation();
+      beams = std::max(beams, obs[i]->scan.ranges.size());
+    }
+    py::dict d;
+    d["robot"] = table(n, 5, [&](std::size_t i, double* r) {
+      const auto& o = *obs[i];
+      r[0] = o.x, r[1] = o.y, r[2] = o.yaw, r[3] = o.v, r[4] = o.w;
+    });
+    d["goal"] = table(n, 4, [&](std::size_t i, double* r) {
+      const auto& g = obs[i]->goal;
+      r[0] = g.x, r[1] = g.y, r[2] = g.yaw, r[3] = g.radius;
+    });
+    d["goal_valid"] = column<bool>(n, [&](std::size_t i) { return obs[i]->goal.valid; });
+    py::array_t<float> scan({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(beams)});
+    float* sp = scan.mutable_data();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& r = obs[i]->scan.ranges;
+      std::fill(std::copy(r.begin(), r.end(), sp + i * beams), sp + (i + 1) * beams, 0.0f);
+    }
+    d["scan"] = scan;
+    py::array_t<double> people({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(m), py::ssize_t{6}});
+    py::array_t<std::int32_t> ids({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(m)});
+    double* pp = people.mutable_data();
+    std::int32_t* ip = ids.mutable_data();
+    std::fill(pp, pp + n * m * 6, 0.0);
+    std::fill(ip, ip + n * m, -1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& ps = obs[i]->people;
+      for (std::size_t k = 0; k < std::min(m, ps.size()); ++k) {
+        const auto& p = ps[k];
+        const double row[6] = {p.x, p.y, p.yaw, p.vx, p.vy, p.radius};
+        std::copy(row, row + 6, pp + (i * m + k) * 6);
+        ip[i * m + k] = p.id;
+      }
+    }
+    d["people"] = people;
+    d["people_ids"] = ids;
+    d["people_count"] = column<std::int32_t>(n, [&](std::size_t i) { return std::min(m, obs[i]->people.size()); });
+    d["time"] = column<double>(n, [&](std::size_t i) { return static_cast<double>(obs[i]->utime) / 1e6; });
+    d["seq"] = column<std::int64_t>(n, [&](std::size_t i) { return obs[i]->seq; });
+    return d;
+  }
+
+  // hunav.gym's observation (robotFrame) of every world, stacked.
+  py::dict robotFrameObservation(std::size_t max_people, float range_max) const {
+    requireEpisodes();
+    const std::size_t n = sims_.size();
+    const auto beams = static_cast<std::size_t>(std::max(0, sims_[0]->scenario().robot.laser.beams));
+    const auto sn = static_cast<py::ssize_t>(n);
+    py::array_t<float> robot({sn, py::ssize_t{2}}), goal({sn, py::ssize_t{2}});
+    py::array_t<float> scan({sn, static_cast<py::ssize_t>(beams)});
+    py::array_t<float> people({sn, static_cast<py::ssize_t>(max_people), py::ssize_t{6}});
+    for (std::size_t i = 0; i < n; ++i)
+      robotFrame(sims_[i]->rawObservation(), max_people, range_max, robot.mutable_data() + 2 * i,
+                 goal.mutable_data() + 2 * i, scan.mutable_data() + beams * i, beams,
+                 people.mutable_data() + max_people * 6 * i);
+    py::dict d;
+    d["robot"] = robot;
+    d["goal"] = goal;
+    d["scan"] = scan;
+    d["people"] = people;
+    return d;
+  }
+
+  // Simulation.reward_terms of every world: (distance to goal (n,), intrusion (n,), robot collisions (n,)).
+  py::tuple rewardTerms(double personal_distance) const {
+    requireEpisodes();
+    const std::size_t n = sims_.size();
+    py::array_t<double> distance(static_cast<py::ssize_t>(n)), intrusion(static_cast<py::ssize_t>(n));
+    py::array_t<std::uint64_t> collisions(static_cast<py::ssize_t>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      const py::tuple t = sims_[i]->rewardTerms(personal_distance);
+      distance.mutable_data()[i] = t[0].cast<double>();
+      intrusion.mutable_data()[i] = t[1].cast<double>();
+      collisions.mutable_data()[i] = t[2].cast<std::uint64_t>();
+    }
+    return py::make_tuple(distance, intrusion, collisions);
+  }
+
+  // Ground truth stacked: time, tick, robot (n, 7), collisions, robot_collisions, and agents with
+  // count (n,) and id, pose, velocity, radius, behavior, behavior_state, group, robot_in_sight, goal
+  // as (n, max_agents, ...) arrays (padding: id -1, 0 elsewhere, NaN goals).
+  py::dict state() const {
+    requireEpisodes();
+    const std::size_t n = sims_.size();
+    std::size_t m = 0;
+    for (const auto& s : sims_) m = std::max(m, s->world().agents().size());
+    auto agent = [&](std::size_t i, std::size_t k) -> const hunav::agent_state_t* {
+      const auto& a = sims_[i]->world().agents();
+      return k < a.size() ? &a[k] : nullptr;
+    };
+    const std::size_t nm = n * m;
+    py::dict d;
+    d["time"] = column<double>(n, [&](std::size_t i) { return sims_[i]->world().time(); });
+    d["tick"] = column<std::int64_t>(n, [&](std::size_t i) { return sims_[i]->world().tickCount(); });
+    d["robot"] = table(n, 7, [&](std::size_t i, double* r) {
+      const auto& b = sims_[i]->world().robot();
+      const double row[7] = {b.x, b.y, b.yaw, b.vx, b.vy, b.vyaw, b.radius};
+      std::copy(row, row + 7, r);
+    });
+    d["collisions"] = column<std::uint64_t>(n, [&](std::size_t i) { return sims_[i]->world().collisions(); });
+    d["robot_collisions"] =
+        column<std::uint64_t>(n, [&](std::size_t i) { return sims_[i]->world().robotCollisions(); });
+    auto per = [&](auto zero, auto get) {
+      using T = decltype(zero);
+      py::array_t<T> a({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(m)});
+      T* p = a.mutable_data();
+      for (std::size_t j = 0; j < nm; ++j) {
+        const auto* s = agent(j / m, j % m);
+        p[j] = s ? static_cast<T>(get(*s)) : zero;
+      }
+      return a;
+    };
+    auto triple = [&](std::size_t cols, auto get) {
+      py::array_t<double> a({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(m), static_cast<py::ssize_t>(cols)});
+      double* p = a.mutable_data();
+      for (std::size_t j = 0; j < nm; ++j) {
+        const auto* s = agent(j / m, j % m);
+        get(s, p + j * cols);
+      }
+      return a;
+    };
+    const double nan = std::nan("");
+    py::dict agents;
+    agents["count"] = column<std::int32_t>(n, [&](std::size_t i) { return sims_[i]->world().agents().size(); });
+    agents["id"] = per(std::int32_t{-1}, [](const hunav::agent_state_t& s) { return s.id; });
+    agents["pose"] = triple(3, [](const hunav::agent_state_t* s, double* r) {
+      r[0] = s ? s->x : 0.0, r[1] = s ? s->y : 0.0, r[2] = s ? s->yaw : 0.0;
+    });
+    agents["velocity"] = triple(3, [](const hunav::agent_state_t* s, double* r) {
+      r[0] = s ? s->vx : 0.0, r[1] = s ? s->vy : 0.0, r[2] = s ? s->vyaw : 0.0;
+    });
+    agents["radius"] = per(0.0, [](const hunav::agent_state_t& s) { return s.radius; });
+    agents["behavior"] = per(std::int8_t{0}, [](const hunav::agent_state_t& s) { return s.behavior; });
+    agents["behavior_state"] = per(std::int8_t{0}, [](const hunav::agent_state_t& s) { return s.behavior_state; });
+    agents["group"] = per(std::int32_t{-1}, [](const hunav::agent_state_t& s) { return s.group_id; });
+    agents["robot_in_sight"] = per(false, [](const hunav::agent_state_t& s) { return s.robot_in_sight; });
+    agents["goal"] = triple(2, [&](const hunav::agent_state_t* s, double* r) {
+      const bool has = s && !s->goals.empty();
+      r[0] = has ? s->goals[0].x : nan;
+      r[1] = has ? s->goals[0].y : nan;
+    });
+    d["agents"] = agents;
+    return d;
+  }
+
+  py::array_t<double> times() const {
+    return column<double>(sims_.size(), [&](std::size_t i) { return sims_[i]->world().time(); });
+  }
+  py::array_t<bool> done() const {
+    return column<bool>(sims_.size(), [&](std::size_t i) { return sims_[i]->done(); });
+  }
+  py::list infos() const {
+    return each([](const Simulation& s) { return py::object(s.info()); });
+  }
+  py::list metrics() const {
+    return each([](const Simulation& s) { return py::object(s.metrics()); });
+  }
+  py::list fingerprints() const {
+    return each([](const Simulation& s) { return py::object(py::str(s.fingerprint())); });
+  }
+  py::list status() const {
+    return each([](const Simulation& s) { return py::object(py::str(s.info()["status"])); });
+  }
+  std::vector<long long> seeds() const {
+    std::vector<long long> out;
+    for (const auto& s : sims_) out.push_back(static_cast<long long>(s->scenario().seed));
+    return out;
+  }
+
+ private:
+  std::size_t index(long long i) const {
+    const auto n = static_cast<long long>(sims_.size());
+    if (i < -n || i >= n)
+      throw py::index_error("world " + std::to_string(i) + " out of range for " + std::to_string(n));
+    return static_cast<std::size_t>(i < 0 ? i + n : i);
+  }
+  void requireEpisodes() const {
+    for (std::size_t i = 0; i < sims_.size(); ++i)
+      if (!sims_[i]->hasEpisode())
+        throw std::logic_error("world " + std::to_string(i) + " has no episode yet: call reset() first");
+  }
+  template <class F>
+  py::list each(F f) const {
+    py::list out;
+    for (const auto& s : sims_) out.append(f(*s));
+    return out;
+  }
+  // f(k) for k in [0, count) on the pool, the GIL released; then rethrows the first error (in k order).
+  template <class F>
+  void parallel(std::size_t count, F&& f) {
+    std::vector<std::exception_ptr> errors(count);
+    {
+      py::gil_scoped_release release;
+      const std::function<void(int)> work = [&](int k) {
+        try {
+          f(static_cast<std::size_t>(k));
+        } catch (...) {
+          errors[static_cast<std::size_t>(k)] = std::current_exception();
+        }
+      };
+      pool_->run(static_cast<int>(count), work);
+    }
+    for (const auto& e : errors)
+      if (e) std::rethrow_exception(e);
+  }
+
+  std::vector<std::shared_ptr<Simulation>> sims_;
+  std::size_t max_people_ = 0;
+  std::unique_ptr<hunav::python::WorkerPool> pool_;  // last: its threads stop before the worlds go
 };
 
 PYBIND11_MODULE(_hunav, m) {
@@ -333,13 +782,15 @@ PYBIND11_MODULE(_hunav, m) {
     }
   });
   m.def("planners", &hunav::planners::plannerNames, "names of the built-in planners");
-  py::class_<Simulation>(m, "Simulation")
+  py::class_<Simulation, std::shared_ptr<Simulation>>(m, "Simulation")
       .def(py::init<std::string, std::optional<long long>, std::optional<std::string>, std::optional<double>,
-                    std::optional<double>, std::string, std::string, std::string, std::string, std::string>(),
+                    std::optional<double>, std::string, std::string, std::string, std::optional<std::string>,
+                    std::string, std::string, std::string, bool>(),
            py::arg("scenario"), py::arg("seed") = py::none(), py::arg("planner") = py::none(),
            py::arg("duration") = py::none(), py::arg("sample_rate") = py::none(), py::arg("planner_config") = "",
-           py::arg("profile") = "default", py::arg("out_dir") = "", py::arg("experiment_tag") = "exp",
-           py::arg("run_id") = "")
+           py::arg("profile") = "default", py::arg("out_dir") = "", py::arg("experiment_tag") = py::none(),
+           py::arg("run_id") = "", py::arg("metrics") = "", py::arg("format") = "csv",
+           py::arg("evaluator_thread") = true)
       .def("reset", &Simulation::reset, py::arg("seed") = py::none())
       .def("step", &Simulation::step, py::arg("v"), py::arg("w"), py::arg("vy") = 0.0)
       .def("run", &Simulation::run)
@@ -347,6 +798,9 @@ PYBIND11_MODULE(_hunav, m) {
       .def("info", &Simulation::info)
       .def("state", &Simulation::state)
       .def("metrics", &Simulation::metrics)
+      .def("positions", &Simulation::positions)
+      .def("robot_frame_observation", &Simulation::robotFrameObservation, py::arg("max_people"), py::arg("range_max"))
+      .def("reward_terms", &Simulation::rewardTerms, py::arg("personal_distance"))
       .def("fingerprint", &Simulation::fingerprint)
       .def("save", &Simulation::save, py::arg("out_dir"))
       .def("map", &Simulation::mapDict)
@@ -356,5 +810,42 @@ PYBIND11_MODULE(_hunav, m) {
       .def_property_readonly("scenario_name", [](const Simulation& s) { return s.scenario().name; })
       .def_property_readonly("seed", [](const Simulation& s) { return s.scenario().seed; })
       .def_property_readonly("dt", [](const Simulation& s) { return s.scenario().dt; })
-      .def_property_readonly("time_limit", [](const Simulation& s) { return s.scenario().time_limit; });
+      .def_property_readonly("time_limit", [](const Simulation& s) { return s.scenario().time_limit; })
+      .def_property_readonly("sample_rate", &Simulation::sampleRate)
+      .def_property_readonly("experiment_tag", &Simulation::experimentTag)
+      .def_property_readonly("metrics_file", &Simulation::metricsFile);
+
+  py::class_<VectorSimulation>(m, "VectorSimulation")
+      .def(py::init<int, std::string, std::optional<std::vector<long long>>, std::optional<std::string>,
+                    std::optional<int>, std::optional<int>, std::optional<double>, std::optional<double>, std::string,
+                    std::string, std::optional<std::string>, std::string, std::string, bool>(),
+           py::arg("n"), py::arg("scenario"), py::arg("seeds") = py::none(), py::arg("planner") = py::none(),
+           py::arg("threads") = py::none(), py::arg("max_people") = py::none(), py::arg("duration") = py::none(),
+           py::arg("sample_rate") = py::none(), py::arg("planner_config") = "", py::arg("profile") = "default",
+           py::arg("experiment_tag") = py::none(), py::arg("metrics") = "", py::arg("format") = "csv",
+           py::arg("evaluator_thread") = false)
+      .def("reset", &VectorSimulation::reset, py::arg("seeds") = py::none(), py::arg("indices") = py::none())
+      .def("step", &VectorSimulation::step, py::arg("actions"))
+      .def("run", &VectorSimulation::run)
+      .def("observation", &VectorSimulation::observation)
+      .def("state", &VectorSimulation::state)
+      .def("robot_frame_observation", &VectorSimulation::robotFrameObservation, py::arg("max_people"),
+           py::arg("range_max"))
+      .def("reward_terms", &VectorSimulation::rewardTerms, py::arg("personal_distance"))
+      .def("infos", &VectorSimulation::infos)
+      .def("metrics", &VectorSimulation::metrics)
+      .def("fingerprints", &VectorSimulation::fingerprints)
+      .def("world", &VectorSimulation::world, py::arg("i"))
+      .def("__getitem__", &VectorSimulation::world, py::arg("i"))
+      .def("__len__", &VectorSimulation::size)
+      .def_property_readonly("num_worlds", &VectorSimulation::size)
+      .def_property_readonly("threads", &VectorSimulation::threads)
+      .def_property_readonly("max_people", &VectorSimulation::maxPeople)
+      .def_property_readonly("done", &VectorSimulation::done)
+      .def_property_readonly("time", &VectorSimulation::times)
+      .def_property_readonly("status", &VectorSimulation::status)
+      .def_property_readonly("seeds", &VectorSimulation::seeds)
+      .def_property_readonly("robot", [](const VectorSimulation& v) { return v.world(0)->robotDict(); })
+      .def_property_readonly("dt", [](const VectorSimulation& v) { return v.world(0)->scenario().dt; })
+      .def_property_readonly("time_limit", [](const VectorSimulation& v) { return v.world(0)->scenario().time_limit; });
 }

@@ -1,5 +1,8 @@
 #include "hunav/runner/stepped_run.hpp"
 
+#include <box2d/box2d.h>
+
+#include <mutex>
 #include <stdexcept>
 
 #include "hunav/channels.hpp"
@@ -12,8 +15,28 @@
 
 namespace hunav::runner {
 
+namespace {
+// Box2D 2.4 fills its table of contact types (b2Contact::s_registers, a global) when the first
+// contact of the process is created, unguarded: two worlds stepped on two threads could both be
+// first. One contact made here, once, before any SteppedRun ticks, fills it.
+void initBox2dContactTypes() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    b2World world(b2Vec2(0.0f, 0.0f));
+    b2CircleShape circle;
+    circle.m_radius = 1.0f;
+    b2BodyDef def;
+    def.type = b2_dynamicBody;
+    world.CreateBody(&def)->CreateFixture(&circle, 1.0f);
+    world.CreateBody(&def)->CreateFixture(&circle, 1.0f);
+    world.Step(0.01f, 1, 1);  // the overlapping bodies' pair becomes a contact
+  });
+}
+}  // namespace
+
 SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool external)
     : options_(options), external_(external) {
+  initBox2dContactTypes();
   if (options_.planner != "none" && !external_ && !planners::hasPlanner(options_.planner))
     throw std::invalid_argument("unknown planner '" + options_.planner + "'");
   manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts

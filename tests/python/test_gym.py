@@ -138,3 +138,21 @@ def test_holonomic_action_space(passing, tmp_path):
     for _ in range(5):
         env.step([0.0, 0.0, -0.4])  # [v, w, vy]: to the right
     assert env.sim.state()["robot"][1] < -0.1
+
+
+def test_default_reward_is_the_documented_one(passing):
+    """HuNavEnv's default reward (native terms) equals default_reward on full sim.state()s (to the
+    last bits: a hypot computed by libm here, by Python's math.hypot there)."""
+    fast, full = HuNavEnv(passing, terminate_on_collision=False), HuNavEnv(passing, reward_fn=default_reward,
+                                                                           terminate_on_collision=False)
+    fast.reset(seed=2)
+    full.reset(seed=2)
+    closest = np.inf
+    for t in range(200):  # straight down the corridor past both people
+        action = [0.6, 0.3 * np.sin(0.05 * t)]
+        _, r_fast, *_ = fast.step(action)
+        _, r_full, *_ = full.step(action)
+        assert r_fast == pytest.approx(r_full, rel=1e-12, abs=1e-12)
+        state = fast.sim.state()
+        closest = min(closest, np.hypot(*(state["agents"]["pose"][:, :2] - state["robot"][:2]).T).min())
+    assert closest < 1.2  # the personal-space term was in play
