@@ -1,5 +1,6 @@
 #include "hunav/manager/agent_manager.hpp"
 
+#include "bt_social.hpp"
 #include "people_routes.hpp"
 
 #include <algorithm>
@@ -120,6 +121,11 @@ void NeighborGrid::build(const std::vector<SfmBody>& bodies, const std::vector<i
     vx_[k] = b.velocity.x();
     vy_[k] = b.velocity.y();
   }
+}
+
+int StepSnapshot::indexOf(int id) const {
+  const auto it = std::lower_bound(by_id.begin(), by_id.end(), id, [&](int j, int v) { return agents[j].id < v; });
+  return it != by_id.end() && agents[*it].id == id ? *it : -1;
 }
 
 void StepSnapshot::index() {
@@ -247,6 +253,7 @@ AgentManager::AgentManager() : lib_(NodeLibrary::withBuiltins()) {}
 void AgentManager::clearMemory() {
   memory_.clear();
   memory_at_.clear();
+  social_.clear();
 }
 
 void AgentManager::setBuiltinTree(int behavior, const std::string& xml) {
@@ -274,12 +281,14 @@ void AgentManager::useScenario(const Scenario& scenario) {
 }
 
 void AgentManager::loadTrees(const Scenario& scenario) {
+  global_goals_ = readGlobalGoals(scenario);
   for (const AgentConfig& a : scenario.agents) {
     if (a.behavior_tree.empty()) continue;  // a built-in tree
     // Cached under the name the world's messages carry (relative to the scenario's folder).
     const std::string ref = behaviorTreeReference(scenario.file, a.behavior_tree);
     try {
       if (definitions_.count(ref) == 0) definitions_[ref] = TreeDefinition::load(a.behavior_tree, lib_);
+      checkGoalIds(*definitions_[ref], lib_, global_goals_);
     } catch (const ConfigError& e) {
       const std::string agent = a.name.empty() ? "agent " + std::to_string(a.id) : a.name;
       throw ConfigError(a.source_file.empty() ? scenario.file : a.source_file,
@@ -330,6 +339,10 @@ AgentMemory& AgentManager::memoryFor(const agent_state_t& a) {
     m.tree = BtTree::instantiate(def, lib_);
     m.tree_source = source;
     m.stopped = false;
+    m.social_tree = usesSocialNodes(def->root(), lib_);
+    m.social = PersonSocial{};
+    m.group_override = -2;
+    m.outputs.fill(-1.0);
   }
   return m;
 }
@@ -352,8 +365,22 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   snap.routes = routes_.get();
   snap.agents.resize(request.agents.size());
   for (std::size_t i = 0; i < request.agents.size(); ++i) snap.agents[i] = bodyOf(request.agents[i]);
+  // The memories first, on this thread (a new agent inserts into memory_); then each agent's tick
+  // reads the request and the snapshot and writes only its own reply entry and memory, so chunks of
+  // the crowd are ticked on two threads with the same results. A group set by SetGroupId or
+  // SetGroupWalk on the last step applies from this one.
+  const std::size_t count = request.agents.size();
+  memory_at_.resize(count);
+  social_active_ = false;
+  for (std::size_t i = 0; i < count; ++i) {
+    const AgentMemory& m = memoryAt(i, request.agents[i]);
+    social_active_ = social_active_ || m.social_tree;
+    if (m.group_override != -2) snap.agents[i].group_id = m.group_override;
+  }
   snap.robot = bodyOf(request.robot);
   snap.index();
+  snap.social = social_active_ ? &social_ : nullptr;
+  snap.global_goals = &global_goals_;
   if (cutoff_ > 0.0) {
     grid_.build(snap.agents, snap.by_id, cutoff_);
     computePeopleSocial(snap, grid_, cutoff_);
@@ -365,13 +392,7 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   reply.seq = request.seq;
   reply.episode = request.episode;
   reply.num_agents = request.num_agents;
-  const std::size_t count = request.agents.size();
   reply.agents.resize(count);
-  memory_at_.resize(count);
-  // The memories first, on this thread (a new agent inserts into memory_); then each agent's tick
-  // reads the request and the snapshot and writes only its own reply entry and memory, so chunks of
-  // the crowd are ticked on two threads with the same results.
-  for (std::size_t i = 0; i < count; ++i) memoryAt(i, request.agents[i]);
   auto tickRange = [&](std::size_t from, std::size_t to) {
     for (std::size_t i = from; i < to; ++i) {
       // What the agent a few places ahead will touch, fetched while this one is ticked: its memory,
@@ -411,23 +432,51 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
       set(BbKey::SocialForceFactor, bp.social_force_factor);
       set(BbKey::OtherForceFactor, bp.other_force_factor);
       set(BbKey::MaxVel, in.desired_speed);
+      for (int k = 0; k < kOutputKeys; ++k) ctx.bb[static_cast<std::size_t>(kFirstOutputKey + k)] = mem.outputs[k];
+      // Conversation and gaze hold only while a node keeps them up this tick; speech lasts its time.
+      mem.social.id = in.id;
+      mem.social.conversation = -1;
+      mem.social.looking_at = -1;
       mem.tree.tick(ctx);
     }
   };
   if (!twoThreadsMayPay(count)) {  // a small crowd: one pass, in the same order as the chunks
     reserveTickScratch();
     tickRange(0, count);
-    snap.request = nullptr;
-    return;
+  } else {
+    constexpr int kTickChunks = 8;
+    const std::size_t chunk_bounds[2] = {count, static_cast<std::size_t>(kTickChunks)};
+    // A closure of two references: it fits in std::function's own storage (no allocation).
+    forChunksOnTwoThreads(count, kTickChunks, [&tickRange, &chunk_bounds](int c) {
+      const std::size_t k = static_cast<std::size_t>(c), n = chunk_bounds[0], chunks = chunk_bounds[1];
+      tickRange(k * n / chunks, (k + 1) * n / chunks);
+    });
   }
-  constexpr int kTickChunks = 8;
-  const std::size_t chunk_bounds[2] = {count, static_cast<std::size_t>(kTickChunks)};
-  // A closure of two references: it fits in std::function's own storage (no allocation).
-  forChunksOnTwoThreads(count, kTickChunks, [&tickRange, &chunk_bounds](int c) {
-    const std::size_t k = static_cast<std::size_t>(c), n = chunk_bounds[0], chunks = chunk_bounds[1];
-    tickRange(k * n / chunks, (k + 1) * n / chunks);
-  });
+  if (social_active_) {  // what the people show, by id, for the next step and PEOPLE_SOCIAL
+    social_.resize(count);
+    for (std::size_t k = 0; k < count; ++k) social_[k] = memory_at_[snap.by_id[k]]->social;
+    social_utime_ = reply.utime;
+  }
   snap.request = nullptr;
+}
+
+void AgentManager::socialState(people_social_t& out) const {
+  out.utime = social_utime_;
+  out.episode = episode_;
+  out.num_people = static_cast<int32_t>(social_.size());
+  out.id.resize(social_.size());
+  out.speaking.resize(social_.size());
+  out.message.resize(social_.size());
+  out.conversation.resize(social_.size());
+  out.looking_at.resize(social_.size());
+  for (std::size_t k = 0; k < social_.size(); ++k) {
+    const PersonSocial& p = social_[k];
+    out.id[k] = p.id;
+    out.speaking[k] = p.speaking(social_utime_);
+    out.message[k] = out.speaking[k] ? p.message : std::string();
+    out.conversation[k] = p.conversation;
+    out.looking_at[k] = p.looking_at;
+  }
 }
 
 }  // namespace hunav::manager

@@ -19,7 +19,7 @@ namespace hunav::manager {
 namespace {
 const char* const kBbNames[] = {"id",  "dt",  "time", "dist", "duration", "once", "vel", "goal_force_factor",
                                 "obstacle_force_factor", "social_force_factor", "other_force_factor",
-                                "max_vel"};
+                                "max_vel", "target_agent_id", "speaker_id", "observer_id"};
 static_assert(sizeof(kBbNames) / sizeof(kBbNames[0]) == static_cast<std::size_t>(BbKey::Count));
 }  // namespace
 
@@ -155,10 +155,19 @@ class SubTreeNode : public BtNode {
 void registerHunavNodes(NodeLibrary& lib);  // bt_nodes.cpp
 
 void NodeLibrary::add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory) {
-  entries_[name] = Entry{kind, std::move(ports), std::move(factory), nullptr, 0, 0, false};
+  Entry e;
+  e.kind = kind;
+  e.ports = std::move(ports);
+  e.factory = std::move(factory);
+  entries_[name] = std::move(e);
 }
 
 const NodeLibrary::Entry* NodeLibrary::find(const std::string& name) const {
+  auto it = entries_.find(name);
+  return it == entries_.end() ? nullptr : &it->second;
+}
+
+NodeLibrary::Entry* NodeLibrary::findMutable(const std::string& name) {
   auto it = entries_.find(name);
   return it == entries_.end() ? nullptr : &it->second;
 }

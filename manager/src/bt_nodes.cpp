@@ -1,6 +1,7 @@
 // The HuNavSim node library: conditions and actions (manager/README.md, "Behavior trees").
 #include "hunav/manager/agent_manager.hpp"
 #include "hunav/manager/behavior_tree.hpp"
+#include "bt_social.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -52,7 +53,6 @@ void addLeaf(NodeLibrary& lib, const std::string& name, std::vector<PortSpec> po
 PortSpec num(const std::string& name, const std::string& def) {
   return PortSpec{name, PortType::Number, false, def, {}};
 }
-PortSpec req(const std::string& name) { return PortSpec{name, PortType::Number, true, "", {}}; }
 PortSpec flag(const std::string& name, const std::string& def) {
   return PortSpec{name, PortType::Bool, false, def, {}};
 }
@@ -121,6 +121,8 @@ void registerHunavNodes(NodeLibrary& lib) {
   });
   lib.addNode<TimeExpired>("TimeExpiredCondition", Kind::Leaf, {num("seconds", "1.0"), flag("only_once", "false"), num("ts", "{dt}")});
   lib.addNode<RandomChance>("RandomChance", Kind::Leaf, {num("probability", "0.3")});
+  // HuNavSim 2.0's name of the same node.
+  lib.addNode<RandomChance>("RandomChanceCondition", Kind::Leaf, {num("probability", "0.3")});
 
   // --- goal queue
   addLeaf(lib, "UpdateGoal", {}, [](auto&, TickContext& c) {
@@ -129,15 +131,6 @@ void registerHunavNodes(NodeLibrary& lib) {
     c.out.goals.erase(c.out.goals.begin());
     if (c.out.cyclic_goals) c.out.goals.push_back(g);
     c.out.num_goals = static_cast<int32_t>(c.out.goals.size());
-    return true;
-  });
-  // SetGoal(x, y): makes (x, y) the current goal (put in front of the queue unless already there).
-  addLeaf(lib, "SetGoal", {req("x"), req("y")}, [](auto& n, TickContext& c) {
-    const point2d_t g{n.value(0, c), n.value(1, c)};
-    if (c.out.goals.empty() || c.out.goals.front().x != g.x || c.out.goals.front().y != g.y) {
-      c.out.goals.insert(c.out.goals.begin(), g);
-      c.out.num_goals = static_cast<int32_t>(c.out.goals.size());
-    }
     return true;
   });
 
@@ -212,10 +205,7 @@ void registerHunavNodes(NodeLibrary& lib) {
     c.memory.stopped = false;
     return true;
   });
-  addLeaf(lib, "LookAtRobot", {}, [](auto&, TickContext& c) {
-    turnToward(c, robotPos(c), kTurnRate * c.dt);
-    return true;
-  });
+  registerSocialNodes(lib);  // HuNavSim 2.0's library (bt_social.cpp)
 }
 
 }  // namespace hunav::manager

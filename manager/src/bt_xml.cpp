@@ -272,6 +272,21 @@ struct Parser {
         v.number = 0.0;
       else
         fail(line, where + "is not true/false");
+    } else if (spec.type == PortType::IdList) {
+      // "2,3,4": agent ids (spaces allowed around them)
+      std::size_t pos = 0;
+      while (pos <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', pos), text.size());
+        const std::string item = text.substr(pos, comma - pos);
+        char* end = nullptr;
+        const long id = std::strtol(item.c_str(), &end, 10);
+        while (end != nullptr && *end == ' ') ++end;
+        if (item.find_first_not_of(' ') == std::string::npos || end == nullptr || *end != '\0' || id < 0 ||
+            id > 2147483647L)
+          fail(line, where + "is not a list of agent ids like \"2,3,4\"");
+        v.ids.push_back(static_cast<int>(id));
+        pos = comma + 1;
+      }
     } else if (!spec.choices.empty()) {
       const auto it = std::find(spec.choices.begin(), spec.choices.end(), text);
       if (it == spec.choices.end()) {
@@ -327,6 +342,29 @@ struct Parser {
                      "when the tree is loaded, so a name may hold only one value");
   }
 
+  // An output port "{name}": the node writes its entry (spec.output); {name} reads it for the rest
+  // of the tree body (like SetBlackboard, one meaning per name).
+  PortValue bindOutput(const XMLElement* e, const PortSpec& spec, const std::string& text, Scope& scope) const {
+    const int line = e->GetLineNum();
+    const std::string where = std::string(e->Name()) + ": port " + spec.name + ": '" + text + "' ";
+    if (!braced(text) || unbrace(text).empty()) fail(line, where + "is an output: write a blackboard name, {name}");
+    const std::string name = unbrace(text);
+    const Alias a{true, spec.output, ""};
+    if (const auto key = builtinKey(name)) {
+      if (*key != spec.output)
+        fail(line, where + "names an entry the manager fills or another output writes; choose another name");
+    } else {
+      const auto [it, added] = scope.emplace(name, a);
+      if (!added && !(it->second == a))
+        fail(line, where + "names an entry that already holds another value in this tree; choose another name");
+    }
+    PortValue v;
+    v.from_blackboard = true;
+    v.key = spec.output;
+    v.text = text;
+    return v;
+  }
+
   // ---- building the spec
 
   BtSpec buildSubTree(const XMLElement* e, std::set<std::string>& stack, const Scope& scope) {
@@ -375,18 +413,25 @@ struct Parser {
     for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
       const std::string n = a->Name();
       if (n == "name" || n == "ID" || (set_bb && (n == "output_key" || n == "value"))) continue;
-      if (entry->agent_ports && (n == "agent_id" || n == "time_step")) {
+      bool known = false;
+      for (const PortSpec& p : entry->ports) known = known || p.name == n;
+      if (!known && entry->agent_ports && (n == "agent_id" || n == "time_step")) {
         checkAgentPort(e, n, a->Value(), scope);
         continue;
       }
-      bool known = false;
-      for (const PortSpec& p : entry->ports) known = known || p.name == n;
       if (!known) fail(s.line, s.name + ": unknown port '" + n + "'");
     }
     for (const PortSpec& p : entry->ports) {
       const char* value = e->Attribute(p.name.c_str());
       if (value == nullptr && p.required) fail(s.line, s.name + ": missing port '" + p.name + "'");
-      s.ports.push_back(parseValue(e, p, value != nullptr ? std::string(value) : p.default_value, scope));
+      const std::string text = value != nullptr ? std::string(value) : p.default_value;
+      PortValue v = p.type == PortType::Output ? bindOutput(e, p, text, scope) : parseValue(e, p, text, scope);
+      v.given = value != nullptr;
+      s.ports.push_back(std::move(v));
+    }
+    if (entry->check) {
+      const std::string wrong = entry->check(entry->ports, s.ports);
+      if (!wrong.empty()) fail(s.line, s.name + ": " + wrong);
     }
     int count = 0;
     for (const XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {

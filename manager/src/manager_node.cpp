@@ -35,6 +35,12 @@ void ManagerNode::onRequest(const step_request_t& request) {
   answered_episode_ = request.episode;
   have_answered_ = true;
   ++steps_computed_;
+  // Speaking, conversations and gaze, beside the reply (before it, so a listener has them by the
+  // time the world state of this step is out); only while some tree uses those nodes.
+  if (manager_.socialActive()) {
+    manager_.socialState(social_);
+    bus_.publish(channels::kPeopleSocial, social_);
+  }
   if (!bus_.inProcess()) {
     bus_.publish(channels::kStepReply, last_reply_);  // encoded: the reply stays here for resends
     have_last_ = true;

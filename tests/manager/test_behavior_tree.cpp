@@ -330,9 +330,9 @@ TEST(BtNodes, StopResumeAndLookAtRobot) {
   a.vx = 0.5;
   auto m = managerWith("<Sequence><Script/><StopMovement/></Sequence>");
   m->setBuiltinTree(agent_state_t::BEH_REGULAR,
-                    "<root BTCPP_format=\"4\"><BehaviorTree ID=\"T\"><Fallback>"
-                    "<Sequence><IsRobotClose threshold=\"2\"/><StopMovement/><LookAtRobot/></Sequence>"
-                    "<Sequence><ResumeMovement/><RegularNav/></Sequence></Fallback></BehaviorTree></root>");
+                    "<root BTCPP_format=\"4\"><BehaviorTree ID=\"T\"><ReactiveFallback>"
+                    "<ReactiveSequence><IsRobotClose threshold=\"2\"/><StopMovement/><LookAtRobot/></ReactiveSequence>"
+                    "<Sequence><ResumeMovement/><RegularNav/></Sequence></ReactiveFallback></BehaviorTree></root>");
   step_reply_t r = m->step(request(a, robotAt(0, 1), 1));
   EXPECT_EQ(r.agents[0].x, 0.0);
   EXPECT_EQ(r.agents[0].vx, 0.0);

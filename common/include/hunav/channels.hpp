@@ -12,6 +12,7 @@ inline constexpr const char* kNavGoal = "NAV_GOAL";                    // nav_go
 inline constexpr const char* kWorldState = "WORLD_STATE";              // world_state_t
 inline constexpr const char* kEpisodeEvent = "EPISODE_EVENT";          // episode_event_t
 inline constexpr const char* kLiveMetrics = "LIVE_METRICS";            // live_metrics_t
+inline constexpr const char* kPeopleSocial = "PEOPLE_SOCIAL";          // people_social_t
 
 // With `channel_ports=1` in a udpm URL (transport.hpp), these channels go to UDP ports of their own:
 // the URL's port plus 1, 2, ... in this order. They are the world-manager exchange of the step

@@ -10,10 +10,12 @@
 #include "hunav/social_force.hpp"
 
 #include <hunav/agent_state_t.hpp>
+#include <hunav/people_social_t.hpp>
 #include <hunav/step_reply_t.hpp>
 #include <hunav/step_request_t.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -38,6 +40,18 @@ inline constexpr double kTurnRate = kPi;
 
 struct StepSnapshot;
 class RouteMap;
+
+// What a person shows the others (bt_social.cpp): whether it speaks, its conversation circle, whom
+// it looks at. Nodes read everybody's entry of the previous step (so the result does not depend on
+// the order people are ticked in) and write their own for the next.
+struct PersonSocial {
+  int id = 0;
+  std::int64_t speaking_until = 0;  // us of simulation time: speaking while utime < speaking_until
+  std::string message;              // what it said last (SaySomething)
+  int conversation = -1;            // main agent id of its conversation circle, -1: none
+  int looking_at = -1;              // id of the person or robot a look node turns it to, -1: none
+  bool speaking(std::int64_t utime) const { return utime < speaking_until; }
+};
 
 // Uniform grid over the snapshot's people, cells of `cell` metres; agents of a cell sorted by id, so
 // a query visits neighbours in an order that does not depend on the request order. Rebuilding it
@@ -87,6 +101,12 @@ struct StepSnapshot {
   // straight at goals).
   ObstaclePoints obstacle_points = ObstaclePoints::Each;
   const RouteMap* routes = nullptr;
+  // The social state of the previous step, by id (empty when no tree uses a social node), and the
+  // scenario's HuNavSim 2 global goals (goal_id ports).
+  const std::vector<PersonSocial>* social = nullptr;
+  const std::map<int, Vec2>* global_goals = nullptr;
+  // The request index of the person with this id, or -1.
+  int indexOf(int id) const;
   // Fills by_id and the groups from agents (keeps the previous step's order when the ids are the same).
   void index();
 };
@@ -136,6 +156,10 @@ struct AgentMemory {
   std::string tree_file;
   BtTree tree;
   bool stopped = false;           // StopMovement / ResumeMovement
+  bool social_tree = false;       // the tree uses a node of the social state
+  PersonSocial social;            // this step's social state (written by the nodes)
+  int group_override = -2;        // SetGroupId / SetGroupWalk: the group from the next step on (-2: none)
+  std::array<double, kOutputKeys> outputs{};  // output entries of the blackboard (-1 until written)
   bool moved = false;             // a motion action already ran this tick
   // Route following (people.navigation: path): the waypoint chosen for route_target, kept until
   // route_until_utime unless the target moves or the waypoint is reached.
@@ -188,6 +212,15 @@ class AgentManager {
   // "<agents file>:<behavior_tree line>: <agent>.behavior_tree: <tree file>:<line>: what is wrong".
   void loadTrees(const Scenario& scenario);
 
+  // HuNavSim 2's global goals (id -> point) for goal_id ports (useScenario reads them from the
+  // agents layout; tools and tests may set them).
+  void setGlobalGoals(std::map<int, Vec2> goals) { global_goals_ = std::move(goals); }
+  const std::map<int, Vec2>& globalGoals() const { return global_goals_; }
+  // Whether some person's tree uses a node of the social state (then the manager publishes it).
+  bool socialActive() const { return social_active_; }
+  // The social state after the last step (every person of its request, by id).
+  void socialState(people_social_t& out) const;
+
   step_reply_t step(const step_request_t& request);
   // The same into `reply`, reusing its storage (no allocation once the crowd has been seen).
   void step(const step_request_t& request, step_reply_t& reply);
@@ -212,6 +245,10 @@ class AgentManager {
   std::shared_ptr<const RouteMap> routes_;
   // The scenario's file: agent_state_t.behavior_tree is relative to its folder (useScenario).
   std::string scenario_file_;
+  std::map<int, Vec2> global_goals_;
+  std::vector<PersonSocial> social_;  // after the last step, by id
+  std::int64_t social_utime_ = 0;
+  bool social_active_ = false;
 };
 
 // loadTrees with a manager of its own: for a process that only needs the check.

@@ -23,15 +23,21 @@ namespace hunav::manager {
 
 enum class Status { Success, Failure, Running };
 
-// Blackboard entries the manager fills before each tick (agent parameters and the clock).
+// Blackboard entries the manager fills before each tick (agent parameters and the clock), then the
+// entries output ports write (FindNearestAgent, IsAnyoneSpeaking, IsAnyoneLookingAtMe): those keep
+// their value from tick to tick in the agent's memory, -1 until written.
 enum class BbKey : int {
   Id, Dt, Time, Dist, Duration, Once, Vel, GoalForceFactor, ObstacleForceFactor, SocialForceFactor,
-  OtherForceFactor, MaxVel, Count
+  OtherForceFactor, MaxVel, TargetAgentId, SpeakerId, ObserverId, Count
 };
+inline constexpr int kFirstOutputKey = static_cast<int>(BbKey::TargetAgentId);
+inline constexpr int kOutputKeys = static_cast<int>(BbKey::Count) - kFirstOutputKey;
 const char* bbKeyName(BbKey k);
 using Blackboard = std::array<double, static_cast<std::size_t>(BbKey::Count)>;
 
-enum class PortType { Number, Bool, String };
+// Output: the value must be "{name}"; the node writes `output` there (and {name} then reads it).
+// IdList: comma-separated integers ("2,3,4"), parsed at load into PortValue::ids.
+enum class PortType { Number, Bool, String, Output, IdList };
 struct PortSpec {
   std::string name;
   PortType type = PortType::Number;
@@ -40,6 +46,7 @@ struct PortSpec {
   // String ports: the accepted values (empty: any text). The value's position in this list is
   // stored in PortValue::number, so a node compares numbers, not text, at each tick.
   std::vector<std::string> choices;
+  BbKey output = BbKey::TargetAgentId;  // Output ports: the entry written
 };
 
 // A port's value: a literal (checked at load) or a blackboard entry.
@@ -48,6 +55,8 @@ struct PortValue {
   BbKey key = BbKey::Id;
   double number = 0.0;
   std::string text;
+  std::vector<int> ids;  // IdList
+  bool given = false;    // written in the XML (not the default)
 };
 
 // A node as the XML describes it; shared, read-only, by every agent's copy of the tree.
@@ -105,8 +114,13 @@ class NodeLibrary {
     Placer placer;  // optional: nodes constructed in the tree's own block of memory
     std::size_t size = 0, align = 0;
     // Accepts HuNavSim's agent_id ("{id}") and time_step ("{dt}") ports, which mean this agent and
-    // the world's step here (set for the leaves of withBuiltins()).
+    // the world's step here (set for the leaves of withBuiltins()), unless the node declares them.
     bool agent_ports = false;
+    // Reads or writes the social state (speaking, conversations, looking at): a manager whose
+    // trees use such a node publishes PEOPLE_SOCIAL (lcmtypes/README.md).
+    bool social = false;
+    // Checks across ports at load: returns what is wrong ("" when nothing is).
+    std::function<std::string(const std::vector<PortSpec>&, const std::vector<PortValue>&)> check;
   };
   // A node type made by `factory` (each node a heap object).
   void add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory);
@@ -120,6 +134,7 @@ class NodeLibrary {
     e.align = alignof(T);
   }
   const Entry* find(const std::string& name) const;
+  Entry* findMutable(const std::string& name);
   // The control nodes and decorators of the engine, plus the HuNavSim node library (bt_nodes.cpp).
   static NodeLibrary withBuiltins();
 

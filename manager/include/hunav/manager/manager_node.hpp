@@ -31,6 +31,7 @@ class ManagerNode {
   std::int64_t answered_episode_ = 0;
   bool have_last_ = false;      // last_reply_ holds the answer to answered_seq_ (for resends)
   step_reply_t last_reply_;
+  people_social_t social_;      // PEOPLE_SOCIAL, reused
   std::uint64_t steps_computed_ = 0;
   std::uint64_t replies_resent_ = 0;
   std::uint64_t episodes_ended_ = 0;

@@ -1,0 +1,22 @@
+#pragma once
+// HuNavSim 2.0's node library beyond the v1 nodes (bt_social.cpp): people who approach, block or
+// follow another person, walk as a group, gather in a conversation circle, look at a point, a person
+// or the robot, wait, go to a named goal, speak, and ask whether anyone speaks or looks at them.
+#include <map>
+
+#include "hunav/manager/agent_manager.hpp"
+#include "hunav/manager/behavior_tree.hpp"
+#include "hunav/scenario.hpp"
+
+namespace hunav::manager {
+
+// Registers the nodes of bt_social.cpp (called by registerHunavNodes).
+void registerSocialNodes(NodeLibrary& lib);
+// Whether a tree uses a node that reads or writes the social state (NodeLibrary::Entry::social).
+bool usesSocialNodes(const BtSpec& root, const NodeLibrary& lib);
+// HuNavSim 2's global_goals of the scenario's agents layout (id -> point); empty when it has none.
+std::map<int, Vec2> readGlobalGoals(const Scenario& scenario);
+// Every literal goal_id of the tree names one of `goals`; else ConfigError "tree file:line: ...".
+void checkGoalIds(const TreeDefinition& tree, const NodeLibrary& lib, const std::map<int, Vec2>& goals);
+
+}  // namespace hunav::manager
