@@ -197,7 +197,9 @@ Vec2 routedTarget(TickContext& c, const Vec2& target) {
                      (target - m.route_target).norm() <= kRouteTargetMove &&
                      (m.route_direct || (m.route_waypoint - here).norm() > kRouteWaypointReached);
   if (!fresh) {
-    m.route_waypoint = c.snap.routes->nextWaypoint(here, target, c.in.radius);
+    // Routes keep the clearance the person's own forces need to get past corners (passMargin).
+    m.route_waypoint = c.snap.routes->nextWaypoint(
+        here, target, c.in.radius, c.snap.routes->passMargin(c.in.radius, paramsOf(c.in), c.in.desired_speed));
     m.route_direct = m.route_waypoint == target;
     m.route_target = target;
     m.route_until_utime = now + (m.route_direct ? kDirectHoldUs : kRouteHoldUs);

@@ -19,6 +19,9 @@ constexpr double kNarrowCost = 2.0;
 // A cell narrower than the body (by more than kSqueeze) is a last resort, not forbidden: the grid
 // may underestimate a gap, and a goal may lie in a corner.
 constexpr double kSqueezeCost = 50.0;
+// A gap that leaves less than a person's pass margin beside its body is a detour's worth of metres
+// (kTightCost per metre): people squeeze through one only when there is no other way.
+constexpr double kTightCost = 10.0;
 // How far ahead along its route a person looks for the farthest point in sight.
 constexpr double kLookahead = 8.0;  // m
 
@@ -124,10 +127,28 @@ double RouteMap::clearance(const Vec2& p) const {
   return c < 0 ? std::numeric_limits<float>::max() : clearance_[static_cast<std::size_t>(c)];
 }
 
-bool RouteMap::clearLine(const Vec2& a, const Vec2& b, double r) const {
+double RouteMap::passMargin(double r, const SfmParams& params, double desired_speed) const {
+  const double from_rest = params.goal_weight * desired_speed / params.relaxation_time;
+  const double sigma = params.obstacle_sigma;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (int k = 0; k * kRadiusStep < kMaxPassMargin; ++k) {
+    auto [it, added] = peaks_.try_emplace({r, k}, 0.0);
+    if (added && sigma > 0.0) {  // the largest value ahead of the corner by 0..6 sigma
+      const double beside = r + k * kRadiusStep;
+      for (int i = 1; i <= 300; ++i) {
+        const double ahead = i * 0.02 * sigma, dist = std::hypot(beside, ahead);
+        it->second = std::max(it->second, std::exp(-(dist - r) / sigma) * ahead / dist);
+      }
+    }
+    if (params.obstacle_weight * it->second < from_rest) return k * kRadiusStep;
+  }
+  return kMaxPassMargin;
+}
+
+bool RouteMap::clearLine(const Vec2& a, const Vec2& b, double r, double margin) const {
   const Vec2 d = b - a;
   const double len = d.norm();
-  const double need = r - kSqueeze, end_zone = r + res_;
+  const double need = r - kSqueeze + margin, end_zone = r + res_;
   // Near an end with less clearance than `need`, the line may keep that end's clearance (walk along
   // the wall a person stands against, or up to a goal by a table) but not come closer.
   const double need_a = std::min(need, clearance(a)), need_b = std::min(need, clearance(b));
@@ -147,32 +168,36 @@ bool RouteMap::clearLine(const Vec2& a, const Vec2& b, double r) const {
   }
 }
 
-std::shared_ptr<const std::vector<float>> RouteMap::priceFor(int radius_class) const {
-  auto& price = prices_[radius_class];
+std::shared_ptr<const std::vector<float>> RouteMap::priceFor(int radius_class, int margin_class) const {
+  auto& price = prices_[radius_class * 1024 + margin_class];
   if (price) return price;
-  // The price of a metre through a cell: 1 in the open, up to 1 + kNarrowCost near walls,
-  // kSqueezeCost where the body does not fit. Occupied cells are never entered.
-  const double body = radius_class * kRadiusStep;
+  // The price of a metre through a cell: 1 in the open, up to 1 + kNarrowCost near walls, kTightCost
+  // in a gap the obstacle force can hold the body at, kSqueezeCost where the body does not fit.
+  // Occupied cells are never entered.
+  const double body = radius_class * kRadiusStep, margin = margin_class * kRadiusStep;
   auto p = std::make_shared<std::vector<float>>(clearance_.size());
   for (std::size_t c = 0; c < clearance_.size(); ++c) {
     const double cl = clearance_[c];
-    (*p)[c] = static_cast<float>(cl < body - kSqueeze
-                                     ? kSqueezeCost
+    (*p)[c] = static_cast<float>(cl < body - kSqueeze ? kSqueezeCost
+                                 : cl < body - kSqueeze + margin
+                                     ? kTightCost
                                      : 1.0 + kNarrowCost * std::clamp((body + kComfort - cl) / kComfort, 0.0, 1.0));
   }
   price = std::move(p);
   return price;
 }
 
-RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r) const {
+RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r, double margin) const {
   const int radius_class = static_cast<int>(std::lround(r / kRadiusStep));
-  const std::uint64_t key = (static_cast<std::uint64_t>(radius_class) << 32) | static_cast<std::uint32_t>(goal_cell);
+  const int margin_class = static_cast<int>(std::lround(margin / kRadiusStep));
+  const std::uint64_t key = (static_cast<std::uint64_t>(radius_class) << 42) |
+                            (static_cast<std::uint64_t>(margin_class) << 32) | static_cast<std::uint32_t>(goal_cell);
   if (auto it = fields_.find(key); it != fields_.end()) return it->second;
   if (fields_.size() >= 128) fields_.clear();  // moving targets (the robot) leave many behind
   Field& f = fields_[key];
   f.cost.assign(clearance_.size(), kUnreachable);
   f.settled.assign(clearance_.size(), 0);
-  f.price = priceFor(radius_class);
+  f.price = priceFor(radius_class, margin_class);
   f.cost[static_cast<std::size_t>(goal_cell)] = 0.0f;
   f.open.push_back({0.0f, goal_cell});
   return f;
@@ -228,10 +253,10 @@ int RouteMap::freeCellNear(int cell) const {
   return best;
 }
 
-std::vector<int> RouteMap::route(int start, int goal_cell, double r, std::size_t max_cells) const {
+std::vector<int> RouteMap::route(int start, int goal_cell, double r, double margin, std::size_t max_cells) const {
   std::vector<int> cells;
   std::lock_guard<std::mutex> lock(mutex_);
-  Field& f = fieldFor(goal_cell, r);
+  Field& f = fieldFor(goal_cell, r, margin);
   if (!settle(f, start)) return cells;  // no way there
   // Steepest descent: every cell cheaper than the start is settled, and only those are taken.
   int c = start;
@@ -251,18 +276,19 @@ std::vector<int> RouteMap::route(int start, int goal_cell, double r, std::size_t
   return cells;
 }
 
-Vec2 RouteMap::nextWaypoint(const Vec2& p, const Vec2& target, double r) const {
-  if (clearLine(p, target, r)) return target;
+Vec2 RouteMap::nextWaypoint(const Vec2& p, const Vec2& target, double r, double margin) const {
+  margin = std::clamp(margin, 0.0, kMaxPassMargin);
+  if (clearLine(p, target, r, margin)) return target;
   const int here = cellOf(p), goal_cell = cellOf(target);
   if (here < 0 || goal_cell < 0) return target;  // off the map: nothing to route around
   const int start = freeCellNear(here);
   if (start < 0) return target;
-  const std::vector<int> cells = route(start, goal_cell, r, static_cast<std::size_t>(kLookahead / res_) + 1);
+  const std::vector<int> cells = route(start, goal_cell, r, margin, static_cast<std::size_t>(kLookahead / res_) + 1);
   if (cells.empty()) return target;  // no way there: walk at it, as HuNavSim would
   // The farthest point in sight of the route's first stretch (at least a step ahead).
   std::size_t best = std::min<std::size_t>(1, cells.size() - 1);
   for (std::size_t k = best + 1; k < cells.size(); ++k) {
-    if (!clearLine(p, centreOf(cells[k]), r)) break;
+    if (!clearLine(p, centreOf(cells[k]), r, margin)) break;
     best = k;
   }
   if (cells[best] == goal_cell) return target;

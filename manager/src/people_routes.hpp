@@ -5,12 +5,14 @@
 // A person walks at the farthest point of its route that it can see; with its goal in sight that is
 // the goal itself, exactly as HuNavSim's direct walk.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <unordered_map>
 #include <vector>
 
 #include "hunav/geometry.hpp"
+#include "hunav/social_force.hpp"
 
 namespace hunav::manager {
 
@@ -26,14 +28,25 @@ class RouteMap {
   // Distance from p to the nearest occupied cell (m; 0 in an occupied cell, large outside the grid).
   double clearance(const Vec2& p) const;
   // Whether a body of radius r can walk the straight segment a -> b: every point of it has at least
-  // r - kSqueeze of clearance, except within r + one cell of an end that has less, where the line
-  // must keep that end's clearance (a person standing against a wall, a goal by a table).
-  bool clearLine(const Vec2& a, const Vec2& b, double r) const;
+  // r + margin of clearance (less kSqueeze: the grid's clearance is short by up to a cell), except within r + one cell
+  // of an end that has less, where the line must keep that end's clearance (a person standing against a wall, a goal by
+  // a table).
+  bool clearLine(const Vec2& a, const Vec2& b, double r, double margin = 0.0) const;
   // Where a body of radius r at p should head for `target`: the target when the line is clear, else
-  // the farthest point in sight of the first stretch of its route. Safe to call from several threads.
-  Vec2 nextWaypoint(const Vec2& p, const Vec2& target, double r) const;
+  // the farthest point in sight of the first stretch of its route; routes keep `margin` (passMargin)
+  // beside the body where they can. Safe to call from several threads.
+  Vec2 nextWaypoint(const Vec2& p, const Vec2& target, double r, double margin = 0.0) const;
 
-  // How much less than its radius a body may have on a line it takes (the grid's own error).
+  // The clearance beyond its radius r a person needs to walk past an obstacle's corner from rest: the
+  // obstacle force's backward part, w_o exp(-(|u| - r) / sigma_o) s / |u| at s ahead and r + m beside
+  // the corner, must stay below the goal force from rest, w_d v0 / tau. In steps of 0.05 m, at most
+  // kMaxPassMargin. With HuNavSim's defaults (w_o 10, w_d 2, v0 1 m/s, tau 0.5 s, sigma 0.2 m, r 0.4 m)
+  // it is 0 (2.76 < 4 with 0.05 m); w_o 13, w_d 1, v0 0.7 m/s (1.4 from rest) need 0.25 m.
+  // Safe to call from several threads.
+  double passMargin(double r, const SfmParams& params, double desired_speed) const;
+  static constexpr double kMaxPassMargin = 0.5;
+
+  // How much less than its radius a body may have in a cell a route crosses (the grid's own error).
   static constexpr double kSqueeze = 0.1;
 
  private:
@@ -47,11 +60,11 @@ class RouteMap {
   };
   int cellOf(const Vec2& p) const;  // -1 outside the grid
   Vec2 centreOf(int cell) const;
-  std::shared_ptr<const std::vector<float>> priceFor(int radius_class) const;  // mutex_ held
-  Field& fieldFor(int goal_cell, double r) const;                              // mutex_ held
-  bool settle(Field& field, int cell) const;                                   // mutex_ held
+  std::shared_ptr<const std::vector<float>> priceFor(int radius_class, int margin_class) const;  // mutex_ held
+  Field& fieldFor(int goal_cell, double r, double margin) const;                                 // mutex_ held
+  bool settle(Field& field, int cell) const;                                                     // mutex_ held
   int freeCellNear(int cell) const;
-  std::vector<int> route(int start, int goal_cell, double r, std::size_t max_cells) const;
+  std::vector<int> route(int start, int goal_cell, double r, double margin, std::size_t max_cells) const;
 
   Vec2 origin_ = Vec2::Zero();
   double res_ = 0.1;
@@ -59,7 +72,9 @@ class RouteMap {
   std::vector<float> clearance_;  // per cell, m
   mutable std::mutex mutex_;      // guards fields_ and prices_
   mutable std::unordered_map<std::uint64_t, Field> fields_;
-  mutable std::unordered_map<int, std::shared_ptr<const std::vector<float>>> prices_;
+  mutable std::unordered_map<int, std::shared_ptr<const std::vector<float>>> prices_;  // by radius, margin
+  // The backward part of a unit obstacle force's peak, by radius and margin class (passMargin).
+  mutable std::map<std::pair<double, int>, double> peaks_;
 };
 
 // Squared Euclidean distance transform of a binary grid (Felzenszwalb & Huttenlocher): for every cell

@@ -8,13 +8,15 @@
 //      none, no stuck timeout) for the whole time limit, run once per scenario and seed when needed;
 //  (c) keep every body (robot and people) out of the map: at no recorded row of states.csv may a body
 //      reach more than 5 cm into an occupied cell (its radius minus its distance to the nearest
-//      occupied cell, cells as squares: the rectangles of hunav::loadOccupancyMap, Shape::distance).
+//      occupied cell, cells as squares: the rectangles of hunav::loadOccupancyMap, Shape::distance);
+//  (d) freeze no one: no person, of any behavior, may stand within 0.2 m of one place for 20 s or more
+//      while more than goal_radius + 0.5 m from its current goal and not reacting to the robot
+//      (behavior_state 0). A person pinned in front of a gap its obstacle force does not let it
+//      through (the warehouse's 0.9 m between rack uprights) fails here.
 // Failure messages name scenario, planner, seed, agent and time. HUNAV_KEEP_RUNS=1 keeps the result
 // folders (their path is printed) to look at them, e.g. with hunav_report.
-#include "hunav/runner/in_process_run.hpp"
-#include "hunav/scenario.hpp"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -29,8 +31,10 @@
 #include <random>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
+
+#include "hunav/runner/in_process_run.hpp"
+#include "hunav/scenario.hpp"
 
 namespace fs = std::filesystem;
 
@@ -41,6 +45,9 @@ constexpr double kReachMargin = 0.1;      // m beyond the goal radius, (b)
 constexpr double kSampleRate = 10.0;      // Hz of simulation time at which states.csv is recorded
 const std::vector<std::string> kPlanners = {"dwb", "scl", "sfw"};
 constexpr int kSeeds = 5;
+constexpr double kFrozenTime = 20.0;     // s, (d)
+constexpr double kFrozenMove = 0.2;      // m, (d)
+constexpr double kFrozenFromGoal = 0.5;  // m beyond the goal radius, (d)
 
 struct MapScenario {
   std::string name;  // scenarios/<name>.yaml
@@ -62,6 +69,8 @@ struct Row {
   bool robot = false;
   int id = 0;
   double x = 0.0, y = 0.0, radius = 0.0;
+  int behavior_state = 0;
+  double goal_x = NAN, goal_y = NAN, goal_radius = 0.0;  // NaN: no current goal
 };
 
 std::vector<Row> readStates(const fs::path& file) {
@@ -75,7 +84,8 @@ std::vector<Row> readStates(const fs::path& file) {
     std::string name;
     for (std::size_t i = 0; std::getline(ss, name, ','); ++i) col[name] = i;
   }
-  for (const char* needed : {"t", "kind", "id", "x", "y", "radius"})
+  for (const char* needed :
+       {"t", "kind", "id", "x", "y", "radius", "behavior_state", "goal_x", "goal_y", "goal_radius"})
     if (col.count(needed) == 0) {
       ADD_FAILURE() << file << ": no column " << needed;
       return rows;
@@ -86,7 +96,7 @@ std::vector<Row> readStates(const fs::path& file) {
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) f.push_back(cell);
-    if (f.size() <= col["radius"]) continue;
+    if (f.size() <= std::max(col["radius"], col["goal_radius"])) continue;
     Row r;
     r.t = std::stod(f[col["t"]]);
     r.robot = f[col["kind"]] == "robot";
@@ -94,6 +104,14 @@ std::vector<Row> readStates(const fs::path& file) {
     r.x = std::stod(f[col["x"]]);
     r.y = std::stod(f[col["y"]]);
     r.radius = std::stod(f[col["radius"]]);
+    if (!r.robot) {
+      r.behavior_state = std::stoi(f[col["behavior_state"]]);
+      if (!f[col["goal_x"]].empty()) {
+        r.goal_x = std::stod(f[col["goal_x"]]);
+        r.goal_y = std::stod(f[col["goal_y"]]);
+        r.goal_radius = std::stod(f[col["goal_radius"]]);
+      }
+    }
     rows.push_back(r);
   }
   return rows;
@@ -145,8 +163,7 @@ std::string where(const Row& r) { return "(" + fmt(r.x) + ", " + fmt(r.y) + ")";
 std::string bodyName(const hunav::Scenario& s, const Row& r) {
   if (r.robot) return "the robot";
   for (const hunav::AgentConfig& a : s.agents)
-    if (a.id == r.id)
-      return a.name + " (id " + std::to_string(a.id) + ", " + hunav::behaviorName(a.behavior) + ")";
+    if (a.id == r.id) return a.name + " (id " + std::to_string(a.id) + ", " + hunav::behaviorName(a.behavior) + ")";
   return "agent id " + std::to_string(r.id);
 }
 
@@ -163,9 +180,43 @@ void checkPenetration(const std::string& label, const hunav::Scenario& s, const 
   for (const auto& [key, d] : deepest) {
     const auto& [depth, r] = d;
     EXPECT_LE(depth, kMaxPenetration) << label << ": " << bodyName(s, r) << " is " << fmt(depth * 100.0, 1)
-                                      << " cm into an occupied cell of the map at t = " << fmt(r.t, 1)
-                                      << " s, at " << where(r) << " (radius " << fmt(r.radius) << " m)";
+                                      << " cm into an occupied cell of the map at t = " << fmt(r.t, 1) << " s, at "
+                                      << where(r) << " (radius " << fmt(r.radius) << " m)";
   }
+}
+
+// (d): per person, the longest it stood frozen (see the top); a failure for each one frozen too long.
+void checkFrozen(const std::string& label, const hunav::Scenario& s, const std::vector<Row>& rows) {
+  struct Stand {
+    Row anchor, longest_from, longest_to;
+    double longest = 0.0;
+    bool started = false;
+  };
+  std::map<int, Stand> stands;
+  for (const Row& r : rows) {
+    if (r.robot) continue;
+    Stand& st = stands[r.id];
+    if (!st.started) {
+      st.anchor = r;
+      st.started = true;
+    }
+    const bool far_from_goal =
+        !std::isnan(r.goal_x) && std::hypot(r.x - r.goal_x, r.y - r.goal_y) > r.goal_radius + kFrozenFromGoal;
+    const bool moved = std::hypot(r.x - st.anchor.x, r.y - st.anchor.y) > kFrozenMove;
+    if (moved || !far_from_goal || r.behavior_state != 0) st.anchor = r;
+    if (r.t - st.anchor.t > st.longest) {
+      st.longest = r.t - st.anchor.t;
+      st.longest_from = st.anchor;
+      st.longest_to = r;
+    }
+  }
+  for (const auto& [id, st] : stands)
+    EXPECT_LT(st.longest, kFrozenTime) << label << ": " << bodyName(s, st.longest_from) << " stood frozen for "
+                                       << fmt(st.longest, 1) << " s from t = " << fmt(st.longest_from.t, 1) << " s at "
+                                       << where(st.longest_from) << ", "
+                                       << fmt(std::hypot(st.longest_to.x - st.longest_to.goal_x,
+                                                         st.longest_to.y - st.longest_to.goal_y))
+                                       << " m from its goal, not reacting to the robot";
 }
 
 // (b): for each regular person, the goals of its route it has not reached in `rows`. A goal counts
@@ -222,11 +273,12 @@ void reportMissed(const std::string& label, const std::vector<Missed>& missed, d
       const Missed& m = missed[i];
       goals += (goals.empty() ? "" : ", ") + std::string("goal ") + std::to_string(m.goal + 1) + " (" +
                fmt(a.goals[m.goal].x()) + ", " + fmt(a.goals[m.goal].y()) + ")";
-      if (std::isfinite(m.closest)) goals += " came within " + fmt(m.closest) + " m at t = " + fmt(m.closest_t, 1) + " s";
+      if (std::isfinite(m.closest))
+        goals += " came within " + fmt(m.closest) + " m at t = " + fmt(m.closest_t, 1) + " s";
     }
     ADD_FAILURE() << label << ": " << a.name << " (id " << a.id << ", regular) missed " << goals << " of its "
-                  << a.goals.size() << " goals in " << fmt(sim_time, 1) << " s" << context << "; at t = "
-                  << fmt(last.t, 1) << " s it was at " << where(last);
+                  << a.goals.size() << " goals in " << fmt(sim_time, 1) << " s" << context
+                  << "; at t = " << fmt(last.t, 1) << " s it was at " << where(last);
   }
 }
 
@@ -234,8 +286,7 @@ class TempDir {
  public:
   TempDir() {
     std::random_device rd;
-    path_ = fs::temp_directory_path() /
-            ("hunav_real_maps_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
+    path_ = fs::temp_directory_path() / ("hunav_real_maps_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
     fs::create_directories(path_);
   }
   ~TempDir() {
@@ -293,6 +344,8 @@ void checkScenario(const MapScenario& ms) {
           << (robot_last != nullptr ? where(*robot_last) : std::string("?"));
       // (c)
       checkPenetration(label, s, map, run.rows);
+      // (d)
+      checkFrozen(label, s, run.rows);
       // (b)
       std::vector<Missed> missed = missedGoals(s, run.rows);
       const bool second_pass = !missed.empty() && ep.sim_time < s.time_limit - 1e-6;
@@ -335,8 +388,8 @@ TEST(RealMaps, PlacementsKeepClearOfTheMap) {
     EXPECT_EQ(map.shapes.size(), s.shapes.size()) << ms.name << ": the scenario's static shapes are the map's cells";
     auto check = [&](const std::string& what, const hunav::Vec2& p, double radius) {
       const double d = map.distance(p, 10.0);
-      EXPECT_GE(d, radius + kMargin) << ms.name << ": " << what << " (" << fmt(p.x()) << ", " << fmt(p.y())
-                                     << ") is " << fmt(d) << " m from an occupied cell";
+      EXPECT_GE(d, radius + kMargin) << ms.name << ": " << what << " (" << fmt(p.x()) << ", " << fmt(p.y()) << ") is "
+                                     << fmt(d) << " m from an occupied cell";
     };
     check("the robot start", s.robot.start, s.robot.radius);
     check("the robot goal", s.robot.goal, s.robot.radius);
