@@ -1,8 +1,9 @@
 // hunav_summary: aggregates a batch folder (run_batch.sh, slurm_batch.sh) into summary.csv,
-// summary_stats.csv, paired.csv and summary.md.
+// summary_stats.csv, paired.csv, paper_comparison.csv, paper_orderings.csv and summary.md.
 #include <iostream>
 
 #include "hunav/cli.hpp"
+#include "hunav/experiments/paper_comparison.hpp"
 #include "hunav/experiments/summary.hpp"
 
 int main(int argc, char** argv) {
@@ -10,19 +11,29 @@ int main(int argc, char** argv) {
       "hunav_summary: reads every run folder under DIR/runs/ (<scenario>__<planner>__seed<N>, each the output "
       "folder of run_experiment.sh) and writes DIR/summary.csv (one row per run), DIR/summary_stats.csv (mean, "
       "standard deviation, 95% Student-t confidence interval per scenario, planner, behavior and metric), "
-      "DIR/paired.csv (paired differences between planners over the same seeds) and DIR/summary.md (the tables). "
+      "DIR/paired.csv (paired differences between planners over the same seeds), DIR/paper_comparison.csv and "
+      "DIR/paper_orderings.csv (the HuNavSim paper's published means beside ours, and which orderings between "
+      "planners agree) and DIR/summary.md (the tables). "
       "Exit 0: written; 1: error; 2: bad arguments."};
   std::string dir;
   bool quiet = false;
+  std::string paper_file;
   app.add_option("DIR", dir, "batch folder")->required();
+  app.add_option("--paper-means", paper_file,
+                 "published means to compare with (layout of experiments/data/hunav_paper_means.yaml; default: "
+                 "that file, built in)")
+      ->check(CLI::ExistingFile);
   app.add_flag("--quiet", quiet, "print nothing but warnings and errors");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
   return hunav::cli::run("hunav_summary", [&] {
-    const auto batch = hunav::experiments::writeBatchSummary(dir);
+    const auto batch = paper_file.empty()
+                           ? hunav::experiments::writeBatchSummary(dir)
+                           : hunav::experiments::writeBatchSummary(dir, hunav::experiments::loadPaperMeans(paper_file));
     for (const auto& w : batch.warnings) std::cerr << "hunav_summary: warning: " << w << "\n";
     if (!quiet)
-      std::cout << "hunav_summary: " << batch.runs.size() << " runs, " << batch.metric_names.size()
-                << " metrics -> " << dir << "/summary.csv, summary_stats.csv, paired.csv, summary.md\n";
+      std::cout
+          << "hunav_summary: " << batch.runs.size() << " runs, " << batch.metric_names.size() << " metrics -> " << dir
+          << "/summary.csv, summary_stats.csv, paired.csv, paper_comparison.csv, paper_orderings.csv, summary.md\n";
     return 0;
   });
 }

@@ -1,10 +1,5 @@
 #include "hunav/experiments/summary.hpp"
 
-#include "hunav/episode_status.hpp"
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/scenario.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,6 +8,12 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+
+#include "hunav/episode_status.hpp"
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/experiments/paper_comparison.hpp"
+#include "hunav/scenario.hpp"
 
 namespace hunav::experiments {
 
@@ -220,7 +221,7 @@ std::string pairedCsv(const std::vector<PairedRow>& paired) {
 }
 
 std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
-                            const std::vector<std::string>& scenario_order) {
+                            const std::vector<std::string>& scenario_order, const PaperMeans* paper) {
   auto find = [&](const std::string& sc, const std::string& pl, const std::string& beh, const std::string& m) -> const Estimate* {
     for (const auto& r : stats)
       if (r.scenario == sc && r.planner == pl && r.behavior == beh && r.metric == m) return &r.estimate;
@@ -231,6 +232,8 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
   for (const auto& s : scenariosOf(batch)) scenarios.push_back(s);
   scenarios = uniqueInOrder(scenarios);
   const auto present = scenariosOf(batch);
+  const std::vector<ComparisonRow> versus =
+      paper != nullptr ? paperComparison(*paper, stats, paired) : std::vector<ComparisonRow>{};
 
   std::map<std::string, int> status_count;
   for (const auto& r : batch.runs) ++status_count[r.status];
@@ -361,6 +364,7 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
         if (any) md += line + "\n";
       }
     }
+    if (paper != nullptr) md += paperComparisonMarkdown(versus, scenario, *paper);
   }
   return md;
 }
@@ -384,14 +388,19 @@ std::vector<std::string> scenarioOrder(const fs::path& batch_dir) {
   return order;
 }
 
-Batch writeBatchSummary(const fs::path& batch_dir) {
+Batch writeBatchSummary(const fs::path& batch_dir) { return writeBatchSummary(batch_dir, builtinPaperMeans()); }
+
+Batch writeBatchSummary(const fs::path& batch_dir, const PaperMeans& paper) {
   Batch batch = loadBatch(batch_dir);
   const auto stats = summaryStats(batch);
   const auto paired = pairedComparisons(batch);
+  const auto versus = paperComparison(paper, stats, paired);
   writeAtomically(batch_dir / "summary.csv", summaryCsv(batch));
   writeAtomically(batch_dir / "summary_stats.csv", statsCsv(stats));
   writeAtomically(batch_dir / "paired.csv", pairedCsv(paired));
-  writeAtomically(batch_dir / "summary.md", summaryMarkdown(batch, stats, paired, scenarioOrder(batch_dir)));
+  writeAtomically(batch_dir / "paper_comparison.csv", paperComparisonCsv(versus));
+  writeAtomically(batch_dir / "paper_orderings.csv", paperOrderingsCsv(versus));
+  writeAtomically(batch_dir / "summary.md", summaryMarkdown(batch, stats, paired, scenarioOrder(batch_dir), &paper));
   return batch;
 }
 

@@ -1,6 +1,7 @@
 /* HuNav-LCM batch page: per scenario, the metrics x planners table (mean, std, 95% CI) overall and
  * per behavior, a chart of one metric with confidence intervals and every run, the paired
- * differences between planners, and the list of runs with links to their pages. */
+ * differences between planners, "paper vs ours" (the HuNavSim paper's means beside ours, orderings
+ * that agree and disagree), and the list of runs with links to their pages. */
 (function () {
   'use strict';
   var HR = window.HR, el = HR.el;
@@ -170,6 +171,64 @@
       section.appendChild(el('p', { class: 'caption', text: 'Mean of the per-seed differences A − B with its 95% confidence interval ' +
         '(paired.csv). Grey, marked n.s.: the interval contains 0, the difference is not significant.' }));
     }
+    paperSection(d, section, scenario);
+  }
+
+  // The HuNavSim paper's means beside ours (paper_comparison.csv) and, per pair of planners, whether
+  // the paper's ordering holds in ours (paper_orderings.csv); one table per behavior of the paper.
+  var RELATION_TEXT = { '<': '<', '>': '>', '=': '=' };
+  function paperSection(d, section, scenario) {
+    var rows = (d.paper || []).filter(function (r) { return r[0] === scenario; });
+    if (!rows.length) return;
+    var orderings = (d.paperOrderings || []).filter(function (o) { return o[0] === scenario; });
+    var count = { agree: 0, disagree: 0, paper_tie: 0, missing: 0 };
+    orderings.forEach(function (o) { count[o[7]] = (count[o[7]] || 0) + 1; });
+    section.appendChild(el('h3', { text: 'Paper vs ours' }));
+    section.appendChild(el('p', { class: 'caption', 'data-paper-agree': String(count.agree), 'data-paper-disagree': String(count.disagree),
+      text: 'Orderings between planners: ' + count.agree + ' agree, ' + count.disagree + ' disagree, ' + count.paper_tie +
+            ' equal in the paper' + (count.missing ? ', ' + count.missing + ' without our value' : '') + '.' }));
+    unique(rows.map(function (r) { return r[1]; })).forEach(function (behavior) {
+      var mine = rows.filter(function (r) { return r[1] === behavior; });
+      var planners = unique(mine.map(function (r) { return r[4]; }));
+      var mineOrd = orderings.filter(function (o) { return o[1] === behavior; });
+      var pairs = unique(mineOrd.map(function (o) { return o[3] + '\u0000' + o[4]; }));
+      var metrics = unique(mine.map(function (r) { return r[2]; }));
+      var headers = ['metric', { text: 'paper\'s name', class: 'text' }];
+      planners.forEach(function (p) { headers.push(p + ' paper', p + ' ours'); });
+      pairs.forEach(function (pair) { headers.push(pair.replace('\u0000', ' vs ')); });
+      var body = metrics.map(function (m) {
+        var first = mine.filter(function (r) { return r[2] === m; })[0];
+        var line = [m, { text: first[3], cls: 'text' }];
+        planners.forEach(function (p) {
+          var r = mine.filter(function (x) { return x[2] === m && x[4] === p; })[0];
+          if (!r) { line.push({ text: '–' }, { text: '–' }); return; }
+          line.push(HR.fmt(r[5]));
+          line.push({ text: r[6] ? HR.fmt(r[7]) : '–', sub: HR.isNum(r[8]) ? '[' + HR.fmt(r[8]) + ', ' + HR.fmt(r[9]) + '] n=' + r[6] : 'n=' + r[6],
+                      tag: r[10] === 'true' ? '≈' : null, cls: r[10] === 'true' ? 'paper-in' : null,
+                      title: 'ours: mean ' + r[7] + ', 95% CI [' + r[8] + ', ' + r[9] + '], n ' + r[6] + '; paper ' + r[5] +
+                             (r[10] === 'true' ? ' (inside our interval)' : '') });
+        });
+        pairs.forEach(function (pair) {
+          var ab = pair.split('\u0000');
+          var o = mineOrd.filter(function (x) { return x[2] === m && x[3] === ab[0] && x[4] === ab[1]; })[0];
+          if (!o) { line.push({ text: '–' }); return; }
+          var ns = o[8] === 'false' ? ' n.s.' : '';
+          var text = o[7] === 'agree' ? '✓ ' + RELATION_TEXT[o[5]] : o[7] === 'disagree' ? '✗ paper ' + o[5] + ', ours ' + o[6]
+            : o[7] === 'paper_tie' ? '= (ours ' + o[6] + ')' : '–';
+          line.push({ text: text + (o[7] === 'missing' ? '' : ns), cls: 'verdict-' + o[7],
+                      title: ab[0] + ' vs ' + ab[1] + ': paper ' + o[5] + (o[6] ? ', ours ' + o[6] : ', no value of ours') +
+                             (o[8] === 'true' ? ' (our paired difference is significant)' : o[8] === 'false' ? ' (our paired difference is not significant)' : '') });
+        });
+        return line;
+      });
+      section.appendChild(el('h4', { text: behavior === 'all' ? 'All people' : behavior + ' people only' }));
+      section.appendChild(HR.table(headers, body, { class: 'paper', 'data-behavior': behavior }));
+    });
+    section.appendChild(el('p', { class: 'caption', text: 'The paper\'s means (HuNavSim paper, tables tab:passing, tab:crossing, ' +
+      'tab:combined; experiments/data/hunav_paper_means.yaml) beside ours: mean, 95% confidence interval and runs; ≈ when the ' +
+      'paper\'s mean lies inside our interval. ✓ the paper\'s ordering of the two planners holds in ours, ✗ it does not, = equal ' +
+      'in the paper (not counted); n.s.: our paired difference is not significant. Forces, social work, collisions, acceleration ' +
+      'and jerk are defined or sampled differently (summary.md says how): compare their orderings, not their values.' }));
   }
 
   function runsTable(d, app) {

@@ -113,6 +113,62 @@ void readPaired(BatchData& data) {
   }
 }
 
+// Optional, as paired.csv: batches summarised before the comparison existed have neither file.
+void readPaper(BatchData& data) {
+  std::error_code ec;
+  const fs::path rows_file = data.dir / "paper_comparison.csv";
+  if (fs::exists(rows_file, ec)) {
+    const CsvTable t = CsvTable::read(rows_file);
+    t.requireLeadingColumns({"scenario", "behavior", "metric", "paper_metric", "planner", "paper_mean", "n", "mean",
+                             "ci95_low", "ci95_high", "paper_in_ci"});
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+      PaperRow p;
+      p.scenario = t.text(r, 0);
+      p.behavior = normalizeBehavior(t.text(r, 1));
+      p.metric = t.text(r, 2);
+      p.paper_metric = t.text(r, 3);
+      p.planner = t.text(r, 4);
+      p.paper_mean = t.number(r, 5);
+      p.n = t.integer(r, 6);
+      if (p.n < 0) t.fail(r, "n", "must be >= 0");
+      p.mean = optionalNumber(t, r, 7);
+      p.ci_low = optionalNumber(t, r, 8);
+      p.ci_high = optionalNumber(t, r, 9);
+      p.paper_in_ci = lower(t.text(r, 10));
+      if (p.paper_in_ci != "true" && p.paper_in_ci != "false" && !p.paper_in_ci.empty())
+        t.fail(r, "paper_in_ci", "expected true, false or nothing, got '" + t.text(r, 10) + "'");
+      data.paper.push_back(std::move(p));
+    }
+  }
+  const fs::path orderings_file = data.dir / "paper_orderings.csv";
+  if (fs::exists(orderings_file, ec)) {
+    const CsvTable t = CsvTable::read(orderings_file);
+    t.requireLeadingColumns(
+        {"scenario", "behavior", "metric", "planner_a", "planner_b", "paper", "ours", "verdict", "significant"});
+    const auto isRelation = [](const std::string& s) { return s == "<" || s == ">" || s == "="; };
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+      PaperOrdering o;
+      o.scenario = t.text(r, 0);
+      o.behavior = normalizeBehavior(t.text(r, 1));
+      o.metric = t.text(r, 2);
+      o.planner_a = t.text(r, 3);
+      o.planner_b = t.text(r, 4);
+      o.paper = t.text(r, 5);
+      o.ours = t.text(r, 6);
+      o.verdict = t.text(r, 7);
+      o.significant = lower(t.text(r, 8));
+      if (!isRelation(o.paper)) t.fail(r, "paper", "expected <, > or =, got '" + o.paper + "'");
+      if (!o.ours.empty() && !isRelation(o.ours))
+        t.fail(r, "ours", "expected <, >, = or nothing, got '" + o.ours + "'");
+      if (o.verdict != "agree" && o.verdict != "disagree" && o.verdict != "paper_tie" && o.verdict != "missing")
+        t.fail(r, "verdict", "expected agree, disagree, paper_tie or missing, got '" + o.verdict + "'");
+      if (o.significant != "true" && o.significant != "false" && !o.significant.empty())
+        t.fail(r, "significant", "expected true, false or nothing, got '" + t.text(r, 8) + "'");
+      data.paper_orderings.push_back(std::move(o));
+    }
+  }
+}
+
 }  // namespace
 
 bool parseOptionalNumber(const std::string& text, double& value) {
@@ -140,6 +196,7 @@ BatchData loadBatchData(const fs::path& dir) {
   readSummary(data);
   readStats(data);
   readPaired(data);
+  readPaper(data);
   data.has_summary_md = fs::is_regular_file(dir / "summary.md", ec);
   return data;
 }

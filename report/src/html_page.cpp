@@ -275,6 +275,36 @@ std::string batchPageJson(const BatchData& d) {
         .value(p.significant)
         .endArray();
   j.endArray();
+  j.key("paper").beginArray();
+  for (const auto& p : d.paper)
+    j.beginArray()
+        .value(p.scenario)
+        .value(p.behavior)
+        .value(p.metric)
+        .value(p.paper_metric)
+        .value(p.planner)
+        .number(p.paper_mean)
+        .value(static_cast<std::int64_t>(p.n))
+        .number(p.mean)
+        .number(p.ci_low)
+        .number(p.ci_high)
+        .value(p.paper_in_ci)
+        .endArray();
+  j.endArray();
+  j.key("paperOrderings").beginArray();
+  for (const auto& o : d.paper_orderings)
+    j.beginArray()
+        .value(o.scenario)
+        .value(o.behavior)
+        .value(o.metric)
+        .value(o.planner_a)
+        .value(o.planner_b)
+        .value(o.paper)
+        .value(o.ours)
+        .value(o.verdict)
+        .value(o.significant)
+        .endArray();
+  j.endArray();
   j.key("summaryMd").value(d.has_summary_md ? "summary.md" : "");
   j.key("notes").beginArray();
   for (const auto& n : d.notes) j.value(n);

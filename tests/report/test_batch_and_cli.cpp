@@ -112,6 +112,61 @@ TEST(BatchData, MissingOrMalformedTablesAreErrors) {
   EXPECT_NE(error().find("paired.csv:2: significant: expected true or false, got 'maybe'"), std::string::npos);
 }
 
+// "Paper vs ours" (hunav_summary's paper_comparison.csv and paper_orderings.csv): optional, read
+// when present, malformed fields named by file, line and column, and carried into the batch page.
+TEST(BatchData, ReadsThePaperComparison) {
+  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  EXPECT_TRUE(loadBatchData(dir).paper.empty());  // a batch summarised before the comparison existed
+  writeFile(dir / "paper_comparison.csv",
+            "scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci\n"
+            "tiny,all,time_to_reach_goal,time_to_reach_goal,dwb,25.5,10,25.5,24.4,26.6,true\n"
+            "tiny,6,social_work,social_work,sfw,5.83,1,2.5,,,\n");
+  writeFile(dir / "paper_orderings.csv",
+            "scenario,behavior,metric,planner_a,planner_b,paper,ours,verdict,significant\n"
+            "tiny,all,time_to_reach_goal,dwb,sfw,<,<,agree,false\n"
+            "tiny,threatening,social_work,dwb,sfw,>,,missing,\n");
+  const BatchData d = loadBatchData(dir);
+  ASSERT_EQ(d.paper.size(), 2u);
+  EXPECT_DOUBLE_EQ(d.paper[0].paper_mean, 25.5);
+  EXPECT_EQ(d.paper[0].paper_in_ci, "true");
+  EXPECT_EQ(d.paper[1].behavior, "threatening");  // code 6
+  EXPECT_TRUE(std::isnan(d.paper[1].ci_low));
+  ASSERT_EQ(d.paper_orderings.size(), 2u);
+  EXPECT_EQ(d.paper_orderings[0].verdict, "agree");
+  EXPECT_EQ(d.paper_orderings[1].ours, "");
+  const std::string page = renderBatchPage(d);
+  EXPECT_NE(
+      page.find(
+          R"("paper":[["tiny","all","time_to_reach_goal","time_to_reach_goal","dwb",25.5,10,25.5,24.4,26.6,"true"])"),
+      std::string::npos);
+  // '<' travels escaped (json_writer.cpp: no "</script>" inside the script element).
+  EXPECT_NE(
+      page.find(
+          R"("paperOrderings":[["tiny","all","time_to_reach_goal","dwb","sfw","\u003c","\u003c","agree","false"])"),
+      std::string::npos);
+
+  auto error = [&] {
+    try {
+      loadBatchData(dir);
+    } catch (const hunav::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  writeFile(dir / "paper_orderings.csv",
+            "scenario,behavior,metric,planner_a,planner_b,paper,ours,verdict,significant\n"
+            "tiny,all,time_to_reach_goal,dwb,sfw,<,<,probably,false\n");
+  EXPECT_NE(
+      error().find("paper_orderings.csv:2: verdict: expected agree, disagree, paper_tie or missing, got 'probably'"),
+      std::string::npos)
+      << error();
+  writeFile(dir / "paper_comparison.csv",
+            "scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci\n"
+            "tiny,all,time_to_reach_goal,time_to_reach_goal,dwb,fast,10,25.5,24.4,26.6,true\n");
+  EXPECT_NE(error().find("paper_comparison.csv:2: paper_mean: expected a number, got 'fast'"), std::string::npos)
+      << error();
+}
+
 TEST(Pages, RunPageEmbedsItsDataAndNothingExternal) {
   const fs::path dir = writeTinyRun(freshDir("run"));
   ReportOptions options;

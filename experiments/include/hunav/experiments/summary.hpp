@@ -5,7 +5,9 @@
 //   summary_stats.csv  scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high
 //                      (behavior "all": whole-run metrics; else a behavior name, from the per-behavior files)
 //   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
-//   summary.md         the tables of the HuNavSim paper (II-IV) per scenario, and the paired comparisons
+//   summary.md         the tables of the HuNavSim paper (II-IV) per scenario, the paired comparisons, and
+//                      "paper vs ours" (paper_comparison.hpp) for the paper's scenarios
+//   paper_comparison.csv, paper_orderings.csv   the paper's means beside ours (paper_comparison.hpp)
 // Undefined numbers (a standard deviation of one value, ...) are empty fields.
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/statistics.hpp"
@@ -15,6 +17,8 @@
 #include <vector>
 
 namespace hunav::experiments {
+
+struct PaperMeans;
 
 struct StatRow {
   std::string scenario, planner, behavior, metric;
@@ -39,14 +43,17 @@ std::string summaryCsv(const Batch& batch);
 std::string statsCsv(const std::vector<StatRow>& stats);
 std::string pairedCsv(const std::vector<PairedRow>& paired);
 // `scenario_order`: scenarios in the order to show (the batch's order); others follow by name.
+// `paper`: when given, each scenario of the paper gets its "vs the paper" section.
 std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
-                            const std::vector<std::string>& scenario_order = {});
+                            const std::vector<std::string>& scenario_order = {}, const PaperMeans* paper = nullptr);
 
 // The scenarios in the order of the batch's matrix.tsv (written by run_batch.sh), if there is one.
 std::vector<std::string> scenarioOrder(const std::filesystem::path& batch_dir);
 
-// Reads batch_dir and writes the four files into it (each atomically: a temporary file, then rename).
-// Returns the batch read (its warnings say what could not be read). Throws std::runtime_error.
+// Reads batch_dir and writes the files above into it (each atomically: a temporary file, then rename),
+// comparing with `paper` (default: builtinPaperMeans(), the paper's published means). Returns the
+// batch read (its warnings say what could not be read). Throws std::runtime_error.
 Batch writeBatchSummary(const std::filesystem::path& batch_dir);
+Batch writeBatchSummary(const std::filesystem::path& batch_dir, const PaperMeans& paper);
 
 }  // namespace hunav::experiments

@@ -3,6 +3,8 @@
 //   summary.csv        scenario,planner,seed,status,sim_time,wall_time,run_dir,<metric columns>
 //   summary_stats.csv  scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high
 //   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
+//   paper_comparison.csv  scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci
+//   paper_orderings.csv   scenario,behavior,metric,planner_a,planner_b,paper,ours,verdict,significant
 //   summary.md, runs/<scenario>__<planner>__seed<N>/
 #include <filesystem>
 #include <string>
@@ -37,6 +39,22 @@ struct PairedRow {
   bool significant = false;
 };
 
+// "Paper vs ours" (hunav_summary, experiments/include/hunav/experiments/paper_comparison.hpp).
+struct PaperRow {
+  std::string scenario, behavior, metric, paper_metric, planner;
+  double paper_mean = 0.0;
+  long long n = 0;
+  double mean = 0.0, ci_low = 0.0, ci_high = 0.0;  // NaN when empty
+  std::string paper_in_ci;                         // true, false or empty (no interval)
+};
+
+struct PaperOrdering {
+  std::string scenario, behavior, metric, planner_a, planner_b;
+  std::string paper, ours;  // <, >, =; ours empty when we have no value
+  std::string verdict;      // agree, disagree, paper_tie, missing
+  std::string significant;  // true, false or empty (no paired comparison)
+};
+
 struct BatchData {
   std::filesystem::path dir;
   std::vector<std::string> metric_names;  // summary.csv's metric columns, in order
@@ -44,11 +62,14 @@ struct BatchData {
   std::vector<StatRow> stats;
   std::vector<PairedRow> paired;
   bool has_paired = false;
+  std::vector<PaperRow> paper;               // empty without paper_comparison.csv
+  std::vector<PaperOrdering> paper_orderings;
   bool has_summary_md = false;
   std::vector<std::string> notes;
 };
 
-// Reads the batch folder. summary.csv and summary_stats.csv are required, paired.csv optional.
+// Reads the batch folder. summary.csv and summary_stats.csv are required; paired.csv,
+// paper_comparison.csv and paper_orderings.csv optional (a batch summarised before they existed).
 // Throws ConfigError (file:line: key: what) when a required file is missing or any file is malformed.
 BatchData loadBatchData(const std::filesystem::path& dir);
 
