@@ -42,6 +42,11 @@ Layout of DIR:
   matrix.tsv                             the matrix (as --print-matrix)
   batch.log                              one line per invocation: arguments, duration, counts
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
+  junit.xml                              JUnit XML of the scenarios' expect: conditions (hunav_expect
+                                         --junit): one <testcase> per run and condition, classname
+                                         <scenario>.<planner>, name "seed <N>: <metric> <condition>";
+                                         a failed condition is a <failure> with the value, a run that did
+                                         not finish an <error>; runs without expect: give no test case
 
 A run is finished when its folder holds a metrics.csv and a run.json with "complete": true and its
 episode ended on its own (status goal_reached, time_limit or stuck: a stuck run is a result, a
@@ -49,7 +54,9 @@ failure to reach the goal, kept in the statistics); a second invocation with the
 the others (an interrupted, aborted or failed run starts again from an empty folder, and until then
 stays out of the summary's statistics). Exit status: 0 when every run finished and the
 summary was written; 1 when some run did not finish (the summary covers the others) or exited
-non-zero after writing complete results (they are kept and count as finished); 2 on bad arguments.
+non-zero after writing complete results (they are kept and count as finished); 2 on bad arguments;
+3 when every run finished but some failed its scenario's expect: conditions (junit.xml says which; a
+run that fails them is a finished run, not retried).
 
 Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), and what run_experiment.sh reads.
 EOF
@@ -99,7 +106,11 @@ if [ "${1:-}" = --run-one ]; then
     rc=0
     "$repo_root/launch_scripts/run_experiment.sh" --scenario "$file" --planner "$planner" --seed "$seed" \
       --out "$run_dir" "${run_options[@]}" >"$run_dir/logs/run_experiment.log" 2>&1 </dev/null || rc=$?
-    if finished "$run_dir" && [ "$rc" -ne 0 ]; then
+    if finished "$run_dir" && [ "$rc" -eq 3 ]; then
+      # A finished run that failed its scenario's expect: conditions: a result (junit.xml), not an error.
+      result="$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1), expectations FAILED (see $run_dir/expect.json)"
+      rc=0
+    elif finished "$run_dir" && [ "$rc" -ne 0 ]; then
       # Complete results, but the run did not exit cleanly (a crash at exit?): keep them, say so.
       result="results complete, but run_experiment.sh exited $rc (see $run_dir/logs/run_experiment.log)"
       printf '%s\n' "${scenario}__${planner}__seed${seed}" >>"$out/.exited_nonzero"
@@ -361,7 +372,20 @@ if [ "${#exited_nonzero[@]}" -gt 0 ]; then
   err "${#exited_nonzero[@]} runs wrote complete results but exited non-zero (kept; see their logs/run_experiment.log):"
   printf '  %s\n' "${exited_nonzero[@]}" >&2
 fi
+# junit.xml: the verdicts of every run's expect.json (scenarios without expect: give no test case).
+junit_rc=0
+if [ -x "$bin_dir/hunav_expect" ]; then
+  "$bin_dir/hunav_expect" --junit "$out" | sed 's/^hunav_expect: /run_batch: junit: /' || junit_rc=${PIPESTATUS[0]}
+else
+  err "$bin_dir/hunav_expect is missing: no junit.xml (build the project first)"
+  junit_rc=1
+fi
 [ "$summary_rc" -eq 0 ] || { err "hunav_summary failed (exit $summary_rc)"; exit 1; }
 echo "run_batch: summary in $out/summary.md (tables), summary.csv, summary_stats.csv, paired.csv"
 if [ "${#failed[@]}" -gt 0 ] || [ "$parallel_rc" -ne 0 ]; then exit 1; fi
+case "$junit_rc" in
+  0) ;;
+  3) err "some runs failed their scenario's expect: conditions (see $out/junit.xml)"; exit 3 ;;
+  *) err "hunav_expect --junit failed (exit $junit_rc)"; exit 1 ;;
+esac
 exit 0

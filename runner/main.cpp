@@ -1,12 +1,15 @@
 // hunav_run: one episode with every component in this process (no network), then a metrics table.
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/planners/planner.hpp"
+#include "hunav/runner/expectations.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/signals.hpp"
 
@@ -14,8 +17,9 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hunav_run: runs one episode of a scenario with the world, the manager, a planner and the "
       "evaluator in one process on one in-process bus (no network), writes the result files and prints the "
-      "metrics. Exit 0: the episode ran to an end (goal reached, time limit or stuck); 1: aborted or "
-      "error; 2: bad input."};
+      "metrics, then the verdicts of the scenario's expect: conditions (written to expect.json). Exit 0: the "
+      "episode ran to an end (goal reached, time limit or stuck) and every expect: condition passed; 1: "
+      "aborted or error; 2: bad input; 3: it ran to an end but an expect: condition failed."};
   std::string scenario_file;
   hunav::runner::RunOptions options;
   long long seed = -1;
@@ -70,6 +74,9 @@ int main(int argc, char** argv) {
     if (options.metrics_file.empty()) options.metrics_file = scenario.evaluation_metrics;
     hunav::evaluator::applyMetricsFile(options.metrics_file, options.profile, sample_rate >= 0.0,
                                        scenario.evaluation_sample_rate, tag_opt->count() > 0, options.experiment_tag);
+    // expect: names metrics of this run's profile and selection: checked before anything starts.
+    hunav::runner::checkExpectations(scenario.expectations,
+                                     hunav::evaluator::metricsFor(options.profile, options.metrics_file));
     options.hunav_txt = format == "hunav_txt";
     if (options.planner != "none" && !hunav::planners::hasPlanner(options.planner)) {
       std::cerr << "hunav_run: unknown planner '" << options.planner << "'\n";
@@ -89,6 +96,16 @@ int main(int argc, char** argv) {
       if (!quiet) std::cout << outcome.result->formatTable();
       std::cout << "results in " << outcome.result->run_dir.string() << "\n";
     }
-    return ep.ended() ? 0 : 1;
+    if (!ep.ended()) return 1;
+    if (scenario.expectations.empty() || !outcome.result) return 0;
+    // Judged on what the evaluator wrote (its run.json status: an incomplete recording is not judged).
+    const auto& info = outcome.result->info;
+    const std::filesystem::path expect_json = outcome.result->run_dir / "expect.json";
+    std::filesystem::remove(expect_json);
+    if (!hunav::episode_status::ranToEnd(info.status)) return 1;
+    const auto verdicts = hunav::runner::judge(scenario.expectations, info.status, outcome.result->metrics);
+    std::cout << hunav::runner::formatVerdicts(verdicts);
+    hunav::runner::writeExpectJson(expect_json, info.run_id, info.status, verdicts);
+    return hunav::runner::allPass(verdicts) ? 0 : hunav::runner::kExitExpectationsFailed;
   });
 }

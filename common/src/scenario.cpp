@@ -1,6 +1,7 @@
 #include "hunav/scenario.hpp"
 
 #include "hunav/agents_file.hpp"
+#include "hunav/episode_status.hpp"
 #include "hunav/yaml_reader.hpp"
 
 #include <cctype>
@@ -496,6 +497,57 @@ void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel
     yr.fail(people["route_resolution"], "people.route_resolution", "must be in [0.02, 1] m");
 }
 
+// `expect:` (scenarios/README.md): metric name -> a number or true/false (equality) or {min, max}, and
+// `status:` -> an end status. Metric names are the evaluator's, checked where the run is set up
+// (runner::checkExpectations), since common does not know the evaluator's registry.
+std::vector<Expectation> readExpectations(const YamlReader& yr, const YAML::Node& expect) {
+  if (!expect.IsMap()) yr.fail(expect, "expect", "expected a mapping metric name -> condition");
+  std::vector<Expectation> out;
+  for (const auto& item : expect) {
+    const std::string name = yr.convert<std::string>(item.first, "expect");
+    const std::string key = "expect." + name;
+    const YAML::Node& cond = item.second;
+    Expectation e;
+    e.metric = name;
+    e.file = yr.path();
+    e.line = YamlReader::lineOf(cond);
+    for (const Expectation& earlier : out)
+      if (earlier.metric == name) yr.fail(item.first, key, "given twice");
+    if (name == "status") {
+      e.kind = Expectation::Kind::Status;
+      e.status = yr.convert<std::string>(cond, key);
+      if (e.status != episode_status::kGoalReached && e.status != episode_status::kTimeLimit &&
+          e.status != episode_status::kStuck)
+        yr.fail(cond, key, "must be goal_reached, time_limit or stuck, got '" + e.status + "'");
+    } else if (cond.IsScalar()) {
+      e.kind = Expectation::Kind::Equal;
+      const std::string text = cond.Scalar();
+      if (text == "true" || text == "false") {
+        e.is_bool = true;
+        e.value = text == "true" ? 1.0 : 0.0;
+      } else {
+        const YAML::Node copy = cond;
+        if (!YAML::convert<double>::decode(copy, e.value) || !std::isfinite(e.value))
+          yr.fail(cond, key, "expected a number, true/false or {min: X, max: Y}, got '" + text + "'");
+      }
+    } else if (cond.IsMap()) {
+      e.kind = Expectation::Kind::Range;
+      for (const auto& bound : cond) {
+        const std::string b = yr.convert<std::string>(bound.first, key);
+        if (b == "min") e.min = yr.convert<double>(bound.second, key + ".min");
+        else if (b == "max") e.max = yr.convert<double>(bound.second, key + ".max");
+        else yr.fail(bound.first, key, "unknown key '" + b + "' (expected min and/or max)");
+      }
+      if (!e.min && !e.max) yr.fail(cond, key, "needs min, max or both");
+      if (e.min && e.max && *e.min > *e.max) yr.fail(cond, key, "min is larger than max");
+    } else {
+      yr.fail(cond, key, "expected a number, true/false or {min: X, max: Y}");
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string behaviorTreeReference(const std::string& scenario_file, const std::string& tree_path) {
@@ -550,6 +602,8 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       yr.fail(evaluation["sample_rate"], "evaluation.sample_rate", "must be 0 (every tick) or between 1e-6 and 1e6 Hz");
     s.evaluation_metrics = readMetricsPath(yr, evaluation, path);
   }
+
+  if (const YAML::Node expect = yr.child(root, "expect", "", false)) s.expectations = readExpectations(yr, expect);
 
   if (const YAML::Node map = yr.child(root, "map", "", false)) readMap(yr, map, s);
   readRobot(yr, yr.child(root, "robot", "", true), s.robot);

@@ -4,6 +4,7 @@
 #include "hunav/geometry.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,24 @@ struct PeopleModel {
   double route_resolution = 0.1;  // m, cell side of the people's route grid
 };
 
+// One condition of the scenario's `expect:` block (scenarios/README.md; docs/metrics.md,
+// "Expectations"), checked on the final metrics when the episode ends (runner/expectations.hpp).
+struct Expectation {
+  enum class Kind {
+    Equal,   // `name: 3` or `name: true`: the metric equals the value exactly
+    Range,   // `name: {min: X, max: Y}`: min <= metric <= max, either bound optional
+    Status,  // `status: goal_reached`: the episode's end status
+  };
+  std::string metric;  // a metric name of the evaluator (checked where the run is set up), or "status"
+  Kind kind = Kind::Equal;
+  bool is_bool = false;  // Equal: written as true/false (value 1/0), for boolean metrics only
+  double value = 0.0;    // Equal
+  std::optional<double> min, max;  // Range
+  std::string status;    // Status: goal_reached, time_limit or stuck
+  std::string file;      // where it was written, for file:line: key errors
+  int line = 0;
+};
+
 struct Scenario {
   std::string name;
   std::string file;            // path it was loaded from
@@ -131,6 +150,7 @@ struct Scenario {
   // stuck_distance closer to its goal than ever before. 0 = never.
   double stuck_timeout = 0.0;   // s
   double stuck_distance = 0.5;  // m
+  std::vector<Expectation> expectations;  // `expect:`, in file order (empty: none)
 
   // Bounds of everything in the scenario, with a margin.
   void bounds(Vec2& lo, Vec2& hi, double margin = 1.0) const;

@@ -1,0 +1,67 @@
+// hunav_expect: judges a finished run's result files against its scenario's `expect:` conditions (the
+// same code as hunav_run's own check), or writes a batch's junit.xml from its runs' verdicts.
+#include <filesystem>
+#include <iostream>
+
+#include "hunav/cli.hpp"
+#include "hunav/config_error.hpp"
+#include "hunav/episode_status.hpp"
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/runner/expectations.hpp"
+
+namespace fs = std::filesystem;
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hunav_expect: checks the scenario's expect: conditions (docs/metrics.md, \"Expectations\") on a run "
+      "folder's run.json, prints each verdict and writes expect.json there; or, with --junit, writes a batch "
+      "folder's junit.xml from its runs' expect.json. Exit 0: every condition passed (or none given); 1: the "
+      "run did not run to an end, or an error; 2: bad input; 3: a condition failed (--junit: a test case "
+      "failed or its run did not finish)."};
+  std::string scenario_file, run_dir, batch_dir;
+  bool quiet = false;
+  auto* scenario_opt =
+      app.add_option("--scenario", scenario_file, "scenario YAML file of the run")->check(CLI::ExistingFile);
+  auto* run_opt =
+      app.add_option("--run-dir", run_dir, "the run's output folder (run.json)")->check(CLI::ExistingDirectory);
+  auto* junit_opt = app.add_option("--junit", batch_dir, "batch folder (matrix.tsv, runs/): write its junit.xml")
+                        ->check(CLI::ExistingDirectory);
+  app.add_flag("--quiet", quiet, "print only the count line");
+  scenario_opt->needs(run_opt);
+  run_opt->needs(scenario_opt);
+  junit_opt->excludes(scenario_opt)->excludes(run_opt);
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+  if (!junit_opt->count() && !run_opt->count()) {
+    std::cerr << "hunav_expect: give --scenario FILE --run-dir DIR, or --junit BATCH_DIR (see --help)\n";
+    return hunav::kExitBadInput;
+  }
+
+  return hunav::cli::run("hunav_expect", [&] {
+    if (junit_opt->count()) {
+      const fs::path out = fs::path(batch_dir) / "junit.xml";
+      const auto c = hunav::runner::writeBatchJunit(batch_dir, out);
+      std::cout << "hunav_expect: " << out.string() << ": " << c.tests << " test cases, " << c.failures << " failures, "
+                << c.errors << " errors (runs that did not finish)\n";
+      return c.failures + c.errors > 0 ? hunav::runner::kExitExpectationsFailed : 0;
+    }
+    const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
+    const fs::path expect_json = fs::path(run_dir) / "expect.json";
+    fs::remove(expect_json);  // a verdict left by an earlier run into this folder is not this run's
+    if (scenario.expectations.empty()) return 0;
+    const auto run = hunav::runner::readRunResult(fs::path(run_dir) / "run.json");
+    if (!hunav::evaluator::isKnownProfile(run.profile))
+      throw hunav::ConfigError((fs::path(run_dir) / "run.json").string(), 0, "profile",
+                               "unknown profile '" + run.profile + "'");
+    hunav::runner::checkExpectations(scenario.expectations, hunav::evaluator::metricsForProfile(run.profile));
+    if (!hunav::episode_status::ranToEnd(run.status)) {
+      std::cerr << "hunav_expect: the episode did not run to an end (status " << run.status
+                << "): its expectations are not judged\n";
+      return 1;
+    }
+    const auto verdicts = hunav::runner::judge(scenario.expectations, run.status, run.metrics);
+    const std::string table = hunav::runner::formatVerdicts(verdicts);
+    std::cout << (quiet ? table.substr(table.rfind('\n', table.size() - 2) + 1) : table);
+    hunav::runner::writeExpectJson(expect_json, run.run_id, run.status, verdicts);
+    return hunav::runner::allPass(verdicts) ? 0 : hunav::runner::kExitExpectationsFailed;
+  });
+}

@@ -1,0 +1,245 @@
+#include "hunav/runner/expectations.hpp"
+
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "hunav/config_error.hpp"
+
+namespace hunav::runner {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string number(double v) { return fmt::format("{}", v + 0.0); }  // shortest round trip, no -0
+
+json parseJsonFile(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file.string(), 0, "", "cannot open the file");
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw ConfigError(file.string(), 0, "", std::string("not valid JSON: ") + e.what());
+  }
+}
+
+}  // namespace
+
+void checkExpectations(const std::vector<Expectation>& expectations, const evaluator::MetricRegistry& registry) {
+  for (const Expectation& e : expectations) {
+    if (e.kind == Expectation::Kind::Status) continue;
+    const auto& defs = registry.definitions();
+    const auto def = std::find_if(defs.begin(), defs.end(), [&](const auto& d) { return d.name == e.metric; });
+    const std::string key = "expect." + e.metric;
+    if (def == defs.end())
+      throw ConfigError(e.file, e.line, key,
+                        "unknown metric '" + e.metric +
+                            "': not among the metrics this run computes (its profile and metric selection; "
+                            "docs/metrics.md), nor 'status'");
+    if (def->kind == evaluator::MetricKind::Bool && !(e.kind == Expectation::Kind::Equal && e.is_bool))
+      throw ConfigError(e.file, e.line, key, "'" + e.metric + "' is a boolean metric: expected true or false");
+    if (def->kind == evaluator::MetricKind::Real && e.is_bool)
+      throw ConfigError(e.file, e.line, key,
+                        "'" + e.metric + "' is a number (" + def->unit + "): expected a number or {min: X, max: Y}");
+  }
+}
+
+std::string describeCondition(const Expectation& e) {
+  switch (e.kind) {
+    case Expectation::Kind::Status:
+      return "== " + e.status;
+    case Expectation::Kind::Equal:
+      return "== " + (e.is_bool ? std::string(e.value != 0.0 ? "true" : "false") : number(e.value));
+    case Expectation::Kind::Range:
+      if (e.min && e.max) return "in [" + number(*e.min) + ", " + number(*e.max) + "]";
+      return e.min ? ">= " + number(*e.min) : "<= " + number(*e.max);
+  }
+  return "?";
+}
+
+std::vector<Verdict> judge(const std::vector<Expectation>& expectations, const std::string& status,
+                           const std::vector<evaluator::MetricValue>& metrics) {
+  std::vector<Verdict> out;
+  for (const Expectation& e : expectations) {
+    Verdict v{e.metric, describeCondition(e), "missing", false};
+    if (e.kind == Expectation::Kind::Status) {
+      v.value = status;
+      v.pass = status == e.status;
+    } else if (const auto m =
+                   std::find_if(metrics.begin(), metrics.end(), [&](const auto& x) { return x.name == e.metric; });
+               m != metrics.end()) {
+      v.value = evaluator::formatMetricValue(*m);
+      if (e.kind == Expectation::Kind::Equal)
+        v.pass = m->value == e.value;
+      else
+        v.pass = (!e.min || m->value >= *e.min) && (!e.max || m->value <= *e.max);
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+bool allPass(const std::vector<Verdict>& verdicts) {
+  return std::all_of(verdicts.begin(), verdicts.end(), [](const Verdict& v) { return v.pass; });
+}
+
+std::string formatVerdicts(const std::vector<Verdict>& verdicts) {
+  std::size_t wm = 0, wc = 0, wv = 0;
+  for (const Verdict& v : verdicts) {
+    wm = std::max(wm, v.metric.size());
+    wc = std::max(wc, v.condition.size());
+    wv = std::max(wv, v.value.size());
+  }
+  std::string out;
+  int failed = 0;
+  for (const Verdict& v : verdicts) {
+    out += fmt::format("expect {:<{}}  {:<{}}  value {:<{}}  {}\n", v.metric, wm, v.condition, wc, v.value, wv,
+                       v.pass ? "PASS" : "FAIL");
+    failed += v.pass ? 0 : 1;
+  }
+  out += fmt::format("expectations: {} of {} passed{}\n", verdicts.size() - static_cast<std::size_t>(failed),
+                     verdicts.size(), failed ? fmt::format(", {} FAILED", failed) : std::string());
+  return out;
+}
+
+void writeExpectJson(const fs::path& file, const std::string& run_id, const std::string& status,
+                     const std::vector<Verdict>& verdicts) {
+  json j;
+  j["run_id"] = run_id;
+  j["status"] = status;
+  j["passed"] = allPass(verdicts);
+  j["conditions"] = json::array();
+  for (const Verdict& v : verdicts)
+    j["conditions"].push_back({{"metric", v.metric}, {"condition", v.condition}, {"value", v.value}, {"pass", v.pass}});
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec) throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
+}
+
+std::vector<Verdict> readExpectJson(const fs::path& file) {
+  const json j = parseJsonFile(file);
+  std::vector<Verdict> out;
+  try {
+    for (const json& c : j.at("conditions"))
+      out.push_back(Verdict{c.at("metric").get<std::string>(), c.at("condition").get<std::string>(),
+                            c.at("value").get<std::string>(), c.at("pass").get<bool>()});
+  } catch (const json::exception& e) {
+    throw ConfigError(file.string(), 0, "conditions", e.what());
+  }
+  return out;
+}
+
+RunJsonResult readRunResult(const fs::path& run_json) {
+  const json j = parseJsonFile(run_json);
+  RunJsonResult r;
+  auto text = [&](const char* key) -> std::string {
+    const auto it = j.find(key);
+    if (it == j.end() || !it->is_string()) throw ConfigError(run_json.string(), 0, key, "expected a string");
+    return it->get<std::string>();
+  };
+  r.run_id = text("run_id");
+  r.status = text("status");
+  r.profile = text("profile");
+  const auto metrics = j.find("metrics");
+  if (metrics == j.end() || !metrics->is_object())
+    throw ConfigError(run_json.string(), 0, "metrics", "expected an object name -> value");
+  for (const auto& [name, value] : metrics->items()) {
+    evaluator::MetricValue m;
+    m.name = name;
+    if (value.is_boolean()) {
+      m.kind = evaluator::MetricKind::Bool;
+      m.value = value.get<bool>() ? 1.0 : 0.0;
+    } else if (value.is_number()) {
+      m.value = value.get<double>();
+    } else {
+      throw ConfigError(run_json.string(), 0, "metrics." + name, "expected a number or true/false");
+    }
+    r.metrics.push_back(std::move(m));
+  }
+  return r;
+}
+
+JunitCounts writeBatchJunit(const fs::path& batch_dir, const fs::path& junit_file) {
+  const fs::path matrix = batch_dir / "matrix.tsv";
+  std::ifstream in(matrix);
+  if (!in) throw ConfigError(matrix.string(), 0, "", "cannot open the batch matrix");
+  tinyxml2::XMLDocument doc;
+  doc.InsertEndChild(doc.NewDeclaration());
+  tinyxml2::XMLElement* suites = doc.NewElement("testsuites");
+  doc.InsertEndChild(suites);
+  tinyxml2::XMLElement* suite = doc.NewElement("testsuite");
+  suite->SetAttribute("name", "hunav_expectations");
+  suites->InsertEndChild(suite);
+  JunitCounts counts;
+  std::map<std::string, std::vector<Expectation>> of_file;  // each scenario loaded once
+  std::string line;
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
+    if (line.empty()) continue;
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, '\t');) f.push_back(x);
+    if (f.size() != 5) throw ConfigError(matrix.string(), line_no, "", "expected index, file, scenario, planner, seed");
+    const std::string &file = f[1], &scenario = f[2], &planner = f[3], &seed = f[4];
+    if (!of_file.count(file)) of_file[file] = loadScenario(file).expectations;
+    const std::vector<Expectation>& expectations = of_file[file];
+    if (expectations.empty()) continue;  // no expect: no test cases
+    const std::string run = scenario + "__" + planner + "__seed" + seed;
+    const fs::path expect_json = batch_dir / "runs" / run / "expect.json";
+    std::error_code ec;
+    const bool judged = fs::is_regular_file(expect_json, ec);
+    std::vector<Verdict> verdicts;
+    if (judged)
+      verdicts = readExpectJson(expect_json);
+    else
+      for (const Expectation& e : expectations) verdicts.push_back(Verdict{e.metric, describeCondition(e), "", false});
+    for (const Verdict& v : verdicts) {
+      tinyxml2::XMLElement* tc = doc.NewElement("testcase");
+      tc->SetAttribute("classname", (scenario + "." + planner).c_str());
+      tc->SetAttribute("name", ("seed " + seed + ": " + v.metric + " " + v.condition).c_str());
+      ++counts.tests;
+      if (!judged) {
+        tinyxml2::XMLElement* err = doc.NewElement("error");
+        err->SetAttribute("message", ("the run did not finish (no expect.json in runs/" + run + ")").c_str());
+        tc->InsertEndChild(err);
+        ++counts.errors;
+      } else if (!v.pass) {
+        tinyxml2::XMLElement* fail = doc.NewElement("failure");
+        const std::string what = v.metric + " = " + v.value + ", expected " + v.condition;
+        fail->SetAttribute("message", what.c_str());
+        fail->SetText(what.c_str());
+        tc->InsertEndChild(fail);
+        ++counts.failures;
+      }
+      suite->InsertEndChild(tc);
+    }
+  }
+  for (tinyxml2::XMLElement* e : {suites, suite}) {
+    e->SetAttribute("tests", counts.tests);
+    e->SetAttribute("failures", counts.failures);
+    e->SetAttribute("errors", counts.errors);
+  }
+  const fs::path tmp = junit_file.string() + ".tmp";
+  if (doc.SaveFile(tmp.c_str()) != tinyxml2::XML_SUCCESS) throw std::runtime_error("cannot write " + tmp.string());
+  std::error_code ec;
+  fs::rename(tmp, junit_file, ec);
+  if (ec)
+    throw std::runtime_error("cannot rename " + tmp.string() + " to " + junit_file.string() + ": " + ec.message());
+  return counts;
+}
+
+}  // namespace hunav::runner
