@@ -62,11 +62,15 @@ Options:
                           evaluation.metrics, else every metric
   --format FORMAT         result files: csv (default), or hunav_txt = csv plus HuNavSim v1's .txt files
   --timeout SECONDS       wall-clock guard: stop the run (keeping what was recorded) after this long
+  --view                  lockstep/realtime only: start hunav_view for this run and print the URL where
+                          a browser on this machine watches it live (view/README.md; port: HUNAV_VIEW_PORT,
+                          default any free one)
   -h, --help              show this help
 
 Exit status: 0 when the episode ran to an end (goal reached, time limit or stuck); 1 when it was
-aborted or a process failed; 2 on bad arguments or a bad scenario; 124 when --timeout stopped it;
-130/143 when interrupted by SIGINT/SIGTERM.
+aborted or a process failed; 2 on bad arguments or a bad scenario; 3 when it ran to an end but a
+condition of the scenario's expect: failed (verdicts printed, and in DIR/expect.json); 124 when
+--timeout stopped it; 130/143 when interrupted by SIGINT/SIGTERM.
 
 Separate-process modes run inside a private network namespace (unshare --net as root, unshare -rn
 otherwise), so parallel runs cannot hear each other. The script prints the namespace's PID; watch the
@@ -117,6 +121,7 @@ timeout=""
 planner_given=0
 planner_config=""
 planner_cmd=""
+view=0
 
 while [ "$#" -gt 0 ]; do
   opt=$1
@@ -130,6 +135,7 @@ while [ "$#" -gt 0 ]; do
     --record)
       [ "$inline" -eq 0 ] || usage_error "--record takes no value"
       record=1 ;;
+    --view) view=1 ;;
     --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
       --experiment-tag | --timeout | --planner-config | --planner-cmd | --metrics | --format)
       if [ "$inline" -eq 0 ]; then
@@ -237,6 +243,27 @@ if [ -n "${HUNAV_NETNS_PARENT:-}" ] && [ "$HUNAV_NETNS_PARENT" != "$current_netn
   in_private_netns=1
 fi
 unset HUNAV_NETNS_PARENT
+
+# --view: hunav_view for this run. Its HTTP socket opens here, in the host's namespace where the
+# browser is; then it joins the run's namespace (this process's after the re-execution below: the
+# same PID) for LCM, and it exits with the run (and, by pdeathsig, with this script).
+if [ "$view" -eq 1 ] && [ "$in_private_netns" -eq 0 ]; then
+  [ "$mode" != inprocess ] || usage_error "--view needs --mode lockstep or realtime (an in-process run has no bus to watch; replay it with: build/bin/hunav_view --results DIR)"
+  need_bin hunav_view
+  mkdir -p "$out/logs" || { err "cannot create the output folder '$out'"; exit 1; }
+  view_log="$out/logs/view.log"
+  view_args=(--scenario "$scenario" --port "${HUNAV_VIEW_PORT:-0}" --no-editor)
+  if [ -n "$shared_bus" ]; then view_args+=(--lcm-url "$shared_bus"); else view_args+=(--lcm-url "$NETNS_URL" --netns-pid "$$"); fi
+  setsid setpriv --pdeathsig TERM -- "$bin_dir/hunav_view" "${view_args[@]}" >"$view_log" 2>&1 </dev/null &
+  view_url=""
+  for _ in $(seq 100); do
+    view_url=$(sed -n -E 's#^hunav_view: open (http://[^ ]+) .*#\1#p' "$view_log" | head -n 1)
+    [ -z "$view_url" ] && kill -0 $! 2>/dev/null || break
+    sleep 0.1
+  done
+  [ -n "$view_url" ] || { err "hunav_view did not start (see $view_log)"; cat "$view_log" >&2; exit 1; }
+  log "watch this run live: $view_url"
+fi
 
 if [ "$mode" != inprocess ] && [ -z "$shared_bus" ] && [ "$in_private_netns" -eq 0 ]; then
   for tool in unshare ip; do
@@ -651,6 +678,11 @@ if [ "$mode" != inprocess ]; then
 elif ! fresh "$out_dir/metrics.csv" && [ "$status_code" -eq 0 ]; then
   err "hunav_run wrote no metrics.csv"
   status_code=1
+fi
+# The scenario's expect: conditions (docs/metrics.md, "Expectations"): hunav_run judged them itself (exit
+# 3 when one failed); the separate processes' run.json is judged by hunav_expect, the same code.
+if [ "$mode" != inprocess ] && [ "$status_code" -eq 0 ] && fresh "$out_dir/run.json"; then
+  "$bin_dir/hunav_expect" --scenario "$scenario" --run-dir "$out_dir" || status_code=$?
 fi
 if [ "$status_code" -eq 2 ]; then
   log "nothing was run (bad input); logs in $log_dir"

@@ -36,6 +36,7 @@ PACKAGES=(
   chromium  # the report test renders hunav_report's pages headless
   parallel libboost-dev  # batches: GNU parallel runs the matrix; Boost.Math (headers) for the Student t statistics
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  libcpp-httplib-dev nlohmann-json3-dev python3-websocket python3-yaml  # hunav_view (view/) and its page tests
 )
 
 do_install=1

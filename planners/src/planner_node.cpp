@@ -1,6 +1,7 @@
 #include "hunav/planners/planner_node.hpp"
 
 #include "hunav/channels.hpp"
+#include "hunav/planners/dwb_planner.hpp"
 
 #include <cmath>
 #include <string>
@@ -79,6 +80,24 @@ void PlannerNode::onObservation(const robot_observation_t& obs) {
   last_reply_ = cmd;
   bus_.publish(channels::kRobotCommand, cmd);
   ++commands_sent_;
+  publishPath(obs);
+}
+
+void PlannerNode::publishPath(const robot_observation_t& obs) {
+  // After the command, so the world never waits for it; a message only monitors read.
+  const auto* dwb = dynamic_cast<const DwbPlanner*>(planner_.get());
+  if (dwb == nullptr) return;
+  const auto& points = dwb->globalPath().points();
+  path_msg_.utime = obs.utime;
+  path_msg_.seq = obs.seq;
+  path_msg_.episode = obs.episode;
+  path_msg_.num_points = static_cast<std::int32_t>(points.size());
+  path_msg_.points.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    path_msg_.points[i].x = points[i].x();
+    path_msg_.points[i].y = points[i].y();
+  }
+  bus_.publish(channels::kRobotPath, path_msg_);
 }
 
 void PlannerNode::onEpisodeEvent(const episode_event_t& event) {

@@ -13,6 +13,7 @@ inline constexpr const char* kWorldState = "WORLD_STATE";              // world_
 inline constexpr const char* kEpisodeEvent = "EPISODE_EVENT";          // episode_event_t
 inline constexpr const char* kLiveMetrics = "LIVE_METRICS";            // live_metrics_t
 inline constexpr const char* kPeopleSocial = "PEOPLE_SOCIAL";          // people_social_t
+inline constexpr const char* kRobotPath = "ROBOT_PATH";                // planned_path_t (optional)
 
 // With `channel_ports=1` in a udpm URL (transport.hpp), these channels go to UDP ports of their own:
 // the URL's port plus 1, 2, ... in this order. They are the world-manager exchange of the step

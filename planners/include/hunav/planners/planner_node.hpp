@@ -7,10 +7,13 @@
 //  - Invalid observations (non-finite numbers, impossible sizes or limits) are dropped and counted
 //    by the Bus (BadMessage).
 //  - EPISODE_EVENT END events are counted, so the process can stop after N episodes.
+//  - With each command of a planner that keeps a global path (dwb, scl, sfw), the path goes out on
+//    ROBOT_PATH (planned_path_t) for monitors such as hunav_view; nobody in the step protocol reads it.
 #include "hunav/planners/planner.hpp"
 #include "hunav/transport.hpp"
 
 #include <hunav/episode_event_t.hpp>
+#include <hunav/planned_path_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 
@@ -19,6 +22,8 @@
 #include <optional>
 
 namespace hunav::planners {
+
+// The optional monitoring channel of planned paths (lcmtypes/README.md, docs/planner_contract.md).
 
 class PlannerNode {
  public:
@@ -42,12 +47,15 @@ class PlannerNode {
   void onObservation(const robot_observation_t& obs);
   void onEpisodeEvent(const episode_event_t& event);
   void beginEpisode(std::int64_t episode);
+  // Publishes the planner's global path on ROBOT_PATH, when it keeps one (after a fresh plan).
+  void publishPath(const robot_observation_t& obs);
 
   Bus& bus_;
   std::unique_ptr<Planner> planner_;
   std::optional<std::int64_t> episode_;  // the episode being served
   bool episode_ended_ = false;           // its END event arrived
   std::optional<robot_command_t> last_reply_;
+  planned_path_t path_msg_;  // reused: its array keeps its capacity
   std::int64_t episodes_ended_ = 0;
   std::uint64_t plans_computed_ = 0;
   std::uint64_t commands_sent_ = 0;

@@ -1,0 +1,191 @@
+// The editor's server side: paths stay inside its folder, and every scenario of scenarios/ saved
+// unchanged through the page's document format loads as the same scenario and runs to the same
+// fingerprint.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "hunav/config_error.hpp"
+#include "hunav/runner/in_process_run.hpp"
+#include "hunav/view/editor.hpp"
+#include "hunav/view/replay.hpp"
+
+namespace fs = std::filesystem;
+using hunav::view::Editor;
+using hunav::view::Json;
+using hunav::view::PathError;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() / ("hunav_view_test_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream out(p);
+  out << text;
+}
+
+}  // namespace
+
+TEST(ViewEditor, PathsOutsideTheFolderAreRefused) {
+  TempDir root("root"), outside("outside");
+  write(root.path / "a.yaml", "name: a\n");
+  fs::create_directories(root.path / "sub");
+  write(root.path / "sub" / "b.yaml", "name: b\n");
+  write(outside.path / "secret.yaml", "name: secret\n");
+  fs::create_symlink(outside.path, root.path / "out");                        // a folder out of the root
+  fs::create_symlink(outside.path / "secret.yaml", root.path / "evil.yaml");  // a file out of the root
+  fs::create_symlink(root.path / "a.yaml", root.path / "alias.yaml");         // stays inside: allowed
+  Editor editor(root.path);
+
+  EXPECT_EQ(editor.resolve("a.yaml", true), fs::canonical(root.path / "a.yaml"));
+  EXPECT_EQ(editor.resolve("sub/b.yaml", true), fs::canonical(root.path / "sub" / "b.yaml"));
+  EXPECT_EQ(editor.resolve("alias.yaml", true), fs::canonical(root.path / "a.yaml"));
+  EXPECT_EQ(editor.resolve("new.yaml", false), fs::canonical(root.path) / "new.yaml");
+  const std::vector<std::string> refused = {"../a.yaml",
+                                            "sub/../a.yaml",
+                                            "..",
+                                            "/etc/passwd",
+                                            (outside.path / "secret.yaml").string(),
+                                            "evil.yaml",
+                                            "out/secret.yaml",
+                                            "out/new.yaml",
+                                            "",
+                                            std::string("a\0b", 3)};
+  for (const std::string& bad : refused) EXPECT_THROW(editor.resolve(bad, false), PathError) << bad;
+  EXPECT_THROW(editor.resolve("missing.yaml", true), PathError);
+  EXPECT_THROW(editor.open("evil.yaml"), PathError);
+  EXPECT_THROW(editor.save("../escaped.yaml", hunav::view::jsonFromYaml("name: x\n")), PathError);
+  EXPECT_FALSE(fs::exists(root.path.parent_path() / "escaped.yaml"));
+
+  const auto files = editor.files().get<std::vector<std::string>>();
+  EXPECT_EQ(files, (std::vector<std::string>{"a.yaml", "alias.yaml", "sub/b.yaml"}));
+}
+
+TEST(ViewEditor, MalformedDocumentsAreRejectedWithoutWriting) {
+  TempDir root("bad");
+  Editor editor(root.path);
+  EXPECT_THROW(hunav::view::yamlFromJson(Json::object({{"x", 1}})), std::invalid_argument);
+  EXPECT_THROW(hunav::view::yamlFromJson(Json::parse(R"({"__map": [[1, 2]]})")), std::invalid_argument);
+  // A document that is YAML but not a scenario: the loader's file:line: key error comes back.
+  const Json res = editor.save("s.yaml", hunav::view::jsonFromYaml("name: s\ndt: -1\n"));
+  EXPECT_FALSE(res["ok"].get<bool>());
+  EXPECT_EQ(res["error"]["file"], "s.yaml");
+  EXPECT_EQ(res["error"]["line"], 2);
+  EXPECT_EQ(res["error"]["key"], "dt");
+  EXPECT_NE(res["error"]["message"].get<std::string>().find("s.yaml:2: dt"), std::string::npos)
+      << res["error"]["message"];
+  EXPECT_FALSE(fs::exists(root.path / "s.yaml"));
+  // Nothing left behind by the checks.
+  EXPECT_TRUE(fs::is_empty(root.path));
+}
+
+namespace {
+
+void expectSameScenario(const hunav::Scenario& a, const hunav::Scenario& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.dt, b.dt);
+  EXPECT_EQ(a.time_limit, b.time_limit);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.obstacle_radius, b.obstacle_radius);
+  EXPECT_EQ(a.evaluation_sample_rate, b.evaluation_sample_rate);
+  EXPECT_EQ(a.stuck_timeout, b.stuck_timeout);
+  EXPECT_EQ(a.stuck_distance, b.stuck_distance);
+  ASSERT_EQ(a.shapes.size(), b.shapes.size());
+  for (std::size_t i = 0; i < a.shapes.size(); ++i) {
+    EXPECT_EQ(a.shapes[i].kind, b.shapes[i].kind);
+    EXPECT_EQ(a.shapes[i].points, b.shapes[i].points);
+    EXPECT_EQ(a.shapes[i].center, b.shapes[i].center);
+    EXPECT_EQ(a.shapes[i].radius, b.shapes[i].radius);
+  }
+  EXPECT_EQ(a.robot.start, b.robot.start);
+  EXPECT_EQ(a.robot.start_yaw, b.robot.start_yaw);
+  EXPECT_EQ(a.robot.goal, b.robot.goal);
+  EXPECT_EQ(a.robot.radius, b.robot.radius);
+  EXPECT_EQ(a.robot.limits.max_v, b.robot.limits.max_v);
+  EXPECT_EQ(a.robot.laser.beams, b.robot.laser.beams);
+  ASSERT_EQ(a.agents.size(), b.agents.size());
+  for (std::size_t i = 0; i < a.agents.size(); ++i) {
+    const auto &x = a.agents[i], &y = b.agents[i];
+    EXPECT_EQ(x.id, y.id);
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.behavior, y.behavior);
+    EXPECT_EQ(x.params.configuration, y.params.configuration);
+    EXPECT_EQ(x.params.duration, y.params.duration);
+    EXPECT_EQ(x.params.vel, y.params.vel);
+    EXPECT_EQ(x.params.dist, y.params.dist);
+    EXPECT_EQ(x.group_id, y.group_id);
+    EXPECT_EQ(x.max_vel, y.max_vel);
+    EXPECT_EQ(x.radius, y.radius);
+    EXPECT_EQ(x.position, y.position);
+    EXPECT_EQ(x.yaw, y.yaw);
+    EXPECT_EQ(x.goals, y.goals);
+    EXPECT_EQ(x.behavior_tree, y.behavior_tree);
+  }
+}
+
+}  // namespace
+
+// Load every scenario, save it unchanged, load it again: the same scenario, and the same fingerprint
+// over the first 3 s of simulated time (every scenario's people, robot and map are in play by then).
+TEST(ViewEditor, EveryScenarioSavedUnchangedLoadsAndRunsTheSame) {
+  TempDir root("roundtrip");
+  // The scenarios and what they refer to beside them (behavior trees in manager/behavior_trees).
+  fs::copy(fs::path(HUNAV_SOURCE_DIR) / "scenarios", root.path / "scenarios", fs::copy_options::recursive);
+  fs::create_directories(root.path / "manager");
+  fs::copy(fs::path(HUNAV_SOURCE_DIR) / "manager" / "behavior_trees", root.path / "manager" / "behavior_trees",
+           fs::copy_options::recursive);
+  Editor editor(root.path);
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(root.path / "scenarios")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string rel = "scenarios/" + entry.path().filename().string();
+    SCOPED_TRACE(rel);
+    const Json opened = editor.open(rel);
+    ASSERT_TRUE(opened["error"].is_null()) << opened["error"].dump();
+    const std::string saved_rel = "scenarios/roundtrip_" + entry.path().filename().string();
+    const Json saved = editor.save(saved_rel, opened["doc"]);
+    ASSERT_TRUE(saved["ok"].get<bool>()) << saved.dump();
+
+    const hunav::Scenario original = hunav::loadScenario(entry.path().string());
+    const hunav::Scenario again = hunav::loadScenario((root.path / saved_rel).string());
+    expectSameScenario(original, again);
+
+    std::string fingerprints[2];
+    int k = 0;
+    for (hunav::Scenario s : {original, again}) {
+      s.time_limit = std::min(s.time_limit, 3.0);
+      hunav::runner::RunOptions options;
+      options.out_dir = (root.path / ("out_" + std::to_string(k))).string();
+      fingerprints[k++] = hunav::runner::runInProcess(s, options).episode.fingerprint;
+    }
+    EXPECT_EQ(fingerprints[0], fingerprints[1]);
+    EXPECT_EQ(fingerprints[0].size(), 16u);
+    ++checked;
+  }
+  EXPECT_GE(checked, 9);  // scenarios/ holds 9 scenarios
+}
+
+TEST(ViewReplay, ResultsFolderErrorsNameTheFile) {
+  TempDir dir("replay");
+  try {
+    hunav::view::loadResults(dir.path);
+    FAIL() << "no states.csv accepted";
+  } catch (const hunav::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("states.csv"), std::string::npos);
+  }
+  write(dir.path / "states.csv", "t,kind,id\n0,robot,0\n");
+  EXPECT_THROW(hunav::view::loadResults(dir.path), hunav::ConfigError);
+  write(dir.path / "run.lcmlog", "not a log");
+  EXPECT_THROW(hunav::view::loadLog(dir.path / "run.lcmlog"), hunav::ConfigError);
+}

@@ -1,0 +1,52 @@
+#pragma once
+// The scenario editor's server side. Every file it reads or writes lies inside one folder (the root,
+// the folder hunav_view was started on): a path with "..", an absolute path, or one that a symlink
+// leads out of the root is refused (PathError). A scenario travels to the page as its YAML tree in
+// JSON (maps keep their key order, scalars are strings), so the page edits the document itself and
+// saving writes back every key the user did not touch; the project's own loader (loadScenario)
+// validates every version before it is saved, and its "file:line: key: what" is sent back.
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "hunav/view/frames.hpp"
+
+namespace hunav::view {
+
+struct PathError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The YAML text of a document tree as the page sends it (see above); throws std::invalid_argument.
+std::string yamlFromJson(const Json& doc);
+// The tree of a YAML text (throws std::invalid_argument with the line of a syntax error).
+Json jsonFromYaml(const std::string& text);
+
+class Editor {
+ public:
+  // `root` must be an existing folder. Runs started from the page write into root/view_runs/.
+  explicit Editor(const std::filesystem::path& root);
+
+  const std::filesystem::path& root() const { return root_; }
+  // The file `relative` names inside the root. Throws PathError: empty, absolute, "..", a NUL, a
+  // name that leaves the root through a symlink, or (must_exist) no such regular file.
+  std::filesystem::path resolve(const std::string& relative, bool must_exist) const;
+
+  // Scenario files (.yaml/.yml) under the root, relative, sorted (not following symlinks out of it).
+  Json files() const;
+  // {path, doc, scene | null, error | null}: the tree of the file and, when it loads, its scene.
+  Json open(const std::string& relative) const;
+  // {ok, error: {message, file, line, key, what} | null, scene | null}: `doc` as it would be saved at
+  // `relative` (relative map and agent files resolve from that folder), checked by loadScenario.
+  Json validate(const std::string& relative, const Json& doc) const;
+  // validate(), then, when it loads, writes the YAML to `relative` (a new or existing file).
+  Json save(const std::string& relative, const Json& doc) const;
+  // Runs the saved scenario at `relative` in this process (runner::runInProcess, planner `planner`),
+  // results into root/view_runs/<name>; returns {ok, out_dir (relative), status, fingerprint, error}.
+  Json run(const std::string& relative, const std::string& planner, double duration) const;
+
+ private:
+  std::filesystem::path root_;
+};
+
+}  // namespace hunav::view

@@ -1,0 +1,96 @@
+#pragma once
+// Live view of a run: subscribes to the run's bus and keeps the latest frame for the browsers.
+//  - FrameHub: the latest frame (a JSON string) and its sequence number. Browsers' connections wait
+//    for a newer one and send whatever is latest then: a slow browser skips frames, and the bus
+//    thread never waits for a browser.
+//  - SceneStore: the static scene (scenario geometry is not on the bus: loaded from --scenario or
+//    from the scenario file an EPISODE_EVENT START names).
+//  - LiveFeed: the bus handlers. Every message is read (the socket must not fill), but a frame is
+//    built at most `fps` times per second of wall-clock time: the view samples the run.
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <hunav/episode_event_t.hpp>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "hunav/transport.hpp"
+#include "hunav/view/frames.hpp"
+
+namespace hunav::view {
+
+class FrameHub {
+ public:
+  void publish(std::string frame);
+  // Waits up to `timeout` for a frame with a sequence number above `seen`; returns it and sets
+  // `seen` to its number. nullopt on timeout or once closed.
+  std::optional<std::string> waitNewer(std::uint64_t& seen, std::chrono::milliseconds timeout);
+  std::string latest() const;
+  std::uint64_t sequence() const;
+  void close();
+  bool closed() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::string latest_;
+  std::uint64_t seq_ = 0;
+  bool closed_ = false;
+};
+
+class SceneStore {
+ public:
+  // Loads the scenario file (a bad one is kept as an error the page shows). Returns false on error.
+  bool load(const std::string& file);
+  void set(const Scenario& scenario);
+  // {version, scene (or null), error (or null)}.
+  Json get() const;
+  std::uint64_t version() const;
+  std::string file() const;
+
+ private:
+  mutable std::mutex mutex_;
+  Json scene_ = nullptr;
+  std::string error_;
+  std::string file_;
+  std::uint64_t version_ = 0;
+};
+
+struct LiveOptions {
+  double fps = 30.0;  // frames built per second of wall-clock time (at most)
+  // Follow the scenario file named by EPISODE_EVENT START (when it can be read from here).
+  bool follow_episode_scenario = true;
+};
+
+class LiveFeed {
+ public:
+  // Subscribes WORLD_STATE, ROBOT_OBSERVATION, ROBOT_PATH, LIVE_METRICS and EPISODE_EVENT on `bus`.
+  LiveFeed(Bus& bus, FrameHub& hub, SceneStore& scene, LiveOptions options = {});
+
+  std::uint64_t worldStates() const { return world_states_; }
+  std::uint64_t framesBuilt() const { return frames_built_; }
+  bool episodeEnded() const { return ended_; }
+
+ private:
+  void onWorldState(const world_state_t& ws);
+  void onEpisodeEvent(const episode_event_t& e);
+  void build(const world_state_t& ws);
+
+  FrameHub& hub_;
+  SceneStore& scene_;
+  LiveOptions options_;
+  std::chrono::steady_clock::duration period_;
+  std::chrono::steady_clock::time_point last_build_{};
+  std::deque<std::pair<std::chrono::steady_clock::time_point, double>> clock_;  // (wall, sim) for the RTF
+  Json laser_ = nullptr, path_ = nullptr, metrics_ = nullptr, run_ = Json::object();
+  std::optional<world_state_t> last_;  // the latest state when not built yet (built at the end)
+  Json last_frame_ = nullptr;          // the latest frame built
+  std::uint64_t world_states_ = 0;
+  std::uint64_t frames_built_ = 0;
+  bool ended_ = false;
+};
+
+}  // namespace hunav::view

@@ -1,0 +1,804 @@
+// hunav_view's page: draws a run (live over server-sent events, or a replay) on a canvas, and edits
+// scenarios. Plain JavaScript, no library. window.hunavView exposes what was drawn (tests read it).
+'use strict';
+
+const BEHAVIORS = { 1: 'regular', 2: 'impassive', 3: 'surprised', 4: 'scared', 5: 'curious', 6: 'threatening' };
+const COLORS = { 0: '#444444', 1: '#1f77b4', 2: '#7f7f7f', 3: '#e6b800', 4: '#9467bd', 5: '#2ca02c', 6: '#d62728' };
+const STATES = { 0: 'inactive', 1: 'reaction active (1)', 2: 'reaction active (2)' };
+const ACTIVE_RING = '#ff7f0e';
+const TRAIL_SECONDS = 6;
+
+const $ = (id) => document.getElementById(id);
+const canvas = $('canvas');
+const ctx = canvas.getContext('2d');
+
+const view = { scale: 40, ox: 0, oy: 0, fitted: false };  // px per m, pixel of the world origin
+const app = {
+  mode: 'live', scene: null, sceneVersion: -1, frame: null, dirty: true, selected: null, trails: new Map(),
+  replay: null, replayTime: 0, playing: false, speed: 1, lastTick: 0,
+  editing: false, ed: null, errors: [], framesDrawn: 0, fpsTimes: [], received: 0,
+};
+const drawn = { t: null, tick: null, robot: null, people: [], frames: 0 };
+
+window.addEventListener('error', (e) => app.errors.push(String(e.message)));
+
+// ------------------------------------------------------------------------------------------------
+// Coordinates
+// ------------------------------------------------------------------------------------------------
+function toPx(x, y) { return [view.ox + x * view.scale, view.oy - y * view.scale]; }
+function toWorld(px, py) { return [(px - view.ox) / view.scale, (view.oy - py) / view.scale]; }
+function resize() {
+  const dpr = window.devicePixelRatio || 1;
+  const r = canvas.getBoundingClientRect();
+  canvas.width = Math.max(1, Math.round(r.width * dpr));
+  canvas.height = Math.max(1, Math.round(r.height * dpr));
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  if (!view.fitted) fit();
+  app.dirty = true;
+}
+function sceneBounds() {
+  if (app.scene && app.scene.bounds) return app.scene.bounds;
+  return [-5, -5, 5, 5];
+}
+function fit() {
+  const [x0, y0, x1, y1] = sceneBounds();
+  const r = canvas.getBoundingClientRect();
+  if (r.width < 2 || r.height < 2) return;
+  view.scale = Math.min(r.width / (x1 - x0), r.height / (y1 - y0));
+  view.ox = r.width / 2 - ((x0 + x1) / 2) * view.scale;
+  view.oy = r.height / 2 + ((y0 + y1) / 2) * view.scale;
+  view.fitted = true;
+  app.dirty = true;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Drawing
+// ------------------------------------------------------------------------------------------------
+function drawShapes(scene, fill, stroke) {
+  if (!scene) return;
+  ctx.lineWidth = 2;
+  for (const s of scene.shapes) {
+    ctx.beginPath();
+    if (s.kind === 'circle') {
+      const [cx, cy] = toPx(s.center[0], s.center[1]);
+      ctx.arc(cx, cy, s.radius * view.scale, 0, 2 * Math.PI);
+      ctx.fillStyle = fill; ctx.fill();
+      continue;
+    }
+    s.points.forEach((p, i) => { const [x, y] = toPx(p[0], p[1]); if (i) ctx.lineTo(x, y); else ctx.moveTo(x, y); });
+    if (s.kind === 'polygon') { ctx.closePath(); ctx.fillStyle = fill; ctx.fill(); }
+    else { ctx.strokeStyle = stroke; ctx.stroke(); }
+  }
+}
+function cross(x, y, size, color) {
+  const [px, py] = toPx(x, y);
+  ctx.strokeStyle = color; ctx.lineWidth = 1.5;
+  ctx.beginPath(); ctx.moveTo(px - size, py - size); ctx.lineTo(px + size, py + size);
+  ctx.moveTo(px - size, py + size); ctx.lineTo(px + size, py - size); ctx.stroke();
+}
+function ring(x, y, r, color, width) {
+  const [px, py] = toPx(x, y);
+  ctx.strokeStyle = color; ctx.lineWidth = width;
+  ctx.beginPath(); ctx.arc(px, py, r, 0, 2 * Math.PI); ctx.stroke();
+}
+function disc(px, py, r, color) { ctx.fillStyle = color; ctx.beginPath(); ctx.arc(px, py, r, 0, 2 * Math.PI); ctx.fill(); }
+// A heading tick from 45% of the radius to just beyond it (the centre keeps the body's colour).
+function heading(px, py, yaw, r, color) {
+  const c = Math.cos(yaw), s = -Math.sin(yaw);
+  ctx.strokeStyle = color; ctx.lineWidth = Math.max(1.5, r * 0.25);
+  ctx.beginPath(); ctx.moveTo(px + c * r * 0.45, py + s * r * 0.45); ctx.lineTo(px + c * r * 1.3, py + s * r * 1.3); ctx.stroke();
+}
+
+function updateTrails(frame) {
+  const t = frame.t;
+  const add = (id, x, y) => {
+    let tr = app.trails.get(id);
+    if (!tr) { tr = []; app.trails.set(id, tr); }
+    if (tr.length && tr[tr.length - 1][2] > t) tr.length = 0;  // time went back: a new episode or a seek
+    if (tr.length && tr[tr.length - 1][2] === t) return;
+    tr.push([x, y, t]);
+    while (tr.length && tr[0][2] < t - TRAIL_SECONDS) tr.shift();
+  };
+  add('robot', frame.robot.x, frame.robot.y);
+  for (const p of frame.people) add(p[0], p[1], p[2]);
+}
+// Trails fade in 4 steps of opacity; the segments of one colour and step are stroked as one path
+// (thousands of people stay cheap to draw: no allocation per segment).
+function drawTrails(t) {
+  const paths = new Map();  // colour -> 4 paths, one per opacity step
+  const s = view.scale, ox = view.ox, oy = view.oy;
+  for (const [id, tr] of app.trails) {
+    if (tr.length < 2) continue;
+    const color = id === 'robot' ? COLORS[0] : colorOfId(id);
+    let bands = paths.get(color);
+    if (!bands) { bands = [new Path2D(), new Path2D(), new Path2D(), new Path2D()]; paths.set(color, bands); }
+    for (let i = 1; i < tr.length; i++) {
+      const a = 1 - (t - tr[i][2]) / TRAIL_SECONDS;
+      if (a <= 0) continue;
+      const path = bands[Math.min(3, Math.floor(a * 4))];
+      path.moveTo(ox + tr[i - 1][0] * s, oy - tr[i - 1][1] * s);
+      path.lineTo(ox + tr[i][0] * s, oy - tr[i][1] * s);
+    }
+  }
+  ctx.lineWidth = 2;
+  for (const [color, bands] of paths) {
+    ctx.strokeStyle = color;
+    for (let b = 0; b < 4; b++) { ctx.globalAlpha = 0.5 * (b + 1) / 4; ctx.stroke(bands[b]); }
+  }
+  ctx.globalAlpha = 1;
+}
+function colorOfId(id) {
+  const f = app.frame;
+  if (!f) return '#999';
+  if (f.colorById === undefined) { f.colorById = new Map(); for (const p of f.people) f.colorById.set(p[0], COLORS[p[5]] || '#000'); }
+  return f.colorById.get(id) || '#999';
+}
+
+function drawRobot(robot) {
+  const [px, py] = toPx(robot.x, robot.y);
+  const sc = app.scene && app.scene.robot;
+  ctx.fillStyle = COLORS[0];
+  if (sc && sc.shape === 'box' && sc.length > 0) {
+    ctx.save(); ctx.translate(px, py); ctx.rotate(-robot.yaw);
+    ctx.fillRect(-sc.length * view.scale / 2, -sc.width * view.scale / 2, sc.length * view.scale, sc.width * view.scale);
+    ctx.restore();
+  } else {
+    disc(px, py, robot.r * view.scale, COLORS[0]);
+  }
+  heading(px, py, robot.yaw, robot.r * view.scale, '#ffffff');
+  return [px, py];
+}
+
+function drawFrame(f) {
+  const t = f.t;
+  drawTrails(t);
+  // The configured goals of the scene, then each person's current goal and the robot's.
+  if (app.scene) for (const a of app.scene.agents) for (const g of a.goals) cross(g[0], g[1], 3, '#bbbbbb');
+  for (const p of f.people) if (p[9] !== null) cross(p[9], p[10], 4, COLORS[p[5]] || '#000');
+  if (f.robot.goal) { ring(f.robot.goal[0], f.robot.goal[1], Math.max(4, f.robot.goal[2] * view.scale), '#2e7d32', 2); cross(f.robot.goal[0], f.robot.goal[1], 5, '#2e7d32'); }
+  if (f.path && f.path.points.length > 1) {
+    ctx.strokeStyle = '#00acc1'; ctx.lineWidth = 2; ctx.setLineDash([6, 4]); ctx.beginPath();
+    f.path.points.forEach((p, i) => { const [x, y] = toPx(p[0], p[1]); if (i) ctx.lineTo(x, y); else ctx.moveTo(x, y); });
+    ctx.stroke(); ctx.setLineDash([]);
+  }
+  if (f.laser) {
+    ctx.fillStyle = 'rgba(229,57,53,0.8)';
+    const l = f.laser;
+    for (let i = 0; i < l.ranges.length; i++) {
+      const r = l.ranges[i];
+      if (!(r < l.rmax - 1e-3)) continue;
+      const a = l.yaw + l.a0 + i * l.da;
+      const [x, y] = toPx(l.x + r * Math.cos(a), l.y + r * Math.sin(a));
+      ctx.fillRect(x - 1, y - 1, 2, 2);
+    }
+  }
+  // Groups: a line between the members of each group.
+  const groups = new Map();
+  for (const p of f.people) if (p[7] >= 0) { if (!groups.has(p[7])) groups.set(p[7], []); groups.get(p[7]).push(p); }
+  ctx.strokeStyle = '#8d6e63'; ctx.lineWidth = 1.5; ctx.setLineDash([3, 3]);
+  for (const members of groups.values()) {
+    for (let i = 1; i < members.length; i++) {
+      const [x0, y0] = toPx(members[i - 1][1], members[i - 1][2]);
+      const [x1, y1] = toPx(members[i][1], members[i][2]);
+      ctx.beginPath(); ctx.moveTo(x0, y0); ctx.lineTo(x1, y1); ctx.stroke();
+    }
+  }
+  ctx.setLineDash([]);
+  // People: one path per colour for the discs, one for the heading ticks, one for the rings of
+  // active reactions.
+  const people = [];
+  const showIds = $('show-ids').checked;
+  const discs = new Map();
+  const ticks = new Path2D(), rings = new Path2D();
+  let tickWidth = 1.5;
+  const active = [];
+  for (const p of f.people) {
+    const [id, x, y, yaw, , beh, state, , r] = p;
+    const [px, py] = toPx(x, y);
+    const rp = Math.max(2, r * view.scale);
+    const color = COLORS[beh] || '#000';
+    let path = discs.get(color);
+    if (!path) { path = new Path2D(); discs.set(color, path); }
+    path.moveTo(px + rp, py); path.arc(px, py, rp, 0, 2 * Math.PI);
+    if (rp > 3) {
+      const c = Math.cos(yaw), s = -Math.sin(yaw);
+      ticks.moveTo(px + c * rp * 0.45, py + s * rp * 0.45); ticks.lineTo(px + c * rp * 1.3, py + s * rp * 1.3);
+      tickWidth = Math.max(tickWidth, Math.min(4, rp * 0.25));
+    }
+    if (state > 0) { rings.moveTo(px + rp + 4, py); rings.arc(px, py, rp + 4, 0, 2 * Math.PI); active.push([px, py, rp]); }
+    people.push({ id, x, y, px, py, r: rp, behavior: beh, state, color });
+  }
+  for (const [color, path] of discs) { ctx.fillStyle = color; ctx.fill(path); }
+  ctx.strokeStyle = '#ffffff'; ctx.lineWidth = tickWidth; ctx.stroke(ticks);
+  ctx.strokeStyle = ACTIVE_RING; ctx.lineWidth = 3; ctx.stroke(rings);
+  ctx.fillStyle = ACTIVE_RING; ctx.font = 'bold 14px sans-serif';
+  for (const [px, py, rp] of active) ctx.fillText('!', px + rp + 5, py - rp - 2);
+  for (const p of people) {
+    if (app.selected === p.id) { ctx.strokeStyle = '#000'; ctx.lineWidth = 1; ctx.beginPath(); ctx.arc(p.px, p.py, p.r + 8, 0, 2 * Math.PI); ctx.stroke(); }
+    if (showIds) { ctx.fillStyle = '#000'; ctx.font = '11px sans-serif'; ctx.fillText(String(p.id), p.px + p.r + 2, p.py + p.r + 10); }
+  }
+  const [rx, ry] = drawRobot(f.robot);
+  drawn.t = t; drawn.tick = f.tick === undefined ? null : f.tick;
+  drawn.robot = { x: f.robot.x, y: f.robot.y, px: rx, py: ry, r: f.robot.r * view.scale };
+  drawn.people = people;
+}
+
+function draw() {
+  const r = canvas.getBoundingClientRect();
+  ctx.clearRect(0, 0, r.width, r.height);
+  if (app.editing && app.ed) { drawEditor(); return; }
+  drawShapes(app.scene, '#9e9e9e', '#616161');
+  if (app.frame) drawFrame(app.frame);
+  drawn.frames = ++app.framesDrawn;
+  const now = performance.now();
+  app.fpsTimes.push(now);
+  while (app.fpsTimes.length && app.fpsTimes[0] < now - 2000) app.fpsTimes.shift();
+}
+
+function loop() {
+  if (app.mode === 'replay' && app.replay && app.playing) {
+    const now = performance.now();
+    const dt = (now - app.lastTick) / 1000;
+    app.lastTick = now;
+    setReplayTime(app.replayTime + dt * app.speed, false);
+  }
+  if (app.dirty) { app.dirty = false; draw(); }
+  requestAnimationFrame(loop);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Panels
+// ------------------------------------------------------------------------------------------------
+function fmt(v, digits = 2) { return v === null || v === undefined ? '–' : Number(v).toFixed(digits); }
+function showStatus(f) {
+  $('clock').textContent = 't = ' + fmt(f.t, 2) + ' s';
+  $('rtf').textContent = f.rtf ? 'real-time factor ' + fmt(f.rtf, f.rtf < 10 ? 2 : 0) + 'x' : '';
+  const run = f.run || (app.replay && app.replay.info) || {};
+  $('run').textContent = [run.scenario, run.planner, run.status].filter(Boolean).join(' · ');
+}
+function showMetrics(m) {
+  const body = $('metrics').tBodies[0];
+  if (!m) { body.innerHTML = '<tr><td>no metrics yet (LIVE_METRICS, 1 Hz)</td></tr>'; $('metrics-time').textContent = ''; return; }
+  $('metrics-time').textContent = 'at t = ' + fmt(m.t, 1) + ' s';
+  const rows = Object.entries(m.values).map(([k, v]) => '<tr><td>' + k + '</td><td>' + (typeof v === 'number' ? Number(v.toPrecision(5)) : '–') + '</td></tr>');
+  body.innerHTML = rows.join('');
+}
+function showSelected() {
+  const f = app.frame;
+  const box = $('selected');
+  if (!f || app.selected === null) { box.textContent = 'click a person'; return; }
+  const p = f.people.find((q) => q[0] === app.selected);
+  if (!p) { box.textContent = 'person ' + app.selected + ' is not in this frame'; return; }
+  box.innerHTML = '<b>person ' + p[0] + '</b><br>behavior: ' + (BEHAVIORS[p[5]] || p[5]) + '<br>state: ' + (STATES[p[6]] || p[6]) +
+    '<br>speed: ' + fmt(p[4]) + ' m/s<br>position: (' + fmt(p[1]) + ', ' + fmt(p[2]) + ')<br>group: ' + (p[7] >= 0 ? p[7] : 'none') +
+    '<br>goal: ' + (p[9] !== null ? '(' + fmt(p[9]) + ', ' + fmt(p[10]) + ')' : 'none');
+}
+function legend() {
+  $('legend').innerHTML = Object.entries(BEHAVIORS).map(([k, n]) => '<span><i style="background:' + COLORS[k] + '"></i>' + n + '</span>').join('') +
+    '<span><i style="background:' + COLORS[0] + '"></i>robot</span><span><i style="border:3px solid ' + ACTIVE_RING + ';width:12px;height:12px"></i>reacting</span>';
+}
+
+function setFrame(f) {
+  app.frame = f;
+  app.received++;
+  updateTrails(f);
+  showStatus(f);
+  showSelected();
+  app.dirty = true;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Live and replay
+// ------------------------------------------------------------------------------------------------
+async function loadScene() {
+  const r = await fetch('/api/scene');
+  const s = await r.json();
+  app.sceneVersion = s.version;
+  app.scene = s.scene;
+  $('banner').textContent = s.error ? 'map not shown: ' + s.error : (s.scene ? s.scene.name + ' (' + s.scene.file + ')' : 'no scenario: the map is not shown (--scenario FILE)');
+  view.fitted = false; fit();
+}
+function startLive() {
+  showMetrics(null);
+  const es = new EventSource('/api/stream');
+  es.onmessage = (e) => {
+    const f = JSON.parse(e.data);
+    if (f.scene_version !== app.sceneVersion) loadScene();
+    if (f.metrics) showMetrics(f.metrics);
+    setFrame(f);
+    if (f.ended) {  // the episode is over: the last frame stays on the page
+      es.close();
+      $('banner').textContent = 'the run has ended: ' + ((f.run && f.run.status) || '') + ' ' + ((f.run && f.run.reason) || '');
+    }
+  };
+  es.onerror = () => { $('banner').textContent = 'connection to hunav_view lost; retrying'; };
+}
+function lastAtOrBefore(list, t) {  // binary search on .t
+  let lo = 0, hi = list.length - 1, best = -1;
+  while (lo <= hi) { const mid = (lo + hi) >> 1; if (list[mid].t <= t + 1e-9) { best = mid; lo = mid + 1; } else hi = mid - 1; }
+  return best;
+}
+function setReplayTime(t, fromSlider) {
+  const rp = app.replay;
+  const frames = rp.frames;
+  const t0 = frames[0].t, t1 = frames[frames.length - 1].t;
+  if (t >= t1) { t = t1; if (app.playing) togglePlay(); }
+  t = Math.max(t0, t);
+  app.replayTime = t;
+  const k = Math.max(0, lastAtOrBefore(frames, t));
+  const f = Object.assign({}, frames[k]);
+  const li = lastAtOrBefore(rp.laser, t), pi = lastAtOrBefore(rp.paths, t), mi = lastAtOrBefore(rp.metrics, t);
+  f.laser = li >= 0 ? rp.laser[li] : null;
+  f.path = pi >= 0 ? rp.paths[pi] : null;
+  // Trails: the frames of the last seconds, about 10 per second; while playing forward only the
+  // frames since the last one shown are added.
+  const step = Math.max(1, Math.round(0.1 / Math.max(1e-3, (t1 - t0) / frames.length)));
+  const prev = app.replayK === undefined ? -1 : app.replayK;
+  if (k >= prev && prev >= 0 && frames[k].t - frames[prev].t < TRAIL_SECONDS) {
+    for (let j = prev + step - (prev % step); j < k; j += step) updateTrails(frames[j]);
+  } else {
+    app.trails.clear();
+    for (let j = Math.max(0, lastAtOrBefore(frames, t - TRAIL_SECONDS)); j < k; j += step) updateTrails(frames[j]);
+  }
+  app.replayK = k;
+  app.frame = f;
+  updateTrails(f);
+  showStatus(f);
+  showSelected();
+  if (mi >= 0 && mi !== app.replayMetric) { app.replayMetric = mi; showMetrics(rp.metrics[mi]); }
+  if (!fromSlider) $('slider').value = t;
+  $('replay-time').textContent = fmt(t, 2) + ' / ' + fmt(t1, 2) + ' s';
+  app.dirty = true;
+}
+function togglePlay() {
+  app.playing = !app.playing;
+  app.lastTick = performance.now();
+  $('play').textContent = app.playing ? 'pause' : 'play';
+  if (app.playing && app.replayTime >= app.replay.frames[app.replay.frames.length - 1].t) setReplayTime(app.replay.frames[0].t, false);
+}
+function startReplay(data) {
+  app.mode = 'replay';
+  app.replay = data;
+  $('mode').textContent = 'replay of ' + (data.info.source || '');
+  $('replay-panel').hidden = false;
+  const frames = data.frames;
+  $('slider').min = frames[0].t; $('slider').max = frames[frames.length - 1].t;
+  $('slider').step = Math.max(0.001, (frames[frames.length - 1].t - frames[0].t) / Math.max(1, frames.length - 1));
+  if (!data.metrics.length) showMetrics(null);
+  app.playing = false;
+  setReplayTime(frames[0].t, false);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Mouse: pan, zoom, select (and the editor's dragging)
+// ------------------------------------------------------------------------------------------------
+let drag = null;
+function mousePos(e) { const r = canvas.getBoundingClientRect(); return [e.clientX - r.left, e.clientY - r.top]; }
+canvas.addEventListener('wheel', (e) => {
+  e.preventDefault();
+  const [mx, my] = mousePos(e);
+  const k = Math.exp(-e.deltaY * 0.0015);
+  view.ox = mx - (mx - view.ox) * k; view.oy = my - (my - view.oy) * k; view.scale *= k;
+  app.dirty = true;
+}, { passive: false });
+canvas.addEventListener('mousedown', (e) => {
+  const [mx, my] = mousePos(e);
+  if (app.editing && app.ed) {
+    const h = edHit(mx, my);
+    if (h) {  // keep the offset between the pointer and the point: a click does not move it
+      const [wx, wy] = toWorld(mx, my);
+      drag = { kind: 'handle', handle: h, dx: h.x - wx, dy: h.y - wy, moved: false };
+      edSelect(h.select);
+      return;
+    }
+  }
+  drag = { kind: 'pan', x: mx, y: my, ox: view.ox, oy: view.oy, moved: false };
+});
+window.addEventListener('mousemove', (e) => {
+  if (!drag) return;
+  const [mx, my] = mousePos(e);
+  if (drag.kind === 'pan') {
+    if (Math.abs(mx - drag.x) + Math.abs(my - drag.y) > 3) drag.moved = true;
+    view.ox = drag.ox + mx - drag.x; view.oy = drag.oy + my - drag.y;
+  } else {
+    const [x, y] = toWorld(mx, my);
+    drag.handle.set(Math.round((x + drag.dx) * 100) / 100, Math.round((y + drag.dy) * 100) / 100);
+    drag.moved = true;
+  }
+  app.dirty = true;
+});
+window.addEventListener('mouseup', (e) => {
+  if (!drag) return;
+  const d = drag;
+  drag = null;
+  if (d.kind === 'handle') { if (d.moved) edChanged(); return; }
+  if (d.moved || app.editing) { if (app.editing && !d.moved) edSelect(null); return; }
+  const [mx, my] = mousePos(e);
+  let best = null, bestD = Infinity;
+  for (const p of drawn.people) {
+    const dd = Math.hypot(p.px - mx, p.py - my);
+    if (dd <= p.r + 6 && dd < bestD) { best = p.id; bestD = dd; }
+  }
+  app.selected = best;
+  showSelected();
+  app.dirty = true;
+});
+
+// ------------------------------------------------------------------------------------------------
+// Scenario editor. The document is the file's YAML tree: maps are {"__map": [[key, value], ...]} and
+// scalars are strings; numbers the page sets are numbers.
+// ------------------------------------------------------------------------------------------------
+function isMap(n) { return n && typeof n === 'object' && Array.isArray(n.__map); }
+function mget(n, key) { if (!isMap(n)) return undefined; const kv = n.__map.find((e) => e[0] === key); return kv ? kv[1] : undefined; }
+function mset(n, key, value) { const kv = n.__map.find((e) => e[0] === key); if (kv) kv[1] = value; else n.__map.push([key, value]); }
+function mdel(n, key) { n.__map = n.__map.filter((e) => e[0] !== key); }
+function mapOf(obj) { return { __map: Object.entries(obj).map(([k, v]) => [k, v]) }; }
+function mpath(n, keys) { for (const k of keys) { n = Array.isArray(n) ? n[k] : mget(n, k); if (n === undefined) return undefined; } return n; }
+function ensureMap(n, key) { let v = mget(n, key); if (!isMap(v)) { v = { __map: [] }; mset(n, key, v); } return v; }
+function num(v, dflt = 0) { const x = parseFloat(v); return Number.isFinite(x) ? x : dflt; }
+
+function edPeopleParams() { return mpath(app.ed.doc, ['people', 'hunav_loader', 'ros__parameters']); }
+function edAgents() {
+  const params = edPeopleParams();
+  const names = params ? mget(params, 'agents') : undefined;
+  if (!Array.isArray(names)) return [];
+  return names.map((name) => ({ name: String(name), node: mget(params, String(name)) })).filter((a) => isMap(a.node));
+}
+function behaviorCode(node) {
+  const b = mget(node, 'behavior');
+  let t = isMap(b) ? mget(b, 'type') : b;
+  if (t === undefined) return 1;
+  const n = parseInt(t, 10);
+  if (Number.isFinite(n)) return n;
+  const name = String(t).toLowerCase();
+  for (const [k, v] of Object.entries(BEHAVIORS)) if (v === name) return Number(k);
+  return 1;
+}
+function pointHandle(node, select, xk = 'x', yk = 'y') {
+  return { x: num(mget(node, xk)), y: num(mget(node, yk)), select, set: (x, y) => { mset(node, xk, x); mset(node, yk, y); } };
+}
+// Every draggable point of the document, with what selecting it selects.
+function edHandles() {
+  const doc = app.ed.doc, hs = [];
+  const robot = mget(doc, 'robot');
+  if (isMap(robot)) {
+    const start = mget(robot, 'start'), goal = mget(robot, 'goal');
+    if (isMap(start)) hs.push(Object.assign(pointHandle(start, { kind: 'robot' }), { role: 'robot-start' }));
+    if (isMap(goal)) hs.push(Object.assign(pointHandle(goal, { kind: 'robot' }), { role: 'robot-goal' }));
+  }
+  for (const a of edAgents()) {
+    const pose = mget(a.node, 'init_pose');
+    if (isMap(pose)) hs.push(Object.assign(pointHandle(pose, { kind: 'person', name: a.name }), { role: 'person', behavior: behaviorCode(a.node), name: a.name }));
+    const goals = mget(a.node, 'goals');
+    if (Array.isArray(goals)) goals.forEach((g) => {
+      const gn = mget(a.node, String(g));
+      if (isMap(gn)) hs.push(Object.assign(pointHandle(gn, { kind: 'person', name: a.name }), { role: 'goal', behavior: behaviorCode(a.node), name: a.name }));
+    });
+  }
+  const map = mget(doc, 'map');
+  const walls = isMap(map) ? mget(map, 'walls') : undefined;
+  if (Array.isArray(walls)) walls.forEach((w, wi) => Array.isArray(w) && w.forEach((p, pi) => {
+    if (Array.isArray(p)) hs.push({ x: num(p[0]), y: num(p[1]), role: 'wall', wall: wi, select: { kind: 'wall', index: wi }, set: (x, y) => { p[0] = x; p[1] = y; } });
+  }));
+  const boxes = isMap(map) ? mget(map, 'boxes') : undefined;
+  if (Array.isArray(boxes)) boxes.forEach((b, bi) => { if (isMap(b)) hs.push(Object.assign(pointHandle(b, { kind: 'box', index: bi }), { role: 'box', box: b })); });
+  return hs;
+}
+function edHit(mx, my) {
+  let best = null, bestD = 12;
+  for (const h of edHandles()) {
+    const [px, py] = toPx(h.x, h.y);
+    const d = Math.hypot(px - mx, py - my);
+    if (d < bestD) { best = h; bestD = d; }
+  }
+  return best;
+}
+function drawEditor() {
+  drawShapes(app.ed.scene, '#d6d6d6', '#b0b0b0');
+  const hs = edHandles();
+  // Walls of the document over the checked scene (they move while dragged).
+  const walls = new Map();
+  for (const h of hs) if (h.role === 'wall') { if (!walls.has(h.wall)) walls.set(h.wall, []); walls.get(h.wall).push(h); }
+  for (const [wi, pts] of walls) {
+    const sel = app.ed.selected && app.ed.selected.kind === 'wall' && app.ed.selected.index === wi;
+    ctx.strokeStyle = sel ? '#ff6f00' : '#37474f'; ctx.lineWidth = 3; ctx.beginPath();
+    pts.forEach((h, i) => { const [x, y] = toPx(h.x, h.y); if (i) ctx.lineTo(x, y); else ctx.moveTo(x, y); });
+    ctx.stroke();
+  }
+  const drawnEd = [];
+  for (const h of hs) {
+    const [px, py] = toPx(h.x, h.y);
+    const sel = app.ed.selected && JSON.stringify(app.ed.selected) === JSON.stringify(h.select);
+    if (h.role === 'box') {
+      const w = num(mget(h.box, 'width'), 1) * view.scale, hh = num(mget(h.box, 'height'), 1) * view.scale;
+      ctx.save(); ctx.translate(px, py); ctx.rotate(-num(mget(h.box, 'yaw'), 0));
+      ctx.fillStyle = sel ? '#ffcc80' : '#8d6e63'; ctx.fillRect(-w / 2, -hh / 2, w, hh); ctx.restore();
+    } else if (h.role === 'robot-start') {
+      disc(px, py, Math.max(5, 0.3 * view.scale), COLORS[0]);
+    } else if (h.role === 'robot-goal') {
+      ring(h.x, h.y, Math.max(6, 0.3 * view.scale), '#2e7d32', 3);
+    } else if (h.role === 'person') {
+      disc(px, py, Math.max(5, 0.35 * view.scale), COLORS[h.behavior]);
+      ctx.fillStyle = '#000'; ctx.font = '11px sans-serif'; ctx.fillText(h.name, px + 8, py - 8);
+    } else if (h.role === 'goal') {
+      ctx.fillStyle = COLORS[h.behavior]; ctx.fillRect(px - 4, py - 4, 8, 8);
+    } else if (h.role === 'wall') {
+      ctx.fillStyle = '#37474f'; ctx.fillRect(px - 3, py - 3, 6, 6);
+    }
+    if (sel) ring(h.x, h.y, 10, '#ff6f00', 2);
+    drawnEd.push({ role: h.role, name: h.name || null, x: h.x, y: h.y, px, py });
+  }
+  drawn.editor = drawnEd;
+}
+
+function edSelect(sel) { if (!app.ed) return; app.ed.selected = sel; edProps(); app.dirty = true; }
+function edStatus(text, error) { const s = $('ed-status'); s.textContent = text; s.className = error ? 'error' : 'ok'; }
+
+// A form field bound to a key of a map node; `key` is also matched against the loader's error key.
+function field(node, key, label, opts = {}) {
+  const div = document.createElement('div');
+  div.className = 'field';
+  div.dataset.key = key;
+  const lab = document.createElement('label');
+  lab.textContent = label;
+  let input;
+  if (opts.choices) {
+    input = document.createElement('select');
+    for (const [v, t] of opts.choices) { const o = document.createElement('option'); o.value = v; o.textContent = t; input.appendChild(o); }
+  } else { input = document.createElement('input'); }
+  const cur = mget(node, key);
+  input.value = cur === undefined || cur === null ? (opts.dflt !== undefined ? opts.dflt : '') : String(cur);
+  input.name = key;
+  input.addEventListener('change', () => {
+    const v = input.value.trim();
+    if (v === '' && !opts.choices) mdel(node, key);
+    else mset(node, key, opts.number && Number.isFinite(Number(v)) ? Number(v) : v);
+    edChanged();
+  });
+  div.appendChild(lab); div.appendChild(input);
+  const err = document.createElement('div'); err.className = 'field-error'; div.appendChild(err);
+  return div;
+}
+function edProps() {
+  const box = $('ed-props');
+  box.innerHTML = '';
+  const sel = app.ed && app.ed.selected;
+  if (!sel) { box.textContent = 'drag the robot, its goal, people, their goals (squares) and walls; click one to edit it'; return; }
+  const doc = app.ed.doc;
+  const h = document.createElement('h2');
+  box.appendChild(h);
+  if (sel.kind === 'robot') {
+    h.textContent = 'robot';
+    const robot = mget(doc, 'robot');
+    const start = mget(robot, 'start'), goal = mget(robot, 'goal');
+    if (isMap(start)) box.appendChild(field(start, 'yaw', 'start heading (rad)', { number: true }));
+    if (isMap(goal)) box.appendChild(field(goal, 'radius', 'goal radius (m)', { number: true }));
+    box.appendChild(field(robot, 'radius', 'radius (m)', { number: true }));
+  } else if (sel.kind === 'person') {
+    const node = mget(edPeopleParams(), sel.name);
+    if (!isMap(node)) return;
+    h.textContent = 'person ' + sel.name;
+    let beh = mget(node, 'behavior');
+    if (!isMap(beh)) { beh = mapOf({ type: beh === undefined ? 'regular' : BEHAVIORS[behaviorCode(node)] }); mset(node, 'behavior', beh); }
+    box.appendChild(field(beh, 'type', 'behavior', { choices: Object.values(BEHAVIORS).map((n) => [n, n]), dflt: 'regular' }));
+    box.appendChild(field(beh, 'configuration', 'configuration', { choices: [['0', 'default'], ['1', 'custom'], ['2', 'random normal'], ['3', 'random uniform']], dflt: '0' }));
+    for (const [k, l] of [['duration', 'reaction duration (s)'], ['vel', 'reaction speed (m/s)'], ['dist', 'reaction distance (m)'], ['once', 'react once (true/false)']])
+      box.appendChild(field(beh, k, l, { number: k !== 'once' }));
+    for (const [k, l] of [['id', 'id'], ['group_id', 'group (-1: none)'], ['max_vel', 'speed (m/s)'], ['radius', 'radius (m)'], ['goal_radius', 'goal radius (m)'], ['cyclic_goals', 'cyclic goals (true/false)']])
+      box.appendChild(field(node, k, l, { number: k !== 'cyclic_goals' }));
+    const row = document.createElement('div'); row.className = 'row';
+    const add = document.createElement('button'); add.textContent = '+ goal';
+    add.onclick = () => {
+      const goals = mget(node, 'goals') || []; const pose = mget(node, 'init_pose');
+      let k = goals.length; while (mget(node, 'g' + k) !== undefined) k++;
+      const last = goals.length ? mget(node, String(goals[goals.length - 1])) : pose;
+      goals.push('g' + k); mset(node, 'goals', goals);
+      mset(node, 'g' + k, mapOf({ x: num(mget(last, 'x')) + 1, y: num(mget(last, 'y')), h: 1.25 }));
+      edChanged();
+    };
+    const rm = document.createElement('button'); rm.textContent = '- last goal';
+    rm.onclick = () => { const goals = mget(node, 'goals') || []; if (goals.length > 1) { mdel(node, String(goals.pop())); edChanged(); } };
+    row.appendChild(add); row.appendChild(rm); box.appendChild(row);
+  } else if (sel.kind === 'box') {
+    h.textContent = 'box ' + sel.index;
+    const b = mget(mget(doc, 'map'), 'boxes')[sel.index];
+    for (const [k, l] of [['width', 'width (m)'], ['height', 'height (m)'], ['yaw', 'rotation (rad)']]) box.appendChild(field(b, k, l, { number: true }));
+  } else if (sel.kind === 'wall') {
+    h.textContent = 'wall ' + sel.index + ' (drag its points)';
+  }
+  edShowFieldErrors();
+}
+function edShowFieldErrors() {
+  const e = app.ed && app.ed.error;
+  for (const div of document.querySelectorAll('#ed-props .field')) {
+    const bad = !!(e && e.key && (e.key === div.dataset.key || e.key.endsWith('.' + div.dataset.key)));
+    div.classList.toggle('bad', bad);
+    div.querySelector('.field-error').textContent = bad ? e.message : '';
+  }
+}
+let edTimer = null;
+function edChanged() {
+  app.dirty = true;
+  edProps();
+  clearTimeout(edTimer);
+  edTimer = setTimeout(edValidate, 250);
+}
+async function edPost(url, body) {
+  const r = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+  return r.json();
+}
+function edTarget() { return $('ed-path').value.trim() || (app.ed && app.ed.path) || ''; }
+function edResult(res, what) {
+  if (res.error && typeof res.error === 'string') { edStatus(res.error, true); return false; }
+  app.ed.error = res.error || null;
+  if (res.scene) app.ed.scene = res.scene;
+  if (res.ok) edStatus(what, false); else edStatus((res.error && res.error.message) || 'error', true);
+  edShowFieldErrors();
+  app.dirty = true;
+  return !!res.ok;
+}
+async function edValidate() {
+  if (!app.ed) return false;
+  const res = await edPost('/api/editor/validate', { path: edTarget(), doc: app.ed.doc });
+  return edResult(res, 'the scenario loads');
+}
+async function edSave() {
+  if (!app.ed) return false;
+  const path = edTarget();
+  const res = await edPost('/api/editor/save', { path, doc: app.ed.doc });
+  const ok = edResult(res, 'saved ' + path);
+  if (ok) { app.ed.path = path; app.ed.saved = (app.ed.saved || 0) + 1; }
+  return ok;
+}
+async function edRun() {
+  if (!(await edSave())) return;
+  edStatus('running ' + app.ed.path + ' …', false);
+  const res = await edPost('/api/editor/run', { path: app.ed.path, planner: $('ed-planner').value });
+  if (!res.ok) { edStatus((res.error && (res.error.message || res.error)) || 'the run failed', true); return; }
+  edStatus('ran: ' + res.status + ' after ' + fmt(res.sim_time, 1) + ' s, fingerprint ' + res.fingerprint + '; results in ' + res.out_dir, false);
+  const data = await (await fetch('/api/editor/replay?path=' + encodeURIComponent(res.out_dir))).json();
+  app.scene = app.ed.scene;
+  setEditing(false);
+  startReplay(data);
+  app.lastRun = res;
+}
+async function edFiles() {
+  const r = await fetch('/api/editor/files');
+  const j = await r.json();
+  const sel = $('ed-files');
+  sel.innerHTML = '';
+  for (const f of j.files || []) { const o = document.createElement('option'); o.value = f; o.textContent = f; sel.appendChild(o); }
+  return j.files || [];
+}
+async function edOpen(path) {
+  const r = await fetch('/api/editor/open?path=' + encodeURIComponent(path));
+  const j = await r.json();
+  if (!r.ok || j.error && typeof j.error === 'string') { edStatus(j.error || 'cannot open ' + path, true); return false; }
+  app.ed = { path, doc: j.doc, scene: j.scene, selected: null, error: j.error };
+  $('ed-path').value = path;
+  if (j.error) edStatus(j.error.message, true); else edStatus('opened ' + path, false);
+  if (j.scene) { app.scene = j.scene; view.fitted = false; fit(); }
+  edProps();
+  app.dirty = true;
+  return true;
+}
+function relativeTo(fromFile, target) {  // target (relative to the root) as seen from fromFile's folder
+  const a = fromFile.split('/').slice(0, -1), b = target.split('/');
+  let i = 0; while (i < a.length && i < b.length - 1 && a[i] === b[i]) i++;
+  return '../'.repeat(a.length - i) + b.slice(i).join('/');
+}
+function edNew() {
+  const mapFile = $('ed-files').value;
+  const path = $('ed-path').value.trim() || 'new_scenario.yaml';
+  const c = toWorld(canvas.clientWidth / 2, canvas.clientHeight / 2);
+  const map = { __map: [] };
+  if (mapFile && /map/i.test(mapFile)) mset(map, 'map_server', relativeTo(path, mapFile));
+  else mset(map, 'walls', [[[c[0] - 5, c[1] - 4], [c[0] + 5, c[1] - 4], [c[0] + 5, c[1] + 4], [c[0] - 5, c[1] + 4], [c[0] - 5, c[1] - 4]]]);
+  const doc = mapOf({ name: path.split('/').pop().replace(/\.ya?ml$/, ''), dt: 0.01, time_limit: 60, seed: 1, map,
+    robot: mapOf({ radius: 0.3, start: mapOf({ x: c[0] - 3, y: c[1], yaw: 0 }), goal: mapOf({ x: c[0] + 3, y: c[1], radius: 0.3 }) }) });
+  app.ed = { path, doc, scene: null, selected: null, error: null };
+  $('ed-path').value = path;
+  edChanged();
+}
+function edUniqueAgent() {
+  const params = edPeopleParams();
+  let k = 1; while (mget(params, 'agent' + k) !== undefined) k++;
+  let id = 1; for (const a of edAgents()) id = Math.max(id, num(mget(a.node, 'id')) + 1);
+  return ['agent' + k, id];
+}
+function edAddPerson() {
+  if (!app.ed) return;
+  const people = ensureMap(app.ed.doc, 'people'), loader = ensureMap(people, 'hunav_loader'), params = ensureMap(loader, 'ros__parameters');
+  if (!Array.isArray(mget(params, 'agents'))) mset(params, 'agents', []);
+  const [name, id] = edUniqueAgent();
+  const [x, y] = toWorld(canvas.clientWidth / 2, canvas.clientHeight / 2).map((v) => Math.round(v * 100) / 100);
+  mget(params, 'agents').push(name);
+  mset(params, name, mapOf({ id, skin: 0, behavior: mapOf({ type: 'regular', configuration: 0 }), group_id: -1, max_vel: 1.0, radius: 0.35,
+    init_pose: mapOf({ x, y, z: 1.25, h: 0 }), goal_radius: 0.3, cyclic_goals: true, goals: ['g0'], g0: mapOf({ x: x + 2, y, h: 1.25 }) }));
+  app.ed.selected = { kind: 'person', name };
+  edChanged();
+}
+function edAddWall() {
+  if (!app.ed) return;
+  const map = ensureMap(app.ed.doc, 'map');
+  if (!Array.isArray(mget(map, 'walls'))) mset(map, 'walls', []);
+  const [x, y] = toWorld(canvas.clientWidth / 2, canvas.clientHeight / 2).map((v) => Math.round(v * 100) / 100);
+  mget(map, 'walls').push([[x - 1, y], [x + 1, y]]);
+  app.ed.selected = { kind: 'wall', index: mget(map, 'walls').length - 1 };
+  edChanged();
+}
+function edAddBox() {
+  if (!app.ed) return;
+  const map = ensureMap(app.ed.doc, 'map');
+  if (!Array.isArray(mget(map, 'boxes'))) mset(map, 'boxes', []);
+  const [x, y] = toWorld(canvas.clientWidth / 2, canvas.clientHeight / 2).map((v) => Math.round(v * 100) / 100);
+  mget(map, 'boxes').push(mapOf({ x, y, width: 1, height: 1 }));
+  app.ed.selected = { kind: 'box', index: mget(map, 'boxes').length - 1 };
+  edChanged();
+}
+function edDelete() {
+  const sel = app.ed && app.ed.selected;
+  if (!sel) return;
+  const map = mget(app.ed.doc, 'map');
+  if (sel.kind === 'person') {
+    const params = edPeopleParams();
+    mset(params, 'agents', mget(params, 'agents').filter((n) => String(n) !== sel.name));
+    mdel(params, sel.name);
+  } else if (sel.kind === 'wall') mget(map, 'walls').splice(sel.index, 1);
+  else if (sel.kind === 'box') mget(map, 'boxes').splice(sel.index, 1);
+  else return;
+  app.ed.selected = null;
+  edChanged();
+}
+function setEditing(on) {
+  app.editing = on;
+  $('editor-panel').hidden = !on;
+  $('toggle-editor').textContent = on ? 'view' : 'editor';
+  if (on && !app.ed) edFiles();
+  app.dirty = true;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Start
+// ------------------------------------------------------------------------------------------------
+async function main() {
+  legend();
+  resize();
+  window.addEventListener('resize', resize);
+  $('fit').onclick = fit;
+  $('show-ids').onchange = () => { app.dirty = true; };
+  $('play').onclick = togglePlay;
+  $('speed').onchange = () => { app.speed = Number($('speed').value); };
+  $('slider').oninput = () => setReplayTime(Number($('slider').value), true);
+  $('toggle-editor').onclick = () => setEditing(!app.editing);
+  $('ed-open').onclick = () => edOpen($('ed-files').value);
+  $('ed-new').onclick = edNew;
+  $('ed-save').onclick = edSave;
+  $('ed-validate').onclick = edValidate;
+  $('ed-run').onclick = edRun;
+  $('ed-add-person').onclick = edAddPerson;
+  $('ed-add-wall').onclick = edAddWall;
+  $('ed-add-box').onclick = edAddBox;
+  $('ed-delete').onclick = edDelete;
+  const info = await (await fetch('/api/info')).json();
+  app.mode = info.mode;
+  $('toggle-editor').hidden = !info.editor;
+  await loadScene();
+  if (info.mode === 'live') { $('mode').textContent = 'live'; startLive(); }
+  else if (info.mode === 'replay') startReplay(await (await fetch('/api/replay')).json());
+  else { $('mode').textContent = 'editor'; setEditing(true); }
+  requestAnimationFrame(loop);
+}
+
+window.hunavView = {
+  drawn, view, app, toPx,
+  ready: false,
+  // The RGBA of the canvas at a CSS pixel.
+  pixel(px, py) { const d = window.devicePixelRatio || 1; return Array.from(ctx.getImageData(Math.round(px * d), Math.round(py * d), 1, 1).data); },
+  seek(t) { setReplayTime(t, false); draw(); return drawn; },
+  fps() { const n = app.fpsTimes.length; return n < 2 ? 0 : (n - 1) * 1000 / (app.fpsTimes[n - 1] - app.fpsTimes[0]); },
+  redraw() { draw(); return drawn; },
+  errors: app.errors,
+  editor: { open: edOpen, save: edSave, validate: edValidate, files: edFiles, setEditing, state: () => app.ed, handles: () => (app.ed ? edHandles() : []) },
+};
+main().then(() => { window.hunavView.ready = true; }, (e) => { app.errors.push(String(e && e.stack || e)); });
