@@ -434,7 +434,8 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
 }  // namespace
 
 std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc, const std::string& where,
-                                     std::uint64_t seed, const std::vector<Shape>& static_shapes) {
+                                     std::uint64_t seed, const std::vector<Shape>& static_shapes,
+                                     std::map<int, Vec2>* global_goals_out) {
   if (!doc.IsMap()) yr.fail(doc, where, "expected a mapping (hunav_loader: and/or generate:)");
   const YAML::Node generate = yr.child(doc, "generate", where, false);
   std::vector<AgentConfig> agents;
@@ -450,6 +451,13 @@ std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc
     const YAML::Node global_goals = yr.child(params, "global_goals", pw, false);
     if (global_goals && !global_goals.IsMap())
       yr.fail(global_goals, YamlReader::join(pw, "global_goals"), "expected a mapping id -> {x, y}");
+    if (global_goals && global_goals_out != nullptr)
+      for (const auto& kv : global_goals) {
+        int id = 0;
+        if (!YAML::convert<int>::decode(kv.first, id)) continue;  // named by string only: no goal_id
+        (*global_goals_out)[id] =
+            readPoint(yr, kv.second, YamlReader::join(YamlReader::join(pw, "global_goals"), kv.first.Scalar()));
+      }
     for (const YAML::Node& name_node : names)
       agents.push_back(readListedAgent(yr, params, pw, yr.convert<std::string>(name_node, YamlReader::join(pw, "agents")),
                                        seed, ids, global_goals));
@@ -471,9 +479,10 @@ std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc
   return agents;
 }
 
-std::vector<AgentConfig> loadAgentsFile(const std::string& path, std::uint64_t seed) {
+std::vector<AgentConfig> loadAgentsFile(const std::string& path, std::uint64_t seed,
+                                        std::map<int, Vec2>* global_goals) {
   YamlReader yr(path);
-  return parseAgents(yr, yr.root(), "", seed);
+  return parseAgents(yr, yr.root(), "", seed, {}, global_goals);
 }
 
 }  // namespace hunav

@@ -615,9 +615,9 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       std::error_code ec;
       if (!std::filesystem::exists(p, ec)) yr.fail(people, "people", "cannot open the file '" + p.string() + "'");
       if (!std::filesystem::is_regular_file(p, ec)) yr.fail(people, "people", "'" + p.string() + "' is not a regular file");
-      s.agents = loadAgentsFile(p.string(), s.seed);
+      s.agents = loadAgentsFile(p.string(), s.seed, &s.global_goals);
     } else {
-      s.agents = parseAgents(yr, people, "people", s.seed, s.shapes);
+      s.agents = parseAgents(yr, people, "people", s.seed, s.shapes, &s.global_goals);
       readPeopleModel(yr, people, s.people_model);
     }
   }

@@ -283,7 +283,7 @@ void AgentManager::useScenario(const Scenario& scenario) {
 }
 
 void AgentManager::loadTrees(const Scenario& scenario) {
-  global_goals_ = readGlobalGoals(scenario);
+  global_goals_ = scenario.global_goals;
   for (const AgentConfig& a : scenario.agents) {
     if (a.behavior_tree.empty()) continue;  // a built-in tree
     // Cached under the name the world's messages carry (relative to the scenario's folder).

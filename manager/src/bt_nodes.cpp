@@ -1,22 +1,13 @@
 // The HuNavSim node library: conditions and actions (manager/README.md, "Behavior trees").
-#include "hunav/manager/agent_manager.hpp"
-#include "hunav/manager/behavior_tree.hpp"
-#include "bt_social.hpp"
-
 #include <algorithm>
 #include <cmath>
 
+#include "bt_social.hpp"
+#include "hunav/manager/agent_manager.hpp"
+#include "hunav/manager/behavior_tree.hpp"
+
 namespace hunav::manager {
 
-namespace {
-
-using Kind = NodeLibrary::Kind;
-
-Vec2 agentPos(const TickContext& c) { return Vec2(c.in.x, c.in.y); }
-Vec2 robotPos(const TickContext& c) { return Vec2(c.snap.request->robot.x, c.snap.request->robot.y); }
-void setActive(TickContext& c) { c.out.behavior_state = agent_state_t::STATE_ACTIVE_1; }
-
-// Stands still (keeps the position of time t, zero velocity).
 void standStill(TickContext& c) {
   c.out.x = c.in.x;
   c.out.y = c.in.y;
@@ -26,6 +17,14 @@ void standStill(TickContext& c) {
   c.out.yaw = c.in.yaw;
   c.memory.moved = true;
 }
+
+namespace {
+
+using Kind = NodeLibrary::Kind;
+
+Vec2 agentPos(const TickContext& c) { return Vec2(c.in.x, c.in.y); }
+Vec2 robotPos(const TickContext& c) { return Vec2(c.snap.request->robot.x, c.snap.request->robot.y); }
+void setActive(TickContext& c) { c.out.behavior_state = agent_state_t::STATE_ACTIVE_1; }
 
 // A node defined by a lambda over the context and its own port reader.
 template <class F>
@@ -112,14 +111,14 @@ void registerHunavNodes(NodeLibrary& lib) {
     const point2d_t& g = c.out.goals.front();
     return std::hypot(g.x - c.out.x, g.y - c.out.y) <= c.out.goal_radius + kGoalSwitchMargin;
   });
-  addLeaf(lib, "IsRobotClose", {num("threshold", "1.0")}, [](auto& n, TickContext& c) {
-    return (robotPos(c) - agentPos(c)).norm() < n.value(0, c);
-  });
+  addLeaf(lib, "IsRobotClose", {num("threshold", "1.0")},
+          [](auto& n, TickContext& c) { return (robotPos(c) - agentPos(c)).norm() < n.value(0, c); });
   addLeaf(lib, "IsRobotFacingAgent", {num("angle", "0.3")}, [](auto& n, TickContext& c) {
     const double b = normalizeAngle(angleOf(agentPos(c) - robotPos(c)) - c.snap.request->robot.yaw);
     return std::abs(b) < n.value(0, c);
   });
-  lib.addNode<TimeExpired>("TimeExpiredCondition", Kind::Leaf, {num("seconds", "1.0"), flag("only_once", "false"), num("ts", "{dt}")});
+  lib.addNode<TimeExpired>("TimeExpiredCondition", Kind::Leaf,
+                           {num("seconds", "1.0"), flag("only_once", "false"), num("ts", "{dt}")});
   lib.addNode<RandomChance>("RandomChance", Kind::Leaf, {num("probability", "0.3")});
   // HuNavSim 2.0's name of the same node.
   lib.addNode<RandomChance>("RandomChanceCondition", Kind::Leaf, {num("probability", "0.3")});

@@ -6,8 +6,6 @@
 // speed; here the same scenario and seed give the same trajectories in every mode.
 #include "bt_social.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -46,16 +44,6 @@ const agent_state_t* stateOf(const TickContext& c, int id) {
   if (id == c.snap.request->robot.id) return &c.snap.request->robot;
   const int i = c.snap.indexOf(id);
   return i < 0 ? nullptr : &c.snap.request->agents[static_cast<std::size_t>(i)];
-}
-
-void standStill(TickContext& c) {
-  c.out.x = c.in.x;
-  c.out.y = c.in.y;
-  c.out.vx = c.out.vy = 0.0;
-  c.out.linear_vel = 0.0;
-  c.out.angular_vel = c.out.vyaw = 0.0;
-  c.out.yaw = c.in.yaw;
-  c.memory.moved = true;
 }
 
 // Turns toward `target` at kTurnRate; a person not yet moved this tick stands while it turns.
@@ -718,32 +706,6 @@ bool usesSocialNodes(const BtSpec& root, const NodeLibrary& lib) {
   for (const BtSpec& c : root.children)
     if (usesSocialNodes(c, lib)) return true;
   return false;
-}
-
-std::map<int, Vec2> readGlobalGoals(const Scenario& scenario) {
-  // The agents layout is the scenario's `people:` or the file it names (where its agents come from);
-  // the loader has checked it already, so anything unexpected here just means "no global goals".
-  std::map<int, Vec2> goals;
-  std::string file = scenario.file;
-  for (const AgentConfig& a : scenario.agents)
-    if (!a.source_file.empty()) {
-      file = a.source_file;
-      break;
-    }
-  if (file.empty()) return goals;
-  try {
-    YAML::Node root = YAML::LoadFile(file);
-    YAML::Node loader = root["hunav_loader"];
-    if (!loader && root["people"] && root["people"].IsMap()) loader = root["people"]["hunav_loader"];
-    if (!loader || !loader["ros__parameters"]) return goals;
-    const YAML::Node gg = loader["ros__parameters"]["global_goals"];
-    if (!gg || !gg.IsMap()) return goals;
-    for (const auto& kv : gg)
-      goals[kv.first.as<int>()] = Vec2(kv.second["x"].as<double>(), kv.second["y"].as<double>());
-  } catch (const YAML::Exception&) {
-    goals.clear();
-  }
-  return goals;
 }
 
 namespace {

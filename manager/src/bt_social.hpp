@@ -10,12 +10,12 @@
 
 namespace hunav::manager {
 
+// Holds the person where it is with zero velocity (a node's "no motion this tick"); bt_nodes.cpp.
+void standStill(TickContext& c);
 // Registers the nodes of bt_social.cpp (called by registerHunavNodes).
 void registerSocialNodes(NodeLibrary& lib);
 // Whether a tree uses a node that reads or writes the social state (NodeLibrary::Entry::social).
 bool usesSocialNodes(const BtSpec& root, const NodeLibrary& lib);
-// HuNavSim 2's global_goals of the scenario's agents layout (id -> point); empty when it has none.
-std::map<int, Vec2> readGlobalGoals(const Scenario& scenario);
 // Every literal goal_id of the tree names one of `goals`; else ConfigError "tree file:line: ...".
 void checkGoalIds(const TreeDefinition& tree, const NodeLibrary& lib, const std::map<int, Vec2>& goals);
 

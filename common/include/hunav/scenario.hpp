@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -144,6 +145,9 @@ struct Scenario {
   std::vector<Shape> shapes;   // static geometry (map_server maps become rectangles here)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
+  // HuNavSim 2's global_goals of the agents layout (id -> point; integer ids only), for the trees'
+  // goal_id ports; empty when the layout has none.
+  std::map<int, Vec2> global_goals;
   PeopleModel people_model;
   // The episode ends with status `stuck` when, for stuck_timeout seconds of simulation time, the
   // robot has neither left a circle of stuck_distance around where it last made progress nor come
@@ -191,6 +195,8 @@ std::vector<Shape> loadOccupancyMap(const std::string& yaml_path);
 
 // Loads a HuNavSim agents file (v1 integer behavior or v1.5 behavior mapping).
 // `seed` drives the random configuration modes (with each agent's id).
-std::vector<AgentConfig> loadAgentsFile(const std::string& path, std::uint64_t seed);
+// `global_goals` (optional) receives HuNavSim 2's global_goals with integer ids.
+std::vector<AgentConfig> loadAgentsFile(const std::string& path, std::uint64_t seed,
+                                        std::map<int, Vec2>* global_goals = nullptr);
 
 }  // namespace hunav
