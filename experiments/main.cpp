@@ -1,8 +1,9 @@
 // hunav_summary: aggregates a batch folder (run_batch.sh, slurm_batch.sh) into summary.csv,
-// summary_stats.csv, paired.csv, paper_comparison.csv, paper_orderings.csv and summary.md.
+// summary_stats.csv, paired.csv, paper_comparison.csv, paper_orderings.csv, expectations.csv and summary.md.
 #include <iostream>
 
 #include "hunav/cli.hpp"
+#include "hunav/experiments/expectations_summary.hpp"
 #include "hunav/experiments/paper_comparison.hpp"
 #include "hunav/experiments/summary.hpp"
 
@@ -13,7 +14,8 @@ int main(int argc, char** argv) {
       "standard deviation, 95% Student-t confidence interval per scenario, planner, behavior and metric), "
       "DIR/paired.csv (paired differences between planners over the same seeds), DIR/paper_comparison.csv and "
       "DIR/paper_orderings.csv (the HuNavSim paper's published means beside ours, and which orderings between "
-      "planners agree) and DIR/summary.md (the tables). "
+      "planners agree), DIR/expectations.csv (the verdicts of the scenarios' expect: conditions, when runs have "
+      "expect.json) and DIR/summary.md (the tables). "
       "Exit 0: written; 1: error; 2: bad arguments."};
   std::string dir;
   bool quiet = false;
@@ -31,9 +33,9 @@ int main(int argc, char** argv) {
                            : hunav::experiments::writeBatchSummary(dir, hunav::experiments::loadPaperMeans(paper_file));
     for (const auto& w : batch.warnings) std::cerr << "hunav_summary: warning: " << w << "\n";
     if (!quiet)
-      std::cout
-          << "hunav_summary: " << batch.runs.size() << " runs, " << batch.metric_names.size() << " metrics -> " << dir
-          << "/summary.csv, summary_stats.csv, paired.csv, paper_comparison.csv, paper_orderings.csv, summary.md\n";
+      std::cout << "hunav_summary: " << batch.runs.size() << " runs, " << batch.metric_names.size() << " metrics -> "
+                << dir << "/summary.csv, summary_stats.csv, paired.csv, paper_comparison.csv, paper_orderings.csv, "
+                << (hunav::experiments::anyJudged(batch) ? "expectations.csv, " : "") << "summary.md\n";
     return 0;
   });
 }

@@ -1,17 +1,18 @@
 #include "hunav/experiments/batch.hpp"
 
-#include "hunav/evaluator/results.hpp"
-#include "hunav/scenario.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <cmath>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <tuple>
+
+#include "hunav/evaluator/results.hpp"
+#include "hunav/scenario.hpp"
 
 namespace hunav::experiments {
 
@@ -126,6 +127,42 @@ void mergeNames(std::vector<std::string>& into, const std::vector<std::string>& 
     if (std::find(into.begin(), into.end(), n) == into.end()) into.push_back(n);
 }
 
+// expect.json (runner/src/expectations.cpp, writeExpectJson): {"run_id", "status", "passed",
+// "conditions": [{metric, condition, value, pass}]}. Throws std::runtime_error naming the file and key.
+std::vector<ExpectVerdict> readExpectJson(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open the file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
+  }
+  const auto conditions = j.find("conditions");
+  if (!j.is_object() || conditions == j.end() || !conditions->is_array())
+    throw std::runtime_error(file.string() + ": conditions: expected an array");
+  std::vector<ExpectVerdict> out;
+  for (std::size_t i = 0; i < conditions->size(); ++i) {
+    const nlohmann::json& c = (*conditions)[i];
+    const std::string where = file.string() + ": conditions[" + std::to_string(i) + "]";
+    if (!c.is_object()) throw std::runtime_error(where + ": expected an object");
+    auto text = [&](const char* key) {
+      const auto it = c.find(key);
+      if (it == c.end() || !it->is_string()) throw std::runtime_error(where + "." + key + ": expected a string");
+      return it->get<std::string>();
+    };
+    ExpectVerdict v;
+    v.metric = text("metric");
+    v.condition = text("condition");
+    v.value = text("value");
+    const auto pass = c.find("pass");
+    if (pass == c.end() || !pass->is_boolean()) throw std::runtime_error(where + ".pass: expected true or false");
+    v.pass = pass->get<bool>();
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
 }  // namespace
 
 Batch loadBatch(const fs::path& dir) {
@@ -175,6 +212,15 @@ Batch loadBatch(const fs::path& dir) {
       if (!fs::exists(beh)) continue;
       try {
         run.by_behavior[behaviorName(code)] = readMetricsCsv(beh).second;
+      } catch (const std::exception& e) {
+        batch.warnings.push_back(e.what());
+      }
+    }
+    const fs::path expect = folder / "expect.json";
+    if (fs::exists(expect)) {
+      try {
+        run.expectations = readExpectJson(expect);
+        run.judged = true;
       } catch (const std::exception& e) {
         batch.warnings.push_back(e.what());
       }

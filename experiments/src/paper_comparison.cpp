@@ -12,6 +12,7 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/yaml_reader.hpp"
+#include "number_text.hpp"
 
 namespace hunav::experiments {
 
@@ -21,18 +22,6 @@ extern const char* const kBuiltinPaperMeansYaml;
 namespace {
 
 const char* const kBuiltinName = "experiments/data/hunav_paper_means.yaml (built in)";
-
-std::string show(double v) {
-  if (!std::isfinite(v)) return "–";
-  const double a = std::abs(v);
-  if (a == 0.0) return "0";
-  if (a >= 100.0) return fmt::format("{:.1f}", v);
-  if (a >= 0.1) return fmt::format("{:.2f}", v);
-  if (a >= 0.001) return fmt::format("{:.3f}", v);
-  return fmt::format("{:.2e}", v);
-}
-
-std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
 
 std::string unitOf(const std::string& metric) {
   for (const auto& d : evaluator::metricsForProfile("default").definitions())

@@ -12,28 +12,16 @@
 #include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/results.hpp"
+#include "hunav/experiments/expectations_summary.hpp"
 #include "hunav/experiments/paper_comparison.hpp"
 #include "hunav/scenario.hpp"
+#include "number_text.hpp"
 
 namespace hunav::experiments {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// Shortest text that reads back as the same double; empty when undefined.
-std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
-
-// For people: about three significant figures, no exponent for the values metrics take.
-std::string show(double v) {
-  if (!std::isfinite(v)) return "–";
-  const double a = std::abs(v);
-  if (a == 0.0) return "0";
-  if (a >= 100.0) return fmt::format("{:.1f}", v);
-  if (a >= 0.1) return fmt::format("{:.2f}", v);
-  if (a >= 0.001) return fmt::format("{:.3f}", v);
-  return fmt::format("{:.2e}", v);
-}
 
 std::vector<std::string> uniqueInOrder(const std::vector<std::string>& xs) {
   std::vector<std::string> out;
@@ -187,8 +175,9 @@ std::string summaryCsv(const Batch& batch) {
   for (const auto& m : batch.metric_names) s += "," + evaluator::csvField(m);
   s += "\n";
   for (const auto& r : batch.runs) {
-    s += evaluator::csvField(r.key.scenario) + "," + evaluator::csvField(r.key.planner) + "," + std::to_string(r.key.seed) +
-         "," + evaluator::csvField(r.status) + "," + r.sim_time + "," + r.wall_time + "," + evaluator::csvField(r.run_dir);
+    s += evaluator::csvField(r.key.scenario) + "," + evaluator::csvField(r.key.planner) + "," +
+         std::to_string(r.key.seed) + "," + evaluator::csvField(r.status) + "," + r.sim_time + "," + r.wall_time + "," +
+         evaluator::csvField(r.run_dir);
     for (const auto& m : batch.metric_names) {
       const auto it = r.metrics.find(m);
       s += "," + (it == r.metrics.end() ? std::string() : evaluator::csvField(it->second));
@@ -222,7 +211,8 @@ std::string pairedCsv(const std::vector<PairedRow>& paired) {
 
 std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
                             const std::vector<std::string>& scenario_order, const PaperMeans* paper) {
-  auto find = [&](const std::string& sc, const std::string& pl, const std::string& beh, const std::string& m) -> const Estimate* {
+  auto find = [&](const std::string& sc, const std::string& pl, const std::string& beh,
+                  const std::string& m) -> const Estimate* {
     for (const auto& r : stats)
       if (r.scenario == sc && r.planner == pl && r.behavior == beh && r.metric == m) return &r.estimate;
     return nullptr;
@@ -249,7 +239,8 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
     md += ")";
   }
   md += ".\n\n";
-  const auto excluded = std::count_if(batch.runs.begin(), batch.runs.end(), [](const BatchRun& r) { return !r.episodeEnded(); });
+  const auto excluded =
+      std::count_if(batch.runs.begin(), batch.runs.end(), [](const BatchRun& r) { return !r.episodeEnded(); });
   if (excluded > 0)
     md += fmt::format(
         "**{} run{} left out of every table**: only runs whose episode ended on its own (goal_reached, time_limit, "
@@ -303,9 +294,10 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
     if (!behaviors.empty()) {
       std::string names;
       for (const auto& p : planners) names += (names.empty() ? "" : " / ") + p;
-      md += fmt::format("\n### `{}` per behavior\n\nMetrics of the people of each behavior only (the per-behavior "
-                        "files); each cell is the mean of {}.\n\n| metric |",
-                        scenario, names);
+      md += fmt::format(
+          "\n### `{}` per behavior\n\nMetrics of the people of each behavior only (the per-behavior "
+          "files); each cell is the mean of {}.\n\n| metric |",
+          scenario, names);
       for (const auto& b : behaviors) md += " " + b + " |";
       md += "\n|---|";
       for (std::size_t i = 0; i < behaviors.size(); ++i) md += "---|";
@@ -329,13 +321,15 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
     // Paired comparisons.
     std::vector<std::pair<std::string, std::string>> pairs;
     for (const auto& r : paired)
-      if (r.scenario == scenario && std::find(pairs.begin(), pairs.end(), std::make_pair(r.planner_a, r.planner_b)) == pairs.end())
+      if (r.scenario == scenario &&
+          std::find(pairs.begin(), pairs.end(), std::make_pair(r.planner_a, r.planner_b)) == pairs.end())
         pairs.emplace_back(r.planner_a, r.planner_b);
     if (!pairs.empty()) {
-      md += fmt::format("\n### `{}` paired comparisons\n\nDifference a − b over the seeds both planners ran (paired "
-                        "t test): mean difference, its 95% confidence interval and the two-sided p value. **n.s.**: "
-                        "not significant at 5% (the interval contains 0).\n\n| metric |",
-                        scenario);
+      md += fmt::format(
+          "\n### `{}` paired comparisons\n\nDifference a − b over the seeds both planners ran (paired "
+          "t test): mean difference, its 95% confidence interval and the two-sided p value. **n.s.**: "
+          "not significant at 5% (the interval contains 0).\n\n| metric |",
+          scenario);
       for (const auto& [a, b] : pairs) md += " " + a + " − " + b + " |";
       md += "\n|---|";
       for (std::size_t i = 0; i < pairs.size(); ++i) md += "---|";
@@ -365,6 +359,7 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
       }
     }
     if (paper != nullptr) md += paperComparisonMarkdown(versus, scenario, *paper);
+    md += expectationsMarkdown(batch, scenario);
   }
   return md;
 }
@@ -400,6 +395,12 @@ Batch writeBatchSummary(const fs::path& batch_dir, const PaperMeans& paper) {
   writeAtomically(batch_dir / "paired.csv", pairedCsv(paired));
   writeAtomically(batch_dir / "paper_comparison.csv", paperComparisonCsv(versus));
   writeAtomically(batch_dir / "paper_orderings.csv", paperOrderingsCsv(versus));
+  // Only for batches of scenarios with `expect:`; a stale file from an earlier summary would show
+  // verdicts of runs that are gone.
+  if (anyJudged(batch))
+    writeAtomically(batch_dir / "expectations.csv", expectationsCsv(batch));
+  else
+    fs::remove(batch_dir / "expectations.csv");
   writeAtomically(batch_dir / "summary.md", summaryMarkdown(batch, stats, paired, scenarioOrder(batch_dir), &paper));
   return batch;
 }

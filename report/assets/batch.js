@@ -1,7 +1,8 @@
 /* HuNav-LCM batch page: per scenario, the metrics x planners table (mean, std, 95% CI) overall and
  * per behavior, a chart of one metric with confidence intervals and every run, the paired
  * differences between planners, "paper vs ours" (the HuNavSim paper's means beside ours, orderings
- * that agree and disagree), and the list of runs with links to their pages. */
+ * that agree and disagree), the verdicts of the scenario's expect: conditions, and the list of runs
+ * with links to their pages. */
 (function () {
   'use strict';
   var HR = window.HR, el = HR.el;
@@ -41,6 +42,7 @@
     var links = [el('a', { href: 'summary.csv', text: 'summary.csv' }), ' · ', el('a', { href: 'summary_stats.csv', text: 'summary_stats.csv' })];
     if (d.hasPaired) links.push(' · ', el('a', { href: 'paired.csv', text: 'paired.csv' }));
     if (d.summaryMd) links.push(' · ', el('a', { href: d.summaryMd, text: 'summary.md' }));
+    if ((d.expectations || []).length) links.push(' · ', el('a', { href: 'expectations.csv', text: 'expectations.csv' }));
     app.appendChild(el('p', { class: 'crumbs' }, ['Data: '].concat(links)));
     d.notes.forEach(function (n) { app.appendChild(el('div', { class: 'note', text: n })); });
     var toc = el('nav', { class: 'toc' }, ['Scenarios: '].concat(scenarios.map(function (s) {
@@ -60,6 +62,7 @@
   function scenarioSection(d, app, scenario) {
     var section = el('section', { class: 'panel', id: 'scenario-' + slug(scenario) }, [el('h2', { text: 'Scenario ' + scenario })]);
     app.appendChild(section);
+    expectationsSection(d, section, scenario);
     var stats = d.stats.filter(function (s) { return s[0] === scenario; });
     var planners = unique(d.runs.filter(function (r) { return r.scenario === scenario; }).map(function (r) { return r.planner; })
       .concat(stats.map(function (s) { return s[1]; })));
@@ -172,6 +175,40 @@
         '(paired.csv). Grey, marked n.s.: the interval contains 0, the difference is not significant.' }));
     }
     paperSection(d, section, scenario);
+  }
+
+  // The verdicts of the scenario's expect: conditions (expectations.csv): per planner a badge with the
+  // runs that held every condition, then the conditions some run failed, with the seeds and values.
+  function expectationsSection(d, section, scenario) {
+    var rows = (d.expectations || []).filter(function (e) { return e[0] === scenario; });
+    if (!rows.length) return;
+    var planners = unique(rows.map(function (e) { return e[1]; }));
+    section.appendChild(el('h3', { text: 'Expectations' }));
+    section.appendChild(el('div', { class: 'expect-badges' }, planners.map(function (p) {
+      var mine = rows.filter(function (e) { return e[1] === p; });
+      var judged = unique(mine.map(function (e) { return e[2]; })).length;
+      var failed = unique(mine.filter(function (e) { return !e[6]; }).map(function (e) { return e[2]; })).length;
+      return el('span', { class: 'badge ' + (failed ? 'bad' : 'ok'), 'data-planner': p, 'data-passed': String(judged - failed),
+        'data-failed': String(failed), title: p + ': ' + (judged - failed) + ' of ' + judged + ' judged runs held every condition',
+        text: p + ' ' + (failed ? '✗' : '✓') + ' ' + (judged - failed) + '/' + judged + ' passed' });
+    })));
+    var failing = unique(rows.filter(function (e) { return !e[6]; }).map(function (e) { return e[1] + '\u0000' + e[3] + ' ' + e[4]; }));
+    if (!failing.length) {
+      section.appendChild(el('p', { class: 'caption', text: 'Every condition held in every judged run.' }));
+      return;
+    }
+    var body = failing.map(function (key) {
+      var pc = key.split('\u0000');
+      var mine = rows.filter(function (e) { return e[1] === pc[0] && e[3] + ' ' + e[4] === pc[1]; });
+      var bad = mine.filter(function (e) { return !e[6]; });
+      return [{ text: pc[0], cls: 'text' }, { text: pc[1], cls: 'text mono' }, bad.length + ' of ' + mine.length,
+              { text: bad.map(function (e) { return e[2] + ' (' + e[5] + ')'; }).join(', '), cls: 'text' }];
+    });
+    section.appendChild(HR.table([{ text: 'planner', class: 'text' }, { text: 'condition', class: 'text' }, 'runs failed',
+                                  { text: 'seeds (value)', class: 'text' }], body, { class: 'expectations', 'data-scenario': scenario }));
+    section.appendChild(el('p', { class: 'caption', text: 'The scenario\'s expect: conditions judged on each run when its episode ' +
+      'ended (expectations.csv; docs/metrics.md, "Expectations"). A run passes when every condition holds; runs that did not ' +
+      'finish are not judged (junit.xml lists them as errors).' }));
   }
 
   // The HuNavSim paper's means beside ours (paper_comparison.csv) and, per pair of planners, whether

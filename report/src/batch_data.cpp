@@ -169,6 +169,29 @@ void readPaper(BatchData& data) {
   }
 }
 
+// Optional: only batches of scenarios with an `expect:` block have it.
+void readExpectations(BatchData& data) {
+  std::error_code ec;
+  const fs::path file = data.dir / "expectations.csv";
+  if (!fs::exists(file, ec)) return;
+  const CsvTable t = CsvTable::read(file);
+  t.requireLeadingColumns({"scenario", "planner", "seed", "metric", "condition", "value", "pass"});
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    ExpectRow e;
+    e.scenario = t.text(r, 0);
+    e.planner = t.text(r, 1);
+    e.seed = t.integer(r, 2);
+    e.metric = t.text(r, 3);
+    e.condition = t.text(r, 4);
+    e.value = t.text(r, 5);
+    const std::string pass = lower(t.text(r, 6));
+    if (pass != "true" && pass != "false") t.fail(r, "pass", "expected true or false, got '" + t.text(r, 6) + "'");
+    e.pass = pass == "true";
+    if (e.metric.empty()) t.fail(r, "metric", "empty");
+    data.expectations.push_back(std::move(e));
+  }
+}
+
 }  // namespace
 
 bool parseOptionalNumber(const std::string& text, double& value) {
@@ -197,6 +220,7 @@ BatchData loadBatchData(const fs::path& dir) {
   readStats(data);
   readPaired(data);
   readPaper(data);
+  readExpectations(data);
   data.has_summary_md = fs::is_regular_file(dir / "summary.md", ec);
   return data;
 }

@@ -305,6 +305,18 @@ std::string batchPageJson(const BatchData& d) {
         .value(o.significant)
         .endArray();
   j.endArray();
+  j.key("expectations").beginArray();
+  for (const auto& e : d.expectations)
+    j.beginArray()
+        .value(e.scenario)
+        .value(e.planner)
+        .value(static_cast<std::int64_t>(e.seed))
+        .value(e.metric)
+        .value(e.condition)
+        .value(e.value)
+        .value(e.pass)
+        .endArray();
+  j.endArray();
   j.key("summaryMd").value(d.has_summary_md ? "summary.md" : "");
   j.key("notes").beginArray();
   for (const auto& n : d.notes) j.value(n);

@@ -111,6 +111,16 @@ with open(os.path.join(batch, "paired.csv"), "w", newline="") as f:
                     "true" if (mean - half > 0 or mean + half < 0) else "false"])
 PY
 
+# Hand-written verdicts of an expect: block, as hunav_summary writes them from the runs' expect.json:
+# sfw seed 1 fails the one condition, so the page shows dwb 2/2 passed, sfw 1/2 and one failing row.
+cat >"$batch/expectations.csv" <<'CSV'
+scenario,planner,seed,metric,condition,value,pass
+passing,dwb,1,robot_on_person_collision,== 0,0,true
+passing,dwb,2,robot_on_person_collision,== 0,0,true
+passing,sfw,1,robot_on_person_collision,== 0,2,false
+passing,sfw,2,robot_on_person_collision,== 0,0,true
+CSV
+
 "$BIN/hunav_report" "$batch" >"$WORK/report.txt" 2>&1 || { cat "$WORK/report.txt"; fail "hunav_report failed on the batch"; }
 grep -q "and 4 run page(s)" "$WORK/report.txt" || { cat "$WORK/report.txt"; fail "hunav_report did not write the 4 run pages"; }
 
@@ -126,6 +136,13 @@ render "$batch/report.html" "$WORK/batch_dom.html"
 check "$WORK/batch_dom.html" ci-passing paired-passing || fail "batch page: see above"
 grep -q 'id="runs-table"[^>]*data-rows="4"' "$WORK/batch_dom.html" || fail "batch page: the runs table does not list the 4 runs"
 grep -q 'href="runs/passing__sfw__seed2/report.html"' "$WORK/batch_dom.html" || fail "batch page: no link to a run page"
+grep -q '<table class="expectations"[^>]*data-rows="1"' "$WORK/batch_dom.html" ||
+  fail "batch page: no table of the one failing expectation"
+grep -q 'class="badge bad" data-planner="sfw" data-passed="1" data-failed="1"' "$WORK/batch_dom.html" ||
+  fail "batch page: no failing expectations badge for sfw"
+grep -q 'class="badge ok" data-planner="dwb" data-passed="2" data-failed="0"' "$WORK/batch_dom.html" ||
+  fail "batch page: no passing expectations badge for dwb"
+echo "the expectations show their badges and the failing condition"
 [ "$(grep -o '<span class="badge stuck">stuck</span>' "$WORK/batch_dom.html" | wc -l)" -eq 1 ] ||
   fail "batch page: the stuck run has no stuck badge"
 render "$batch/runs/passing__sfw__seed1/report.html" "$WORK/stuck_dom.html"

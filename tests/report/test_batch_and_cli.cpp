@@ -167,6 +167,51 @@ TEST(BatchData, ReadsThePaperComparison) {
       << error();
 }
 
+// The verdicts of the scenarios' expect: conditions (hunav_summary's expectations.csv): optional,
+// read when present, carried into the batch page (batch.js draws the badges and the table of failing
+// conditions from them; report_renders_in_chromium.sh checks the drawn table).
+TEST(BatchData, ReadsTheExpectations) {
+  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const BatchData without = loadBatchData(dir);
+  EXPECT_TRUE(without.expectations.empty());  // no scenario with expect:
+  const std::string plain = renderBatchPage(without);
+  EXPECT_NE(plain.find(R"("expectations":[])"), std::string::npos);
+
+  writeFile(dir / "expectations.csv",
+            "scenario,planner,seed,metric,condition,value,pass\n"
+            "tiny,dwb,1,completed,== true,false,false\n"
+            "tiny,dwb,1,status,== goal_reached,time_limit,false\n"
+            "tiny,dwb,1,minimum_distance_to_people,\">= 0.5\",0.8,true\n");
+  const BatchData d = loadBatchData(dir);
+  ASSERT_EQ(d.expectations.size(), 3u);
+  EXPECT_EQ(d.expectations[0].planner, "dwb");
+  EXPECT_EQ(d.expectations[0].seed, 1);
+  EXPECT_FALSE(d.expectations[0].pass);
+  EXPECT_EQ(d.expectations[1].value, "time_limit");
+  EXPECT_EQ(d.expectations[2].condition, ">= 0.5");
+  EXPECT_TRUE(d.expectations[2].pass);
+  const std::string page = renderBatchPage(d);
+  // '<' and '>' travel escaped, as in the paper orderings.
+  EXPECT_NE(page.find(R"("expectations":[["tiny","dwb",1,"completed","== true","false",false],)"
+                      R"(["tiny","dwb",1,"status","== goal_reached","time_limit",false],)"
+                      R"(["tiny","dwb",1,"minimum_distance_to_people","\u003e= 0.5","0.8",true]])"),
+            std::string::npos)
+      << page.substr(page.find("\"expectations\""), 400);
+  EXPECT_NE(page.find("function expectationsSection"), std::string::npos);  // the script that draws them
+
+  writeFile(dir / "expectations.csv",
+            "scenario,planner,seed,metric,condition,value,pass\n"
+            "tiny,dwb,1,completed,== true,false,no\n");
+  try {
+    loadBatchData(dir);
+    ADD_FAILURE() << "a malformed expectations.csv was read";
+  } catch (const hunav::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("expectations.csv:2: pass: expected true or false, got 'no'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Pages, RunPageEmbedsItsDataAndNothingExternal) {
   const fs::path dir = writeTinyRun(freshDir("run"));
   ReportOptions options;

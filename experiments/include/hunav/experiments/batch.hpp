@@ -30,6 +30,15 @@ std::optional<RunKey> parseRunFolderName(const std::string& name);
 // Metric values as written in the CSV files (numbers, true/false), by metric name.
 using MetricRow = std::map<std::string, std::string>;
 
+// One condition of a scenario's `expect:` as judged in a run's expect.json (written by hunav_run and
+// hunav_expect: runner/include/hunav/runner/expectations.hpp).
+struct ExpectVerdict {
+  std::string metric;     // metric name, or "status"
+  std::string condition;  // e.g. ">= 0.5", "== true", "in [1, 2]", "== goal_reached"
+  std::string value;      // the run's value as in metrics.csv ("missing" when the run had none)
+  bool pass = false;
+};
+
 struct BatchRun {
   RunKey key;
   std::string run_dir;    // relative to the batch folder: runs/<folder name>
@@ -38,6 +47,8 @@ struct BatchRun {
   std::string wall_time;  // s, from run.json (empty without it)
   MetricRow metrics;      // the last row of the run's metrics.csv (empty without it)
   std::map<std::string, MetricRow> by_behavior;  // behavior name -> the row of metrics_beh_<code>.csv
+  bool judged = false;                           // the run folder has an expect.json
+  std::vector<ExpectVerdict> expectations;       // its conditions, in the scenario's order
 
   // The episode ended on its own (goal_reached, time_limit or stuck: episode_status.hpp): only such
   // runs enter the statistics (a stuck run as a failure to reach the goal: `completed` false).

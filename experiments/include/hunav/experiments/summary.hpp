@@ -8,6 +8,8 @@
 //   summary.md         the tables of the HuNavSim paper (II-IV) per scenario, the paired comparisons, and
 //                      "paper vs ours" (paper_comparison.hpp) for the paper's scenarios
 //   paper_comparison.csv, paper_orderings.csv   the paper's means beside ours (paper_comparison.hpp)
+//   expectations.csv   the verdicts of the scenarios' `expect:` conditions, when some run has an
+//                      expect.json (expectations_summary.hpp); summary.md then has their section
 // Undefined numbers (a standard deviation of one value, ...) are empty fields.
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/statistics.hpp"

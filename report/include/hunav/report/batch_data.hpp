@@ -5,6 +5,8 @@
 //   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
 //   paper_comparison.csv  scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci
 //   paper_orderings.csv   scenario,behavior,metric,planner_a,planner_b,paper,ours,verdict,significant
+//   expectations.csv      scenario,planner,seed,metric,condition,value,pass (the verdicts of the
+//                         scenarios' expect: conditions; only in batches with such scenarios)
 //   summary.md, runs/<scenario>__<planner>__seed<N>/
 #include <filesystem>
 #include <string>
@@ -55,6 +57,15 @@ struct PaperOrdering {
   std::string significant;  // true, false or empty (no paired comparison)
 };
 
+// One condition of a scenario's `expect:` judged on one run (hunav_summary's expectations.csv,
+// experiments/include/hunav/experiments/expectations_summary.hpp).
+struct ExpectRow {
+  std::string scenario, planner;
+  long long seed = 0;
+  std::string metric, condition, value;
+  bool pass = false;
+};
+
 struct BatchData {
   std::filesystem::path dir;
   std::vector<std::string> metric_names;  // summary.csv's metric columns, in order
@@ -64,12 +75,14 @@ struct BatchData {
   bool has_paired = false;
   std::vector<PaperRow> paper;               // empty without paper_comparison.csv
   std::vector<PaperOrdering> paper_orderings;
+  std::vector<ExpectRow> expectations;       // empty without expectations.csv
   bool has_summary_md = false;
   std::vector<std::string> notes;
 };
 
 // Reads the batch folder. summary.csv and summary_stats.csv are required; paired.csv,
-// paper_comparison.csv and paper_orderings.csv optional (a batch summarised before they existed).
+// paper_comparison.csv, paper_orderings.csv (a batch summarised before they existed) and
+// expectations.csv (no scenario with expect:) optional.
 // Throws ConfigError (file:line: key: what) when a required file is missing or any file is malformed.
 BatchData loadBatchData(const std::filesystem::path& dir);
 
