@@ -42,6 +42,8 @@ Layout of DIR:
   matrix.tsv                             the matrix (as --print-matrix)
   batch.log                              one line per invocation: arguments, duration, counts
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
+  paper_comparison.csv, paper_orderings.csv   the paper's means beside ours (passing, crossing, combined)
+  expectations.csv                       the expect: verdicts, a row per run and condition (hunav_summary)
   junit.xml                              JUnit XML of the scenarios' expect: conditions (hunav_expect
                                          --junit): one <testcase> per run and condition, classname
                                          <scenario>.<planner>, name "seed <N>: <metric> <condition>";
