@@ -4,6 +4,7 @@
 #include "hunav/episode_status.hpp"
 #include "hunav/yaml_reader.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -575,6 +576,15 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
   Scenario s;
   s.file = path;
   s.name = yr.get<std::string>(root, "name", "", std::filesystem::path(path).stem().string());
+  // The name becomes part of folder names (results/<name>_..., a batch's runs/<name>__...): it may
+  // not climb out of them or hide.
+  const bool safe_name = !s.name.empty() && s.name.size() <= 100 && s.name.front() != '.' &&
+                         std::all_of(s.name.begin(), s.name.end(), [](char c) {
+                           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+                         });
+  if (!safe_name)
+    yr.fail(root["name"] ? root["name"] : root, "name",
+            "'" + s.name + "' is not a safe folder name: use 1-100 letters, digits, '_', '-' or '.', not starting with '.'");
   s.dt = yr.get<double>(root, "dt", "", s.dt);
   if (s.dt <= 0.0 || s.dt > 0.1) yr.fail(root["dt"], "dt", "must be in (0, 0.1] s");
   s.time_limit = yr.get<double>(root, "time_limit", "", s.time_limit);

@@ -85,6 +85,12 @@ TEST(Scenario, MalformedFilesNameFileLineAndKey) {
               "  goal: {x: 3, y: 0}\n",
               5, "robot.goal");
   expectError("bad_dt.yaml", "dt: 0\nrobot:\n  start: {x: 0, y: 0}\n", 1, "dt");
+  // A name is part of the default output folder: no path escape (results/../../../evil_dwb_1).
+  const std::string rest = std::string(kMinimal).substr(std::string(kMinimal).find('\n') + 1);
+  expectError("escape.yaml", "name: ../../../evil\n" + rest, 1, "name");
+  expectError("slash.yaml", "name: a/b\n" + rest, 1, "name");
+  expectError("hidden.yaml", "name: .hidden\n" + rest, 1, "name");
+  expectError("empty_name.yaml", "name: ''\n" + rest, 1, "name");
 }
 
 // evaluation.sample_rate: the evaluator's recording rate for the scenario (0 = every tick when absent).
