@@ -575,16 +575,23 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
   const YAML::Node& root = yr.root();
   Scenario s;
   s.file = path;
-  s.name = yr.get<std::string>(root, "name", "", std::filesystem::path(path).stem().string());
-  // The name becomes part of folder names (results/<name>_..., a batch's runs/<name>__...): it may
-  // not climb out of them or hide.
-  const bool safe_name = !s.name.empty() && s.name.size() <= 100 && s.name.front() != '.' &&
-                         std::all_of(s.name.begin(), s.name.end(), [](char c) {
-                           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
-                         });
-  if (!safe_name)
-    yr.fail(root["name"] ? root["name"] : root, "name",
-            "'" + s.name + "' is not a safe folder name: use 1-100 letters, digits, '_', '-' or '.', not starting with '.'");
+  // The name becomes part of folder names (results/<name>_..., a batch's runs/<name>__...): a given
+  // one may not climb out of them or hide; the default, the file's stem, is made safe.
+  const auto safeChar = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  };
+  if (root["name"]) {
+    s.name = yr.get<std::string>(root, "name", "", "");
+    if (s.name.empty() || s.name.size() > 100 || s.name.front() == '.' ||
+        !std::all_of(s.name.begin(), s.name.end(), safeChar))
+      yr.fail(root["name"], "name",
+              "'" + s.name + "' is not a safe folder name: use 1-100 letters, digits, '_', '-' or '.', not starting with '.'");
+  } else {
+    s.name = std::filesystem::path(path).stem().string();
+    std::replace_if(s.name.begin(), s.name.end(), [&](char c) { return !safeChar(c); }, '_');
+    s.name.erase(0, s.name.find_first_not_of('.'));
+    if (s.name.empty()) s.name = "scenario";
+  }
   s.dt = yr.get<double>(root, "dt", "", s.dt);
   if (s.dt <= 0.0 || s.dt > 0.1) yr.fail(root["dt"], "dt", "must be in (0, 0.1] s");
   s.time_limit = yr.get<double>(root, "time_limit", "", s.time_limit);
