@@ -1,5 +1,6 @@
 // The behavior-tree engine: XML loading and its errors, control nodes, decorators, and each node of
 // the library, driven through AgentManager on one agent.
+#include "people_fixtures.hpp"
 #include "hunav/manager/agent_manager.hpp"
 
 #include <gtest/gtest.h>
@@ -12,20 +13,9 @@ using namespace hunav::manager;
 
 namespace {
 
+// The resting person of people_fixtures.hpp, with a short, one-off reaction.
 agent_state_t person(int id, double x, double y) {
-  agent_state_t a{};
-  a.id = id;
-  a.type = agent_state_t::TYPE_PERSON;
-  a.behavior = agent_state_t::BEH_REGULAR;
-  a.group_id = -1;
-  a.x = x;
-  a.y = y;
-  a.radius = 0.35;
-  a.desired_speed = 1.0;
-  a.goal_radius = 0.3;
-  a.behavior_params.goal_force_factor = 2.0;
-  a.behavior_params.obstacle_force_factor = 10.0;
-  a.behavior_params.social_force_factor = 5.0;
+  agent_state_t a = test::person(id, x, y);
   a.behavior_params.duration = 1.0;
   a.behavior_params.once = true;
   a.robot_in_sight = true;

@@ -42,6 +42,19 @@ std::optional<std::string> stringField(const Json& j, const char* key, httplib::
   return it->get<std::string>();
 }
 
+// The {path, doc} body of an editor request (validate, save), or an answer 400 and nullopt.
+std::optional<std::pair<std::string, Json>> docRequest(const httplib::Request& req, httplib::Response& res) {
+  auto j = body(req, res);
+  if (!j) return std::nullopt;
+  auto path = stringField(*j, "path", res);
+  if (!path) return std::nullopt;
+  if (!j->contains("doc")) {
+    sendError(res, 400, "missing field 'doc'");
+    return std::nullopt;
+  }
+  return std::make_pair(*path, (*j)["doc"]);
+}
+
 }  // namespace
 
 ViewServer::ViewServer(ServerParts parts) : parts_(parts), server_(std::make_unique<httplib::Server>()) {
@@ -146,23 +159,13 @@ void ViewServer::routes() {
   s.Post("/api/editor/validate", [editor](const httplib::Request& req, httplib::Response& res) {
     Editor* e = editor(res);
     if (e == nullptr) return;
-    auto j = body(req, res);
-    if (!j) return;
-    auto path = stringField(*j, "path", res);
-    if (!path) return;
-    if (!j->contains("doc")) return sendError(res, 400, "missing field 'doc'");
-    sendJson(res, e->validate(*path, (*j)["doc"]));
+    if (auto d = docRequest(req, res)) sendJson(res, e->validate(d->first, d->second));
   });
   s.Post("/api/editor/save", [editor](const httplib::Request& req, httplib::Response& res) {
     Editor* e = editor(res);
     if (e == nullptr) return;
-    auto j = body(req, res);
-    if (!j) return;
-    auto path = stringField(*j, "path", res);
-    if (!path) return;
-    if (!j->contains("doc")) return sendError(res, 400, "missing field 'doc'");
     // A scenario the loader rejects is an answer ({ok: false, error}), not a failed request.
-    sendJson(res, e->save(*path, (*j)["doc"]));
+    if (auto d = docRequest(req, res)) sendJson(res, e->save(d->first, d->second));
   });
   s.Post("/api/editor/run", [this, editor](const httplib::Request& req, httplib::Response& res) {
     Editor* e = editor(res);
