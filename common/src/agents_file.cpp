@@ -82,6 +82,9 @@ void drawRandomParams(BehaviorParams& p, int behavior, std::uint64_t seed, int i
   p.social_force_factor = std::clamp(p.social_force_factor, 2.1, 20.0);
   p.other_force_factor = std::max(0.0, p.other_force_factor);
   p.vel = std::clamp(p.vel, 0.0, 1.8);
+  // A normal draw of curious's or threatening's dist may fall below 0 (5 standard deviations): the
+  // bound of the messages' checks (kBehaviorDistBound).
+  p.dist = std::max(0.0, p.dist);
 }
 
 Vec2 readPoint(const YamlReader& yr, const YAML::Node& map, const std::string& where) {
@@ -162,6 +165,20 @@ void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& 
       drawRandomParams(p, a.behavior, seed, a.id);
     }
     if (p.duration < 0.0) yr.fail(beh["duration"], YamlReader::join(bw, "duration"), "must be >= 0");
+    // The bounds every process checks on the messages that carry these numbers (bounds.hpp): a value
+    // beyond them would load, then have the world's and the manager's checks drop every message.
+    forEachBehaviorNumber(p, [&](const char* key, double v, const Bound& b) {
+      if (b.contains(v)) return;
+      // safe_distance, stop_dist, front_dist (readV2Distance) are the file's names of dist. (A node is
+      // chosen, never assigned: assigning a YAML::Node overwrites the node it refers to.)
+      std::string name = key;
+      if (!beh[key] && name == "dist")
+        for (const char* alias : {"stop_dist", "front_dist", "safe_distance"})
+          if (beh[alias]) name = alias;
+      const YAML::Node at = beh[name];
+      yr.fail(at ? at : beh, YamlReader::join(bw, name),
+              "must be in " + boundText(b) + " (the bound every process checks on the messages that carry it)");
+    });
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace hunav {
 
@@ -13,7 +14,32 @@ bool pointsWithinMagnitude(const std::vector<point2d_t>& points) {
   for (const point2d_t& p : points) ok &= (std::abs(p.x) <= kMaxMagnitude) & (std::abs(p.y) <= kMaxMagnitude);
   return ok;
 }
+// A bound as people write it: "1e5" for 100000, "-1e6", "0.5", "100", "2500000".
+std::string numberText(double v) {
+  if (v == std::floor(v) && std::abs(v) >= 1e4 && std::abs(v) < 1e300) {
+    double mantissa = std::abs(v);
+    int exponent = 0;
+    while (std::fmod(mantissa, 10.0) == 0.0) {
+      mantissa /= 10.0;
+      ++exponent;
+    }
+    if (exponent >= 4 && mantissa < 10.0)
+      return (v < 0 ? "-" : "") + std::to_string(static_cast<long long>(mantissa)) + "e" + std::to_string(exponent);
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", v);
+  return text;
+}
+
+// The bounds of the behavior parameters and the radius (bounds.hpp), beyond the magnitude bound.
+bool withinFieldBounds(const agent_state_t& a) {
+  bool ok = kRadiusBound.contains(a.radius);
+  forEachBehaviorNumber(a.behavior_params, [&](const char*, double v, const Bound& b) { ok &= b.contains(v); });
+  return ok;
+}
 }  // namespace
+
+std::string boundText(const Bound& b) { return "[" + numberText(b.lo) + ", " + numberText(b.hi) + "]"; }
 
 void checkAgentState(const agent_state_t& a, const char* what) {
   const behavior_params_t& bp = a.behavior_params;
@@ -24,7 +50,7 @@ void checkAgentState(const agent_state_t& a, const char* what) {
                             bp.social_force_factor, bp.other_force_factor};
   bool ok = true;
   for (const double v : numbers) ok &= std::abs(v) <= kMaxMagnitude;
-  if (ok && pointsWithinMagnitude(a.goals) && pointsWithinMagnitude(a.obstacles) && a.radius >= 0.0 &&
+  if (ok && pointsWithinMagnitude(a.goals) && pointsWithinMagnitude(a.obstacles) && withinFieldBounds(a) &&
       a.desired_speed >= 0.0 && a.goal_radius >= 0.0 && a.num_goals >= 0 && a.num_goals <= kMaxPointsPerAgent &&
       a.num_obstacles >= 0 && a.num_obstacles <= kMaxPointsPerAgent)
     return;
@@ -40,6 +66,14 @@ void checkAgentState(const agent_state_t& a, const char* what) {
                      std::to_string(static_cast<long long>(kMaxMagnitude)));
   if (a.radius < 0.0 || a.desired_speed < 0.0 || a.goal_radius < 0.0)
     throw BadMessage(std::string(what) + ": negative radius or speed for agent " + std::to_string(a.id));
+  if (!kRadiusBound.contains(a.radius))
+    throw BadMessage(std::string(what) + ": radius of agent " + std::to_string(a.id) + " outside " +
+                     boundText(kRadiusBound) + " m");
+  forEachBehaviorNumber(a.behavior_params, [&](const char* key, double v, const Bound& b) {
+    if (!b.contains(v))
+      throw BadMessage(std::string(what) + ": behavior parameter " + key + " of agent " + std::to_string(a.id) +
+                       " outside " + boundText(b));
+  });
   if (a.num_goals < 0 || a.num_goals > kMaxPointsPerAgent || a.num_obstacles < 0 ||
       a.num_obstacles > kMaxPointsPerAgent)
     throw BadMessage(std::string(what) + ": impossible array size for agent " + std::to_string(a.id));

@@ -34,6 +34,10 @@ Image readPgm(const std::string& path, const std::string& yaml_path, int yaml_li
   auto fail = [&](const std::string& what) -> Image {
     throw ConfigError(yaml_path, yaml_line, "image", path + ": " + what);
   };
+  // A folder opens as a stream on Linux and fails only when read (basic_filebuf::underflow).
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    return fail("not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail("cannot open the image");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

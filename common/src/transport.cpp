@@ -404,8 +404,8 @@ void Bus::Subscription::deliver(const void* data, unsigned size) {
   // Nothing may propagate through LCM's C dispatch loop: keep the first error for the caller.
   try {
     dispatch(data, size);
-  } catch (const BadMessage&) {
-    ++bus->dropped_;
+  } catch (const BadMessage& e) {
+    drop(e.what());
   } catch (...) {
     if (!bus->pending_) bus->pending_ = std::current_exception();
   }
@@ -418,8 +418,8 @@ void Bus::Subscription::deliver(const Box& box) {
     std::vector<std::uint8_t>& bytes = bus->convert_buffer_;
     box.encodeTo(bytes);
     dispatch(bytes.data(), static_cast<unsigned>(bytes.size()));
-  } catch (const BadMessage&) {
-    ++bus->dropped_;
+  } catch (const BadMessage& e) {
+    drop(e.what());
   } catch (...) {
     if (!bus->pending_) bus->pending_ = std::current_exception();
   }
@@ -477,6 +477,12 @@ ReceiveLosses Bus::receiveLosses() const {
 
 std::uint64_t Bus::droppedMessages() const {
   std::uint64_t total = dropped_;
+  for (const auto& entry : direct_) total += entry.second->malformed();
+  return total;
+}
+
+std::uint64_t Bus::malformedDatagrams() const {
+  std::uint64_t total = 0;
   for (const auto& entry : direct_) total += entry.second->malformed();
   return total;
 }

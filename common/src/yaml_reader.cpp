@@ -1,5 +1,6 @@
 #include "hunav/yaml_reader.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -50,7 +51,9 @@ YamlReader::YamlReader(std::string path) : path_(std::move(path)) {
   } catch (const YAML::ParserException& e) {
     throw ConfigError(path_, e.mark.line + 1, "", "not valid YAML: " + e.msg);
   }
-  if (!root_.IsMap()) throw ConfigError(path_, lineOf(root_), "", "expected a mapping at the top level");
+  // An empty file has no node to give a line: its first line is where a mapping was expected.
+  if (!root_.IsMap())
+    throw ConfigError(path_, std::max(1, lineOf(root_)), "", "expected a mapping at the top level");
   rejectDuplicateKeys(*this);
 }
 
@@ -61,7 +64,9 @@ int YamlReader::lineOf(const YAML::Node& n) {
 }
 
 void YamlReader::fail(const YAML::Node& at, const std::string& key, const std::string& what) const {
-  throw ConfigError(path_, lineOf(at), key, what);
+  // A node without a position (a key of a mapping written in flow style, a node made in code): the
+  // file's first line, so that every error about the file's content names a line.
+  throw ConfigError(path_, std::max(1, lineOf(at)), key, what);
 }
 
 YAML::Node YamlReader::child(const YAML::Node& map, const std::string& key, const std::string& where,

@@ -192,6 +192,7 @@ void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<M
   num("sample_rate", info.sample_rate);
   integer("lost_ticks", info.lost_ticks);
   integer("dropped_messages", info.dropped_messages);
+  integer("world_dropped_messages", info.world_dropped_messages);
   str("fingerprint", info.fingerprint);
   str("recorded_fingerprint", info.recorded_fingerprint);
   str("git_commit", info.git_commit);
@@ -240,6 +241,7 @@ RunInfo readRunJson(const fs::path& file) {
   info.sample_rate = r.get<double>(root, "sample_rate", "", info.sample_rate);
   info.lost_ticks = r.get<std::int64_t>(root, "lost_ticks", "", info.lost_ticks);
   info.dropped_messages = r.get<std::int64_t>(root, "dropped_messages", "", info.dropped_messages);
+  info.world_dropped_messages = r.get<std::int64_t>(root, "world_dropped_messages", "", info.world_dropped_messages);
   info.fingerprint = r.get<std::string>(root, "fingerprint", "", info.fingerprint);
   info.recorded_fingerprint = r.get<std::string>(root, "recorded_fingerprint", "", info.recorded_fingerprint);
   info.git_commit = r.get<std::string>(root, "git_commit", "", info.git_commit);

@@ -1,5 +1,6 @@
 #include "hunav/evaluator/states_csv.hpp"
 
+#include "hunav/bounds.hpp"
 #include "hunav/config_error.hpp"
 
 #include <fcntl.h>
@@ -269,6 +270,9 @@ constexpr std::size_t kCopyFlush = std::size_t{1} << 17;  // bytes of copied row
 }  // namespace
 
 StatesCsvReader::StatesCsvReader(const fs::path& file, SampleRate rate) : file_(file), rate_(rate) {
+  // A folder opens too, and fails only when read ("read error").
+  std::error_code ec;
+  if (fs::exists(file, ec) && !fs::is_regular_file(file, ec)) throw ConfigError(file.string(), 0, "", "not a regular file");
   fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw ConfigError(file.string(), 0, "", "cannot open the file");
   std::error_code size_error;
@@ -391,6 +395,9 @@ void parseRowChecked(const fs::path& file, int line, const char* begin, const ch
   e.linear_vel = row.real(kLinearVel);
   e.angular_vel = row.real(kAngularVel);
   e.radius = row.real(kRadius);
+  if (!kRadiusBound.contains(e.radius))
+    row.fail(kRadius, "must be in " + boundText(kRadiusBound) + " m (the bound of the messages' checks), got '" +
+                          std::string(row.text(kRadius)) + "'");
   e.behavior = row.integer<std::int8_t>(kBehavior);
   e.behavior_state = row.integer<std::int8_t>(kBehaviorState);
   e.group = row.integer<std::int32_t>(kGroup);
@@ -437,6 +444,7 @@ class FastRow {
         !real(e.vy, ',') || !real(e.vyaw, ',') || !real(e.linear_vel, ',') || !real(e.angular_vel, ',') ||
         !real(e.radius, ',') || !integer(e.behavior, ',') || !integer(e.behavior_state, ',') || !integer(e.group, ','))
       return false;
+    if (!kRadiusBound.contains(e.radius)) return false;  // the checked parser names it
     if (literal(",,,")) {
       e.has_goal = false;
     } else if (real(e.goal_x, ',') && real(e.goal_y, ',') && real(e.goal_radius, ',')) {

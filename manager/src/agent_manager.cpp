@@ -2,10 +2,13 @@
 
 #include "bt_social.hpp"
 #include "people_routes.hpp"
+#include "hunav/transport.hpp"  // BadMessage
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
+#include <system_error>
 
 namespace hunav::manager {
 
@@ -268,6 +271,13 @@ void AgentManager::loadTreeFile(const std::string& path) {
   if (definitions_.count(path) == 0) definitions_[path] = TreeDefinition::load(path, lib_);
 }
 
+void AgentManager::setTreeFolder(const std::string& folder) {
+  std::error_code ec;
+  const std::filesystem::path abs = std::filesystem::absolute(folder, ec);
+  tree_folder_ = (ec ? std::filesystem::path(folder) : abs).lexically_normal().string();
+  if (!tree_folder_.empty() && tree_folder_.back() != '/') tree_folder_ += '/';
+}
+
 void AgentManager::useScenario(const Scenario& scenario) {
   obstacle_points_ = scenario.people_model.obstacle_points;
   routes_.reset();
@@ -307,7 +317,23 @@ std::shared_ptr<const TreeDefinition> AgentManager::definitionFor(const agent_st
     source = a.behavior_tree;
     auto known = definitions_.find(source);
     if (known != definitions_.end()) return known->second;
-    return definitions_[source] = TreeDefinition::load(resolveBehaviorTree(scenario_file_, source), lib_);
+    // Not one of the trees loaded at start: a name from a message, so only a file of the tree folder
+    // (never a path that leads out of it), and a bad one drops the request instead of ending the
+    // process.
+    const std::string who = "step request: agent " + std::to_string(a.id) + "'s behavior_tree '" + source + "'";
+    if (tree_folder_.empty())
+      throw BadMessage(who + " is not a tree of the manager's scenario (and the manager has no tree folder)");
+    const std::filesystem::path named(source);
+    const std::string path = (std::filesystem::path(tree_folder_) / named).lexically_normal().string();
+    if (named.is_absolute() || path.compare(0, tree_folder_.size(), tree_folder_) != 0)
+      throw BadMessage(who + " leads out of the tree folder " + tree_folder_);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw BadMessage(who + " is not a regular file of the tree folder");
+    try {
+      return definitions_[source] = TreeDefinition::load(path, lib_);
+    } catch (const ConfigError& e) {
+      throw BadMessage(who + ": " + e.what());
+    }
   }
   int code = a.behavior;
   if (code < agent_state_t::BEH_REGULAR || code > agent_state_t::BEH_THREATENING) code = agent_state_t::BEH_REGULAR;
@@ -333,10 +359,10 @@ AgentMemory& AgentManager::memoryFor(const agent_state_t& a) {
   AgentMemory& m = memory_[a.id];
   m.id = a.id;
   if (m.tree && m.behavior == a.behavior && m.tree_file == a.behavior_tree) return m;  // unchanged
+  std::string source;
+  auto def = definitionFor(a, source);  // may refuse the tree: the memory stays as it was
   m.behavior = a.behavior;
   m.tree_file = a.behavior_tree;
-  std::string source;
-  auto def = definitionFor(a, source);
   if (!m.tree || m.tree_source != source) {
     m.tree = BtTree::instantiate(def, lib_);
     m.tree_source = source;

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "hunav/bounds.hpp"
 #include "hunav/manager/behavior_tree.hpp"
 
 namespace hunav::manager {
@@ -265,6 +266,11 @@ struct Parser {
       v.number = std::strtod(text.c_str(), &end);
       if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(v.number))
         fail(line, where + "is not a number");
+      // The bound every process checks on the messages the value ends up in (speeds, distances,
+      // durations; bounds.hpp): beyond it the tree would load, then every step reply be dropped.
+      if (!kPortNumberBound.contains(v.number))
+        fail(line, where + "is outside " + boundText(kPortNumberBound) +
+                       ", the bound every process checks on the numbers of the messages");
     } else if (spec.type == PortType::Bool) {
       if (text == "true" || text == "True" || text == "1")
         v.number = 1.0;

@@ -6,7 +6,8 @@
 namespace hunav::manager {
 
 ManagerNode::ManagerNode(Bus& bus, bool count_episodes) : bus_(bus) {
-  bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) { onRequest(r); });
+  request_drops_ =
+      &bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) { onRequest(r); });
   if (count_episodes)
     bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
       if (e.event == episode_event_t::END) ++episodes_ended_;

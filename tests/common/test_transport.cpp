@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -483,4 +484,36 @@ TEST(Transport, BusOpensItsOwnLcmFromAUrl) {
   bus.publish("GOAL", goal(2.5));
   EXPECT_TRUE(bus.handleFor(std::chrono::milliseconds(100)));
   EXPECT_EQ(x, 2.5);
+}
+
+// Each subscription counts what it drops and keeps the last reason, so that a component sharing a
+// bus (in process) can tell its own drops, and the world can say its answers were dropped.
+TEST(Transport, SubscriptionsCountTheirOwnDropsWithTheLastReason) {
+  for (const bool in_process : {true, false}) {
+    lcm::LCM lcm("memq://");
+    std::unique_ptr<Bus> bus = in_process ? std::make_unique<Bus>(Bus::InProcess{}) : std::make_unique<Bus>(lcm);
+    const hunav::SubscriptionDrops& commands = bus->subscribe<hunav::robot_command_t>(
+        "ROBOT_COMMAND", [](const hunav::robot_command_t& c) {
+          if (c.v > 1.0) throw hunav::BadMessage("robot command: v too large");
+        });
+    const hunav::SubscriptionDrops& goals = bus->subscribe<hunav::nav_goal_t>("NAV_GOAL", [](const hunav::nav_goal_t&) {});
+    hunav::robot_command_t c{};
+    c.v = 2.0;
+    bus->publish("ROBOT_COMMAND", c);
+    bus->handleAvailable();
+    EXPECT_EQ(commands.count, 1u);
+    EXPECT_EQ(commands.last_reason, "robot command: v too large");
+    const std::string garbage = "not a robot command";
+    bus->publishRaw("ROBOT_COMMAND", garbage.data(), garbage.size());
+    bus->handleAvailable();
+    EXPECT_EQ(commands.count, 2u);
+    EXPECT_EQ(commands.last_reason, "a message that does not decode as the channel's type");
+    c.v = 0.5;
+    bus->publish("ROBOT_COMMAND", c);
+    bus->handleAvailable();
+    EXPECT_EQ(commands.count, 2u);
+    EXPECT_EQ(goals.count, 0u);
+    EXPECT_EQ(bus->droppedMessages(), 2u);
+    EXPECT_EQ(bus->malformedDatagrams(), 0u);
+  }
 }

@@ -189,6 +189,7 @@ TEST(BehaviorTreeXml, AgentMayNameItsOwnTreeFile) {
   a.num_goals = 1;
   a.behavior_tree = path;
   AgentManager m;
+  m.loadTreeFile(path);  // as the scenario's trees are loaded at start (test_tree_sources.cpp)
   const step_reply_t r = m.step(request(a, robotAt(-20, 0), 1));
   EXPECT_EQ(r.agents[0].x, 0.0);
   a.behavior_tree.clear();  // back to the built-in regular tree: walks

@@ -47,6 +47,8 @@ std::vector<agent_state_t> run(agent_state_t a, const point2d_t& robot, int step
   r.y = robot.y;
   r.yaw = kPi;
   AgentManager m;
+  // As a manager loads its scenario's trees at start (it opens no path a step request names).
+  if (!a.behavior_tree.empty()) m.loadTreeFile(a.behavior_tree);
   std::vector<agent_state_t> states;
   for (int s = 1; s <= steps; ++s) {
     step_request_t q{};

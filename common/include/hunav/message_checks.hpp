@@ -1,6 +1,7 @@
 #pragma once
 // Checks every process applies to what it receives: a message that fails is rejected with
 // BadMessage (dropped and counted by the Bus), never allowed to crash or poison a run.
+#include "hunav/bounds.hpp"
 #include "hunav/transport.hpp"
 
 #include <hunav/agent_state_t.hpp>
@@ -13,18 +14,21 @@ namespace hunav {
 
 inline constexpr int kMaxAgentsPerMessage = 100000;
 inline constexpr int kMaxPointsPerAgent = 10000;
-// Every number of an agent state (m, m/s, rad, s, factors) lies within +-kMaxMagnitude: beyond it a
-// sender is broken (scenarios keep coordinates within +-1e5 m), and the products the social force
-// and the metrics form would overflow to infinity.
-inline constexpr double kMaxMagnitude = 1e6;
 
 // Throws BadMessage naming `what` when the agent state has a non-finite number or one beyond
-// +-kMaxMagnitude, a negative radius or speed, or inconsistent array sizes.
+// +-kMaxMagnitude (bounds.hpp), a negative radius or speed, a radius or a behavior parameter outside
+// its bound (kRadiusBound, forEachBehaviorNumber: the bounds the loaders enforce), or inconsistent
+// array sizes.
 void checkAgentState(const agent_state_t& a, const char* what);
 void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what);
 
 inline void checkFinite(double v, const char* field, const char* what) {
   if (!std::isfinite(v)) throw BadMessage(std::string(what) + ": " + field + " is not finite");
+}
+// checkFinite, and within +-kMaxMagnitude: a huge finite number (1e308) is as broken as an infinity.
+inline void checkNumber(double v, const char* field, const char* what) {
+  checkFinite(v, field, what);
+  if (!(std::abs(v) <= kMaxMagnitude)) throw BadMessage(std::string(what) + ": " + field + " is beyond +-1e6");
 }
 
 }  // namespace hunav

@@ -1,6 +1,7 @@
 #pragma once
 // A scenario: static map, robot, people (HuNavSim agents layout), clock. Defined once, in YAML, and
 // shared by runs, tests and benchmarks. scenarios/README.md documents every key.
+#include "hunav/bounds.hpp"  // the bounds the loader enforces (kMaxCoordinate, ...)
 #include "hunav/geometry.hpp"
 
 #include <cstdint>
@@ -159,19 +160,6 @@ struct Scenario {
   // Bounds of everything in the scenario, with a margin.
   void bounds(Vec2& lo, Vec2& hi, double margin = 1.0) const;
 };
-
-// Bounds the loader enforces (scenarios/README.md), so that no accepted value breaks a component:
-// Box2D computes in float (coordinates beyond ~1e5 m lose centimetres; sides below a millimetre make
-// degenerate shapes), and the clock counts integer microseconds (time_limit * 1e6 must fit int64).
-inline constexpr double kMaxCoordinate = 1e5;  // m, |x| and |y| of every point
-inline constexpr double kMaxAngle = 1e3;       // rad, |yaw| of every pose
-inline constexpr double kMinBodySize = 1e-3;   // m, radii and box sides (robot, people, obstacles)
-inline constexpr double kMaxBodySize = 100.0;  // m, radii and box sides of the robot and of people
-inline constexpr double kMaxSpeed = 10.0;      // m/s, people's max_vel and the robot's speeds
-inline constexpr double kMaxYawRate = 100.0;   // rad/s, the robot's max_w
-inline constexpr double kMaxAcceleration = 1e3;  // m/s^2 and rad/s^2, the robot's acceleration limits
-inline constexpr double kMaxSensorRange = 1e3;   // m, laser range_max and perception_range
-inline constexpr double kMaxTimeLimit = 1e7;     // s of simulation time (116 days)
 
 // A --duration override, checked like the file's time_limit; throws ConfigError("--duration: ...").
 void checkDurationOverride(double duration);

@@ -63,6 +63,13 @@ struct BadMessage : std::runtime_error {
 
 class DirectReceiver;
 
+// What one subscription dropped: messages that did not decode as its type, or that its handler
+// rejected (BadMessage). Bus::subscribe returns it; it lives as long as the Bus.
+struct SubscriptionDrops {
+  std::uint64_t count = 0;
+  std::string last_reason;  // why the last one was dropped (the BadMessage's text)
+};
+
 // How a Bus over a udpm URL receives (Bus(url, BusOptions)).
 struct BusOptions {
   // Read the URL's own port with our direct receiver too, not only the step channels' ports (no LCM
@@ -121,11 +128,15 @@ class Bus {
   Bus(const Bus&) = delete;
   Bus& operator=(const Bus&) = delete;
 
+  // Returns the subscription's drop count (droppedMessages() counts it too), so that a component
+  // sharing the bus with others (in process) can tell its own drops.
   template <class Msg, class Handler>
-  void subscribe(std::string_view channel, Handler&& handler, int queue_capacity = kUnbounded) {
-    attach(channel,
-           std::make_unique<TypedSubscription<Msg>>(this, std::function<void(const Msg&)>(std::forward<Handler>(handler))),
-           queue_capacity);
+  const SubscriptionDrops& subscribe(std::string_view channel, Handler&& handler, int queue_capacity = kUnbounded) {
+    auto sub =
+        std::make_unique<TypedSubscription<Msg>>(this, std::function<void(const Msg&)>(std::forward<Handler>(handler)));
+    const SubscriptionDrops& drops = sub->drops;
+    attach(channel, std::move(sub), queue_capacity);
+    return drops;
   }
 
   // Publishes `msg`: encoded over LCM, as a copy of the object in process.
@@ -191,6 +202,9 @@ class Bus {
 
   // Messages that did not decode or that a handler rejected, and datagrams not in LCM's format.
   std::uint64_t droppedMessages() const;
+  // Of those, the datagrams our direct receivers read that are not in LCM's format (no channel, so
+  // no subscription's).
+  std::uint64_t malformedDatagrams() const;
   // What our direct receivers lost so far (asks the kernel for each socket's drop count).
   ReceiveLosses receiveLosses() const;
   // Datagrams our direct receivers read (those a socket filter dropped never count).
@@ -235,13 +249,20 @@ class Bus {
     // Runs the handler; a BadMessage is counted, any other exception kept for the caller.
     void deliver(const void* data, unsigned size);
     void deliver(const Box& box);
+    void drop(const char* reason) {
+      ++bus->dropped_;
+      ++drops.count;
+      drops.last_reason = reason;
+    }
     virtual void dispatch(const void* data, unsigned size) = 0;
     // False when the box holds another type than this subscription's.
     virtual bool dispatchBox(const Box& box) = 0;
     Bus* bus = nullptr;
     lcm::Subscription* handle = nullptr;  // LCM backend: the subscription and its instance
     lcm::LCM* lcm = nullptr;
+    SubscriptionDrops drops;
   };
+  static constexpr const char* kUndecodable = "a message that does not decode as the channel's type";
   template <class Msg>
   struct TypedSubscription final : Subscription {
     TypedSubscription(Bus* b, std::function<void(const Msg&)> h) : handler(std::move(h)) { bus = b; }
@@ -251,7 +272,7 @@ class Bus {
       // lcm-gen's decoder trusts string lengths and array counts (a bad one crashes or allocates
       // gigabytes): the bytes are checked first (lcmtypes/gen_wire_checks.py).
       if (!wire::safeToDecode<Msg>(data, size)) {
-        ++bus->dropped_;
+        drop(kUndecodable);
         return;
       }
       Msg msg;
@@ -262,7 +283,7 @@ class Bus {
         decoded = -1;
       }
       if (decoded < 0) {
-        ++bus->dropped_;
+        drop(kUndecodable);
         return;
       }
       handler(msg);

@@ -29,7 +29,8 @@ struct RunInfo {
   std::int64_t recorded_ticks = 0;
   double sample_rate = 0.0;     // Hz the samples were taken at (sample_rate.hpp); 0 = every world state
   std::int64_t lost_ticks = 0;
-  std::int64_t dropped_messages = 0;
+  std::int64_t dropped_messages = 0;        // by the evaluator: rejected or undecodable, this episode
+  std::int64_t world_dropped_messages = 0;  // by the world, this episode (its END event's count)
   std::string fingerprint;           // the world's (END); the recorded one for an incomplete run
   std::string recorded_fingerprint;  // FNV-1a 64 of the encoded world states the evaluator recorded
   std::string git_commit;

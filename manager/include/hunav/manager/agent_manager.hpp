@@ -204,8 +204,14 @@ class AgentManager {
   // route grid over its static map; then loads its trees (loadTrees). Without it, people walk
   // straight at their goals and every obstacle point sent adds its force.
   void useScenario(const Scenario& scenario);
-  // Parses (and caches) a tree file now; throws ConfigError on any error.
+  // Parses (and caches) a tree file now; throws ConfigError on any error. A step's agent whose
+  // behavior_tree is this path then gets it.
   void loadTreeFile(const std::string& path);
+  // Where trees named by the step requests may come from besides those loaded already (the
+  // scenario's, loadTreeFile's): regular files inside `folder`, the name resolved against it and
+  // never leading out of it. Without a folder, a tree not loaded already is refused: the manager
+  // opens no path a bus message names (a request naming one is dropped, BadMessage).
+  void setTreeFolder(const std::string& folder);
   // Parses (and caches, under the name agent_state_t carries: behaviorTreeReference) the
   // behavior_tree file of every agent of the scenario, so that a missing
   // file, malformed XML or an unknown node stops a run before it starts. Throws ConfigError
@@ -245,6 +251,7 @@ class AgentManager {
   std::shared_ptr<const RouteMap> routes_;
   // The scenario's file: agent_state_t.behavior_tree is relative to its folder (useScenario).
   std::string scenario_file_;
+  std::string tree_folder_;  // setTreeFolder, normalised; empty: none
   std::map<int, Vec2> global_goals_;
   std::vector<PersonSocial> social_;  // after the last step, by id
   std::int64_t social_utime_ = 0;

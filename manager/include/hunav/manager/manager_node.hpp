@@ -20,11 +20,15 @@ class ManagerNode {
   std::uint64_t stepsComputed() const { return steps_computed_; }
   std::uint64_t repliesResent() const { return replies_resent_; }
   std::uint64_t episodesEnded() const { return episodes_ended_; }
+  // The step requests it dropped (undecodable, or rejected: bad numbers, a behavior tree that is not
+  // one of its own) and why the last one was.
+  const SubscriptionDrops& requestDrops() const { return *request_drops_; }
 
  private:
   void onRequest(const step_request_t& request);
 
   Bus& bus_;
+  const SubscriptionDrops* request_drops_ = nullptr;
   AgentManager manager_;
   bool have_answered_ = false;  // answered_seq_ and answered_episode_ are set
   std::int64_t answered_seq_ = 0;

@@ -1,0 +1,140 @@
+// What the world drops is counted and told: robot commands beyond the messages' bound (dropped, not
+// clamped), answers its checks reject (the abort reason says they were dropped, not that nobody
+// answered), and the episode's count in the END event.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <hunav/episode_event_t.hpp>
+#include <hunav/robot_command_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
+#include <hunav/world_state_t.hpp>
+#include <vector>
+
+#include "hunav/channels.hpp"
+#include "hunav/manager/manager_node.hpp"
+#include "hunav/worldsim/world_sim.hpp"
+
+using namespace hunav;
+using hunav::worldsim::WorldOptions;
+using hunav::worldsim::WorldSim;
+
+namespace {
+
+Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
+
+WorldOptions fastOptions() {
+  WorldOptions o;
+  o.planner = "test";
+  o.mode = "inprocess";
+  o.resend_after = std::chrono::milliseconds(20);
+  o.silence_limit = std::chrono::milliseconds(200);
+  o.startup_limit = std::chrono::milliseconds(200);
+  return o;
+}
+
+// Answers every observation with (v, w) = (value, value).
+class HugeCommand {
+ public:
+  HugeCommand(Bus& bus, double value) {
+    bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&bus, value](const robot_observation_t& o) {
+      robot_command_t c{};
+      c.utime = o.utime;
+      c.seq = o.seq;
+      c.episode = o.episode;
+      c.v = value;
+      c.w = value;
+      bus.publish(channels::kRobotCommand, c);
+    });
+  }
+};
+
+// Answers every step request with each person's radius set to 1e6 m: a reply every receiver drops.
+class BrokenManager {
+ public:
+  explicit BrokenManager(Bus& bus) {
+    bus.subscribe<step_request_t>(channels::kStepRequest, [&bus](const step_request_t& r) {
+      step_reply_t reply{};
+      reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
+      reply.seq = r.seq;
+      reply.episode = r.episode;
+      reply.agents = r.agents;
+      reply.num_agents = r.num_agents;
+      for (agent_state_t& a : reply.agents) a.radius = 1e6;
+      bus.publish(channels::kStepReply, reply);
+    });
+  }
+};
+
+struct Events {
+  explicit Events(Bus& bus) {
+    bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { all.push_back(e); });
+  }
+  std::vector<episode_event_t> all;
+};
+
+}  // namespace
+
+TEST(WorldDrops, HugeFiniteRobotCommandsAreDroppedAndCountedNotClamped) {
+  for (const double huge : {1e308, -1e308, 2e6}) {
+    lcm::LCM lcm("memq://");
+    Bus bus(lcm);
+    manager::ManagerNode manager(bus);
+    HugeCommand planner(bus, huge);
+    Events events(bus);
+    Scenario s = passing();
+    WorldSim world(bus, s, fastOptions());
+    const auto r = world.runEpisode();
+    bus.handleAvailable();
+    // Every command is dropped: the lockstep world hears no usable answer to its first observation.
+    EXPECT_EQ(r.status, "aborted") << huge;
+    EXPECT_NE(r.reason.find("planner's answers to seq 1 were dropped"), std::string::npos) << r.reason;
+    EXPECT_NE(r.reason.find("robot command: v is beyond +-1e6"), std::string::npos) << r.reason;
+    EXPECT_GE(world.droppedMessages(), 2u);  // the command and at least one resend's
+    EXPECT_EQ(r.dropped_messages, world.droppedMessages());
+    ASSERT_EQ(events.all.size(), 2u);
+    EXPECT_EQ(events.all.back().dropped_messages, static_cast<std::int64_t>(r.dropped_messages));
+    // The robot never moved (clamped, it would have driven at max_v).
+    EXPECT_EQ(world.robot().x, s.robot.start.x());
+  }
+}
+
+TEST(WorldDrops, TheDirectCommandRejectsHugeNumbersToo) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  Scenario s = passing();
+  WorldSim world(bus, s, fastOptions());
+  EXPECT_THROW(world.command(1e308, 0.0, 0.0), BadMessage);
+  EXPECT_THROW(world.command(0.0, 0.0, -1e7), BadMessage);
+  EXPECT_NO_THROW(world.command(1e6, 0.0, -1e6));  // the bound itself is a number (then clamped by the limits)
+}
+
+TEST(WorldDrops, RejectedManagerAnswersAreNamedAsDroppedNotAsSilence) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  BrokenManager manager(bus);
+  Events events(bus);
+  WorldSim world(bus, passing(), fastOptions());
+  const auto r = world.runEpisode();
+  bus.handleAvailable();
+  EXPECT_EQ(r.status, "aborted");
+  // "manager's answers to seq 1 were dropped (N) within 200 ms (M sends); the last: step reply:
+  // radius of agent 1 outside [0, 100] m": N replies for M sends, one reply per send.
+  EXPECT_EQ(r.reason.find("manager's answers to seq 1 were dropped ("), 0u) << r.reason;
+  EXPECT_NE(r.reason.find("the last: step reply: radius of agent"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.reason.find("did not answer"), std::string::npos) << r.reason;
+  EXPECT_GE(r.dropped_messages, 2u);
+  ASSERT_EQ(events.all.size(), 2u);
+  EXPECT_EQ(events.all.front().dropped_messages, 0);  // START
+  EXPECT_EQ(events.all.back().dropped_messages, static_cast<std::int64_t>(r.dropped_messages));
+}
+
+TEST(WorldDrops, SilenceIsStillSilence) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  WorldSim world(bus, passing(), fastOptions());  // nobody answers step requests
+  const auto r = world.runEpisode();
+  EXPECT_EQ(r.reason.find("manager did not answer seq 1"), 0u) << r.reason;
+  EXPECT_EQ(r.dropped_messages, 0u);
+}
