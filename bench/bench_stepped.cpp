@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_file, "scenario file");
   app.add_option("--episodes", episodes, "episodes (seeds first-seed, first-seed + 1, ...)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--first-seed", first_seed, "seed of the first episode")->check(CLI::NonNegativeNumber);
+  app.add_option("--first-seed", first_seed, "seed of the first episode")->check(hunav::cli::nonNegativeInteger());
   CLI11_PARSE(app, argc, argv);
 
   std::string dir = (std::filesystem::temp_directory_path() / "hunav-bench-stepped-XXXXXX").string();

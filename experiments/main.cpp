@@ -11,12 +11,13 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hunav_summary: reads every run folder under DIR/runs/ (<scenario>__<planner>__seed<N>, each the output "
       "folder of run_experiment.sh) and writes DIR/summary.csv (one row per run), DIR/summary_stats.csv (mean, "
-      "standard deviation, 95% Student-t confidence interval per scenario, planner, behavior and metric), "
+      "standard deviation, 95% confidence interval within the metric's values per scenario, planner, behavior and "
+      "metric: docs/statistics.md), "
       "DIR/paired.csv (paired differences between planners over the same seeds), DIR/paper_comparison.csv and "
       "DIR/paper_orderings.csv (the HuNavSim paper's published means beside ours, and which orderings between "
       "planners agree), DIR/expectations.csv (the verdicts of the scenarios' expect: conditions, when runs have "
       "expect.json) and DIR/summary.md (the tables). "
-      "Exit 0: written; 1: error; 2: bad arguments."};
+      "Exit 0: written; 1: error; 2: bad arguments or no batch folder at DIR."};
   std::string dir;
   bool quiet = false;
   std::string paper_file;

@@ -17,12 +17,17 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_file,
                  "scenario YAML: its human model (people.obstacle_points, people.navigation: routes over its map) and "
                  "every agent's behavior tree, loaded at start (a bad one: exit 2 before anything runs); without it, "
-                 "people walk straight at their goals, every obstacle point sent adds its force, and tree files are "
-                 "read at the first step that names them");
+                 "people walk straight at their goals and every obstacle point sent adds its force");
+  std::string tree_folder;
+  app.add_option("--tree-folder", tree_folder,
+                 "a folder of behavior tree files: a step request may name one of them (relative to the folder) "
+                 "besides the scenario's trees. A request naming any other file, or a bad one, is dropped and "
+                 "counted: the manager opens no other path a message names")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--episodes", episodes,
                  "exit after this many episode END events (0: run until SIGINT/SIGTERM, and, with channel_ports=1, "
                  "listen to nothing but STEP_REQUEST on its own port: cheaper per tick)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(hunav::cli::nonNegativeInteger());
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   const auto& stop = hunav::installStopSignals();
@@ -33,11 +38,15 @@ int main(int argc, char** argv) {
     hunav::manager::ManagerNode node(bus, episodes > 0);
     // The scenario's human model (obstacle points, routes); a bad tree file: exit 2 before "ready".
     if (scenario) node.manager().useScenario(*scenario);
+    if (!tree_folder.empty()) node.manager().setTreeFolder(tree_folder);
     std::cout << "ready" << std::endl;
     while (!stop.load() && (episodes == 0 || node.episodesEnded() < static_cast<std::uint64_t>(episodes)))
       bus.handleFor(std::chrono::milliseconds(100));
     std::cerr << "hunav_manager: " << node.stepsComputed() << " steps, " << node.repliesResent() << " resent replies, "
               << bus.droppedMessages() << " dropped messages\n";
+    if (node.requestDrops().count > 0)
+      std::cerr << "hunav_manager: " << node.requestDrops().count
+                << " step requests dropped, the last: " << node.requestDrops().last_reason << "\n";
     return 0;
   });
 }

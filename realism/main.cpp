@@ -27,33 +27,33 @@ int main(int argc, char** argv) {
                  "YAML mapping of model parameters (goal_weight, obstacle_weight, social_weight, desired_speed, "
                  "radius, goal_radius, dt, cutoff, goal_distance); options given on the command line win");
   app.add_option("--goal-force", p.goal_weight, "goal force weight omega_d")
-      ->check(CLI::NonNegativeNumber)
+      ->check(hunav::cli::nonNegativeNumber())
       ->capture_default_str();
   app.add_option("--obstacle-force", p.obstacle_weight, "obstacle force weight (the data have no obstacles)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(hunav::cli::nonNegativeNumber())
       ->capture_default_str();
   app.add_option("--social-force", p.social_weight, "social force weight omega_s")
-      ->check(CLI::NonNegativeNumber)
+      ->check(hunav::cli::nonNegativeNumber())
       ->capture_default_str();
   app.add_option("--desired-speed", p.desired_speed,
                  "desired speed in m/s for everybody (< 0: each person's mean observed speed)")
       ->check(CLI::Range(-1.0, 10.0))
       ->capture_default_str();
   app.add_option("--radius", p.radius, "every person's radius (m)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(hunav::cli::nonNegativeNumber())
       ->capture_default_str();
   app.add_option("--goal-radius", p.goal_radius, "goal radius (m)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(hunav::cli::nonNegativeNumber())
       ->capture_default_str();
-  app.add_option("--dt", p.dt, "longest simulation step (s)")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--dt", p.dt, "longest simulation step (s)")->check(hunav::cli::positiveNumber())->capture_default_str();
   app.add_option("--cutoff", p.cutoff, "social force cut-off (m; <= 0: every person)")->capture_default_str();
   app.add_option("--goal-distance", p.goal_distance,
                  "extrapolated goal: prediction horizons ahead at the last observed velocity")
-      ->check(CLI::PositiveNumber)
+      ->check(hunav::cli::positiveNumber())
       ->capture_default_str();
   app.add_option("--frame-interval", frame_interval,
                  "seconds per annotated frame for every file (default: 0.4, biwi_eth 1/1.5)")
-      ->check(CLI::PositiveNumber);
+      ->check(hunav::cli::positiveNumber());
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   std::string command;

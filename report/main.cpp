@@ -22,15 +22,15 @@ int main(int argc, char** argv) {
                  "run folder: draw the map of this scenario file instead of the one run.json names");
   app.add_flag("--no-run-pages", no_run_pages, "batch folder: write only the batch page, not one per run");
   app.add_option("--max-frames", limits.max_frames, "replay frames at most (longer runs are downsampled)")
-      ->check(CLI::PositiveNumber)
+      ->check(hunav::cli::positiveInteger())
       ->capture_default_str();
   app.add_option("--max-positions", limits.max_positions,
                  "replay frames x entities at most (big crowds are downsampled further)")
-      ->check(CLI::PositiveNumber)
+      ->check(hunav::cli::positiveInteger())
       ->capture_default_str();
   app.add_option("--max-plot-points", limits.max_plot_points,
                  "intervals per time plot (each keeps its smallest and largest value)")
-      ->check(CLI::PositiveNumber)
+      ->check(hunav::cli::positiveInteger())
       ->capture_default_str();
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
   options.output = output;

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   app.add_option("--netns-pid", netns_pid,
                  "after opening the HTTP socket here, join the network namespace of this process for LCM (the "
                  "run_experiment.sh process of a run; it waits until the process has one of its own), and exit with it")
-      ->check(CLI::PositiveNumber);
+      ->check(hunav::cli::positiveInteger());
   app.add_option("--netns-wait", netns_wait, "s to wait for that namespace and its bus")
       ->check(CLI::Range(0.1, 3600.0));
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "hunav/config_error.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/scenario.hpp"
 
@@ -90,8 +91,15 @@ namespace {
 // The metrics files written by the evaluator start with these columns; the metrics follow.
 const std::vector<std::string> kProvenanceColumns = {"experiment_tag", "run_id", "scenario", "planner", "seed", "profile"};
 
-// The header's metric names and the last row of a metrics CSV. Throws std::runtime_error.
-std::pair<std::vector<std::string>, MetricRow> readMetricsCsv(const fs::path& file) {
+// A metrics CSV: the header's metric names, the last row's metric values and its profile column.
+struct MetricsCsv {
+  std::vector<std::string> names;
+  MetricRow row;
+  std::string profile;
+};
+
+// Throws std::runtime_error.
+MetricsCsv readMetricsCsv(const fs::path& file) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": cannot open the file");
   std::string line;
@@ -119,7 +127,7 @@ std::pair<std::vector<std::string>, MetricRow> readMetricsCsv(const fs::path& fi
   std::vector<std::string> names(header.begin() + static_cast<std::ptrdiff_t>(kProvenanceColumns.size()), header.end());
   MetricRow row;
   for (std::size_t i = kProvenanceColumns.size(); i < header.size(); ++i) row[header[i]] = last[i];
-  return {names, row};
+  return {names, row, last[5]};  // kProvenanceColumns[5]
 }
 
 void mergeNames(std::vector<std::string>& into, const std::vector<std::string>& names) {
@@ -166,8 +174,13 @@ std::vector<ExpectVerdict> readExpectJson(const fs::path& file) {
 }  // namespace
 
 Batch loadBatch(const fs::path& dir) {
+  // Missing input is bad input (exit 2 in hunav_summary), named like hunav_report names it.
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) throw ConfigError(dir.string(), 0, "", "no such folder");
+  if (!fs::is_directory(dir, ec)) throw ConfigError(dir.string(), 0, "", "not a folder (give a batch folder)");
   const fs::path runs_dir = dir / "runs";
-  if (!fs::is_directory(runs_dir)) throw std::runtime_error(runs_dir.string() + ": no such folder (not a batch folder?)");
+  if (!fs::is_directory(runs_dir, ec))
+    throw ConfigError(runs_dir.string(), 0, "", "no such folder (not a batch folder: run_batch.sh writes one)");
   Batch batch;
   batch.dir = dir;
   std::vector<fs::path> folders;
@@ -200,9 +213,10 @@ Batch loadBatch(const fs::path& dir) {
     const fs::path metrics = folder / "metrics.csv";
     if (fs::exists(metrics)) {
       try {
-        auto [names, row] = readMetricsCsv(metrics);
-        mergeNames(batch.metric_names, names);
-        run.metrics = std::move(row);
+        MetricsCsv csv = readMetricsCsv(metrics);
+        mergeNames(batch.metric_names, csv.names);
+        run.metrics = std::move(csv.row);
+        run.profile = std::move(csv.profile);
       } catch (const std::exception& e) {
         batch.warnings.push_back(e.what());
       }
@@ -211,7 +225,7 @@ Batch loadBatch(const fs::path& dir) {
       const fs::path beh = folder / ("metrics_beh_" + std::to_string(code) + ".csv");
       if (!fs::exists(beh)) continue;
       try {
-        run.by_behavior[behaviorName(code)] = readMetricsCsv(beh).second;
+        run.by_behavior[behaviorName(code)] = readMetricsCsv(beh).row;
       } catch (const std::exception& e) {
         batch.warnings.push_back(e.what());
       }

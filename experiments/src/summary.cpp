@@ -13,6 +13,7 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/expectations_summary.hpp"
+#include "hunav/experiments/metric_scales.hpp"
 #include "hunav/experiments/paper_comparison.hpp"
 #include "hunav/scenario.hpp"
 #include "number_text.hpp"
@@ -132,11 +133,15 @@ std::vector<StatRow> summaryStats(const Batch& batch) {
       for (const std::string& behavior : behaviors)
         for (const std::string& metric : batch.metric_names) {
           std::vector<double> values;
+          MetricScale scale;
           for (const auto& r : batch.runs)
             if (r.key.scenario == scenario && r.key.planner == planner)
-              if (const auto v = valueOf(r, behavior, metric)) values.push_back(*v);
+              if (const auto v = valueOf(r, behavior, metric)) {
+                scale = values.empty() ? metricScale(metric, r.profile) : widest(scale, metricScale(metric, r.profile));
+                values.push_back(*v);
+              }
           if (values.empty()) continue;
-          out.push_back(StatRow{scenario, planner, behavior, metric, estimate(values)});
+          out.push_back(StatRow{scenario, planner, behavior, metric, estimate(values, scale)});
         }
   }
   return out;
@@ -154,17 +159,21 @@ std::vector<PairedRow> pairedComparisons(const Batch& batch) {
       for (std::size_t j = i + 1; j < planners.size(); ++j)
         for (const std::string& metric : batch.metric_names) {
           std::vector<double> a, b;
+          MetricScale scale;
           for (const auto& [seed, run_a] : by_planner[planners[i]]) {
             const auto it = by_planner[planners[j]].find(seed);
             if (it == by_planner[planners[j]].end()) continue;
             const auto va = valueOf(*run_a, "all", metric), vb = valueOf(*it->second, "all", metric);
             if (va && vb) {
+              const MetricScale both =
+                  widest(metricScale(metric, run_a->profile), metricScale(metric, it->second->profile));
+              scale = a.empty() ? both : widest(scale, both);
               a.push_back(*va);
               b.push_back(*vb);
             }
           }
           if (a.empty()) continue;
-          out.push_back(PairedRow{scenario, planners[i], planners[j], metric, pairedDifference(a, b)});
+          out.push_back(PairedRow{scenario, planners[i], planners[j], metric, pairedDifference(a, b, scale)});
         }
   }
   return out;
@@ -204,7 +213,10 @@ std::string pairedCsv(const std::vector<PairedRow>& paired) {
     const Estimate& e = r.difference.diff;
     s += fmt::format("{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario), evaluator::csvField(r.planner_a),
                      evaluator::csvField(r.planner_b), evaluator::csvField(r.metric), e.n, num(e.mean), num(e.ci_low),
-                     num(e.ci_high), r.difference.significant ? "true" : "false");
+                     num(e.ci_high),
+                     !r.difference.testable     ? ""
+                     : r.difference.significant ? "true"
+                                                : "false");
   }
   return s;
 }
@@ -250,8 +262,12 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
   md +=
       "Cells: mean ± sample standard deviation over the seeds, and below it the 95% confidence interval of the "
       "mean, mean ± t(0.975, n−1)·s/√n (Student's t, n runs with a value; \"n=k\" is shown when some runs have "
-      "none). Booleans count as 1 (true) and 0 (false), so `completed` is the success rate (a run that ended "
-      "`time_limit` or `stuck` counts 0). Metric definitions: docs/metrics.md. Per-run values: summary.csv; every "
+      "none) cut to the values the metric can take: distances, times, counts, speeds, forces and costs are never "
+      "below 0, the space intrusions never past 0–100 % (the mean lies there, so the cut never drops it). "
+      "Booleans count as 1 (true) and 0 (false), so `completed` is the success rate (a run that ended "
+      "`time_limit` or `stuck` counts 0); its interval is Wilson's score interval of a proportion, inside 0–1 "
+      "and not a single point when every run succeeded or failed. Metric definitions: docs/metrics.md. Per-run values: "
+      "summary.csv; every "
       "number of these tables: summary_stats.csv and paired.csv.\n";
   for (const auto& w : batch.warnings) md += "\n> warning: " + w + "\n";
 
@@ -328,7 +344,8 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
       md += fmt::format(
           "\n### `{}` paired comparisons\n\nDifference a − b over the seeds both planners ran (paired "
           "t test): mean difference, its 95% confidence interval and the two-sided p value. **n.s.**: "
-          "not significant at 5% (the interval contains 0).\n\n| metric |",
+          "not significant at 5% (the interval contains 0); **not testable**: a single common seed, no interval "
+          "and no test.\n\n| metric |",
           scenario);
       for (const auto& [a, b] : pairs) md += " " + a + " − " + b + " |";
       md += "\n|---|";
@@ -352,7 +369,11 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
             line += " [" + show(e.ci_low) + ", " + show(e.ci_high) + "]";
             line += std::isfinite(row->difference.p_value) ? " p=" + show(row->difference.p_value) : "";
           }
-          if (!row->difference.significant) line += " **n.s.**";
+          if (!row->difference.testable) {
+            line += " **not testable**";
+          } else if (!row->difference.significant) {
+            line += " **n.s.**";
+          }
           line += " |";
         }
         if (any) md += line + "\n";

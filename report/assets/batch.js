@@ -13,6 +13,8 @@
     return out;
   }
   function slug(s) { return String(s).replace(/[^A-Za-z0-9_-]/g, '_'); }
+  // A paired row (paired.csv) with two or more common seeds; one pair has no interval and no test.
+  function testable(p) { return p[4] >= 2; }
 
   // Metric order: summary.csv's columns first, then any other metric of the statistics.
   function metricOrder(d, names) {
@@ -122,7 +124,7 @@
         HR.ciChart(pairedBox, {
           key: 'paired-' + slug(scenario), title: 'paired difference A − B of ' + m, yLabel: 'difference' + (unitOf(d, m) ? ' [' + unitOf(d, m) + ']' : ''),
           groups: rows.map(function (p) {
-            return { name: p[1] + ' − ' + p[2] + (p[8] ? '' : ' (n.s.)'), color: p[8] ? '#0b5cad' : '#9aa1ad', mean: p[5], lo: p[6], hi: p[7], n: p[4], values: [] };
+            return { name: p[1] + ' − ' + p[2] + (p[8] ? '' : testable(p) ? ' (n.s.)' : ' (not testable)'), color: p[8] ? '#0b5cad' : '#9aa1ad', mean: p[5], lo: p[6], hi: p[7], n: p[4], values: [] };
           })
         });
       };
@@ -150,7 +152,9 @@
     section.appendChild(tableBox);
     drawTable();
     section.appendChild(el('p', { class: 'caption', text: 'Each cell: mean ± standard deviation over the seeds, below it the 95% ' +
-      'confidence interval of the mean and the number of runs (summary_stats.csv). Per-behavior rows are computed over the ' +
+      'confidence interval of the mean and the number of runs (summary_stats.csv): Student\'s t, cut to the values the metric ' +
+      'can take (never below 0 for distances, times, counts, speeds, forces and costs; 0–100 for percentages), and Wilson\'s ' +
+      'interval for the success rate (completed). Per-behavior rows are computed over the ' +
       'people of that behavior only, as HuNavSim\'s per-behavior tables.' }));
 
     // Paired differences: one column per planner pair.
@@ -164,6 +168,9 @@
           var ab = pair.split('\u0000');
           var p = paired.filter(function (x) { return x[1] === ab[0] && x[2] === ab[1] && x[3] === m; })[0];
           if (!p) return { text: '–' };
+          if (!testable(p))
+            return { text: (p[5] > 0 ? '+' : '') + HR.fmt(p[5]), sub: 'n=' + p[4], cls: 'ns', tag: 'not testable',
+                     title: ab[0] + ' − ' + ab[1] + ': mean difference ' + p[5] + ' over one common seed: no interval, no test' };
           return { text: (p[5] > 0 ? '+' : '') + HR.fmt(p[5]), sub: '[' + HR.fmt(p[6]) + ', ' + HR.fmt(p[7]) + '] n=' + p[4],
                    cls: p[8] ? 'sig' : 'ns', tag: p[8] ? null : 'n.s.',
                    title: ab[0] + ' − ' + ab[1] + ': mean difference ' + p[5] + ', 95% CI [' + p[6] + ', ' + p[7] + ']' +
@@ -172,7 +179,8 @@
       });
       section.appendChild(HR.table(['metric'].concat(pairs.map(function (p) { return p.replace('\u0000', ' − '); })), rows, { class: 'paired' }));
       section.appendChild(el('p', { class: 'caption', text: 'Mean of the per-seed differences A − B with its 95% confidence interval ' +
-        '(paired.csv). Grey, marked n.s.: the interval contains 0, the difference is not significant.' }));
+        '(paired.csv). Grey, marked n.s.: the interval contains 0, the difference is not significant; not testable: a single ' +
+        'common seed, no interval and no test.' }));
     }
     paperSection(d, section, scenario);
   }

@@ -252,3 +252,36 @@ TEST(BatchSummary, ADuplicateMetricColumnIsAWarningNotASilentPick) {
   ASSERT_EQ(batch.runs.size(), 1u);
   EXPECT_TRUE(batch.runs[0].metrics.empty());  // neither value is used
 }
+
+TEST(BatchSummary, IntervalsStayInsideWhatTheMetricCanTakeAndOnePairIsNotTestable) {
+  const fs::path dir = freshDir("bounded");
+  // Planner a, seeds 1 and 2: minimum distances 0.2 and 1.0 m, completed both times. Planner b ran
+  // seed 1 only.
+  makeRun(dir, "s", "a", 1, 10, 0.2, true);
+  makeRun(dir, "s", "a", 2, 12, 1.0, true);
+  makeRun(dir, "s", "b", 1, 11, 0.9, false);
+  writeBatchSummary(dir);
+  std::map<std::string, std::vector<std::string>> by_key;  // "planner/behavior/metric" -> fields
+  const auto stat_lines = lines(readFile(dir / "summary_stats.csv"));
+  for (std::size_t i = 1; i < stat_lines.size(); ++i) {
+    const auto f = splitCsvLine(stat_lines[i]);
+    by_key[f[1] + "/" + f[2] + "/" + f[3]] = f;
+  }
+  // Distance: mean 0.6, half = 12.7062047 * sqrt(0.32) / sqrt(2) = 5.0824819: the t interval
+  // [-4.4824819, 5.6824819] is cut at 0 m.
+  const auto& d = by_key.at("a/all/minimum_distance_to_people");
+  EXPECT_EQ(d[7], "0");
+  EXPECT_NEAR(std::stod(d[8]), 0.6 + 5.0824819, 1e-6);
+  // Completed 2 of 2: Wilson's [1 / (1 + 1.959964^2 / 2), 1] = [0.3423802, 1], not the point [1, 1].
+  const auto& c = by_key.at("a/all/completed");
+  EXPECT_NEAR(std::stod(c[7]), 0.3423802, 1e-6);
+  EXPECT_EQ(c[8], "1");
+  // One common seed: a paired difference with no interval and nothing to test.
+  const auto paired = lines(readFile(dir / "paired.csv"));
+  ASSERT_EQ(paired.size(), 4u);
+  EXPECT_EQ(paired[1], "s,a,b,time_to_reach_goal,1,-1,,,");
+  const std::string md = readFile(dir / "summary.md");
+  EXPECT_NE(md.find("| minimum_distance_to_people | m | 0.60 ± 0.57<br>[0, 5.68] |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| time_to_reach_goal | -1.00 **not testable** |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("**n.s.** |"), std::string::npos) << md;  // no cell says n.s.
+}

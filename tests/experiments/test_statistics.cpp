@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 using namespace hunav::experiments;
 
@@ -117,4 +118,111 @@ TEST(PairedDifference, DegenerateCases) {
   EXPECT_TRUE(std::isnan(one.p_value));
   EXPECT_FALSE(one.significant);
   EXPECT_THROW(pairedDifference({1, 2}, {1}), std::invalid_argument);
+}
+
+TEST(NormalQuantile, MatchesTheTable) {
+  EXPECT_NEAR(normalCritical(), 1.959963985, 1e-9);  // z(0.975)
+  EXPECT_NEAR(normalCritical(0.90), 1.644853627, 1e-9);
+}
+
+TEST(Wilson, ProportionIntervalsComputedByHand) {
+  // z = 1.959964, z^2 = 3.841459. 2 of 2: the lower end is 1 / (1 + z^2/n) = 1 / 2.9207295 = 0.3423802,
+  // the upper 1 (not the point [1, 1] a t interval gives when every run succeeded).
+  auto [lo, hi] = wilsonInterval(2, 2);
+  EXPECT_NEAR(lo, 0.3423802, 1e-6);
+  EXPECT_DOUBLE_EQ(hi, 1.0);
+  // 1 of 2: centre (0.5 + z^2/4) / (1 + z^2/2) = 0.5; half = z sqrt(0.125 + z^2/16) / 2.9207295
+  // = 1.959964 * 0.6042279 / 2.9207295 = 0.4054688.
+  std::tie(lo, hi) = wilsonInterval(1, 2);
+  EXPECT_NEAR(lo, 0.5 - 0.4054688, 1e-6);
+  EXPECT_NEAR(hi, 0.5 + 0.4054688, 1e-6);
+  // 0 of 3: [0, (z^2/3) / (1 + z^2/3)] = [0, 1.2804864 / 2.2804864] = [0, 0.5614970].
+  std::tie(lo, hi) = wilsonInterval(0, 3);
+  EXPECT_DOUBLE_EQ(lo, 0.0);
+  EXPECT_NEAR(hi, 0.5614970, 1e-6);
+  EXPECT_THROW(wilsonInterval(0, 0), std::invalid_argument);
+  EXPECT_THROW(wilsonInterval(3, 2), std::invalid_argument);
+}
+
+TEST(BoundedEstimate, NonNegativeMetricsNeverGetANegativeEnd) {
+  const MetricScale distance{0.0, kInfinity, false};
+  // Two minimum distances 0.2 and 1.0 m: mean 0.6, s = sqrt(0.32) = 0.5656854, half = t(0.975, 1) * s / sqrt(2)
+  // = 12.7062047 * 0.4 = 5.0824819: Student t gives [-4.4824819, 5.6824819]; a distance cannot be negative.
+  const Estimate t = estimate({0.2, 1.0});
+  EXPECT_NEAR(t.ci_low, 0.6 - 5.0824819, 1e-6);
+  const Estimate e = estimate({0.2, 1.0}, distance);
+  EXPECT_DOUBLE_EQ(e.mean, 0.6);
+  EXPECT_NEAR(e.std, std::sqrt(0.32), 1e-12);
+  EXPECT_DOUBLE_EQ(e.ci_low, 0.0);
+  EXPECT_NEAR(e.ci_high, 0.6 + 5.0824819, 1e-6);  // the end inside the range is the t interval's
+  // A sample far from 0 is untouched: 10, 12, 14 s -> 12 +- 4.968275 (as the unbounded estimate).
+  const Estimate far = estimate({10, 12, 14}, distance);
+  EXPECT_NEAR(far.ci_low, 12.0 - 4.968275, 1e-6);
+  EXPECT_NEAR(far.ci_high, 12.0 + 4.968275, 1e-6);
+  // n = 1: no interval, as before.
+  EXPECT_TRUE(std::isnan(estimate({0.3}, distance).ci_low));
+}
+
+TEST(BoundedEstimate, PercentagesStayWithin0And100) {
+  const MetricScale percent{0.0, 100.0, false};
+  // 0, 0, 0, 10 %: mean 2.5, squared deviations 3 * 6.25 + 56.25 = 75, s = sqrt(75 / 3) = 5,
+  // half = t(0.975, 3) * 5 / 2 = 3.182446305 * 2.5 = 7.9561158 -> [-5.456, 10.456] cut to [0, 10.456].
+  const Estimate low = estimate({0, 0, 0, 10}, percent);
+  EXPECT_DOUBLE_EQ(low.ci_low, 0.0);
+  EXPECT_NEAR(low.ci_high, 2.5 + 7.9561158, 1e-6);
+  // 100, 100, 90 %: mean 96.666667, squared deviations 100/9 + 100/9 + 400/9 = 66.666667, s = sqrt(33.333333)
+  // = 5.7735027, half = 4.3026527 * 5.7735027 / sqrt(3) = 14.342176 -> [82.324491, 111.00884] cut to 100.
+  const Estimate high = estimate({100, 100, 90}, percent);
+  EXPECT_NEAR(high.ci_low, 290.0 / 3.0 - 14.342176, 1e-5);
+  EXPECT_DOUBLE_EQ(high.ci_high, 100.0);
+}
+
+TEST(BoundedEstimate, BinaryOutcomesGetWilsonsInterval) {
+  const MetricScale outcome{0.0, 1.0, true};
+  // Success rate 1, 1: the t interval is the point [1, 1] (s = 0); Wilson's is [0.3423802, 1] (above).
+  const Estimate all = estimate({1, 1}, outcome);
+  EXPECT_DOUBLE_EQ(all.mean, 1.0);
+  EXPECT_DOUBLE_EQ(all.std, 0.0);
+  EXPECT_NEAR(all.ci_low, 0.3423802, 1e-6);
+  EXPECT_DOUBLE_EQ(all.ci_high, 1.0);
+  // 1, 0: t gives 0.5 +- 12.7062047 * 0.7071068 / 1.4142136 = 0.5 +- 6.3531024; Wilson 0.5 +- 0.4054688.
+  const Estimate half = estimate({1, 0}, outcome);
+  EXPECT_NEAR(half.ci_low, 0.5 - 0.4054688, 1e-6);
+  EXPECT_NEAR(half.ci_high, 0.5 + 0.4054688, 1e-6);
+  // A value that is not 0/1 in a binary metric: the t interval within [0, 1].
+  const Estimate odd = estimate({0.5, 1}, outcome);
+  EXPECT_DOUBLE_EQ(odd.ci_low, 0.0);
+  EXPECT_DOUBLE_EQ(odd.ci_high, 1.0);
+}
+
+TEST(BoundedEstimate, AValueOutsideTheDeclaredRangeWidensIt) {
+  // Declared >= 0 but a value is -1 (a metric of another profile): the range becomes [-1, inf).
+  // -1, 3: mean 1, s = sqrt(8) = 2.8284271, half = 12.7062047 * 2.8284271 / 1.4142136 = 25.4124094.
+  const Estimate e = estimate({-1, 3}, MetricScale{0.0, kInfinity, false});
+  EXPECT_DOUBLE_EQ(e.ci_low, -1.0);
+  EXPECT_NEAR(e.ci_high, 1.0 + 25.4124094, 1e-6);
+}
+
+TEST(BoundedPairedDifference, WithinTheDifferencesTheMetricAllows) {
+  const MetricScale percent{0.0, 100.0, false};
+  // a - b = {-100, 100}: mean 0, s = sqrt(20000) = 141.42136, half = 12.7062047 * 100 = 1270.62047;
+  // a difference of percentages lies in [-100, 100].
+  const PairedDifference p = pairedDifference({0, 100}, {100, 0}, percent);
+  EXPECT_TRUE(p.testable);
+  EXPECT_FALSE(p.significant);
+  EXPECT_DOUBLE_EQ(p.diff.ci_low, -100.0);
+  EXPECT_DOUBLE_EQ(p.diff.ci_high, 100.0);
+  // The test itself is unchanged by the cut: {4, 4, 5} (above) is significant with the same p value.
+  const PairedDifference q = pairedDifference({5, 6, 7}, {1, 2, 2}, MetricScale{0.0, kInfinity, false});
+  EXPECT_TRUE(q.significant);
+  EXPECT_DOUBLE_EQ(q.p_value, pairedDifference({5, 6, 7}, {1, 2, 2}).p_value);
+  EXPECT_NEAR(q.diff.ci_low, 13.0 / 3.0 - 4.3026527 / 3.0, 1e-6);
+}
+
+TEST(BoundedPairedDifference, OnePairIsNotTestable) {
+  const PairedDifference one = pairedDifference({5}, {3}, MetricScale{0.0, kInfinity, false});
+  EXPECT_FALSE(one.testable);
+  EXPECT_FALSE(one.significant);
+  EXPECT_TRUE(std::isnan(one.diff.ci_low));
+  EXPECT_TRUE(pairedDifference({2, 3}, {1, 2}).testable);
 }

@@ -46,6 +46,7 @@ struct BatchRun {
   std::string sim_time;   // s, from run.json (empty without it)
   std::string wall_time;  // s, from run.json (empty without it)
   MetricRow metrics;      // the last row of the run's metrics.csv (empty without it)
+  std::string profile;    // its profile column (metric profile: "default", "hunav_v1"; empty without it)
   std::map<std::string, MetricRow> by_behavior;  // behavior name -> the row of metrics_beh_<code>.csv
   bool judged = false;                           // the run folder has an expect.json
   std::vector<ExpectVerdict> expectations;       // its conditions, in the scenario's order
@@ -65,8 +66,8 @@ struct Batch {
 };
 
 // Reads every run folder under dir/runs/. A folder whose name is not a run folder's is skipped with
-// a warning; so is an unreadable file (the run keeps what could be read). Throws std::runtime_error
-// when dir/runs/ does not exist.
+// a warning; so is an unreadable file (the run keeps what could be read). Throws hunav::ConfigError
+// (a std::runtime_error; hunav_summary exits 2) when dir or dir/runs/ does not exist.
 Batch loadBatch(const std::filesystem::path& dir);
 
 // A metric value as a number: numbers as written, true/false as 1/0; nullopt for empty or anything

@@ -3,8 +3,10 @@
 //   summary.csv        one row per run: scenario,planner,seed,status,sim_time,wall_time,run_dir, then
 //                      the metric columns of metrics.csv (HuNavSim keys, same order)
 //   summary_stats.csv  scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high
+//                      (the interval within the metric's values: metric_scales.hpp, statistics.hpp)
 //                      (behavior "all": whole-run metrics; else a behavior name, from the per-behavior files)
 //   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
+//                      (significant: true/false; empty when not testable, n = 1)
 //   summary.md         the tables of the HuNavSim paper (II-IV) per scenario, the paired comparisons, and
 //                      "paper vs ours" (paper_comparison.hpp) for the paper's scenarios
 //   paper_comparison.csv, paper_orderings.csv   the paper's means beside ours (paper_comparison.hpp)

@@ -1,0 +1,8 @@
+# Sourced before running tests of a HUNAV_SANITIZE=ON build (README.md, "Sanitizers"):
+#   source tools/sanitizer_env.sh && ctest --test-dir build-asan ...
+# The binaries the tests start inherit it. Every report ends the process with a non-zero exit.
+hunav_repo_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:check_initialization_order=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=${hunav_repo_root}/tools/lsan.supp:print_suppressions=0"
+unset hunav_repo_root
