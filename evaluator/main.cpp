@@ -1,6 +1,8 @@
 // hunav_evaluator: records episodes from LCM and writes their metrics, or recomputes the metrics of
 // a run from its states.csv. See `hunav_evaluator --help` and evaluator/README.md.
+#include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/episode_status.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/scenario.hpp"
@@ -79,7 +81,9 @@ int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string
     for (int i = 0; i < kMaxDrainedMessages && !node.finished() && bus.handleFor(0ms); ++i) {
     }
     if (node.episodesEnded() > reported) report(*node.lastResult());
-    if (node.finishIncomplete("interrupted (SIGINT/SIGTERM)")) report(*node.lastResult());
+    // Interrupted, or aborted with the reason a supervisor left (run_experiment.sh: a dead component).
+    const auto cause = hunav::episode_status::stopCause();
+    if (node.finishIncomplete(cause.reason, cause.status)) report(*node.lastResult());
   }
   reportReceiveLosses(bus);
   return 0;
@@ -120,7 +124,8 @@ int main(int argc, char** argv) {
       "states.csv, run.json and a row of metrics.csv. The first episode writes into --out, the following\n"
       "ones into --out/<run_id>/; metrics.csv (one row per episode) is always in --out.\n"
       "Prints one line 'ready' on stdout once subscribed; exits 0 after --episodes episodes ended, or on\n"
-      "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status incomplete).\n"
+      "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status interrupted, or aborted\n"
+      "with the first line of $HUNAV_STOP_REASON_FILE as the reason when that file exists).\n"
       "Offline: --states FILE recomputes the results of a states.csv into --out (metrics.csv, run.json,\n"
       "per-tick files and states.csv; provenance taken from the run.json beside it); --log FILE replays an LCM log and writes what the live evaluator\n"
       "wrote. --sample-rate HZ records and evaluates at most HZ samples per second of simulation time.\n"
@@ -149,7 +154,7 @@ int main(int argc, char** argv) {
                                  "experiment_tag column of metrics.csv (offline: default the source run.json's)")
                       ->capture_default_str();
   auto* episodes_opt = app.add_option("--episodes", episodes, "episodes to record before exiting; 0 = until a signal")
-                           ->check(CLI::NonNegativeNumber)
+                           ->check(hunav::cli::nonNegativeInteger())
                            ->capture_default_str();
   auto* url_opt = app.add_option("--lcm-url", lcm_url,
                                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
@@ -181,12 +186,7 @@ int main(int argc, char** argv) {
       ->excludes(states_opt)
       ->excludes(log_opt);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : hunav::kExitBadInput;
-  }
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   // The scenario's evaluation.sample_rate and evaluation.metrics, then the metrics file's frequency
   // and experiment_tag (HuNavSim's file), each unless given on the command line.

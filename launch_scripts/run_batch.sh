@@ -23,7 +23,10 @@ time (GNU parallel), then writes the batch summary (hunav_summary DIR).
   --mode MODE        inprocess (default), lockstep or realtime (separate processes, each run in its own
                      private network namespace, made by run_experiment.sh)
   --duration S       simulated time limit of every run (default: each scenario's time_limit)
-  --timeout S        wall-clock limit of every run (run_experiment.sh --timeout)
+  --timeout S        wall-clock limit of every run (run_experiment.sh --timeout: the run is stopped,
+                     aborted, exit 124, and runs again next time); default, per run:
+                     HUNAV_BATCH_TIMEOUT_MARGIN (60) + 2 x the run's time limit (--duration, else its
+                     scenario's time_limit, else 60) s, so a run that hangs cannot hold the batch
   --profile P        metrics profile: default or hunav_v1
   --metrics FILE     metric selection of every run (run_experiment.sh --metrics; HuNavSim's
                      metrics.yaml too); default: each scenario's evaluation.metrics
@@ -60,7 +63,8 @@ non-zero after writing complete results (they are kept and count as finished); 2
 3 when every run finished but some failed its scenario's expect: conditions (junit.xml says which; a
 run that fails them is a finished run, not retried).
 
-Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), and what run_experiment.sh reads.
+Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_BATCH_TIMEOUT_MARGIN (s, default
+60: see --timeout), and what run_experiment.sh reads.
 EOF
 }
 
@@ -97,6 +101,19 @@ if [ "${1:-}" = --run-one ]; then
       *) run_options+=("$1"); shift ;;
     esac
   done
+  # The default wall-clock limit (see --help, --timeout): a realtime run takes its time limit in wall
+  # clock, the other modes far less; the margin covers start-up and writing the results.
+  has_timeout=0 limit=""
+  for ((k = 0; k < ${#run_options[@]}; k++)); do
+    case "${run_options[k]}" in
+      --timeout) has_timeout=1 ;;
+      --duration) limit=${run_options[k + 1]} ;;
+    esac
+  done
+  if [ "$has_timeout" -eq 0 ]; then
+    [ -n "$limit" ] || limit=$(sed -n -E 's/^time_limit:[[:space:]]*([0-9.eE+]+)[[:space:]]*(#.*)?$/\1/p' "$file" | head -n 1)
+    run_options+=(--timeout "$(awk -v l="${limit:-60}" -v m="${HUNAV_BATCH_TIMEOUT_MARGIN:-60}" 'BEGIN { printf "%.0f", m + 2 * l }')")
+  fi
   run_dir="$out/runs/${scenario}__${planner}__seed${seed}"
   label="$scenario $planner seed $seed"
   if finished "$run_dir"; then

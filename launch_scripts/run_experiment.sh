@@ -14,6 +14,10 @@
 #
 # Every process this script starts is stopped when the run ends or the script is interrupted; on an
 # interrupt the evaluator is asked to stop first (SIGTERM) so it still writes what it recorded.
+# The script supervises what it started: when a process exits before the world ended the episode, or
+# stays stopped (SIGSTOP) for HUNAV_STALL_LIMIT s, or --timeout passes, it writes the reason into
+# $HUNAV_STOP_REASON_FILE and stops the run, so the evaluator (and the world) record it as `aborted`
+# with that reason (common/include/hunav/episode_status.hpp; README.md, "Statuses and exit codes").
 set -euo pipefail
 
 readonly NETNS_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1'
@@ -24,6 +28,7 @@ bin_dir=${HUNAV_BIN_DIR:-$repo_root/build/bin}
 ready_timeout=${HUNAV_READY_TIMEOUT:-30}  # s to wait for a process's "ready" line
 eval_grace=${HUNAV_EVAL_GRACE:-60}        # s the evaluator gets to write its files
 stop_grace=${HUNAV_STOP_GRACE:-10}        # s any other process gets to stop after SIGTERM
+stall_limit=${HUNAV_STALL_LIMIT:-2}       # s a process may stay stopped (SIGSTOP) before the run is aborted
 
 usage() {
   cat <<'EOF'
@@ -40,9 +45,11 @@ Options:
                           every key and its default)
   --planner-cmd "CMD"     lockstep/realtime only: start CMD (run by bash, in the run's namespace, with
                           LCM_DEFAULT_URL set to the planner's bus) as the robot planner instead of
-                          hunav_planner; it must follow docs/planner_contract.md (answer the first
-                          observation within 10 s). Its output goes to DIR/logs/planner.log; it is
-                          stopped (SIGTERM) when the episode has ended
+                          hunav_planner; it must follow docs/planner_contract.md: publish
+                          PLANNER_READY once subscribed and then every 0.5 s (the world starts the
+                          episode only after it heard one, HUNAV_READY_TIMEOUT s at most), and answer
+                          observations. Its output goes to DIR/logs/planner.log; it is stopped
+                          (SIGTERM) when the episode has ended
   --seed N                seed (integer >= 0); default: the scenario's seed
   --mode MODE             inprocess (default: one process, no network), lockstep (separate processes,
                           lock-stepped, bit-identical to inprocess) or realtime (separate processes, the
@@ -61,16 +68,19 @@ Options:
                           --sample-rate / --experiment-tag are given); default: the scenario's
                           evaluation.metrics, else every metric
   --format FORMAT         result files: csv (default), or hunav_txt = csv plus HuNavSim v1's .txt files
-  --timeout SECONDS       wall-clock guard: stop the run (keeping what was recorded) after this long
+  --timeout SECONDS       wall-clock guard: stop the run after this long (status aborted, what was
+                          recorded kept, exit 124)
   --view                  lockstep/realtime only: start hunav_view for this run and print the URL where
                           a browser on this machine watches it live (view/README.md; port: HUNAV_VIEW_PORT,
                           default any free one)
   -h, --help              show this help
 
-Exit status: 0 when the episode ran to an end (goal reached, time limit or stuck); 1 when it was
-aborted or a process failed; 2 on bad arguments or a bad scenario; 3 when it ran to an end but a
-condition of the scenario's expect: failed (verdicts printed, and in DIR/expect.json); 124 when
---timeout stopped it; 130/143 when interrupted by SIGINT/SIGTERM.
+Exit status (README.md, "Statuses and exit codes"; run.json's status in brackets): 0 when the
+episode ran to an end [goal_reached, time_limit, stuck]; 1 when it was aborted [aborted: a component
+went silent, exited, stalled or never became ready; the reason names it]; 2 on bad arguments or a
+bad scenario [nothing run]; 3 when it ran to an end but a condition of the scenario's expect: failed
+(verdicts printed, and in DIR/expect.json); 124 when --timeout stopped it [aborted]; 130/143 when
+interrupted by SIGINT/SIGTERM [interrupted].
 
 Separate-process modes run inside a private network namespace (unshare --net as root, unshare -rn
 otherwise), so parallel runs cannot hear each other. The script prints the namespace's PID; watch the
@@ -84,8 +94,9 @@ its one port, unless you add &channel_ports=1, which also takes the next two por
 parallel run its own URL (address or port), and make sure multicast has a route, e.g. on loopback
 only: sudo ip route add 224.0.0.0/4 dev lo
 
-Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_READY_TIMEOUT (30 s),
-HUNAV_EVAL_GRACE (60 s), HUNAV_STOP_GRACE (10 s).
+Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_READY_TIMEOUT (30 s: for a
+process's "ready" line, and the world's wait for PLANNER_READY), HUNAV_EVAL_GRACE (60 s),
+HUNAV_STOP_GRACE (10 s), HUNAV_STALL_LIMIT (2 s a process may stay stopped).
 EOF
 }
 
@@ -195,7 +206,8 @@ if [ -n "$metrics" ]; then
   if [ ! -f "$metrics" ] || [ ! -r "$metrics" ]; then usage_error "--metrics: cannot read the file '$metrics'"; fi
   metrics=$(readlink -f "$metrics")  # the processes may run elsewhere
 fi
-for v in HUNAV_READY_TIMEOUT:"$ready_timeout" HUNAV_EVAL_GRACE:"$eval_grace" HUNAV_STOP_GRACE:"$stop_grace"; do
+for v in HUNAV_READY_TIMEOUT:"$ready_timeout" HUNAV_EVAL_GRACE:"$eval_grace" HUNAV_STOP_GRACE:"$stop_grace" \
+  HUNAV_STALL_LIMIT:"$stall_limit"; do
   is_number "${v#*:}" || usage_error "${v%%:*} must be a number of seconds (got '${v#*:}')"
 done
 if [ -n "$shared_bus" ]; then
@@ -350,6 +362,8 @@ collect() {
 signal() {
   local pid=${pid_of[$1]}
   kill -s "$2" -- "-$pid" 2>/dev/null || kill -s "$2" "$pid" 2>/dev/null || true
+  # A stopped (SIGSTOPped) process handles SIGTERM only once continued.
+  if [ "$2" = TERM ]; then kill -s CONT -- "-$pid" 2>/dev/null || kill -s CONT "$pid" 2>/dev/null || true; fi
 }
 
 # Wall-clock deadlines in microseconds (EPOCHREALTIME: no fork per check).
@@ -466,26 +480,99 @@ exit_failed() {
   exit 1
 }
 
-# wait_main NAME: waits for the main process (world or hunav_run), honouring --timeout.
-timed_out=0
-wait_main() {
-  if ! wait_exit "$1" "${timeout:-0}"; then
-    timed_out=1
-    err "wall-clock timeout: $1 still ran after ${timeout} s; stopping the run (the evaluator keeps what it recorded)"
+# proc_name NAME: how reasons name a process (its log's name; a user's planner with its command).
+proc_name() {
+  case "$1" in
+    world) echo worldsim ;;
+    planner) if [ -n "$planner_cmd" ]; then echo "planner (your command: $planner_cmd)"; else echo planner; fi ;;
+    *) echo "$1" ;;
+  esac
+}
+
+# exit_text NAME CODE: "NAME exited with status CODE", or "NAME was killed by SIGX" for 128 + a signal.
+exit_text() {
+  local sig=""
+  if [ "$2" -gt 128 ] && [ "$2" -lt 193 ]; then sig=$(kill -l "$(($2 - 128))" 2>/dev/null || true); fi
+  if [ -n "$sig" ]; then
+    echo "$(proc_name "$1") was killed by SIG${sig#SIG} (exit status $2)"
+  else
+    echo "$(proc_name "$1") exited with status $2"
   fi
 }
 
-# print_metrics FILE RUN_ID: the row of RUN_ID in a metrics CSV as an aligned two-column table
-# (metric, value). Returns 1 when the file has no row for RUN_ID.
-print_metrics() {
-  awk -F, -v id="$2" '
-    NR == 1 { nf = NF; for (i = 1; i <= NF; i++) { head[i] = $i; if (length($i) > w) w = length($i) }; next }
-    { run = $2; gsub(/"/, "", run); if (run == id) { row = $0; found = 1 } }
-    END {
-      if (!found) exit 1
-      split(row, v, ",")
-      for (i = 1; i <= nf; i++) printf "  %-" w "s  %s\n", head[i], (v[i] == "" ? "-" : v[i])
-    }' "$1"
+# proc_state PID: sets $state to the state letter of /proc/PID/stat (R, S, D, T stopped, t traced,
+# Z ...), empty when gone. No subshell: it runs for every process ten times a second.
+proc_state() {
+  local line=""
+  state=""
+  { read -r line <"/proc/$1/stat"; } 2>/dev/null || return 0
+  line=${line##*) }
+  state=${line%% *}
+}
+
+# abort_run REASON: ends the run as aborted with REASON: the reason file first (the evaluator and the
+# world read it on SIGTERM: episode_status.hpp, stopCause), then every process is stopped, the
+# evaluator first so it writes what it recorded.
+abort_reason=""
+abort_run() {
+  abort_reason=$1
+  err "aborting the run: $abort_reason"
+  printf '%s\n' "$abort_reason" >"$HUNAV_STOP_REASON_FILE"
+  cleanup
+}
+
+# supervise MAIN: waits for the main process (world or hunav_run) to exit. Meanwhile, every 0.1 s:
+# another process that exited (a non-zero status at once; status 0, which ours give only after the
+# episode's END, when the world has not followed within 1 s), a process stopped for $stall_limit s, or
+# --timeout, aborts the run (abort_run). A main process killed by a signal aborts it too.
+timed_out=0
+supervise() {
+  local main=$1 name code state now deadline_us stall_us
+  local -A stopped_since=() exited_at=()
+  stall_us=$(awk -v s="$stall_limit" 'BEGIN { printf "%d", s * 1000000 }')
+  deadline "${timeout:-0}"
+  while alive "$main"; do
+    now=${EPOCHREALTIME//[.,]/}
+    now=$((10#$now))
+    if [ "$deadline_us" -ne 0 ] && [ "$now" -ge "$deadline_us" ]; then
+      timed_out=1
+      abort_run "wall-clock timeout: the run still ran after ${timeout} s (--timeout)"
+      return 0
+    fi
+    for name in "${started[@]}"; do
+      [ "$name" != display ] || continue
+      if [ "$name" != "$main" ] && ! alive "$name"; then
+        collect "$name"
+        code=${code_of[$name]}
+        if [ "$code" -ne 0 ]; then
+          abort_run "$(exit_text "$name" "$code") before the episode ended"
+          return 0
+        fi
+        [ -n "${exited_at[$name]:-}" ] || exited_at[$name]=$now
+        if ((now - exited_at[$name] >= 1000000)); then
+          abort_run "$(proc_name "$name") exited (status 0) before the episode ended"
+          return 0
+        fi
+        continue
+      fi
+      proc_state "${pid_of[$name]}"
+      if [ "$state" = T ] || [ "$state" = t ]; then
+        [ -n "${stopped_since[$name]:-}" ] || stopped_since[$name]=$now
+        if ((now - stopped_since[$name] >= stall_us)); then
+          abort_run "$(proc_name "$name") stalled: stopped (process state $state) for ${stall_limit} s"
+          return 0
+        fi
+      else
+        unset "stopped_since[$name]"
+      fi
+    done
+    sleep 0.1
+  done
+  collect "$main"
+  code=${code_of[$main]}
+  if [ "$code" -gt 128 ] && [ "$code" -lt 193 ] && [ "$code" -ne 130 ] && [ "$code" -ne 143 ]; then
+    abort_run "$(exit_text "$main" "$code")"
+  fi
 }
 
 # json_field FILE KEY: a scalar of a flat JSON file (enough for run.json's summary line).
@@ -503,6 +590,9 @@ mkdir -p "$log_dir"
 if [ -e "$out_dir/metrics.csv" ]; then
   log "note: $out_dir already holds the results of an earlier run"
 fi
+# Where abort_run leaves its reason for the processes (none there: an interrupt is an interrupt).
+export HUNAV_STOP_REASON_FILE="$log_dir/stop_reason.txt"
+rm -f "$HUNAV_STOP_REASON_FILE"
 
 seed_args=()
 [ -z "$seed" ] || seed_args=(--seed "$seed")
@@ -533,8 +623,8 @@ if [ "$mode" = inprocess ]; then
   tail -n +1 -s 0.2 -f --pid="${pid_of[hunav_run]}" "$log_dir/hunav_run.log" &
   pid_of[display]=$!
   started+=(display)
-  wait_main hunav_run
-  [ "$timed_out" -eq 1 ] || wait_exit display 5 || true
+  supervise hunav_run
+  [ -n "$abort_reason" ] || wait_exit display 5 || true
 else
   if [ -n "$shared_bus" ]; then
     url=$shared_bus
@@ -567,7 +657,6 @@ else
     log "STEP_REQUEST and STEP_REPLY on ports of their own (channel_ports=1); every other channel on the URL's port"
   fi
   export LCM_DEFAULT_URL=$eval_url
-  run_id="${scenario_name}_${planner}_${seed_label}_$(date +%Y%m%d-%H%M%S)-$$"
 
   if [ "$record" -eq 1 ]; then
     # hunav_record, not lcm-logger: lcm-logger's 30-message queue loses messages of lockstep bursts,
@@ -583,8 +672,8 @@ else
   start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url"
   if [ -n "$planner_cmd" ]; then
     # Your planner hears the bus through LCM_DEFAULT_URL (the URL without our channel_ports option:
-    # every planner channel is on its port). It need not print "ready": the world resends its first
-    # observation until answered (10 s at most).
+    # every planner channel is on its port). It need not print "ready": the world waits for its
+    # PLANNER_READY message before the episode's START (HUNAV_READY_TIMEOUT s at most).
     start planner "$log_dir/planner.log" bash -c "$planner_cmd"
     log "your planner '$planner': $planner_cmd (output in $log_dir/planner.log)"
   elif [ "$planner" != none ]; then
@@ -594,11 +683,12 @@ else
   wait_ready manager || exit_failed manager
   if [ "$planner" != none ] && [ -z "$planner_cmd" ]; then wait_ready planner || exit_failed planner; fi
   log "processes ready (logs in $log_dir); starting the world"
+  # The run id is the world's default, <scenario>_<planner>_s<seed>, as in hunav_run.
   start world "$log_dir/worldsim.log" "$bin_dir/hunav_worldsim" --scenario "$scenario" --planner "$planner" \
-    --mode "$mode" --run-id "$run_id" --lcm-url "$url" "${seed_args[@]}" "${duration_args[@]}"
+    --mode "$mode" --lcm-url "$url" --planner-ready-timeout "$ready_timeout" "${seed_args[@]}" "${duration_args[@]}"
   main=world
-  wait_main world
-  if [ "$timed_out" -eq 0 ]; then
+  supervise world
+  if [ -z "$abort_reason" ]; then
     case "${code_of[world]}" in
       0 | 1) ;;  # the world published the episode's END event (ended or aborted)
       *)         # bad input (2) or a crash: no END will come, so the evaluator need not wait for it
@@ -619,7 +709,14 @@ else
     for name in planner; do
       [ -n "${pid_of[$name]:-}" ] || continue
       case "${code_of[world]}" in
-        0 | 1) if [ -n "$planner_cmd" ]; then stop "$name" TERM "$stop_grace"; else wait_exit "$name" 3 || stop "$name" TERM "$stop_grace"; fi ;;
+        0 | 1)
+          # Ours exits by itself after END, unless it is stopped (SIGSTOP): a stalled planner is not waited for.
+          proc_state "${pid_of[$name]}"
+          if [ -n "$planner_cmd" ] || [ "$state" = T ] || [ "$state" = t ]; then
+            stop "$name" TERM "$stop_grace"
+          else
+            wait_exit "$name" 3 || stop "$name" TERM "$stop_grace"
+          fi ;;
         *) stop "$name" TERM "$stop_grace" ;;
       esac
     done
@@ -630,8 +727,10 @@ cleanup
 main_code=${code_of[$main]:-1}
 
 echo
-if [ "$timed_out" -eq 1 ]; then
-  status_code=124
+if [ -n "$abort_reason" ]; then
+  # The supervisor ended the run (README.md, "Statuses and exit codes"): 124 for --timeout, else 1.
+  if [ "$timed_out" -eq 1 ]; then status_code=124; else status_code=1; fi
+  err "the run was aborted: $abort_reason"
 elif [ "$main_code" -eq 0 ]; then
   status_code=0
 else
@@ -639,11 +738,12 @@ else
   case "$main_code" in
     1) err "$main exited with 1: the episode was aborted or an error occurred" ;;
     2) err "$main exited with 2: bad input (scenario or arguments)" ;;
+    130 | 143) err "$main was interrupted (exit status $main_code)" ;;
     *) err "$main exited with $main_code" ;;
   esac
   if [ "$main" = world ]; then tail_log worldsim; fi
 fi
-if [ "$mode" != inprocess ] && [ "${code_of[evaluator]:-0}" -ne 0 ]; then
+if [ "$mode" != inprocess ] && [ -z "$abort_reason" ] && [ "${code_of[evaluator]:-0}" -ne 0 ]; then
   err "the evaluator exited with ${code_of[evaluator]}: the results may be incomplete"
   tail_log evaluator
   [ "$status_code" -ne 0 ] || status_code=1
@@ -655,34 +755,32 @@ fresh() {
   [ -s "$1" ] && mtime=$(stat -c %.6Y "$1") && [ "${mtime//[.,]/}" -ge "$run_started_us" ]
 }
 
-if fresh "$out_dir/run.json"; then
-  log "run: status $(json_field "$out_dir/run.json" status), sim_time $(json_field "$out_dir/run.json" sim_time) s, fingerprint $(json_field "$out_dir/run.json" fingerprint)"
-fi
 if [ "$mode" != inprocess ]; then
-  # The evaluator appends one row per run to DIR/metrics.csv (or, when that file has another header,
-  # to DIR/metrics-<run_id>.csv): show this run's row.
-  shown=0
-  for f in "$out_dir/metrics.csv" "$out_dir"/metrics-*.csv; do
-    [ -s "$f" ] || continue
-    if table=$(print_metrics "$f" "$run_id"); then
-      log "metrics of run $run_id ($f):"
-      printf '%s\n' "$table"
-      shown=1
-      break
-    fi
-  done
-  if [ "$shown" -eq 0 ] && [ "$status_code" -ne 2 ]; then
-    err "no metrics row for run $run_id in $out_dir/metrics*.csv (see $log_dir/evaluator.log)"
+  # The run's line and metrics table as hunav_run prints them (from the evaluator's run.json), then the
+  # scenario's expect: conditions (docs/metrics.md, "Expectations"), judged by the same code as
+  # hunav_run's (exit 3 when one failed; judged only for an episode that ran to an end).
+  if fresh "$out_dir/run.json"; then
+    expect_rc=0
+    "$bin_dir/hunav_expect" --show --scenario "$scenario" --run-dir "$out_dir" || expect_rc=$?
+    [ "$status_code" -ne 0 ] || status_code=$expect_rc
+  elif [ "$status_code" -ne 2 ]; then
+    err "the evaluator wrote no run.json (see $log_dir/evaluator.log)"
     [ "$status_code" -ne 0 ] || status_code=1
   fi
 elif ! fresh "$out_dir/metrics.csv" && [ "$status_code" -eq 0 ]; then
   err "hunav_run wrote no metrics.csv"
   status_code=1
 fi
-# The scenario's expect: conditions (docs/metrics.md, "Expectations"): hunav_run judged them itself (exit
-# 3 when one failed); the separate processes' run.json is judged by hunav_expect, the same code.
-if [ "$mode" != inprocess ] && [ "$status_code" -eq 0 ] && fresh "$out_dir/run.json"; then
-  "$bin_dir/hunav_expect" --scenario "$scenario" --run-dir "$out_dir" || status_code=$?
+if fresh "$out_dir/run.json"; then
+  reason=$(json_field "$out_dir/run.json" reason)
+  log "run: status $(json_field "$out_dir/run.json" status) (${reason}), sim_time $(json_field "$out_dir/run.json" sim_time) s, fingerprint $(json_field "$out_dir/run.json" fingerprint)"
+  case "$reason" in
+    "planner not ready"*)
+      if [ -n "$planner_cmd" ]; then
+        err "your planner command '$planner_cmd' never announced itself: it must publish a planner_ready_t on"
+        echo "  PLANNER_READY once subscribed, then every 0.5 s (docs/planner_contract.md, \"Readiness\"); its output: $log_dir/planner.log" >&2
+      fi ;;
+  esac
 fi
 if [ "$status_code" -eq 2 ]; then
   log "nothing was run (bad input); logs in $log_dir"

@@ -1,10 +1,15 @@
 // hunav_planner: a robot planner process. Answers ROBOT_OBSERVATION with ROBOT_COMMAND (lockstep,
-// see docs/planner_contract.md). Prints "ready" once subscribed; SIGINT/SIGTERM end it with exit 0.
+// see docs/planner_contract.md). Once subscribed, prints "ready" and publishes PLANNER_READY every 0.5 s
+// (the readiness handshake); SIGINT/SIGTERM end it with exit 0.
+#include "hunav/cli.hpp"
+#include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/transport.hpp"
+
+#include <hunav/planner_ready_t.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -62,14 +67,9 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url,
                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
   app.add_option("--episodes", episodes, "exit after this many episodes have ended (EPISODE_EVENT END); 0 = run until signalled")
-      ->check(CLI::NonNegativeNumber)
+      ->check(hunav::cli::nonNegativeInteger())
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : hunav::kExitBadInput;
-  }
+  if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   try {
     if (!hp::hasPlanner(planner_name)) {
@@ -91,9 +91,22 @@ int main(int argc, char** argv) {
     bus_options.filter_unsubscribed_channels = true;
     hunav::Bus bus(hunav::resolveLcmUrl(lcm_url), bus_options);
     hp::PlannerNode node(bus, std::move(planner));
+    // The readiness handshake (docs/planner_contract.md, "Readiness"): subscribed now, so announce it,
+    // and keep announcing it (a world started later waits for one before its first episode).
+    hunav::planner_ready_t announce{};
+    announce.name = planner_name;
+    const auto period = std::chrono::milliseconds(hunav::channels::kPlannerReadyPeriodMs);
+    auto last_announce = std::chrono::steady_clock::now();
+    bus.publish(hunav::channels::kPlannerReady, announce);
     std::cout << "ready" << std::endl;
 
-    while (!g_stop && (episodes == 0 || node.episodesEnded() < episodes)) bus.handleFor(std::chrono::milliseconds(100));
+    while (!g_stop && (episodes == 0 || node.episodesEnded() < episodes)) {
+      bus.handleFor(std::chrono::milliseconds(100));
+      if (const auto now = std::chrono::steady_clock::now(); now - last_announce >= period) {
+        bus.publish(hunav::channels::kPlannerReady, announce);
+        last_announce = now;
+      }
+    }
 
     std::cerr << "hunav_planner: " << node.plansComputed() << " plans, " << node.repliesResent()
               << " resent replies, " << bus.droppedMessages() << " dropped messages\n";

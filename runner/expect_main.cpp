@@ -8,6 +8,7 @@
 #include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/runner/expectations.hpp"
+#include "hunav/runner/run_summary.hpp"
 
 namespace fs = std::filesystem;
 
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
       "run did not run to an end, or an error; 2: bad input; 3: a condition failed (--junit: a test case "
       "failed or its run did not finish)."};
   std::string scenario_file, run_dir, batch_dir;
-  bool quiet = false;
+  bool quiet = false, show = false;
   auto* scenario_opt =
       app.add_option("--scenario", scenario_file, "scenario YAML file of the run")->check(CLI::ExistingFile);
   auto* run_opt =
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
   auto* junit_opt = app.add_option("--junit", batch_dir, "batch folder (matrix.tsv, runs/): write its junit.xml")
                         ->check(CLI::ExistingDirectory);
   app.add_flag("--quiet", quiet, "print only the count line");
+  app.add_flag("--show", show,
+               "first print the run's line and metrics table from its run.json, as hunav_run prints them "
+               "(run_experiment.sh's separate-process modes)");
   scenario_opt->needs(run_opt);
   run_opt->needs(scenario_opt);
   junit_opt->excludes(scenario_opt)->excludes(run_opt);
@@ -44,6 +48,7 @@ int main(int argc, char** argv) {
                 << c.errors << " errors (runs that did not finish)\n";
       return c.failures + c.errors > 0 ? hunav::runner::kExitExpectationsFailed : 0;
     }
+    if (show) std::cout << hunav::runner::formatRunJsonSummary(fs::path(run_dir) / "run.json") << std::flush;
     const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
     const fs::path expect_json = fs::path(run_dir) / "expect.json";
     fs::remove(expect_json);  // a verdict left by an earlier run into this folder is not this run's
@@ -54,8 +59,10 @@ int main(int argc, char** argv) {
                                "unknown profile '" + run.profile + "'");
     hunav::runner::checkExpectations(scenario.expectations, hunav::evaluator::metricsForProfile(run.profile));
     if (!hunav::episode_status::ranToEnd(run.status)) {
-      std::cerr << "hunav_expect: the episode did not run to an end (status " << run.status
-                << "): its expectations are not judged\n";
+      // With --show the run line already said why.
+      if (!show)
+        std::cerr << "hunav_expect: the episode did not run to an end (status " << run.status
+                  << "): its expectations are not judged\n";
       return 1;
     }
     const auto verdicts = hunav::runner::judge(scenario.expectations, run.status, run.metrics);

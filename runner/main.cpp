@@ -11,6 +11,7 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/expectations.hpp"
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/runner/run_summary.hpp"
 #include "hunav/signals.hpp"
 
 int main(int argc, char** argv) {
@@ -19,7 +20,8 @@ int main(int argc, char** argv) {
       "evaluator in one process on one in-process bus (no network), writes the result files and prints the "
       "metrics, then the verdicts of the scenario's expect: conditions (written to expect.json). Exit 0: the "
       "episode ran to an end (goal reached, time limit or stuck) and every expect: condition passed; 1: "
-      "aborted or error; 2: bad input; 3: it ran to an end but an expect: condition failed."};
+      "aborted or error; 2: bad input; 3: it ran to an end but an expect: condition failed; 130/143: interrupted "
+      "by SIGINT/SIGTERM (README.md, \"Statuses and exit codes\")."};
   std::string scenario_file;
   hunav::runner::RunOptions options;
   long long seed = -1;
@@ -34,13 +36,13 @@ int main(int argc, char** argv) {
         return names + "or none";
       }());
   app.add_option("--planner-config", options.planner_config, "YAML file with planner parameters");
-  app.add_option("--seed", seed, "override the scenario's seed")->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
-      ->check(CLI::PositiveNumber);
+      ->check(hunav::cli::positiveNumber());
   app.add_option("--sample-rate", sample_rate,
                  "evaluate and record states.csv at most HZ samples per second of simulation time, 0 = every "
                  "tick (default: the scenario's evaluation.sample_rate)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(hunav::cli::nonNegativeNumber());
   app.add_option("--out", options.out_dir, "output folder (default results/<scenario>_<planner>_<seed>)");
   app.add_option("--record", options.record_file, "also write every message to this LCM log file");
   app.add_option("--profile", options.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
@@ -88,15 +90,13 @@ int main(int argc, char** argv) {
 
     const auto outcome = hunav::runner::runInProcess(scenario, options);
     const auto& ep = outcome.episode;
-    std::cout << "run " << (outcome.result ? outcome.result->info.run_id : options.run_id) << ": " << ep.status << " ("
-              << ep.reason << ") after " << ep.sim_time << " s of simulation in " << ep.wall_time << " s ("
-              << (ep.wall_time > 0 ? ep.sim_time / ep.wall_time : 0.0) << "x real time), " << ep.ticks
-              << " ticks, fingerprint " << ep.fingerprint << "\n";
+    std::cout << hunav::runner::formatRunLine(outcome.result ? outcome.result->info.run_id : options.run_id, ep.status,
+                                              ep.reason, ep.sim_time, ep.wall_time, ep.ticks, ep.fingerprint);
     if (outcome.result) {
       if (!quiet) std::cout << outcome.result->formatTable();
       std::cout << "results in " << outcome.result->run_dir.string() << "\n";
     }
-    if (!ep.ended()) return 1;
+    if (!ep.ended()) return hunav::episode_status::exitCodeFor(ep.status, hunav::stopSignal());
     if (scenario.expectations.empty() || !outcome.result) return 0;
     // Judged on what the evaluator wrote (its run.json status: an incomplete recording is not judged).
     const auto& info = outcome.result->info;

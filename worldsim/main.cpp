@@ -9,30 +9,36 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hunav_worldsim: the world simulator. Runs episodes of a scenario in lockstep with the manager "
       "and the planner (lcmtypes/README.md). Exit 0: every episode ran to an end (goal reached, time "
-      "limit or stuck); 1: aborted or error; 2: bad input."};
+      "limit or stuck); 1: aborted or error; 2: bad input; 130/143: interrupted by SIGINT/SIGTERM (README.md, "
+      "\"Statuses and exit codes\")."};
   std::string scenario_file, url, planner = "dwb", mode = "lockstep", run_id;
   long long seed = -1;
   double duration = 0.0;
   int episodes = 1;
-  double silence_limit = 1.0, startup_limit = 10.0;
+  double silence_limit = 1.0, startup_limit = 10.0, ready_timeout = 10.0;
   app.add_option("--scenario", scenario_file, "scenario YAML file")->required();
   app.add_option("--planner", planner, "planner name reported in events; 'none' runs without a planner");
   app.add_option("--seed", seed, "override the scenario's seed (episode k of --episodes uses seed + k - 1)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(hunav::cli::nonNegativeInteger());
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
-      ->check(CLI::PositiveNumber);
+      ->check(hunav::cli::positiveNumber());
   app.add_option("--mode", mode, "lockstep (wait for every answer) or realtime (wall-clock paced)")
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   app.add_option("--run-id", run_id,
                  "run id (default <scenario>_<planner>_s<seed>); with several episodes, episode k is <run-id>_e<k>");
   app.add_option("--episodes", episodes,
                  "episodes to run back to back, each from a fresh world with the next seed and its own run id")
-      ->check(CLI::PositiveNumber);
+      ->check(hunav::cli::positiveInteger());
   // At most 1e6 s (11 days): beyond ~9.2e6 s the limit overflows as nanoseconds and aborts at once.
   app.add_option("--silence-limit", silence_limit, "abort when a component is silent this long, s (wall clock)")
       ->check(CLI::Range(1e-3, 1e6));
   app.add_option("--startup-limit", startup_limit, "the same for a component's first answer, s")
       ->check(CLI::Range(1e-3, 1e6));
+  app.add_option("--planner-ready-timeout", ready_timeout,
+                 "s to wait before the first episode for the planner's PLANNER_READY (docs/planner_contract.md, "
+                 "\"Readiness\"); without it the episode ends at once, aborted; 0 = do not wait")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else udpm on this host only)");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
@@ -48,21 +54,23 @@ int main(int argc, char** argv) {
     options.run_id = run_id;
     options.silence_limit = std::chrono::milliseconds(static_cast<long>(silence_limit * 1000));
     options.startup_limit = std::chrono::milliseconds(static_cast<long>(startup_limit * 1000));
+    options.planner_ready_timeout = std::chrono::milliseconds(static_cast<long>(ready_timeout * 1000));
     options.stop = &hunav::installStopSignals();
     // Its own LCM instances (one per port with channel_ports=1) to publish; it reads every port itself
     // (Bus: direct_on_every_port), as it hears its own world state each tick where it listens for commands.
     hunav::Bus bus(hunav::resolveLcmUrl(url), /*direct_on_every_port=*/true);
     hunav::worldsim::WorldSim world(bus, scenarios.front(), options);
-    bool all_ended = true;
+    int code = 0;  // of the first episode that did not run to an end
     for (int i = 0; i < episodes && !options.stop->load(); ++i) {
       const std::string id = run_id.empty() || episodes == 1 ? run_id : run_id + "_e" + std::to_string(i + 1);
       const auto r = world.runEpisode(scenarios[static_cast<std::size_t>(i)], id);
       std::cout << "episode " << i + 1 << " (run " << r.run_id << ", seed " << r.seed << "): " << r.status << " ("
                 << r.reason << "), " << r.ticks << " ticks, " << r.sim_time << " s simulated in " << r.wall_time
-                << " s, " << r.collisions << " contacts, " << world.resends() << " resends so far, fingerprint "
+                << " s, " << r.collisions << " contacts, " << r.dropped_messages << " dropped messages, " << world.resends()
+                << " resends so far, fingerprint "
                 << r.fingerprint << std::endl;
-      all_ended = all_ended && r.ended();
+      if (code == 0) code = hunav::episode_status::exitCodeFor(r.status, hunav::stopSignal());
     }
-    return all_ended ? 0 : 1;
+    return code;
   });
 }

@@ -6,7 +6,11 @@ namespace hunav {
 
 namespace {
 std::atomic<bool> g_stop{false};
-extern "C" void onStopSignal(int) { g_stop.store(true); }
+std::atomic<int> g_signal{0};
+extern "C" void onStopSignal(int sig) {
+  g_signal.store(sig);
+  g_stop.store(true);
+}
 }  // namespace
 
 const std::atomic<bool>& installStopSignals() {
@@ -17,5 +21,7 @@ const std::atomic<bool>& installStopSignals() {
   sigaction(SIGTERM, &sa, nullptr);
   return g_stop;
 }
+
+int stopSignal() { return g_signal.load(); }
 
 }  // namespace hunav

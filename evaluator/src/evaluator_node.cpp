@@ -1,6 +1,7 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 
 #include "hunav/channels.hpp"
+#include "hunav/episode_status.hpp"
 #include "hunav/message_checks.hpp"
 
 #include <hunav/live_metrics_t.hpp>
@@ -383,8 +384,15 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
   if (options_.episodes < 0) throw std::invalid_argument("episodes must be >= 0 (0 = no limit)");
   SampleRate check(options_.sample_rate);  // throws for a bad rate
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
-  bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
-  bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); });
+  event_drops_ =
+      &bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
+  state_drops_ =
+      &bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); });
+}
+
+std::uint64_t EvaluatorNode::droppedMessages() const {
+  // The bus's malformed datagrams are the evaluator's own: in process the bus has no socket.
+  return event_drops_->count + state_drops_->count + bus_.malformedDatagrams();
 }
 
 // The worker finishes what was received (errors ignored, as an unfinished episode's are) before the
@@ -394,8 +402,7 @@ EvaluatorNode::~EvaluatorNode() { worker_.reset(); }
 bool EvaluatorNode::finished() const { return options_.episodes > 0 && episodes_ended_ >= options_.episodes; }
 
 void EvaluatorNode::reject(const std::string& why) {
-  ++dropped_total_;
-  throw BadMessage("evaluator: " + why);
+  throw BadMessage("evaluator: " + why);  // the bus counts it (droppedMessages)
 }
 
 void EvaluatorNode::onEvent(const episode_event_t& ev) {
@@ -588,13 +595,14 @@ void EvaluatorNode::drain() {
   if (worker_) worker_->drain();
 }
 
-bool EvaluatorNode::finishIncomplete(const std::string& reason) {
+bool EvaluatorNode::finishIncomplete(const std::string& reason, const std::string& status) {
   if (!current_) return false;
-  finish(nullptr, reason);
+  finish(nullptr, reason, status);
   return true;
 }
 
-void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomplete_reason) {
+void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomplete_reason,
+                           const std::string& incomplete_status) {
   // The worker's error (what the synchronous mode would have thrown earlier) is reported after the
   // results are written.
   const std::exception_ptr worker_error = worker_ ? worker_->wait() : nullptr;
@@ -602,8 +610,9 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
   RunInfo& info = ep->info;
   info.recorded_ticks = ep->recorded;
   info.recorded_fingerprint = ep->fingerprint.hex();
-  info.dropped_messages = static_cast<std::int64_t>(dropped_total_ - dropped_at_last_end_);
-  dropped_at_last_end_ = dropped_total_;
+  const std::uint64_t dropped = droppedMessages();
+  info.dropped_messages = static_cast<std::int64_t>(dropped - dropped_at_last_end_);
+  dropped_at_last_end_ = dropped;
   if (end != nullptr) {
     info.status = end->status;
     info.reason = end->reason;
@@ -611,11 +620,16 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     info.sim_time = end->sim_time;
     info.wall_time = end->wall_time;
     info.fingerprint = end->fingerprint;
-    info.complete = true;
+    info.world_dropped_messages = end->dropped_messages;
+    // Stopped from outside (an interrupt, or a supervisor's reason: episode_status::stopCause), the
+    // episode was cut short even when the world still sent its END.
+    const auto stop = episode_status::stopCause();
+    info.complete = end->status != episode_status::kInterrupted &&
+                    !(end->status == episode_status::kAborted && end->reason == stop.reason);
     // Ticks published after the last one that arrived.
     if (end->ticks - 1 > ep->last_tick) info.lost_ticks += end->ticks - 1 - ep->last_tick;
   } else {
-    info.status = "incomplete";
+    info.status = incomplete_status;
     info.reason = incomplete_reason;
     info.ticks = ep->last_tick + 1;
     info.sim_time = ep->recorded == 0 ? ep->start_sim_time : ep->last_recorded_t;

@@ -4,6 +4,7 @@
 //   EPISODES exit 0 after this many EPISODE_EVENT END events (default 0: run until killed)
 #include "example_planner.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -15,7 +16,7 @@ const char* const kUsage =
     "  LCM_URL   e.g. udpm://239.255.76.67:7667?ttl=0 (default: $LCM_DEFAULT_URL, else that one)\n"
     "  EPISODES  exit 0 after this many episodes ended (default 0: run until killed)\n"
     "Answers every ROBOT_OBSERVATION with a ROBOT_COMMAND: drive to the goal, stop when the laser\n"
-    "sees something close ahead. Prints \"ready\" once subscribed.\n";
+    "sees something close ahead. Once subscribed prints \"ready\" and publishes PLANNER_READY every 0.5 s.\n";
 
 int usageError(const char* what, const char* arg) {
   std::fprintf(stderr, "example_planner: %s: %s\n%s", what, arg, kUsage);
@@ -44,9 +45,17 @@ int main(int argc, char** argv) {
     return 1;
   }
   example::GoToGoalPlanner planner(lcm);
+  planner.announceReady();
   std::printf("ready\n");
   std::fflush(stdout);
-  while (episodes == 0 || planner.episodesEnded() < episodes)
+  // Announce every 0.5 s (the world waits for one before its first episode).
+  auto last_announce = std::chrono::steady_clock::now();
+  while (episodes == 0 || planner.episodesEnded() < episodes) {
     if (lcm.handleTimeout(100) < 0) return 1;
+    if (const auto now = std::chrono::steady_clock::now(); now - last_announce >= std::chrono::milliseconds(500)) {
+      planner.announceReady();
+      last_announce = now;
+    }
+  }
   return 0;
 }

@@ -3,6 +3,7 @@
 // ahead. It depends only on LCM and the generated message types (docs/planner_contract.md): copy
 // this folder and the .lcm files to start your own planner in any language LCM supports.
 #include <hunav/episode_event_t.hpp>
+#include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -10,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 
 namespace example {
 
@@ -22,6 +25,15 @@ class GoToGoalPlanner {
   explicit GoToGoalPlanner(lcm::LCM& lcm) : lcm_(lcm) {
     lcm_.subscribe("ROBOT_OBSERVATION", &GoToGoalPlanner::onObservation, this);
     lcm_.subscribe("EPISODE_EVENT", &GoToGoalPlanner::onEvent, this);
+  }
+
+  // The readiness handshake (docs/planner_contract.md, "Readiness"): once subscribed, publish
+  // PLANNER_READY, and again at least once a second while running; the world starts an episode only
+  // after it heard one, so the planner sees the START event and every observation.
+  void announceReady() {
+    hunav::planner_ready_t ready{};
+    ready.name = "example_planner";
+    lcm_.publish("PLANNER_READY", &ready);
   }
 
   std::int64_t episodesEnded() const { return episodes_ended_; }
@@ -68,6 +80,10 @@ class GoToGoalPlanner {
   }
 
   void onEvent(const lcm::ReceiveBuffer*, const std::string&, const hunav::episode_event_t* ev) {
+    // One line per event on stderr, to show in the planner's log that it saw the whole episode.
+    std::fprintf(stderr, "example_planner: episode %lld (%s): %s\n", static_cast<long long>(ev->episode),
+                 ev->run_id.c_str(),
+                 ev->event == hunav::episode_event_t::START ? "START" : ("END " + ev->status).c_str());
     if (ev->event == hunav::episode_event_t::END) ++episodes_ended_;
   }
 

@@ -230,7 +230,8 @@ TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
   EXPECT_EQ(checkOutputs(dir), 0);
   const RunInfo info = readRunJson(dir / "run.json");
   EXPECT_FALSE(info.complete);
-  EXPECT_EQ(info.status, "incomplete");
+  EXPECT_EQ(info.status, "interrupted");  // README.md, "Statuses and exit codes"
+  EXPECT_EQ(info.reason, "interrupted (SIGINT/SIGTERM)");
   EXPECT_EQ(info.recorded_ticks, 5);
   EXPECT_EQ(info.run_id, "udp-run");
   EXPECT_EQ(readLines(dir / "metrics.csv").size(), 2u);

@@ -1,5 +1,16 @@
 # Helpers for the integration tests. Sourced; expects REPO and BIN set by the caller (ctest).
 set -euo pipefail
+# Processes are looked for in this test's own process tree only, never machine-wide, so that another
+# user's runs (or a second test run) on the machine cannot fail this test. The test shell becomes a
+# child subreaper (prctl PR_SET_CHILD_SUBREAPER = 36, kept across exec), so a process whose parent
+# died is re-parented to it and still counts as this test's.
+if [ "${HUNAV_IT_SUBREAPER:-}" != "$$" ]; then
+  HUNAV_IT_SUBREAPER=$$ exec /usr/bin/python3 -c '
+import ctypes, os, sys
+if ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0) != 0:
+    sys.exit("common.sh: prctl(PR_SET_CHILD_SUBREAPER) failed")
+os.execv("/bin/bash", ["bash"] + sys.argv[1:])' "$0" "$@"
+fi
 RUN="$REPO/launch_scripts/run_experiment.sh"
 export HUNAV_BIN_DIR="$BIN"
 WORK=$(mktemp -d /tmp/hunav_it.XXXXXX)
@@ -21,7 +32,24 @@ check_layout() {  # check_layout DIR: the shared layout checker, when shared/ is
   if [ -f "$checker" ]; then python3 "$checker" "$1" || fail "layout check of $1"; fi
 }
 
-our_processes() { pgrep -f "$BIN/hunav_(run|worldsim|manager|planner|evaluator)" || true; }
+descendants() {  # the PIDs below this test shell (its whole process tree)
+  ps -e -o pid=,ppid= | awk -v root=$$ '{ parent[$1] = $2 }
+    END { for (p in parent) { q = p; while ((q in parent) && q != root && q > 1) q = parent[q]; if (q == root && p != root) print p } }'
+}
+
+our_pids() {  # our_pids REGEX: PIDs of this test's tree whose command line matches REGEX
+  local p args
+  for p in $(descendants); do
+    args=$(tr '\0' ' ' 2>/dev/null < "/proc/$p/cmdline") || continue
+    if [[ $args =~ $1 ]]; then echo "$p"; fi
+  done
+}
+
+our_processes() { our_pids "^$BIN/hunav_(run|worldsim|manager|planner|evaluator|record) "; }
+
+our_pid() {  # our_pid NAME: the PID of this test's hunav_NAME (or another binary of BIN) process
+  our_pids "^$BIN/(hunav_)?$1( |\$)" | head -n1
+}
 
 no_orphans() {  # no process of ours may survive a run (bounded wait: 5 s)
   for _ in $(seq 50); do [ -z "$(our_processes)" ] && return 0; sleep 0.1; done

@@ -1,29 +1,45 @@
 #!/usr/bin/env bash
-# Killing the manager or the planner mid-run: the world ends the episode `aborted`, naming the silent
-# component, within 2 s; the evaluator still writes what it recorded; the script exits non-zero and
-# leaves no process behind.
+# run_experiment.sh supervises every process it started: killing the planner or the manager mid-run,
+# in realtime (where the world used to drive on the planner's last command until the time limit) and
+# in lockstep, ends the run within 2 s as `aborted`, with a reason naming the process and the signal
+# that killed it; the evaluator still writes what it recorded; the script exits 1 and leaves no process
+# behind.
 source "$(dirname "$0")/common.sh"
-for victim in manager planner; do
-  out="$WORK/$victim"
-  "$RUN" --scenario "$REPO/tests/integration/data/endless_corridor.yaml" --mode lockstep --out "$out" \
-    > "$WORK/$victim.txt" 2>&1 &
+for case in realtime:planner realtime:manager lockstep:planner lockstep:manager; do
+  mode=${case%%:*}
+  victim=${case#*:}
+  out="$WORK/$mode-$victim"
+  "$RUN" --scenario "$REPO/tests/integration/data/endless_corridor.yaml" --mode "$mode" --out "$out" \
+    > "$WORK/$mode-$victim.txt" 2>&1 &
   script=$!
-  wait_for_rows "$out/states.csv" 2000
-  pid=$(pgrep -f "$BIN/hunav_$victim" | head -n1)
-  [ -n "$pid" ] || fail "no $victim process found"
+  if [ "$mode" = realtime ]; then
+    wait_for_rows "$out/states.csv" 10
+    sleep 4  # 4 s into the run
+  else
+    wait_for_rows "$out/states.csv" 2000
+  fi
+  pid=$(our_pid "$victim")
+  [ -n "$pid" ] || fail "$case: no $victim process found"
   killed_at=$(date +%s.%N)
   kill -KILL "$pid"
   rc=0
   wait "$script" || rc=$?
-  [ "$rc" -ne 0 ] || fail "$victim killed but the script exited 0"
-  [ "$(json_field "$out/run.json" status)" = aborted ] || fail "status $(json_field "$out/run.json" status)"
+  done_at=$(date +%s.%N)
+  [ "$rc" -eq 1 ] || { cat "$WORK/$mode-$victim.txt"; fail "$case: $victim killed but the script exited $rc (expected 1)"; }
+  [ "$(json_field "$out/run.json" status)" = aborted ] || fail "$case: status $(json_field "$out/run.json" status)"
+  [ "$(json_field "$out/run.json" complete)" = false ] || fail "$case: complete is not false"
   reason=$(json_field "$out/run.json" reason)
-  case "$reason" in *"$victim"*) ;; *) fail "the reason does not name the $victim: $reason" ;; esac
-  # The world gives up after 1 s of silence; its END event carries its wall time.
+  case "$reason" in "$victim was killed by SIGKILL"*) ;; *) fail "$case: the reason does not name the $victim and SIGKILL: $reason" ;; esac
+  grep -q "aborted.*$victim was killed by SIGKILL" "$WORK/$mode-$victim.txt" || fail "$case: the script does not say why"
   ended=$(python3 -c 'import os,sys; print(os.path.getmtime(sys.argv[1]))' "$out/run.json")
-  python3 -c "import sys; d=$ended-$killed_at; sys.exit(0 if d < 2.0 else 1)" \
-    || fail "run.json written $(python3 -c "print($ended-$killed_at)") s after the kill"
-  [ "$(wc -l < "$out/states.csv")" -gt 2000 ] || fail "states.csv lost its rows"
+  python3 -c "import sys; sys.exit(0 if $ended - $killed_at < 2.0 else 1)" \
+    || fail "$case: run.json written $(python3 -c "print($ended - $killed_at)") s after the kill"
+  python3 -c "import sys; sys.exit(0 if $done_at - $killed_at < 4.0 else 1)" \
+    || fail "$case: the script ended $(python3 -c "print($done_at - $killed_at)") s after the kill"
+  rows=$(wc -l < "$out/states.csv")
+  ticks=$(json_field "$out/run.json" recorded_ticks)
+  [ "$rows" -eq $((2 * ticks + 1)) ] || fail "$case: states.csv has $rows lines for $ticks ticks"
+  [ "$ticks" -gt 300 ] || fail "$case: only $ticks ticks recorded"
   no_orphans
-  echo "$victim killed: aborted ($reason), exit $rc"
+  echo "$case killed: aborted ($reason), exit $rc; run.json $(python3 -c "print(round($ended - $killed_at, 2))") s and the script's exit $(python3 -c "print(round($done_at - $killed_at, 2))") s after the kill"
 done

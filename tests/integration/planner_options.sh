@@ -40,7 +40,7 @@ path=$(metric "$WORK/mine/metrics.csv" path_length)
 python3 -c "import sys; sys.exit(0 if float('$path') > 0.5 else 1)" || fail "the example planner did not drive the robot (path $path m)"
 [ -f "$WORK/mine/logs/planner.log" ] || fail "no planner log"
 no_orphans
-if pgrep -f "$BIN/example_planner" > /dev/null; then fail "the example planner was left running"; fi
+if [ -n "$(our_pid example_planner)" ]; then fail "the example planner was left running"; fi
 
 # A batch of both: the built-in dwb with the parameter file (the same run as above) and your planner.
 "$REPO/launch_scripts/run_batch.sh" --scenarios passing --planners dwb,mine --seeds 1 --mode lockstep --jobs 1 \

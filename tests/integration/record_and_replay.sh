@@ -74,5 +74,5 @@ done
   { cat "$WORK/replayed-offline.txt"; fail "hunav_evaluator --log failed on the replayed log"; }
 same_metrics "$WORK/lockstep/metrics.csv" "$WORK/replayed-offline/metrics.csv" || fail "the replayed run's metrics differ"
 no_orphans
-if pgrep -f "$BIN/hunav_record" >/dev/null; then fail "hunav_record left running"; fi
+if [ -n "$(our_pid record)" ]; then fail "hunav_record left running"; fi
 echo "recorded in both modes, recomputed, and replayed: same metrics"

@@ -73,5 +73,5 @@ for channel in WORLD_STATE ROBOT_OBSERVATION ROBOT_COMMAND EPISODE_EVENT NAV_GOA
     fail "the plain listener heard $(count_of "$WORK/plain.counts" "$channel") $channel messages, the run's recorder $(count_of "$WORK/shared.counts" "$channel")"
 done
 no_orphans
-if pgrep -f "$BIN/hunav_record" >/dev/null; then fail "hunav_record left running"; fi
+if [ -n "$(our_pid record)" ]; then fail "hunav_record left running"; fi
 echo "channel ports: same fingerprint $a, step channels recorded, and off the URL's port"

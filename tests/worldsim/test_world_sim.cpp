@@ -15,6 +15,7 @@
 #include <hunav/step_request_t.hpp>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -193,7 +194,7 @@ TEST(WorldSim, OnePercentMessageLossKeepsTheFingerprint) {
   EXPECT_EQ(run(0.0), run(0.01));
 }
 
-TEST(WorldSim, StopFlagEndsTheEpisodeAsAborted) {
+TEST(WorldSim, StopFlagEndsTheEpisodeAsInterrupted) {
   lcm::LCM lcm("memq://");
   Bus bus(lcm);
   manager::ManagerNode manager(bus);
@@ -202,8 +203,97 @@ TEST(WorldSim, StopFlagEndsTheEpisodeAsAborted) {
   o.stop = &stop;
   WorldSim world(bus, passing(), o);
   const auto r = world.runEpisode();
-  EXPECT_EQ(r.status, "aborted");
+  // One status per cause (README.md, "Statuses and exit codes"): once "aborted", with two reasons.
+  EXPECT_EQ(r.status, "interrupted");
+  EXPECT_EQ(r.reason, "interrupted (SIGINT/SIGTERM)");
   EXPECT_EQ(r.ticks, 1);  // the initial state is still published
+  EXPECT_EQ(episode_status::exitCodeFor(r.status, SIGINT), 130);
+  EXPECT_EQ(episode_status::exitCodeFor(r.status, SIGTERM), 143);
+}
+
+TEST(WorldSim, StopWithASupervisorsReasonEndsTheEpisodeAsAbortedWithIt) {
+  const auto file = std::filesystem::temp_directory_path() / ("hunav_stop_reason_" + std::to_string(::getpid()));
+  std::ofstream(file) << "planner was killed by SIGKILL (exit status 137)\n";
+  ::setenv(episode_status::kStopReasonFileEnv, file.c_str(), 1);
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  std::atomic<bool> stop{true};
+  WorldOptions o = fastOptions("none");
+  o.stop = &stop;
+  WorldSim world(bus, passing(), o);
+  const auto r = world.runEpisode();
+  ::unsetenv(episode_status::kStopReasonFileEnv);
+  std::filesystem::remove(file);
+  EXPECT_EQ(r.status, "aborted");
+  EXPECT_EQ(r.reason, "planner was killed by SIGKILL (exit status 137)");
+  EXPECT_EQ(episode_status::exitCodeFor(r.status, SIGTERM), 1);
+}
+
+TEST(WorldSim, RealtimePlannerThatStopsCommandingAbortsTheEpisode) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  manager::ManagerNode manager(bus);
+  // Answers the first 5 observations, then goes silent (a dead or stalled planner).
+  int answered = 0;
+  bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&](const robot_observation_t& o) {
+    if (answered >= 5) return;
+    ++answered;
+    robot_command_t c{};
+    c.utime = o.utime;
+    c.seq = o.seq;
+    c.episode = o.episode;
+    c.v = 0.2;
+    bus.publish(channels::kRobotCommand, c);
+  });
+  WorldOptions o = fastOptions("test");
+  o.mode = "realtime";
+  WorldSim world(bus, passing(), o);
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = world.runEpisode();
+  EXPECT_EQ(r.status, "aborted");
+  EXPECT_EQ(r.reason, "planner stalled: no robot command for 200 ms (realtime)");
+  EXPECT_EQ(answered, 5);
+  // 5 answers at 10 Hz (0.5 s of paced time), then the 200 ms silence limit: well before the 60 s limit.
+  EXPECT_LT(r.sim_time, 2.0);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(3));
+}
+
+TEST(WorldSim, WithoutPlannerReadyTheEpisodeEndsAtOnce) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  manager::ManagerNode manager(bus);
+  PointAtGoal planner(bus);  // it would answer, but never announces itself
+  WorldOptions o = fastOptions("test");
+  o.planner_ready_timeout = std::chrono::milliseconds(300);
+  WorldSim world(bus, passing(), o);
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = world.runEpisode();
+  EXPECT_EQ(r.status, "aborted");
+  EXPECT_EQ(r.reason.rfind("planner not ready: no PLANNER_READY message within 0.3 s", 0), 0u) << r.reason;
+  EXPECT_EQ(r.ticks, 1);
+  EXPECT_EQ(planner.observations, 0);
+  EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(300));
+}
+
+TEST(WorldSim, PlannerReadyStartsTheEpisode) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  manager::ManagerNode manager(bus);
+  PointAtGoal planner(bus);
+  Collector seen(bus);
+  WorldOptions o = fastOptions("test");
+  o.planner_ready_timeout = std::chrono::milliseconds(300);
+  Scenario s = passing();
+  s.time_limit = 0.5;
+  WorldSim world(bus, s, o);
+  planner_ready_t ready{};
+  ready.name = "test";
+  bus.publish(channels::kPlannerReady, ready);  // handled while the world waits for it
+  const auto r = world.runEpisode();
+  EXPECT_EQ(r.status, "time_limit") << r.reason;
+  EXPECT_GT(planner.observations, 0);
+  ASSERT_FALSE(seen.events.empty());
+  EXPECT_EQ(seen.events.front().event, +episode_event_t::START);  // + : a value, not the static member
 }
 
 namespace {

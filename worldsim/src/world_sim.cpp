@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <ctime>
+#include <string_view>
 #include <thread>
 
 namespace hunav::worldsim {
@@ -72,8 +73,11 @@ void seedStream(std::mt19937_64& rng, std::uint64_t seed, std::uint32_t purpose)
 WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
     : bus_(bus), options_(std::move(options)), realtime_(options_.mode == "realtime") {
   configure(std::move(scenario), options_.run_id);
-  bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
-  bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
+  reply_drops_ = &bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
+  command_drops_ =
+      &bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
+  if (options_.planner_ready_timeout.count() > 0)
+    bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [this](const planner_ready_t&) { planner_ready_ = true; });
 }
 
 WorldSim::~WorldSim() = default;
@@ -230,11 +234,13 @@ void WorldSim::onStepReply(const step_reply_t& reply) {
 
 void WorldSim::onCommand(const robot_command_t& cmd) {
   if (cmd.episode != episode_) return;
-  checkFinite(cmd.v, "v", "robot command");
-  checkFinite(cmd.w, "w", "robot command");
+  // Dropped and counted beyond +-1e6 like every number of a message (lcmtypes/README.md), not
+  // clamped to the base's limits: a planner sending 1e308 is broken, not fast.
+  checkNumber(cmd.v, "v", "robot command");
+  checkNumber(cmd.w, "w", "robot command");
   // vy only moves a holonomic base; a differential-drive planner may leave it unset.
   const bool holonomic = scenario_.robot.drive == RobotDrive::Holonomic;
-  if (holonomic) checkFinite(cmd.vy, "vy", "robot command");
+  if (holonomic) checkNumber(cmd.vy, "vy", "robot command");
   // Lockstep: only the answer to the pending observation. Realtime: the latest command wins.
   if (!realtime_ && (cmd.seq != obs_seq_ || command_arrived_)) return;
   cmd_v_ = cmd.v;
@@ -256,16 +262,22 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
   Clock::time_point last_send = start;
   const auto limit = first ? options_.startup_limit : options_.silence_limit;
   int sends = 1;
+  // Answers that arrived but were dropped (undecodable, or rejected by the checks) are not silence.
+  const SubscriptionDrops& answers = std::string_view(who) == "manager" ? *reply_drops_ : *command_drops_;
+  const std::uint64_t answers_dropped_before = answers.count;
   while (!arrived) {
-    if (options_.stop != nullptr && options_.stop->load()) {
-      failure = "interrupted";
-      return false;
-    }
+    if (options_.stop != nullptr && options_.stop->load()) return false;  // abortWith() labels it
     const Clock::time_point now = Clock::now();
     if (now - start >= limit) {
-      failure = std::string(who) + " did not answer seq " + std::to_string(seq) + " within " +
-                std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(limit).count()) + " ms (" +
-                std::to_string(sends) + " sends)";
+      const std::string within =
+          " within " + std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(limit).count()) + " ms (" +
+          std::to_string(sends) + " sends)";
+      const std::uint64_t dropped = answers.count - answers_dropped_before;
+      if (dropped > 0)
+        failure = std::string(who) + "'s answers to seq " + std::to_string(seq) + " were dropped (" +
+                  std::to_string(dropped) + ")" + within + "; the last: " + answers.last_reason;
+      else
+        failure = std::string(who) + " did not answer seq " + std::to_string(seq) + within;
       return false;
     }
     if (now - last_send >= options_.resend_after) {
@@ -358,6 +370,19 @@ robot_observation_t WorldSim::observation() {
 bool WorldSim::exchangeWithPlanner(std::string& failure) {
   const robot_observation_t obs = observation();
   if (realtime_) {
+    // The latest command drives the robot; a planner that sends none for the silence limit has died
+    // or stalled, and driving on its last command would be recorded as its result.
+    const Clock::time_point now = Clock::now();
+    if (command_arrived_) {
+      last_command_ = now;
+      planner_answered_ = true;
+      command_arrived_ = false;
+    } else if (const auto limit = planner_answered_ ? options_.silence_limit : options_.startup_limit;
+               now - last_command_ >= limit) {
+      failure = fmt::format("planner stalled: no robot command for {} ms (realtime)",
+                            std::chrono::duration_cast<std::chrono::milliseconds>(limit).count());
+      return false;
+    }
     bus_.publish(channels::kRobotObservation, obs);
     return true;
   }
@@ -406,9 +431,41 @@ EpisodeResult WorldSim::runEpisode(Scenario scenario, std::string run_id) {
   return runEpisode();
 }
 
+bool WorldSim::awaitPlannerReady(std::string& failure) {
+  if (options_.planner_ready_timeout.count() <= 0 || options_.planner == "none" || planner_ready_) return true;
+  const Clock::time_point start = Clock::now();
+  while (!planner_ready_) {
+    if (options_.stop != nullptr && options_.stop->load()) return false;
+    if (Clock::now() - start >= options_.planner_ready_timeout) {
+      failure = fmt::format(
+          "planner not ready: no PLANNER_READY message within {} s (a planner announces itself there once "
+          "subscribed: docs/planner_contract.md, \"Readiness\")",
+          std::chrono::duration<double>(options_.planner_ready_timeout).count());
+      return false;
+    }
+    bus_.handleFor(std::chrono::milliseconds(50));
+  }
+  return true;
+}
+
+void WorldSim::abortWith(EpisodeResult& result, const std::string& failure) const {
+  if (options_.stop != nullptr && options_.stop->load()) {
+    auto cause = episode_status::stopCause();
+    result.status = std::move(cause.status);
+    result.reason = std::move(cause.reason);
+  } else {
+    result.status = episode_status::kAborted;
+    result.reason = failure;
+  }
+}
+
 EpisodeResult WorldSim::runEpisode() {
+  // Before START, so that the planner hears the whole episode.
+  std::string not_ready;
+  const bool ready = awaitPlannerReady(not_ready);
   beginEpisode();
   EpisodeResult result;
+  if (!ready && !not_ready.empty()) abortWith(result, not_ready);
   while (!tick(result)) {
   }
   endEpisode(result);
@@ -420,6 +477,8 @@ void WorldSim::beginEpisode() {
   reset();
   awaiting_command_ = false;
   wall_start_ = Clock::now();
+  last_command_ = wall_start_;
+  command_arrived_ = false;
   cpu_start_ = threadCpuSeconds();
   limit_us_ = static_cast<std::int64_t>(std::llround(scenario_.time_limit * 1e6));
 
@@ -451,8 +510,7 @@ void WorldSim::beginEpisode() {
 
 bool WorldSim::endReached(EpisodeResult& result) {
   if (options_.stop != nullptr && options_.stop->load()) {
-    result.status = episode_status::kAborted;
-    result.reason = "interrupted (SIGINT/SIGTERM)";
+    abortWith(result, "");
   } else if (robotAtGoal()) {
     result.status = episode_status::kGoalReached;
     result.reason = "the robot is within its goal radius";
@@ -476,8 +534,7 @@ bool WorldSim::tick(EpisodeResult& result) {
     std::string failure;
     const bool control_tick = options_.planner != "none" && tick_ % control_every_ == 0;
     if (!agents_.empty() && !exchangeWithManager(failure)) {
-      result.status = episode_status::kAborted;
-      result.reason = failure;
+      abortWith(result, failure);
       return true;
     }
     if (control_tick && options_.external_control) {
@@ -486,8 +543,7 @@ bool WorldSim::tick(EpisodeResult& result) {
       return false;
     }
     if (control_tick && !exchangeWithPlanner(failure)) {
-      result.status = episode_status::kAborted;
-      result.reason = failure;
+      abortWith(result, failure);
       return true;
     }
   }
@@ -496,11 +552,16 @@ bool WorldSim::tick(EpisodeResult& result) {
   return false;
 }
 
+std::uint64_t WorldSim::droppedMessages() const {
+  // The bus's malformed datagrams are the world's own: in process the bus has no socket.
+  return reply_drops_->count + command_drops_->count + bus_.malformedDatagrams();
+}
+
 void WorldSim::command(double v, double vy, double w) {
-  checkFinite(v, "v", "robot command");
-  checkFinite(w, "w", "robot command");
+  checkNumber(v, "v", "robot command");
+  checkNumber(w, "w", "robot command");
   const bool holonomic = scenario_.robot.drive == RobotDrive::Holonomic;
-  if (holonomic) checkFinite(vy, "vy", "robot command");
+  if (holonomic) checkNumber(vy, "vy", "robot command");
   cmd_v_ = v;
   cmd_vy_ = holonomic ? vy : 0.0;
   cmd_w_ = w;
@@ -538,6 +599,11 @@ void WorldSim::endEpisode(EpisodeResult& result) {
   ev.wall_time = result.wall_time;
   ev.fingerprint = result.fingerprint;
   ev.collisions = static_cast<int64_t>(result.collisions);
+  // The drops since the previous END (before a START they count for the episode it opens).
+  const std::uint64_t dropped = droppedMessages();
+  result.dropped_messages = dropped - dropped_at_last_end_;
+  dropped_at_last_end_ = dropped;
+  ev.dropped_messages = static_cast<int64_t>(result.dropped_messages);
   bus_.publish(channels::kEpisodeEvent, ev);
 }
 

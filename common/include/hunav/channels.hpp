@@ -14,6 +14,9 @@ inline constexpr const char* kEpisodeEvent = "EPISODE_EVENT";          // episod
 inline constexpr const char* kLiveMetrics = "LIVE_METRICS";            // live_metrics_t
 inline constexpr const char* kPeopleSocial = "PEOPLE_SOCIAL";          // people_social_t
 inline constexpr const char* kRobotPath = "ROBOT_PATH";                // planned_path_t (optional)
+inline constexpr const char* kPlannerReady = "PLANNER_READY";          // planner_ready_t (readiness heartbeat)
+// A planner publishes PLANNER_READY at least this often (ms) once subscribed (docs/planner_contract.md).
+inline constexpr int kPlannerReadyPeriodMs = 500;
 
 // With `channel_ports=1` in a udpm URL (transport.hpp), these channels go to UDP ports of their own:
 // the URL's port plus 1, 2, ... in this order. They are the world-manager exchange of the step

@@ -5,4 +5,6 @@
 namespace hunav {
 // Installs the handlers (idempotent) and returns the flag they set.
 const std::atomic<bool>& installStopSignals();
+// The signal that set the flag (SIGINT or SIGTERM), 0 before any: exit codes are 128 + it.
+int stopSignal();
 }  // namespace hunav

@@ -101,9 +101,10 @@ class EvaluatorNode {
 
   // Ends the open episode without an END event (SIGINT, SIGTERM, the runner giving up): computes the
   // metrics of what was recorded, appends the metrics.csv row, writes run.json with
-  // status "incomplete", `reason` and complete = false, and closes states.csv. Returns false (and
-  // writes nothing) when no episode is open.
-  bool finishIncomplete(const std::string& reason);
+  // `status` ("incomplete", or "interrupted"/"aborted" for a stop: episode_status::stopCause()),
+  // `reason` and complete = false, and closes states.csv. Returns false (and writes nothing) when no
+  // episode is open.
+  bool finishIncomplete(const std::string& reason, const std::string& status = "incomplete");
 
   // Hands buffered rows to the files when the oldest is a second old (call it when the bus is quiet;
   // world states call it themselves). With worker_thread the worker does it after the samples
@@ -119,8 +120,9 @@ class EvaluatorNode {
   // Results of the last episode that ended (absent before the first one).
   const std::optional<RunResult>& lastResult() const { return last_result_; }
 
-  // World states and events this node rejected since it was created.
-  std::uint64_t droppedMessages() const { return dropped_total_; }
+  // World states and events this node dropped since it was created: those it rejected, those that
+  // did not decode, and datagrams not in LCM's format on its own sockets.
+  std::uint64_t droppedMessages() const;
 
   const EvaluatorOptions& options() const { return options_; }
 
@@ -132,7 +134,8 @@ class EvaluatorNode {
   void onWorldState(const world_state_t& ws);
   [[noreturn]] void reject(const std::string& why);
   void begin(const episode_event_t& start);
-  void finish(const episode_event_t* end, const std::string& incomplete_reason);
+  void finish(const episode_event_t* end, const std::string& incomplete_reason,
+              const std::string& incomplete_status = "incomplete");
 
   void publishLive(double t);
   // The per-sample work: done in onWorldState, or by the worker thread.
@@ -153,7 +156,8 @@ class EvaluatorNode {
   std::unique_ptr<Episode> current_;
   int episodes_started_ = 0;
   int episodes_ended_ = 0;
-  std::uint64_t dropped_total_ = 0;
+  const SubscriptionDrops* event_drops_ = nullptr;  // its subscriptions' drop counts (Bus::subscribe)
+  const SubscriptionDrops* state_drops_ = nullptr;
   std::uint64_t dropped_at_last_end_ = 0;  // drops before a START count for the episode it opens
   std::optional<RunResult> last_result_;
   // process()'s buffers (the worker's once it has taken over).

@@ -9,6 +9,7 @@
 #include "hunav/worldsim/stuck_detector.hpp"
 
 #include <hunav/episode_event_t.hpp>
+#include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 #include <hunav/step_reply_t.hpp>
@@ -37,6 +38,10 @@ struct WorldOptions {
   // The caller of tick() drives the robot (command()), not a planner on the bus: a control tick stops
   // before the planner exchange with the observation pending (the Python module's step()).
   bool external_control = false;
+  // > 0: before its first episode the world waits this long for the planner's PLANNER_READY
+  // (docs/planner_contract.md, "Readiness"); without one the episode ends at once, aborted. 0: no wait
+  // (a planner in this process, or none).
+  std::chrono::milliseconds planner_ready_timeout{0};
 };
 
 struct EpisodeResult {
@@ -48,6 +53,7 @@ struct EpisodeResult {
   double thread_cpu_time = 0.0;  // s of CPU time of the thread that ran the episode loop (START to END)
   std::string fingerprint;
   std::uint64_t collisions = 0;  // contact events of the episode (the sum over its world states)
+  std::uint64_t dropped_messages = 0;  // the world dropped in the episode (its END event's count)
   std::string run_id;
   std::uint64_t seed = 0;
   // The episode ran to an end of its own (goal_reached, time_limit or stuck: an outcome of the
@@ -97,6 +103,9 @@ class WorldSim {
 
   const Scenario& scenario() const { return scenario_; }
   std::uint64_t resends() const { return resends_; }
+  // Messages this world dropped so far: step replies and robot commands that did not decode or that
+  // its checks rejected, and datagrams not in LCM's format on its sockets.
+  std::uint64_t droppedMessages() const;
 
  private:
   void configure(Scenario scenario, std::string run_id);
@@ -110,6 +119,11 @@ class WorldSim {
   void publishWorldState();
   bool exchangeWithManager(std::string& failure);
   bool exchangeWithPlanner(std::string& failure);
+  // Waits for PLANNER_READY (planner_ready_timeout). False with `failure` set when none came, false
+  // with it empty when stopped.
+  bool awaitPlannerReady(std::string& failure);
+  // Ends the episode after a failed exchange: interrupted (or the supervisor's reason) when stopped.
+  void abortWith(EpisodeResult& result, const std::string& failure) const;
   bool awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
                   std::int64_t seq, std::string& failure);
   robot_observation_t observation();
@@ -164,6 +178,10 @@ class WorldSim {
   std::vector<NextMotion> next_motion_;
   bool reply_arrived_ = false;
   bool command_arrived_ = false;
+  bool planner_ready_ = false;  // a PLANNER_READY was heard (once is enough: later episodes do not wait)
+  // Realtime: when the last command arrived (or the episode began), to end a run whose planner
+  // stalled or died (silence_limit; startup_limit before its first command).
+  std::chrono::steady_clock::time_point last_command_;
   bool awaiting_command_ = false;  // external_control: a control tick waits for command()
   robot_observation_t pending_observation_;
   // Of the episode in progress (beginEpisode()).
@@ -174,6 +192,9 @@ class WorldSim {
   std::uint64_t collisions_ = 0;
   std::uint64_t robot_collisions_ = 0;
   std::uint64_t resends_ = 0;
+  const SubscriptionDrops* reply_drops_ = nullptr;  // its subscriptions' drop counts (Bus::subscribe)
+  const SubscriptionDrops* command_drops_ = nullptr;
+  std::uint64_t dropped_at_last_end_ = 0;
   StuckDetector stuck_;  // of the current episode (reset())
   Fingerprint fingerprint_;
 };

@@ -1,0 +1,20 @@
+#pragma once
+// What a run prints at its end, the same in every mode: hunav_run prints it from its own results,
+// run_experiment.sh's separate-process modes from the evaluator's run.json (hunav_expect --show).
+#include <filesystem>
+#include <string>
+
+#include "hunav/evaluator/results.hpp"
+
+namespace hunav::runner {
+
+// "run <id>: <status> (<reason>) after <sim> s of simulation in <wall> s (<factor>x real time), <ticks>
+// ticks, fingerprint <fp>\n", numbers with 6 significant digits.
+std::string formatRunLine(const std::string& run_id, const std::string& status, const std::string& reason,
+                          double sim_time, double wall_time, std::int64_t ticks, const std::string& fingerprint);
+
+// The run line and the metrics table (evaluator::formatMetricsTable: units, 6 significant digits) of
+// a run folder's run.json; metrics in their profile's order. Throws ConfigError on a malformed file.
+std::string formatRunJsonSummary(const std::filesystem::path& run_json);
+
+}  // namespace hunav::runner
