@@ -37,6 +37,11 @@ struct WorldOptions {
   // The caller of tick() drives the robot (command()), not a planner on the bus: a control tick stops
   // before the planner exchange with the observation pending (the Python module's step()).
   bool external_control = false;
+  // The robot is not in the world (the robot-free run of a counterfactual, docs/metrics.md): no
+  // Box2D body, never in a person's sight (robot_in_sight false), never stuck; needs planner "none".
+  // The messages still carry a robot entry standing at its start pose: the manager must be told to
+  // ignore it (AgentManager::setRobotAbsent).
+  bool robot_absent = false;
 };
 
 struct EpisodeResult {
