@@ -5,6 +5,7 @@
 #include "hunav/episode_status.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
+#include "hunav/runner/robot_free_run.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/transport.hpp"
@@ -185,6 +186,12 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->excludes(states_opt)
       ->excludes(log_opt);
+  bool counterfactual = false;
+  app.add_flag("--counterfactual", counterfactual,
+               "live, with --scenario: at the end of each episode also run it with its seed without the robot, write "
+               "counterfactual.csv and add the counterfactual_* metrics to its row (docs/metrics.md)")
+      ->excludes(states_opt)
+      ->excludes(log_opt);
 
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
@@ -243,6 +250,13 @@ int main(int argc, char** argv) {
     options.hunav_txt = format == "hunav_txt";
     options.live_metrics = !no_live;
     options.sample_rate = sample_rate;
+    if (counterfactual) {
+      if (scenario_file.empty()) {
+        std::cerr << "--counterfactual needs --scenario\n";
+        return hunav::kExitBadInput;
+      }
+      options.robot_free_run = hunav::runner::robotFreeRunOfFile(scenario_file);
+    }
     return runLive(options, lcm_url);
   } catch (const hunav::ConfigError& e) {
     std::cerr << e.what() << "\n";

@@ -31,6 +31,11 @@ time (GNU parallel), then writes the batch summary (hunav_summary DIR).
   --metrics FILE     metric selection of every run (run_experiment.sh --metrics; HuNavSim's
                      metrics.yaml too); default: each scenario's evaluation.metrics
   --format F         csv (default) or hunav_txt (run_experiment.sh --format)
+  --counterfactual   also run every episode with the same seed without the robot and measure the
+                     robot's effect on people (run_experiment.sh --counterfactual): counterfactual.csv
+                     in each run folder, the counterfactual_* metrics in metrics.csv, and a section of
+                     summary.md comparing the planners on them (docs/metrics.md); about twice the time.
+                     A run finished before without it is run again
   --planner-config NAME=FILE   parameters of built-in planner NAME (run_experiment.sh --planner-config);
                      repeat for several planners
   --planner-cmd NAME=CMD       planner NAME of --planners is your program CMD (run_experiment.sh
@@ -80,6 +85,7 @@ is_positive() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]] && awk -v v="$1" 'B
 # signal or a silent component) and its results were written. The statuses of episode_status.hpp.
 finished() {
   [ -s "$1/metrics.csv" ] && [ -s "$1/run.json" ] &&
+    { [ "${HUNAV_BATCH_COUNTERFACTUAL:-0}" -eq 0 ] || [ -s "$1/counterfactual.csv" ]; } &&
     grep -q -E '"complete"[[:space:]]*:[[:space:]]*true' "$1/run.json" &&
     grep -q -E '"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit|stuck)"' "$1/run.json"
 }
@@ -166,7 +172,7 @@ fi
 # Arguments
 # ---------------------------------------------------------------------------------------------------
 scenarios="" planners="" seeds="" out="" jobs="" mode=inprocess duration="" timeout="" profile="" metrics="" format=""
-print_matrix=0
+print_matrix=0 counterfactual=0
 planner_specs=()  # --planner-cmd NAME=CMD and --planner-config NAME=FILE, as option-value pairs
 declare -A planner_cmd_of=()
 while [ "$#" -gt 0 ]; do
@@ -177,6 +183,7 @@ while [ "$#" -gt 0 ]; do
   case "$opt" in
     -h | --help) usage; exit 0 ;;
     --print-matrix) print_matrix=1 ;;
+    --counterfactual) counterfactual=1 ;;
     --planner-cmd | --planner-config)
       if [ -z "$value" ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs NAME=VALUE"
@@ -222,6 +229,9 @@ while [ "$#" -gt 0 ]; do
   esac
   shift
 done
+
+# finished() (here and in every job) asks for counterfactual.csv too.
+export HUNAV_BATCH_COUNTERFACTUAL=$counterfactual
 
 [ -n "$scenarios" ] || usage_error "--scenarios LIST is required (e.g. --scenarios passing,crossing)"
 [ -n "$planners" ] || usage_error "--planners LIST is required (e.g. --planners dwb,scl,sfw)"
@@ -348,6 +358,7 @@ run_args=(--mode "$mode")
 [ -z "$profile" ] || run_args+=(--profile "$profile")
 [ -z "$metrics" ] || run_args+=(--metrics "$metrics")
 [ -z "$format" ] || run_args+=(--format "$format")
+[ "$counterfactual" -eq 0 ] || run_args+=(--counterfactual)
 run_args+=("${planner_specs[@]}")
 
 echo "run_batch: $total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"

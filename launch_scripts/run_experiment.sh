@@ -68,6 +68,11 @@ Options:
                           --sample-rate / --experiment-tag are given); default: the scenario's
                           evaluation.metrics, else every metric
   --format FORMAT         result files: csv (default), or hunav_txt = csv plus HuNavSim v1's .txt files
+  --counterfactual        also run the episode with the same seed without the robot and measure the
+                          robot's effect on each person: DIR/counterfactual.csv and the
+                          counterfactual_* metrics in metrics.csv (docs/metrics.md). The robot-free
+                          episode always runs in one process (hunav_run, or the evaluator process at
+                          the end of a lockstep/realtime run): same results in every mode
   --timeout SECONDS       wall-clock guard: stop the run after this long (status aborted, what was
                           recorded kept, exit 124)
   --view                  lockstep/realtime only: start hunav_view for this run and print the URL where
@@ -133,6 +138,7 @@ planner_given=0
 planner_config=""
 planner_cmd=""
 view=0
+counterfactual=0
 
 while [ "$#" -gt 0 ]; do
   opt=$1
@@ -147,6 +153,9 @@ while [ "$#" -gt 0 ]; do
       [ "$inline" -eq 0 ] || usage_error "--record takes no value"
       record=1 ;;
     --view) view=1 ;;
+    --counterfactual)
+      [ "$inline" -eq 0 ] || usage_error "--counterfactual takes no value"
+      counterfactual=1 ;;
     --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
       --experiment-tag | --timeout | --planner-config | --planner-cmd | --metrics | --format)
       if [ "$inline" -eq 0 ]; then
@@ -606,6 +615,9 @@ eval_args=()
 [ -z "$sample_rate" ] || eval_args+=(--sample-rate "$sample_rate")
 [ -z "$metrics" ] || eval_args+=(--metrics "$metrics")
 [ -z "$format" ] || eval_args+=(--format "$format")
+[ "$counterfactual" -eq 0 ] || eval_args+=(--counterfactual)
+# The evaluator process runs the robot-free episode after the END: give it time (an in-process episode).
+[ "$counterfactual" -eq 0 ] || [ -n "${HUNAV_EVAL_GRACE:-}" ] || eval_grace=600
 
 log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
 log "results will be written to $out_dir"

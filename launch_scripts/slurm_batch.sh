@@ -24,8 +24,8 @@ Usage:
       (What the final job runs.) hunav_summary DIR.
 
 Options of a submission (the matrix options are run_batch.sh's: --scenarios, --planners, --seeds,
---mode, --duration, --timeout, --profile, --metrics FILE, --format F, --planner-config NAME=FILE,
---planner-cmd NAME=CMD):
+--mode, --duration, --timeout, --profile, --metrics FILE, --format F, --counterfactual,
+--planner-config NAME=FILE, --planner-cmd NAME=CMD):
   --max-parallel N     at most N tasks at a time (sbatch --array=0-M%N)
   --sbatch-args "..."  more sbatch options for both jobs (e.g. "--partition=short --time=00:20:00")
   --dry-run            print the sbatch commands instead of submitting them
@@ -69,7 +69,10 @@ case "${1:-}" in
       echo
       exit 0
     fi
-    HUNAV_BIN_DIR=$bin_dir exec "${cmd[@]}"
+    # A run finished without --counterfactual is not finished for a batch with it (run_batch.sh).
+    cf=0
+    for o in "${options[@]}"; do [ "$o" != --counterfactual ] || cf=1; done
+    HUNAV_BATCH_COUNTERFACTUAL=$cf HUNAV_BIN_DIR=$bin_dir exec "${cmd[@]}"
     ;;
   --aggregate)
     [ "$#" -ge 2 ] || usage_error "--aggregate needs the batch folder"
@@ -90,6 +93,7 @@ while [ "$#" -gt 0 ]; do
     -h | --help) usage; exit 0 ;;
     --print-matrix) print_matrix=1 ;;
     --dry-run) dry_run=1 ;;
+    --counterfactual) matrix_args+=("$opt"); run_options+=("$opt") ;;
     --scenarios | --planners | --seeds | --out | --mode | --duration | --timeout | --profile | --max-parallel | \
       --sbatch-args | --planner-cmd | --planner-config | --metrics | --format)
       if [ -z "$value" ]; then

@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "do not print the metrics table");
   app.add_flag("--memq", options.use_memq,
                "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
+  app.add_flag("--counterfactual", options.counterfactual,
+               "also run the episode with the same seed without the robot and compare each person's trajectory: "
+               "counterfactual.csv per person and the counterfactual_* metrics (docs/metrics.md)");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
   if (sample_rate != -1.0) {  // given (NaN included: CLI11's check lets it through)

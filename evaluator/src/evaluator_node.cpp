@@ -646,10 +646,23 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     close_error = std::current_exception();
   }
 
-  last_result_ = ep->evaluation->finish(std::move(info));
+  // The robot-free run reads states.csv back: only once it is complete. Its failure costs its columns
+  // only (the row then has the plain header) and is reported after the results are written.
+  std::vector<MetricValue> counterfactual;
+  std::exception_ptr counterfactual_error;
+  if (options_.robot_free_run && !close_error) {
+    try {
+      counterfactual =
+          evaluateCounterfactual(info.states_file, info, options_.robot_free_run, ep->run_dir / "counterfactual.csv");
+    } catch (const std::exception&) {
+      counterfactual_error = std::current_exception();
+    }
+  }
+  last_result_ = ep->evaluation->finish(std::move(info), std::move(counterfactual));
   ++episodes_ended_;
   if (worker_error) std::rethrow_exception(worker_error);
   if (close_error) std::rethrow_exception(close_error);
+  if (counterfactual_error) std::rethrow_exception(counterfactual_error);
 }
 
 void EvaluatorNode::publishLive(double t) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 namespace hunav::evaluator {
@@ -398,13 +399,15 @@ void RunEvaluation::flush() {
   impl_->forEachFile([](StepsFile& f) { f.flush(); });
 }
 
-RunResult RunEvaluation::finish(RunInfo info) {
+RunResult RunEvaluation::finish(RunInfo info, std::vector<MetricValue> extra) {
   Impl& m = *impl_;
   RunResult result;
   result.metrics = m.run.values();
   std::array<std::vector<MetricValue>, 7> behavior_values;
   for (std::size_t b = 1; b <= 6; ++b)
     if (m.tracks[b]) behavior_values[b] = m.tracks[b]->set ? m.tracks[b]->set->values() : result.metrics;
+  result.metrics.insert(result.metrics.end(), std::make_move_iterator(extra.begin()),
+                        std::make_move_iterator(extra.end()));
   m.forEachFile([](StepsFile& f) { f.finish(); });
   m.finished = true;
 

@@ -49,6 +49,15 @@ const std::map<std::string, MetricScale>& defaultScales() {
       {"surprise_visibility_cost", kNonNegative},
       {"surprise_shock_cost", kNonNegative},
       {"surprise_react_cost", kNonNegative},
+      // The robot's effect on people (--counterfactual): delay and path added may be negative (the
+      // robot hurried someone along), goals missed is max(0, ...) per person.
+      {"counterfactual_people_affected", kNonNegative},
+      {"counterfactual_delay", kUnbounded},
+      {"counterfactual_goals_missed", kNonNegative},
+      {"counterfactual_path_added", kUnbounded},
+      {"counterfactual_mean_deviation", kNonNegative},
+      {"counterfactual_max_deviation", kNonNegative},
+      {"counterfactual_extra_effort", kNonNegative},
   };
   return scales;
 }

@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "hunav/episode_status.hpp"
+#include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/expectations_summary.hpp"
@@ -119,7 +122,75 @@ void writeAtomically(const fs::path& file, const std::string& text) {
 std::string unitOf(const std::string& metric) {
   for (const auto& d : evaluator::metricsForProfile("default").definitions())
     if (d.name == metric) return d.unit;
+  for (const auto& m : evaluator::counterfactualMetrics({}))
+    if (m.name == metric) return m.unit;
   return "";
+}
+
+// The section of a scenario on the robot's effect on people (runs with --counterfactual): the
+// counterfactual_* metrics per planner, the lowest mean of each in bold, and the planners ranked by
+// how much they moved people off their robot-free paths (mean deviation, then delay, then effort).
+std::string counterfactualMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::string& scenario,
+                                   const std::vector<std::string>& planners) {
+  auto find = [&](const std::string& pl, const std::string& m) -> const Estimate* {
+    for (const auto& r : stats)
+      if (r.scenario == scenario && r.planner == pl && r.behavior == "all" && r.metric == m) return &r.estimate;
+    return nullptr;
+  };
+  const auto& names = evaluator::counterfactualMetricNames();
+  std::vector<std::string> shown;
+  for (const auto& m : names)
+    if (std::find(batch.metric_names.begin(), batch.metric_names.end(), m) != batch.metric_names.end()) shown.push_back(m);
+  std::vector<std::string> with;  // planners with counterfactual values
+  for (const auto& p : planners)
+    if (find(p, "counterfactual_mean_deviation") != nullptr) with.push_back(p);
+  if (shown.empty() || with.empty()) return "";
+  std::string md = fmt::format(
+      "\n### `{}`: the robot's effect on people (counterfactual)\n\nEach episode run again with the same seed "
+      "without the robot: how far each person was moved off its robot-free path, delayed, made to walk further and "
+      "to change its velocity (docs/metrics.md, \"Counterfactual\"). Lower is better: a planner that disturbs "
+      "people less is better even at equal distance metrics. Mean ± standard deviation over the seeds; the lowest "
+      "mean of each metric in bold.\n\n| metric | unit |",
+      scenario);
+  for (const auto& p : with) md += " " + p + " |";
+  md += "\n|---|---|";
+  for (std::size_t i = 0; i < with.size(); ++i) md += "---|";
+  md += "\n";
+  for (const auto& m : shown) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& p : with)
+      if (const Estimate* e = find(p, m)) best = std::min(best, e->mean);
+    std::string line = "| " + m + " | " + unitOf(m) + " |";
+    for (const auto& p : with) {
+      const Estimate* e = find(p, m);
+      if (e == nullptr) {
+        line += " – |";
+        continue;
+      }
+      std::string cell = show(e->mean);
+      if (e->n >= 2) cell += " ± " + show(e->std);
+      line += " " + (e->mean == best && with.size() > 1 ? "**" + cell + "**" : cell) + " |";
+    }
+    md += line + "\n";
+  }
+  // Ranking: least disturbing first (mean deviation, ties broken by delay, then extra effort).
+  std::vector<std::string> order = with;
+  auto mean = [&](const std::string& p, const char* m) {
+    const Estimate* e = find(p, m);
+    return e == nullptr ? std::numeric_limits<double>::infinity() : e->mean;
+  };
+  std::stable_sort(order.begin(), order.end(), [&](const std::string& a, const std::string& b) {
+    const auto ka = std::make_tuple(mean(a, "counterfactual_mean_deviation"), mean(a, "counterfactual_delay"),
+                                    mean(a, "counterfactual_extra_effort"));
+    const auto kb = std::make_tuple(mean(b, "counterfactual_mean_deviation"), mean(b, "counterfactual_delay"),
+                                    mean(b, "counterfactual_extra_effort"));
+    return ka < kb;
+  });
+  std::string ranking;
+  for (const auto& p : order) ranking += (ranking.empty() ? "" : " < ") + p;
+  md += "\nLeast to most disturbing (mean deviation from the robot-free paths, then delay, then extra effort): " +
+        ranking + ".\n";
+  return md;
 }
 
 }  // namespace
@@ -379,6 +450,7 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
         if (any) md += line + "\n";
       }
     }
+    md += counterfactualMarkdown(batch, stats, scenario, planners);
     if (paper != nullptr) md += paperComparisonMarkdown(versus, scenario, *paper);
     md += expectationsMarkdown(batch, scenario);
   }

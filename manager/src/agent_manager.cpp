@@ -35,6 +35,7 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
                     double goal_radius, RobotAs robot, double desired_speed) {
   const SfmParams p = paramsOf(a);
   const SfmBody& me = snap.agents[index];
+  if (snap.robot_absent) robot = RobotAs::Ignored;
   ForceSet f;
   Vec2 direction = Vec2::Zero();
   f.desired = desiredForce(me, goal, goal_radius, desired_speed, p, &direction);
@@ -406,6 +407,7 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
     if (m.group_override != -2) snap.agents[i].group_id = m.group_override;
   }
   snap.robot = bodyOf(request.robot);
+  snap.robot_absent = robot_absent_;
   snap.index();
   snap.social = social_active_ ? &social_ : nullptr;
   snap.global_goals = &global_goals_;

@@ -24,6 +24,8 @@ using Kind = NodeLibrary::Kind;
 
 Vec2 agentPos(const TickContext& c) { return Vec2(c.in.x, c.in.y); }
 Vec2 robotPos(const TickContext& c) { return Vec2(c.snap.request->robot.x, c.snap.request->robot.y); }
+// Without the robot (AgentManager::setRobotAbsent) no condition on it holds and no reaction to it runs.
+bool noRobot(const TickContext& c) { return c.snap.robot_absent; }
 void setActive(TickContext& c) { c.out.behavior_state = agent_state_t::STATE_ACTIVE_1; }
 
 // A node defined by a lambda over the context and its own port reader.
@@ -100,7 +102,7 @@ class RandomChance : public BtNode {
 void registerHunavNodes(NodeLibrary& lib) {
   // --- conditions
   addLeaf(lib, "IsRobotVisible", {num("distance", "5.0")}, [](auto& n, TickContext& c) {
-    if (!c.in.robot_in_sight) return false;
+    if (!c.in.robot_in_sight || noRobot(c)) return false;
     const Vec2 d = robotPos(c) - agentPos(c);
     const double range = n.value(0, c);
     if (d.squaredNorm() > range * range) return false;
@@ -112,8 +114,9 @@ void registerHunavNodes(NodeLibrary& lib) {
     return std::hypot(g.x - c.out.x, g.y - c.out.y) <= c.out.goal_radius + kGoalSwitchMargin;
   });
   addLeaf(lib, "IsRobotClose", {num("threshold", "1.0")},
-          [](auto& n, TickContext& c) { return (robotPos(c) - agentPos(c)).norm() < n.value(0, c); });
+          [](auto& n, TickContext& c) { return !noRobot(c) && (robotPos(c) - agentPos(c)).norm() < n.value(0, c); });
   addLeaf(lib, "IsRobotFacingAgent", {num("angle", "0.3")}, [](auto& n, TickContext& c) {
+    if (noRobot(c)) return false;
     const double b = normalizeAngle(angleOf(agentPos(c) - robotPos(c)) - c.snap.request->robot.yaw);
     return std::abs(b) < n.value(0, c);
   });
@@ -149,6 +152,7 @@ void registerHunavNodes(NodeLibrary& lib) {
           });
   // SurprisedNav: stop and turn toward the robot at kTurnRate (stops turning once facing it).
   addLeaf(lib, "SurprisedNav", {}, [](auto&, TickContext& c) {
+    if (noRobot(c)) return false;
     standStill(c);
     turnToward(c, robotPos(c), kTurnRate * c.dt);
     setActive(c);
@@ -157,6 +161,7 @@ void registerHunavNodes(NodeLibrary& lib) {
   // CuriousNav(stop_distance, agent_vel): approach the robot at vel*d/(d+stop) (robot excluded from
   // the social force); within stop_distance stand and face it.
   addLeaf(lib, "CuriousNav", {num("stop_distance", "1.5"), num("agent_vel", "1.0")}, [](auto& n, TickContext& c) {
+    if (noRobot(c)) return false;
     const Vec2 r = robotPos(c);
     const double d = (r - agentPos(c)).norm();
     const double stop = n.value(0, c);
@@ -173,6 +178,7 @@ void registerHunavNodes(NodeLibrary& lib) {
   // plus K * sigma_o / d_eff away from the robot (reference 3.3).
   addLeaf(lib, "ScaredNav", {num("runaway_vel", "0.6"), num("scary_force_factor", "20.0")},
           [](auto& n, TickContext& c) {
+            if (noRobot(c)) return false;
             const Vec2 away = agentPos(c) - robotPos(c);
             const double len = away.norm();
             Vec2 extra = Vec2::Zero();
@@ -187,6 +193,7 @@ void registerHunavNodes(NodeLibrary& lib) {
   // ThreateningNav(goal_dist, speed): run to the point goal_dist in front of the robot, along its
   // heading (cos h, sin h); once there, face the robot.
   addLeaf(lib, "ThreateningNav", {num("goal_dist", "1.4"), num("speed", "2.0")}, [](auto& n, TickContext& c) {
+    if (noRobot(c)) return false;
     const agent_state_t& robot = c.snap.request->robot;
     const Vec2 r = robotPos(c);
     const Vec2 front = r + n.value(0, c) * Vec2(std::cos(robot.yaw), std::sin(robot.yaw));

@@ -41,7 +41,7 @@ std::int64_t usOf(double seconds) { return static_cast<std::int64_t>(std::llroun
 
 // The person (or the robot) with this id at time t; nullptr when there is none.
 const agent_state_t* stateOf(const TickContext& c, int id) {
-  if (id == c.snap.request->robot.id) return &c.snap.request->robot;
+  if (id == c.snap.request->robot.id) return c.snap.robotState();
   const int i = c.snap.indexOf(id);
   return i < 0 ? nullptr : &c.snap.request->agents[static_cast<std::size_t>(i)];
 }
@@ -228,7 +228,7 @@ class LookingCondition : public TimedNode {
         if (d < best || (d == best && w.id < found)) best = d, found = w.id;
       };
       for (int j : c.snap.by_id) consider(c.snap.request->agents[static_cast<std::size_t>(j)]);
-      consider(c.snap.request->robot);
+      if (const agent_state_t* robot = c.snap.robotState()) consider(*robot);
     } else {
       const agent_state_t* w = stateOf(c, static_cast<int>(number(0, c)));
       if (w != nullptr && w->id != c.in.id && looksAt(*w, here(c), range, angle)) found = w->id;
@@ -275,7 +275,7 @@ class Approach : public TimedNode {
  protected:
   Status onRunning(TickContext& c) override {
     const std::size_t base = robot_ ? 0 : 1;
-    const agent_state_t* t = robot_ ? &c.snap.request->robot : stateOf(c, static_cast<int>(number(0, c)));
+    const agent_state_t* t = robot_ ? c.snap.robotState() : stateOf(c, static_cast<int>(number(0, c)));
     if (t == nullptr || t->id == c.in.id) return Status::Failure;
     const double stop = number(base, c), vel = number(base + 1, c), duration = number(base + 2, c);
     const Vec2 target = posOf(*t);
@@ -304,7 +304,7 @@ class Block : public TimedNode {
  protected:
   Status onRunning(TickContext& c) override {
     const std::size_t base = robot_ ? 0 : 1;
-    const agent_state_t* t = robot_ ? &c.snap.request->robot : stateOf(c, static_cast<int>(number(0, c)));
+    const agent_state_t* t = robot_ ? c.snap.robotState() : stateOf(c, static_cast<int>(number(0, c)));
     if (t == nullptr || t->id == c.in.id) return Status::Failure;
     double front = number(base, c);
     if (front <= 0.5) front = 1.5;
@@ -333,6 +333,7 @@ class Block : public TimedNode {
 class AvoidRobot : public TimedNode {
  protected:
   Status onRunning(TickContext& c) override {
+    if (c.snap.robot_absent) return Status::Failure;
     const double safe = number(0, c), vel = number(1, c), duration = number(2, c);
     const Vec2 r(c.snap.request->robot.x, c.snap.request->robot.y);
     Vec2 away = here(c) - r;
@@ -507,7 +508,7 @@ class LookAt : public BtNode {
       if (!pointAt(*this, c, number(0, c), number(1, c), number(2, c), port(0).given, target)) return Status::Failure;
     } else {
       const agent_state_t* t =
-          what_ == LookTarget::Robot ? &c.snap.request->robot : stateOf(c, static_cast<int>(number(1, c)));
+          what_ == LookTarget::Robot ? c.snap.robotState() : stateOf(c, static_cast<int>(number(1, c)));
       if (t == nullptr || t->id == c.in.id) return Status::Failure;
       target = posOf(*t);
       id = t->id;

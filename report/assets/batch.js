@@ -182,7 +182,40 @@
         '(paired.csv). Grey, marked n.s.: the interval contains 0, the difference is not significant; not testable: a single ' +
         'common seed, no interval and no test.' }));
     }
+    counterfactualSection(d, section, scenario, planners);
     paperSection(d, section, scenario);
+  }
+
+  // The robot's effect on people (runs with --counterfactual): the counterfactual_* metrics per
+  // planner, the lowest mean in bold, and the planners from least to most disturbing (summary.md's
+  // order: mean deviation, then delay, then extra effort).
+  function counterfactualSection(d, section, scenario, planners) {
+    var stats = d.stats.filter(function (s) { return s[0] === scenario && s[2] === 'all' && s[3].indexOf('counterfactual_') === 0; });
+    if (!stats.length) return;
+    var metrics = metricOrder(d, unique(stats.map(function (s) { return s[3]; })));
+    var mine = planners.filter(function (p) { return stats.some(function (s) { return s[1] === p; }); });
+    var find = function (p, m) { return stats.filter(function (s) { return s[1] === p && s[3] === m; })[0]; };
+    section.appendChild(el('h3', { text: 'The robot\'s effect on people (counterfactual)' }));
+    var rows = metrics.map(function (m) {
+      var best = Math.min.apply(null, mine.map(function (p) { var s = find(p, m); return s ? s[5] : Infinity; }));
+      return [m, { text: unitOf(d, m), cls: 'text' }].concat(mine.map(function (p) {
+        var s = find(p, m), cell = statsCell(s);
+        if (s && mine.length > 1 && s[5] === best) cell.cls = 'best';
+        return cell;
+      }));
+    });
+    section.appendChild(HR.table(['metric', { text: 'unit', class: 'text' }].concat(mine), rows,
+                                 { class: 'stats counterfactual', 'data-scenario': scenario }));
+    var mean = function (p, m) { var s = find(p, m); return s ? s[5] : Infinity; };
+    var order = mine.slice().sort(function (a, b) {
+      var keys = ['counterfactual_mean_deviation', 'counterfactual_delay', 'counterfactual_extra_effort'];
+      for (var i = 0; i < keys.length; ++i) if (mean(a, keys[i]) !== mean(b, keys[i])) return mean(a, keys[i]) - mean(b, keys[i]);
+      return 0;
+    });
+    section.appendChild(el('p', { class: 'caption', 'data-counterfactual-order': order.join(','),
+      text: 'Each episode run again with the same seed without the robot: how far people were moved off their robot-free ' +
+            'paths, delayed, made to walk further and to change velocity (docs/metrics.md, "Counterfactual"). Lower is ' +
+            'better; the lowest mean in bold. Least to most disturbing: ' + order.join(' < ') + '.' }));
   }
 
   // The verdicts of the scenario's expect: conditions (expectations.csv): per planner a badge with the

@@ -368,6 +368,28 @@
       '. Definitions: docs/metrics.md.' }));
   }
 
+  // counterfactual.csv: each person against its robot-free run (hunav_run --counterfactual).
+  function counterfactualTable(d, panel) {
+    var cf = d.counterfactual;
+    if (!cf || !cf.rows.length) return false;
+    var units = { delay: 's', path_with: 'm', path_without: 'm', path_added: 'm', mean_deviation: 'm',
+                  max_deviation: 'm', extra_effort: 'm/s' };
+    var headers = cf.header.map(function (h) { return units[h] ? h + ' [' + units[h] + ']' : h; });
+    var rows = cf.rows.map(function (r) {
+      return r.map(function (v, i) {
+        if (cf.header[i] === 'behavior') return { text: HR.behaviorName(Number(v)), cls: 'text' };
+        if (v === 'true' || v === 'false' || i <= 4) return v;
+        return { text: HR.fmt(Number(v), 4), title: v };
+      });
+    });
+    panel.appendChild(HR.table(headers, rows, { id: 'counterfactual-table' }));
+    var affected = cf.rows.filter(function (r) { return r[cf.header.indexOf('affected')] === 'true'; }).length;
+    panel.appendChild(el('p', { class: 'caption', text: affected + ' of ' + cf.rows.length + ' people moved more than 0.1 m ' +
+      'off the path they walk when the robot is absent (same seed, robot removed). counterfactual.csv; ' +
+      'definitions: docs/metrics.md, "Counterfactual".' }));
+    return true;
+  }
+
   function provenance(d, panel) {
     var info = d.info, dl = el('dl', { class: 'kv' });
     [['run id', info.run_id], ['experiment tag', info.experiment_tag], ['scenario file', info.scenario_file],
@@ -392,6 +414,8 @@
     var metricsPanel = el('section', { class: 'panel', id: 'metrics' }, [el('h2', { text: 'Metrics' })]);
     app.appendChild(metricsPanel);
     metricsTable(d, metricsPanel);
+    var cfPanel = el('section', { class: 'panel', id: 'counterfactual' }, [el('h2', { text: 'The robot\'s effect on people' })]);
+    if (counterfactualTable(d, cfPanel)) app.appendChild(cfPanel);
     var provPanel = el('section', { class: 'panel', id: 'provenance' }, [el('h2', { text: 'Provenance' })]);
     app.appendChild(provPanel);
     provenance(d, provPanel);

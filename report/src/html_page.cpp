@@ -1,6 +1,7 @@
 #include "hunav/report/html_page.hpp"
 
 #include "hunav/episode_status.hpp"
+#include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/report/assets.hpp"
 #include "hunav/report/json_writer.hpp"
@@ -189,6 +190,18 @@ std::string runPageJson(const RunData& d, const ReportLimits& limits, const std:
     j.endObject();
   }
   j.endObject();
+  j.key("counterfactual").beginObject();
+  j.key("header").beginArray();
+  for (const auto& h : d.counterfactual_header) j.value(h);
+  j.endArray();
+  j.key("rows").beginArray();
+  for (const auto& row : d.counterfactual_rows) {
+    j.beginArray();
+    for (const auto& v : row) j.value(v);
+    j.endArray();
+  }
+  j.endArray();
+  j.endObject();
   writeMap(j, d);
   j.key("bounds").beginArray();
   j.fixed(d.lo.x(), kPositionDecimals).fixed(d.lo.y(), kPositionDecimals);
@@ -228,6 +241,7 @@ std::string batchPageJson(const BatchData& d) {
   j.endArray();
   j.key("units").beginObject();
   for (const auto& def : evaluator::metricsForProfile("default").definitions()) j.key(def.name).value(def.unit);
+  for (const auto& m : evaluator::counterfactualMetrics({})) j.key(m.name).value(m.unit);
   j.endObject();
   j.key("runs").beginArray();
   for (const auto& r : d.runs) {

@@ -1,6 +1,7 @@
 #include "hunav/report/run_data.hpp"
 
 #include "hunav/config_error.hpp"
+#include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/report/csv_table.hpp"
@@ -55,6 +56,7 @@ std::vector<MetricEntry> readRunJsonMetrics(const fs::path& file, const std::str
   } catch (const std::invalid_argument&) {
     // An unknown profile: the values are still shown, without units.
   }
+  for (const auto& m : evaluator::counterfactualMetrics({})) units[m.name] = m.unit;
   for (const auto& kv : metrics) {
     const std::string name = kv.first.as<std::string>();
     if (!kv.second.IsScalar()) reader.fail(kv.second, "metrics." + name, "expected a number or true/false");
@@ -92,6 +94,24 @@ void readBehaviorMetrics(RunData& data) {
     auto& values = data.behavior_metrics[b];
     for (std::size_t c = 6; c < table.header().size(); ++c) values[table.header()[c]] = table.text(found, static_cast<int>(c));
   }
+}
+
+// counterfactual.csv: the robot's effect on each person (a run with --counterfactual), checked.
+void readCounterfactual(RunData& data) {
+  const fs::path file = data.dir / "counterfactual.csv";
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return;
+  const CsvTable table = CsvTable::read(file);
+  table.requireLeadingColumns({"id", "behavior", "goals_with", "goals_without", "goals_missed", "delay", "path_with",
+                               "path_without", "path_added", "mean_deviation", "max_deviation", "extra_effort",
+                               "affected"});
+  for (std::size_t r = 0; r < table.rows(); ++r) {
+    table.integer(r, 0);
+    for (int c = 5; c <= 11; ++c) table.number(r, c);
+    table.boolean(r, 12);
+    data.counterfactual_rows.push_back(table.row(r));
+  }
+  data.counterfactual_header = table.header();
 }
 
 // The scenario file to draw: run.json's scenario_file as written (absolute, or relative to the
@@ -420,6 +440,7 @@ RunData loadRunData(const fs::path& dir, const RunDataOptions& options) {
   if (rec.empty()) throw ConfigError(states.string(), 0, "", "no samples (only a header): nothing to show");
   data.samples = rec.size();
   readBehaviorMetrics(data);
+  readCounterfactual(data);
   extractTracks(data, rec, options.limits);
   extractSeries(data, rec);
   loadMap(data, rec, options);

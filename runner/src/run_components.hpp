@@ -5,6 +5,7 @@
 
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/runner/robot_free_run.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 #include "hunav/yaml_reader.hpp"
 
@@ -22,6 +23,7 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   e.worker_thread = true;  // the evaluator's per-sample work off the world's loop
   if (options.evaluator_worker_min_people >= 0)
     e.worker_min_people = static_cast<std::size_t>(options.evaluator_worker_min_people);
+  if (options.counterfactual) e.robot_free_run = robotFreeRunOf(scenario);
   return e;
 }
 

@@ -1,5 +1,6 @@
 // The batch folder layout: run folders written with the evaluator's own writers, aggregated into
 // summary.csv, summary_stats.csv, paired.csv and summary.md, checked against hand-computed values.
+#include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/summary.hpp"
@@ -8,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 using namespace hunav;
@@ -284,4 +286,58 @@ TEST(BatchSummary, IntervalsStayInsideWhatTheMetricCanTakeAndOnePairIsNotTestabl
   EXPECT_NE(md.find("| minimum_distance_to_people | m | 0.60 ± 0.57<br>[0, 5.68] |"), std::string::npos) << md;
   EXPECT_NE(md.find("| time_to_reach_goal | -1.00 **not testable** |"), std::string::npos) << md;
   EXPECT_EQ(md.find("**n.s.** |"), std::string::npos) << md;  // no cell says n.s.
+}
+
+// Runs with --counterfactual: summary.md compares the planners on the counterfactual_* metrics.
+TEST(BatchSummary, CounterfactualSection) {
+  const fs::path batch = freshDir("counterfactual");
+  // dwb moves people 0.04 and 0.06 m off their paths (mean 0.05), scl 0.01 and 0.03 (mean 0.02).
+  const std::map<std::string, std::pair<double, double>> deviation = {{"dwb", {0.04, 0.06}}, {"scl", {0.01, 0.03}}};
+  for (const auto& [planner, dev] : deviation)
+    for (long long seed : {1, 2}) {
+      const double d = seed == 1 ? dev.first : dev.second;
+      const fs::path dir = batch / "runs" / runFolderName({"passing", planner, seed});
+      fs::create_directories(dir);
+      evaluator::RunInfo info;
+      info.run_id = "passing_" + planner + "_s" + std::to_string(seed);
+      info.profile = "default";
+      info.scenario = "passing";
+      info.planner = planner;
+      info.seed = seed;
+      info.status = "goal_reached";
+      info.sim_time = 20.0;
+      info.complete = true;
+      auto metrics = values(20.0, 1.0, true);
+      for (auto m : evaluator::counterfactualMetrics({})) {
+        if (m.name == "counterfactual_mean_deviation") m.value = d;
+        if (m.name == "counterfactual_people_affected") m.value = 1.0;
+        metrics.push_back(m);
+      }
+      evaluator::appendMetricsRow(dir / "metrics.csv", info, metrics);
+      evaluator::writeRunJson(dir / "run.json", info, metrics);
+    }
+  writeBatchSummary(batch);
+  const std::string md = readFile(batch / "summary.md");
+  ASSERT_NE(md.find("### `passing`: the robot's effect on people (counterfactual)"), std::string::npos) << md;
+  // Means: dwb (0.04 + 0.06) / 2 = 0.05, scl (0.01 + 0.03) / 2 = 0.02 (bold: the lowest); std of both
+  // sqrt(((0.01)^2 + (0.01)^2) / 1) = 0.014.
+  EXPECT_NE(md.find("| counterfactual_mean_deviation | m | 0.050 ± 0.014 | **0.020 ± 0.014** |"), std::string::npos)
+      << md;
+  // Equal people affected: both bold.
+  EXPECT_NE(md.find("| counterfactual_people_affected | people | **1.00 ± 0** | **1.00 ± 0** |"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("Least to most disturbing (mean deviation from the robot-free paths, then delay, then extra "
+                    "effort): scl < dwb."),
+            std::string::npos)
+      << md;
+  fs::remove_all(batch);
+}
+
+TEST(BatchSummary, NoCounterfactualSectionWithoutTheMetrics) {
+  const fs::path batch = freshDir("no_counterfactual");
+  makeRun(batch, "passing", "dwb", 1, 20.0, 1.0, true);
+  makeRun(batch, "passing", "scl", 1, 21.0, 1.1, true);
+  writeBatchSummary(batch);
+  EXPECT_EQ(readFile(batch / "summary.md").find("counterfactual"), std::string::npos);
+  fs::remove_all(batch);
 }

@@ -26,6 +26,11 @@ TEST(MetricScales, DistancesPercentagesAndOutcomes) {
   EXPECT_EQ(metricScale("avg_robot_linear_speed", "default").low, 0.0);
   EXPECT_TRUE(std::isinf(metricScale("maximum_distance_to_people", "hunav_v1").low));
   EXPECT_EQ(metricScale("path_length", "hunav_v1").low, 0.0);
+  // The counterfactual: deviations and counts are >= 0; delay and path added may be negative.
+  EXPECT_EQ(metricScale("counterfactual_mean_deviation").low, 0.0);
+  EXPECT_EQ(metricScale("counterfactual_people_affected").low, 0.0);
+  EXPECT_TRUE(std::isinf(metricScale("counterfactual_delay").low));
+  EXPECT_TRUE(std::isinf(metricScale("counterfactual_path_added").low));
   // Unknown metric or profile: unbounded.
   EXPECT_TRUE(std::isinf(metricScale("my_metric").low));
   EXPECT_TRUE(std::isinf(metricScale("path_length", "v9").low));

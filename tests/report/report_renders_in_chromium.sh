@@ -149,6 +149,16 @@ render "$batch/runs/passing__sfw__seed1/report.html" "$WORK/stuck_dom.html"
 grep -q '<span class="badge stuck">stuck</span>' "$WORK/stuck_dom.html" || fail "run page: no stuck badge"
 echo "the stuck run has its badge on both pages"
 
+# A run with --counterfactual: its page shows each person against its robot-free run.
+"$BIN/hunav_run" --scenario "$REPO/scenarios/passing.yaml" --planner dwb --seed 1 --out "$WORK/cf_run" --quiet \
+  --counterfactual >"$WORK/cf_run.txt" 2>&1 || { cat "$WORK/cf_run.txt"; fail "hunav_run --counterfactual failed"; }
+"$BIN/hunav_report" "$WORK/cf_run" >"$WORK/cf_report.txt" 2>&1 || { cat "$WORK/cf_report.txt"; fail "hunav_report failed on the counterfactual run"; }
+render "$WORK/cf_run/report.html" "$WORK/cf_dom.html"
+grep -q 'id="counterfactual-table"[^>]*data-rows="2"' "$WORK/cf_dom.html" || fail "run page: no counterfactual table of the 2 people"
+grep -q 'people moved more than 0.1 m' "$WORK/cf_dom.html" || fail "run page: no counterfactual caption"
+! grep -q 'id="counterfactual-table"' "$WORK/run_dom.html" || fail "run page: a counterfactual table without counterfactual.csv"
+echo "the counterfactual run shows its people against the robot-free run"
+
 # The check catches a page whose script fails: a run page with its data cut short.
 sed 's|"frameT":\[|"frameT":[oops|' "$run_page" >"$WORK/broken.html"
 render "$WORK/broken.html" "$WORK/broken_dom.html"

@@ -216,7 +216,7 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
   double now_ = 0.0;
 };
 
-PhysicsWorld::PhysicsWorld(const Scenario& scenario)
+PhysicsWorld::PhysicsWorld(const Scenario& scenario, bool with_robot)
     : scenario_(scenario),
       world_(std::make_unique<b2World>(b2Vec2(0.0f, 0.0f))),
       recorder_(std::make_unique<ContactRecorder>(contacts_)) {
@@ -267,6 +267,7 @@ PhysicsWorld::PhysicsWorld(const Scenario& scenario)
     people_[i].body = makeDisc(*world_, a.position, a.yaw, a.radius, kPersonMass, &people_[i].tag);
   }
   robot_tag_ = Tag{collision_t::BODY_ROBOT, scenario.robot.id};
+  if (!with_robot) return;
   const RobotConfig& rc = scenario.robot;
   if (rc.shape == RobotShape::Box) {
     b2PolygonShape box;

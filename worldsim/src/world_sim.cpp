@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <ctime>
+#include <stdexcept>
 #include <string_view>
 #include <thread>
 
@@ -72,6 +73,8 @@ void seedStream(std::mt19937_64& rng, std::uint64_t seed, std::uint32_t purpose)
 
 WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
     : bus_(bus), options_(std::move(options)), realtime_(options_.mode == "realtime") {
+  if (options_.robot_absent && options_.planner != "none")
+    throw std::invalid_argument("a world without the robot runs with planner none");
   configure(std::move(scenario), options_.run_id);
   reply_drops_ = &bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
   command_drops_ =
@@ -92,7 +95,7 @@ void WorldSim::configure(Scenario scenario, std::string run_id) {
 }
 
 void WorldSim::reset() {
-  physics_ = std::make_unique<PhysicsWorld>(scenario_);
+  physics_ = std::make_unique<PhysicsWorld>(scenario_, !options_.robot_absent);
   robot_obstacles_.clear();
   agents_.clear();
   for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a, scenario_.file));
@@ -109,17 +112,21 @@ void WorldSim::reset() {
   // Without a goal there is no progress to measure: never stuck.
   const RobotConfig& rc = scenario_.robot;
   const std::int64_t stuck_us =
-      rc.has_goal ? static_cast<std::int64_t>(std::llround(scenario_.stuck_timeout * 1e6)) : 0;
+      rc.has_goal && !options_.robot_absent ? static_cast<std::int64_t>(std::llround(scenario_.stuck_timeout * 1e6)) : 0;
   stuck_ = StuckDetector(stuck_us, scenario_.stuck_distance, rc.goal);
   fingerprint_ = Fingerprint();
   robot_state_ = robotState();
 }
 
 void WorldSim::sense() {
-  const Vec2 robot_pos = toVec(physics_->robot().GetPosition());
+  const bool robot = physics_->hasRobot();
+  const Vec2 robot_pos = robot ? toVec(physics_->robot().GetPosition()) : scenario_.robot.start;
   positions_.resize(agents_.size());
   for (std::size_t i = 0; i < agents_.size(); ++i) positions_[i] = toVec(physics_->person(i).GetPosition());
-  physics_->linesOfSightTo(robot_pos, positions_, in_sight_);
+  if (robot)
+    physics_->linesOfSightTo(robot_pos, positions_, in_sight_);
+  else
+    in_sight_.assign(agents_.size(), 0);
   for (std::size_t i = 0; i < agents_.size(); ++i) {
     agent_state_t& s = agents_[i];
     const b2Body& body = physics_->person(i);
@@ -138,7 +145,7 @@ void WorldSim::sense() {
     setObstacles(s, obstacle_scratch_);
     s.robot_in_sight = in_sight_[i] != 0;
   }
-  obstaclePoints(robot_pos, robot_obstacles_);
+  if (robot) obstaclePoints(robot_pos, robot_obstacles_);
   setRobotMotion(robot_state_);  // the rest is set once per episode (reset): no allocation per tick
 }
 
@@ -174,8 +181,15 @@ agent_state_t WorldSim::robotState() const {
 }
 
 void WorldSim::setRobotMotion(agent_state_t& r) const {
-  const b2Body& body = physics_->robot();
   r.utime = time_us_;
+  if (!physics_->hasRobot()) {  // absent: stands at its start pose
+    r.x = scenario_.robot.start.x();
+    r.y = scenario_.robot.start.y();
+    r.yaw = normalizeAngle(scenario_.robot.start_yaw);
+    setObstacles(r, robot_obstacles_);
+    return;
+  }
+  const b2Body& body = physics_->robot();
   const Vec2 p = toVec(body.GetPosition());
   const Vec2 v = toVec(body.GetLinearVelocity());
   r.x = p.x();
@@ -403,6 +417,7 @@ void WorldSim::applyReply() {
 }
 
 void WorldSim::driveRobot() {
+  if (!physics_->hasRobot()) return;
   const RobotConfig& rc = scenario_.robot;
   b2Body& body = physics_->robot();
   const Pose2 now{body.GetPosition().x, body.GetPosition().y, body.GetAngle()};
@@ -422,7 +437,7 @@ void WorldSim::driveRobot() {
 
 bool WorldSim::robotAtGoal() const {
   const RobotConfig& rc = scenario_.robot;
-  if (!rc.has_goal) return false;
+  if (!rc.has_goal || !physics_->hasRobot()) return false;
   return (toVec(physics_->robot().GetPosition()) - rc.goal).norm() <= rc.goal_radius;
 }
 

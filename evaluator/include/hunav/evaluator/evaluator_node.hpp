@@ -25,6 +25,7 @@
 //   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
 //   std::cout << evaluator.lastResult()->formatTable();   // or formatMetricsTable(metrics)
 // On SIGINT or an error, call finishIncomplete() so that nothing recorded is lost.
+#include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/recording.hpp"
 #include "hunav/evaluator/results.hpp"
@@ -75,6 +76,10 @@ struct EvaluatorOptions {
   // With worker_thread, the worker takes over from the first world state with at least this many
   // people (0: from the start).
   std::size_t worker_min_people = kWorkerMinPeople;
+  // --counterfactual: at the end of each episode, run its robot-free episode at the sample times of
+  // its states.csv, write <run dir>/counterfactual.csv and append the counterfactual_* metrics to its
+  // row (docs/metrics.md). Empty: no counterfactual, the files exactly as without this option.
+  RobotFreeRun robot_free_run;
 };
 
 class EvaluatorNode {

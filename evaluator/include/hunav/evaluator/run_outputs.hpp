@@ -54,8 +54,10 @@ class RunEvaluation {
   // Hands the buffered per-tick rows to the OS.
   void flush();
   // Closes the per-tick files, appends the metrics.csv rows (run and behaviors), writes run.json.
-  // `info` is the run's provenance (profile included). Throws std::runtime_error on I/O errors.
-  RunResult finish(RunInfo info);
+  // `info` is the run's provenance (profile included). `extra` (the counterfactual_* metrics) follow
+  // the run's own metrics in its metrics.csv row and run.json (not in the per-behavior files).
+  // Throws std::runtime_error on I/O errors.
+  RunResult finish(RunInfo info, std::vector<MetricValue> extra = {});
 
  private:
   struct Impl;

@@ -105,6 +105,10 @@ struct StepSnapshot {
   // scenario's HuNavSim 2 global goals (goal_id ports).
   const std::vector<PersonSocial>* social = nullptr;
   const std::map<int, Vec2>* global_goals = nullptr;
+  // The robot is not in the world (AgentManager::setRobotAbsent): the request's robot is ignored.
+  bool robot_absent = false;
+  // The request's robot, or nullptr when it is absent: what every node that looks at the robot uses.
+  const agent_state_t* robotState() const { return robot_absent ? nullptr : &request->robot; }
   // The request index of the person with this id, or -1.
   int indexOf(int id) const;
   // Fills by_id and the groups from agents (keeps the previous step's order when the ids are the same).
@@ -194,6 +198,11 @@ class AgentManager {
  public:
   AgentManager();
 
+  // The robot is not in the world (the robot-free run of a counterfactual, docs/metrics.md): every
+  // person ignores the request's robot: no force from it, no condition on it holds, and nodes that
+  // act on it (approach, block, look at, react to it) fail.
+  void setRobotAbsent(bool absent) { robot_absent_ = absent; }
+  bool robotAbsent() const { return robot_absent_; }
   // Social force cut-off radius between people (<= 0: exact all pairs).
   void setSocialCutoff(double metres) { cutoff_ = metres; }
   double socialCutoff() const { return cutoff_; }
@@ -256,6 +265,7 @@ class AgentManager {
   std::vector<PersonSocial> social_;  // after the last step, by id
   std::int64_t social_utime_ = 0;
   bool social_active_ = false;
+  bool robot_absent_ = false;
 };
 
 // loadTrees with a manager of its own: for a process that only needs the check.

@@ -63,6 +63,9 @@ struct RunData {
   evaluator::RunInfo info;
   std::vector<MetricEntry> metrics;                                    // run.json "metrics", in order
   std::map<int, std::map<std::string, std::string>> behavior_metrics;  // behavior -> metric -> value
+  // counterfactual.csv (runs with --counterfactual): its header and rows as written; empty without.
+  std::vector<std::string> counterfactual_header;
+  std::vector<std::vector<std::string>> counterfactual_rows;
 
   std::vector<Shape> shapes;          // static map of the scenario
   std::vector<Vec2> obstacle_points;  // when the scenario could not be loaded: obstacle points recorded

@@ -31,6 +31,9 @@ struct RunOptions {
   // The evaluator's worker thread takes over from this many people (EvaluatorOptions::
   // worker_min_people); -1: the evaluator's default.
   int evaluator_worker_min_people = -1;
+  // Also run the episode without the robot and write the robot's effect on people (counterfactual.csv,
+  // the counterfactual_* metrics: docs/metrics.md); off: the files exactly as before.
+  bool counterfactual = false;
 };
 
 struct RunOutcome {

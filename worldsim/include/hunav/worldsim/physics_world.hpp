@@ -19,7 +19,9 @@ namespace hunav::worldsim {
 
 class PhysicsWorld {
  public:
-  explicit PhysicsWorld(const Scenario& scenario);
+  // with_robot = false: no robot body at all (the robot-free run of a counterfactual; robot() must
+  // not be called then).
+  explicit PhysicsWorld(const Scenario& scenario, bool with_robot = true);
   ~PhysicsWorld();
   PhysicsWorld(const PhysicsWorld&) = delete;
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
@@ -29,6 +31,7 @@ class PhysicsWorld {
   std::size_t personCount() const { return people_.size(); }
   b2Body& person(std::size_t i) { return *people_[i].body; }
   const b2Body& person(std::size_t i) const { return *people_[i].body; }
+  bool hasRobot() const { return robot_ != nullptr; }
   b2Body& robot() { return *robot_; }
   const b2Body& robot() const { return *robot_; }
 

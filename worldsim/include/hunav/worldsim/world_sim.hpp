@@ -42,6 +42,11 @@ struct WorldOptions {
   // (docs/planner_contract.md, "Readiness"); without one the episode ends at once, aborted. 0: no wait
   // (a planner in this process, or none).
   std::chrono::milliseconds planner_ready_timeout{0};
+  // The robot is not in the world (the robot-free run of a counterfactual, docs/metrics.md): no
+  // Box2D body, never in a person's sight (robot_in_sight false), never stuck; needs planner "none".
+  // The messages still carry a robot entry standing at its start pose: the manager must be told to
+  // ignore it (AgentManager::setRobotAbsent).
+  bool robot_absent = false;
 };
 
 struct EpisodeResult {
