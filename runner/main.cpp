@@ -2,6 +2,8 @@
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
@@ -9,10 +11,66 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/planners/planner.hpp"
+#include "hunav/runner/episode_list.hpp"
 #include "hunav/runner/expectations.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/runner/run_summary.hpp"
 #include "hunav/signals.hpp"
+
+namespace {
+
+// One episode: runs it, prints its line and metrics table, judges its expect: conditions. Returns
+// the exit code of README.md's table: 0 ended on its own (and every condition passed), 1 aborted,
+// 130/143 interrupted, 3 a condition failed.
+int runEpisode(const hunav::Scenario& scenario, const hunav::runner::RunOptions& options, bool quiet) {
+  const auto outcome = hunav::runner::runInProcess(scenario, options);
+  const auto& ep = outcome.episode;
+  std::cout << hunav::runner::formatRunLine(outcome.result ? outcome.result->info.run_id : options.run_id, ep.status,
+                                            ep.reason, ep.sim_time, ep.wall_time, ep.ticks, ep.fingerprint);
+  if (outcome.result) {
+    if (!quiet) std::cout << outcome.result->formatTable();
+    std::cout << "results in " << outcome.result->run_dir.string() << "\n";
+  }
+  if (!ep.ended()) return hunav::episode_status::exitCodeFor(ep.status, hunav::stopSignal());
+  if (scenario.expectations.empty() || !outcome.result) return 0;
+  // Judged on what the evaluator wrote (its run.json status: an incomplete recording is not judged).
+  const auto& info = outcome.result->info;
+  const std::filesystem::path expect_json = outcome.result->run_dir / "expect.json";
+  std::filesystem::remove(expect_json);
+  if (!hunav::episode_status::ranToEnd(info.status)) return 1;
+  const auto verdicts = hunav::runner::judge(scenario.expectations, info.status, outcome.result->metrics);
+  std::cout << hunav::runner::formatVerdicts(verdicts);
+  hunav::runner::writeExpectJson(expect_json, info.run_id, info.status, verdicts);
+  return hunav::runner::allPass(verdicts) ? 0 : hunav::runner::kExitExpectationsFailed;
+}
+
+// The exit code of several episodes: bad input (2), else an interrupt (130/143), else an aborted run
+// (1), else a failed expect: condition (3), else 0.
+struct EpisodeTally {
+  std::size_t runs = 0, ended = 0, not_ended = 0, expectations_failed = 0, bad_input = 0;
+  int interrupt_code = 0;
+  void add(int code) {
+    ++runs;
+    if (code == 0 || code == hunav::runner::kExitExpectationsFailed) ++ended;
+    if (code == hunav::runner::kExitExpectationsFailed) ++expectations_failed;
+    if (code == hunav::kExitBadInput) ++bad_input;
+    if (code > 128) interrupt_code = code;
+    if (code != 0 && code != hunav::runner::kExitExpectationsFailed && code != hunav::kExitBadInput) ++not_ended;
+  }
+  int exitCode() const {
+    if (bad_input > 0) return hunav::kExitBadInput;
+    if (interrupt_code != 0) return interrupt_code;
+    if (not_ended > 0) return hunav::episode_status::kExitAborted;
+    return expectations_failed > 0 ? hunav::runner::kExitExpectationsFailed : 0;
+  }
+  std::string text() const {
+    return "hunav_run: " + std::to_string(runs) + " episodes: " + std::to_string(ended) + " ended on their own (" +
+           std::to_string(expectations_failed) + " failed expect: conditions), " + std::to_string(not_ended) +
+           " did not, " + std::to_string(bad_input) + " had bad input\n";
+  }
+};
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -21,7 +79,9 @@ int main(int argc, char** argv) {
       "metrics, then the verdicts of the scenario's expect: conditions (written to expect.json). Exit 0: the "
       "episode ran to an end (goal reached, time limit or stuck) and every expect: condition passed; 1: "
       "aborted or error; 2: bad input; 3: it ran to an end but an expect: condition failed; 130/143: interrupted "
-      "by SIGINT/SIGTERM (README.md, \"Statuses and exit codes\")."};
+      "by SIGINT/SIGTERM (README.md, \"Statuses and exit codes\"). With --seeds (and --planners) it runs one "
+      "episode per planner and seed, one after the other, each a run as above; the exit code is then 2 if any "
+      "had bad input, else the first non-zero code of the table in the order 130/143, 1, 3."};
   std::string scenario_file;
   hunav::runner::RunOptions options;
   long long seed = -1;
@@ -36,14 +96,23 @@ int main(int argc, char** argv) {
         return names + "or none";
       }());
   app.add_option("--planner-config", options.planner_config, "YAML file with planner parameters");
-  app.add_option("--seed", seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
+  auto* seed_opt = app.add_option("--seed", seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
+  std::string seed_list, planner_list;
+  app.add_option("--seeds", seed_list,
+                 "run one episode per seed, one after the other in this process: N, A-B or a comma-separated mix "
+                 "(1-10, 1-5,8); each into OUT/<scenario>__<planner>__seed<N>/ (OUT: --out, default results)")
+      ->excludes(seed_opt);
+  app.add_option("--planners", planner_list,
+                 "with --seeds: comma-separated planners, each run on every seed (default: --planner)");
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
       ->check(hunav::cli::positiveNumber());
   app.add_option("--sample-rate", sample_rate,
                  "evaluate and record states.csv at most HZ samples per second of simulation time, 0 = every "
                  "tick (default: the scenario's evaluation.sample_rate)")
       ->check(hunav::cli::nonNegativeNumber());
-  app.add_option("--out", options.out_dir, "output folder (default results/<scenario>_<planner>_<seed>)");
+  app.add_option("--out", options.out_dir,
+                 "output folder (default results/<scenario>_<planner>_<seed>); with --seeds the folder of the runs' "
+                 "folders (default results)");
   app.add_option("--record", options.record_file, "also write every message to this LCM log file");
   app.add_option("--profile", options.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
   auto* tag_opt = app.add_option("--experiment-tag", options.experiment_tag, "experiment tag in metrics.csv");
@@ -73,42 +142,83 @@ int main(int argc, char** argv) {
   }
 
   return hunav::cli::run("hunav_run", [&] {
-    hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, seed, duration);
-    if (sample_rate >= 0.0) scenario.evaluation_sample_rate = sample_rate;
+    // The scenario of one seed (-1: its own), with this invocation's overrides; bad input throws
+    // ConfigError (exit 2) before anything runs.
+    auto prepare = [&](long long episode_seed) {
+      hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, episode_seed, duration);
+      if (sample_rate >= 0.0) scenario.evaluation_sample_rate = sample_rate;
+      return scenario;
+    };
+    hunav::Scenario scenario = prepare(seed);
     // The metrics file (or the scenario's): a bad one stops the run here, exit 2.
     if (options.metrics_file.empty()) options.metrics_file = scenario.evaluation_metrics;
-    hunav::evaluator::applyMetricsFile(options.metrics_file, options.profile, sample_rate >= 0.0,
-                                       scenario.evaluation_sample_rate, tag_opt->count() > 0, options.experiment_tag);
+    double metrics_sample_rate = scenario.evaluation_sample_rate;
+    hunav::evaluator::applyMetricsFile(options.metrics_file, options.profile, sample_rate >= 0.0, metrics_sample_rate,
+                                       tag_opt->count() > 0, options.experiment_tag);
+    scenario.evaluation_sample_rate = metrics_sample_rate;
     // expect: names metrics of this run's profile and selection: checked before anything starts.
     hunav::runner::checkExpectations(scenario.expectations,
                                      hunav::evaluator::metricsFor(options.profile, options.metrics_file));
     options.hunav_txt = format == "hunav_txt";
-    if (options.planner != "none" && !hunav::planners::hasPlanner(options.planner)) {
-      std::cerr << "hunav_run: unknown planner '" << options.planner << "'\n";
+    std::vector<std::string> planners{options.planner};
+    std::vector<long long> seeds;
+    try {
+      if (!planner_list.empty()) planners = hunav::runner::parseNameList(planner_list);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "hunav_run: --planners: " << e.what() << "\n";
       return hunav::kExitBadInput;
     }
-    if (options.out_dir.empty())
-      options.out_dir = "results/" + scenario.name + "_" + options.planner + "_" + std::to_string(scenario.seed);
-    options.stop = &hunav::installStopSignals();
-
-    const auto outcome = hunav::runner::runInProcess(scenario, options);
-    const auto& ep = outcome.episode;
-    std::cout << hunav::runner::formatRunLine(outcome.result ? outcome.result->info.run_id : options.run_id, ep.status,
-                                              ep.reason, ep.sim_time, ep.wall_time, ep.ticks, ep.fingerprint);
-    if (outcome.result) {
-      if (!quiet) std::cout << outcome.result->formatTable();
-      std::cout << "results in " << outcome.result->run_dir.string() << "\n";
+    try {
+      if (!seed_list.empty()) seeds = hunav::runner::parseSeedList(seed_list);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "hunav_run: --seeds: " << e.what() << "\n";
+      return hunav::kExitBadInput;
     }
-    if (!ep.ended()) return hunav::episode_status::exitCodeFor(ep.status, hunav::stopSignal());
-    if (scenario.expectations.empty() || !outcome.result) return 0;
-    // Judged on what the evaluator wrote (its run.json status: an incomplete recording is not judged).
-    const auto& info = outcome.result->info;
-    const std::filesystem::path expect_json = outcome.result->run_dir / "expect.json";
-    std::filesystem::remove(expect_json);
-    if (!hunav::episode_status::ranToEnd(info.status)) return 1;
-    const auto verdicts = hunav::runner::judge(scenario.expectations, info.status, outcome.result->metrics);
-    std::cout << hunav::runner::formatVerdicts(verdicts);
-    hunav::runner::writeExpectJson(expect_json, info.run_id, info.status, verdicts);
-    return hunav::runner::allPass(verdicts) ? 0 : hunav::runner::kExitExpectationsFailed;
+    for (const auto& planner : planners) {
+      if (planner != "none" && !hunav::planners::hasPlanner(planner)) {
+        std::cerr << "hunav_run: unknown planner '" << planner << "'\n";
+        return hunav::kExitBadInput;
+      }
+    }
+    options.stop = &hunav::installStopSignals();
+    if (seeds.empty() && planner_list.empty()) {
+      if (options.out_dir.empty())
+        options.out_dir = "results/" + scenario.name + "_" + options.planner + "_" + std::to_string(scenario.seed);
+      return runEpisode(scenario, options, quiet);
+    }
+
+    // Several episodes: planners outer, seeds inner (run_batch.sh's order); each as its own run.
+    if (seeds.empty()) seeds.push_back(scenario.seed);
+    const std::string out_root = options.out_dir.empty() ? "results" : options.out_dir;
+    const std::string run_id = options.run_id;
+    EpisodeTally tally;
+    for (const auto& planner : planners) {
+      for (long long episode_seed : seeds) {
+        if (options.stop->load()) break;
+        hunav::runner::RunOptions episode = options;
+        episode.planner = planner;
+        episode.run_id = run_id.empty() ? "" : run_id + "_" + planner + "_s" + std::to_string(episode_seed);
+        int code;
+        try {
+          hunav::Scenario s = static_cast<std::uint64_t>(episode_seed) == scenario.seed ? scenario : prepare(episode_seed);
+          s.evaluation_sample_rate = scenario.evaluation_sample_rate;
+          episode.out_dir =
+              (std::filesystem::path(out_root) / hunav::runner::batchRunFolder(s.name, planner, episode_seed)).string();
+          code = runEpisode(s, episode, quiet);
+        } catch (const hunav::ConfigError& e) {
+          std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": " << e.what() << "\n";
+          code = hunav::kExitBadInput;
+        } catch (const std::exception& e) {
+          std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": error: " << e.what() << "\n";
+          code = 1;
+        }
+        tally.add(code);
+      }
+    }
+    std::cout << tally.text();
+    // Interrupted between two episodes: the ones left are not run (an interrupt's exit code).
+    if (options.stop->load() && tally.runs < planners.size() * seeds.size())
+      tally.interrupt_code = hunav::episode_status::exitCodeFor(hunav::episode_status::kInterrupted, hunav::stopSignal());
+    return tally.exitCode();
   });
 }

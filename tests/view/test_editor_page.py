@@ -1,5 +1,9 @@
 """The editor through the page's controls: open a scenario, drag a person with the mouse, change its
-behavior in the form, add a wall, save; the saved file has the edits, and loads (hunav_run runs it)."""
+behavior in the form, add a wall, save; the saved file has the edits, and loads (hunav_run runs it).
+Then the people of an agents file (HuNavSim's own agents.yaml) edited with a scenario that names it,
+a generator's region dragged and its count changed (crowd.yaml), and the run button: the edited
+scenario runs in the server and its replay shows."""
+import json
 import os
 import shutil
 import subprocess
@@ -8,6 +12,105 @@ import tempfile
 
 from cdp import Browser
 from viewproc import View
+
+
+def canvas_origin(browser):
+    return browser.eval("(() => { const r = document.getElementById('canvas').getBoundingClientRect(); return [r.left, r.top]; })()")
+
+
+def open_file(browser, path):
+    browser.eval("document.getElementById('ed-files').value = %r; document.getElementById('ed-open').click()" % path)
+    browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === %r" % path, 10)
+    browser.eval("window.hunavView.redraw()")
+
+
+def set_field(browser, name, value):
+    browser.wait_for("document.querySelector('#ed-props [name=%s]')" % name, 5)
+    browser.eval("{ const f = document.querySelector('#ed-props [name=%s]'); f.value = %r; f.dispatchEvent(new Event('change')); }"
+                 % (name, value))
+
+
+def save_as(browser, path, saves):
+    browser.eval("document.getElementById('ed-path').value = %r; document.getElementById('ed-save').click()" % path)
+    try:
+        browser.wait_for("window.hunavView.app.ed.saved === %d" % saves, 15)
+    except AssertionError:
+        print("status:", browser.eval("document.getElementById('ed-status').textContent"), browser.js_errors())
+        raise
+
+
+def agents_file_and_generator_and_run(browser, root, repo, problems):
+    import yaml
+    # HuNavSim's agents.yaml (tests/data/hunav_files, MIT) named by a scenario: an open room around it.
+    os.makedirs(os.path.join(root, "room"))
+    shutil.copy(os.path.join(repo, "tests", "data", "hunav_files", "agents.yaml"), os.path.join(root, "room", "agents.yaml"))
+    with open(os.path.join(root, "room", "room.yaml"), "w") as f:
+        f.write("name: room\ndt: 0.01\ntime_limit: 10.0\nseed: 1\nmap:\n  walls:\n"
+                "    - [[-15, -15], [15, -15], [15, 15], [-15, 15], [-15, -15]]\n"
+                "robot:\n  radius: 0.3\n  start: {x: 12.0, y: 0.0, yaw: 3.14159}\n  goal: {x: -12.0, y: 0.0, radius: 0.3}\n"
+                "people: agents.yaml\n")
+    browser.eval("window.hunavView.editor.files()", await_promise=True)
+    open_file(browser, "room/room.yaml")
+    status = browser.eval("document.getElementById('ed-status').textContent")
+    if "room/agents.yaml" not in status:
+        problems.append("opening room.yaml does not say its people are in room/agents.yaml: %r" % status)
+    agent = browser.eval("window.hunavView.drawn.editor.find((h) => h.role === 'person' && h.name === 'agent4')")
+    if agent is None:
+        problems.append("the people of the agents file are not drawn as handles")
+        return
+    scale = browser.eval("window.hunavView.view.scale")
+    left, top = canvas_origin(browser)
+    x0, y0 = agent["px"] + left, agent["py"] + top
+    browser.drag(x0, y0, x0 + 20, y0)
+    want_x = round(agent["x"] + 20 / scale, 2)
+    set_field(browser, "type", "curious")
+    save_as(browser, "room/room.yaml", 1)
+    agents = yaml.safe_load(open(os.path.join(root, "room", "agents.yaml")))["hunav_loader"]["ros__parameters"]
+    a4 = agents["agent4"]
+    if abs(a4["init_pose"]["x"] - want_x) > 0.011 or a4["behavior"]["type"] != "curious":
+        problems.append("agents.yaml's agent4 saved as %s / %r, want x %s, curious" % (a4["init_pose"], a4["behavior"], want_x))
+    if yaml.safe_load(open(os.path.join(root, "room", "room.yaml")))["people"] != "agents.yaml":
+        problems.append("the scenario no longer names its agents file")
+    if agents["agents"] != ["agent1", "agent2", "agent7", "agent4", "agent5"]:
+        problems.append("the agents list changed: %s" % agents["agents"])
+
+    # The generator of crowd.yaml: drag its region's centre (a diamond), set its count in the form.
+    open_file(browser, "scenarios/crowd.yaml")
+    region = browser.eval("window.hunavView.drawn.editor.find((h) => h.role === 'region')")
+    if region is None:
+        problems.append("crowd.yaml's generator region is not drawn")
+        return
+    scale = browser.eval("window.hunavView.view.scale")
+    left, top = canvas_origin(browser)
+    browser.drag(region["px"] + left, region["py"] + top, region["px"] + left + 30, region["py"] + top)
+    dx = round(30 / scale, 2)
+    set_field(browser, "count", "40")
+    save_as(browser, "scenarios/crowd_edited.yaml", 1)
+    gen = yaml.safe_load(open(os.path.join(root, "scenarios", "crowd_edited.yaml")))["people"]["generate"]
+    if gen["count"] != 40:
+        problems.append("the generator's count saved as %r" % gen["count"])
+    if abs(gen["region"]["x"][0] - (4.0 + dx)) > 0.011 or abs(gen["region"]["x"][1] - (46.0 + dx)) > 0.011 \
+            or gen["region"]["y"] != [1.0, 29.0]:
+        problems.append("the region saved as %s, dragged by %s m in x from x [4, 46]" % (gen["region"], dx))
+    drawn_people = browser.eval("window.hunavView.app.ed.scene.agents.length")
+    if drawn_people != 40:
+        problems.append("the checked scene holds %s generated people, not 40" % drawn_people)
+
+    # run: saves, runs in the server (sfw), and replays the result.
+    open_file(browser, "scenarios/passing.yaml")
+    browser.eval("document.getElementById('ed-planner').value = 'sfw'; document.getElementById('ed-run').click()")
+    browser.wait_for("window.hunavView.app.lastRun && window.hunavView.app.replay", 60)
+    run = browser.eval("window.hunavView.app.lastRun")
+    status = browser.eval("document.getElementById('ed-status').textContent")
+    print("run:", run, status)
+    run_json = os.path.join(root, run["out_dir"], "run.json")
+    if run["status"] != "goal_reached" or not os.path.exists(run_json):
+        problems.append("the run button's run: %s (run.json there: %s)" % (run, os.path.exists(run_json)))
+    elif json.load(open(run_json))["fingerprint"] != run["fingerprint"] or "sfw" not in run["out_dir"]:
+        problems.append("the run shown is not the run written: %s" % run)
+    frames = browser.eval("window.hunavView.app.replay.frames.length")
+    if not frames or browser.eval("window.hunavView.app.editing"):
+        problems.append("after run the page does not replay it (%s frames)" % frames)
 
 
 def main():
@@ -79,6 +182,7 @@ def main():
                             os.path.join(work, "out")], capture_output=True, text=True)
         if r.returncode != 0:
             problems.append("hunav_run on the saved file: %s %s" % (r.returncode, r.stderr[-500:]))
+        agents_file_and_generator_and_run(browser, root, repo, problems)
         errors = browser.js_errors()
         if errors:
             problems.append("JavaScript errors: %s" % errors)

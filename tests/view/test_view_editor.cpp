@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <stdexcept>
 
 #include "hunav/config_error.hpp"
 #include "hunav/runner/in_process_run.hpp"
@@ -174,6 +176,93 @@ TEST(ViewEditor, EveryScenarioSavedUnchangedLoadsAndRunsTheSame) {
     ++checked;
   }
   EXPECT_GE(checked, 9);  // scenarios/ holds 9 scenarios
+}
+
+// A map entry of the page's document format ({"__map": [[key, value], ...]}).
+Json& entry(Json& map, const std::string& key) {
+  for (auto& kv : map["__map"])
+    if (kv[0] == key) return kv[1];
+  throw std::out_of_range("no key " + key);
+}
+
+// A scenario whose `people:` names an agents file (HuNavSim's own agents.yaml, tests/data/hunav_files):
+// the page gets that file's tree with the scenario, edits it, and saving writes both files.
+TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
+  TempDir root("agents_file"), outside("agents_outside");
+  fs::create_directories(root.path / "hunav");
+  fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "tests" / "data" / "hunav_files" / "agents.yaml",
+                root.path / "hunav" / "agents.yaml");
+  fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "tests" / "data" / "hunav_files" / "agents.yaml",
+                outside.path / "agents.yaml");
+  // An open room around HuNavSim's cafe agents (they stand within 11 m of the origin).
+  const std::string room =
+      "name: room\ndt: 0.01\ntime_limit: 20.0\nseed: 1\n"
+      "map:\n  walls:\n    - [[-15, -15], [15, -15], [15, 15], [-15, 15], [-15, -15]]\n"
+      "robot:\n  radius: 0.3\n  start: {x: 12.0, y: 0.0, yaw: 3.14159}\n  goal: {x: -12.0, y: 0.0, radius: 0.3}\n";
+  write(root.path / "room.yaml", room + "people: hunav/agents.yaml\n");
+  write(root.path / "escape.yaml", room + "people: " + (outside.path / "agents.yaml").string() + "\n");
+  Editor editor(root.path);
+
+  Json opened = editor.open("room.yaml");
+  ASSERT_TRUE(opened["error"].is_null()) << opened["error"].dump();
+  ASSERT_TRUE(opened["people"].is_object()) << opened.dump().substr(0, 300);
+  EXPECT_EQ(opened["people"]["path"], "hunav/agents.yaml");
+  const hunav::Scenario before = hunav::loadScenario((root.path / "room.yaml").string());
+  ASSERT_EQ(before.agents.size(), 5u);  // agent1, agent2, agent7, agent4, agent5
+
+  // Move agent1 and make agent2 scared (2), as the page's controls do: numbers set as numbers.
+  Json people = opened["people"]["doc"];
+  Json& params = entry(entry(people, "hunav_loader"), "ros__parameters");
+  Json& pose = entry(entry(params, "agent1"), "init_pose");
+  entry(pose, "x") = 2.0;
+  entry(pose, "y") = 7.5;
+  entry(entry(params, "agent2"), "behavior") = 2;
+  const Json saved = editor.save("room.yaml", opened["doc"], people);
+  ASSERT_TRUE(saved["ok"].get<bool>()) << saved.dump();
+  EXPECT_EQ(saved["people_path"], "hunav/agents.yaml");
+
+  const hunav::Scenario after = hunav::loadScenario((root.path / "room.yaml").string());
+  ASSERT_EQ(after.agents.size(), before.agents.size());
+  EXPECT_DOUBLE_EQ(after.agents[0].position.x(), 2.0);
+  EXPECT_DOUBLE_EQ(after.agents[0].position.y(), 7.5);
+  EXPECT_EQ(after.agents[1].behavior, 2);
+  EXPECT_NE(before.agents[1].behavior, 2);  // HuNavSim's agent2 is not scared: the edit shows
+  for (std::size_t i = 2; i < after.agents.size(); ++i) {  // the others as they were
+    EXPECT_EQ(after.agents[i].id, before.agents[i].id);
+    EXPECT_DOUBLE_EQ(after.agents[i].position.x(), before.agents[i].position.x());
+    EXPECT_EQ(after.agents[i].goals.size(), before.agents[i].goals.size());
+  }
+  // The scenario still names its agents file (the page never inlines it).
+  EXPECT_EQ(editor.open("room.yaml")["doc"]["__map"].back()[1], "hunav/agents.yaml");
+
+  // A bad value in the agents file: the error names that file and key, nothing is written, and no
+  // temporary copy is left beside either file.
+  entry(entry(params, "agent2"), "max_vel") = -1.0;
+  const std::string agents_text = [&] {
+    std::ifstream in(root.path / "hunav" / "agents.yaml");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  const Json bad = editor.save("room.yaml", opened["doc"], people);
+  ASSERT_FALSE(bad["ok"].get<bool>());
+  EXPECT_EQ(bad["error"]["file"], "hunav/agents.yaml") << bad.dump();
+  EXPECT_NE(bad["error"]["key"].get<std::string>().find("max_vel"), std::string::npos) << bad.dump();
+  EXPECT_EQ(bad["error"]["message"].get<std::string>().find(".hunav_view_"), std::string::npos) << bad.dump();
+  std::ifstream again(root.path / "hunav" / "agents.yaml");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(again), {}), agents_text);
+  for (const auto& dir : {root.path, root.path / "hunav"})
+    for (const auto& f : fs::directory_iterator(dir))
+      EXPECT_EQ(f.path().filename().string().rfind(".hunav_view_", 0), std::string::npos) << f.path();
+
+  // An agents file outside the folder: the scenario opens, its people are read only, and sending
+  // them back is refused before anything is written.
+  const Json escape = editor.open("escape.yaml");
+  EXPECT_TRUE(escape["error"].is_null()) << escape["error"].dump();
+  EXPECT_TRUE(escape["people"]["doc"].is_null());
+  EXPECT_NE(escape["people"]["error"].get<std::string>().find("outside"), std::string::npos);
+  EXPECT_THROW(editor.save("escape.yaml", escape["doc"], people), PathError);
+  // Agents sent for a scenario whose people are inline: a bad request.
+  write(root.path / "inline.yaml", room);
+  EXPECT_THROW(editor.validate("inline.yaml", editor.open("inline.yaml")["doc"], people), std::invalid_argument);
 }
 
 TEST(ViewReplay, ResultsFolderErrorsNameTheFile) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cctype>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "hunav/config_error.hpp"
@@ -103,22 +104,58 @@ bool within(const fs::path& root, const fs::path& p) {
   return true;
 }
 
-Json errorJson(const std::exception& e, const fs::path& temp, const std::string& relative, const fs::path& root) {
-  // Messages name the file the loader read: the temporary copy stands for the file being edited.
+// A temporary copy the loader read, and the file of the editor's folder it stands for.
+struct StandIn {
+  fs::path temp;
+  std::string relative;
+};
+
+Json errorJson(const std::exception& e, const std::vector<StandIn>& stand_ins, const fs::path& root) {
+  // Messages name the files the loader read: each temporary copy stands for the file being edited.
   std::string message = e.what();
-  for (std::size_t at; (at = message.find(temp.string())) != std::string::npos;)
-    message.replace(at, temp.string().size(), relative);
+  for (const auto& s : stand_ins)
+    for (std::size_t at; (at = message.find(s.temp.string())) != std::string::npos;)
+      message.replace(at, s.temp.string().size(), s.relative);
   const std::string root_prefix = root.string() + "/";
   for (std::size_t at; (at = message.find(root_prefix)) != std::string::npos;) message.erase(at, root_prefix.size());
   Json err = {{"message", message}};
   if (const auto* ce = dynamic_cast<const ConfigError*>(&e)) {
-    std::string file = ce->file() == temp.string() ? relative : ce->file();
+    std::string file = ce->file();
+    for (const auto& s : stand_ins)
+      if (file == s.temp.string()) file = s.relative;
     if (file.rfind(root_prefix, 0) == 0) file.erase(0, root_prefix.size());
     err["file"] = file;
     err["line"] = ce->line();
     err["key"] = ce->key();
   }
   return err;
+}
+
+// The `people:` value of a scenario document when it is a file name (an agents file), else null.
+const Json* peopleFileName(const Json& doc) {
+  if (!doc.is_object() || !doc.contains("__map") || !doc["__map"].is_array()) return nullptr;
+  for (const auto& kv : doc["__map"])
+    if (kv.is_array() && kv.size() == 2 && kv[0] == "people" && kv[1].is_string()) return &kv[1];
+  return nullptr;
+}
+
+std::string readText(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void writeText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+}
+
+void writeWhole(const fs::path& target, const std::string& text) {
+  const fs::path temp = target.parent_path() / (".hunav_view_save_" + std::to_string(::getpid()) + ".yaml");
+  writeText(temp, text);
+  fs::rename(temp, target);  // whole or not at all
 }
 
 std::atomic<unsigned> temp_counter{0};
@@ -188,64 +225,97 @@ Json Editor::files() const {
   return names;
 }
 
+std::optional<std::string> Editor::agentsFileOf(const std::string& relative, const Json& doc) const {
+  const Json* name = peopleFileName(doc);
+  if (name == nullptr) return std::nullopt;
+  const fs::path scenario = resolve(relative, false);
+  const fs::path named(name->get<std::string>());
+  if (named.empty()) throw PathError("people: an empty file name");
+  // The loader resolves the agents file from the scenario's folder; it too must stay inside the root.
+  std::error_code ec;
+  const fs::path full = fs::weakly_canonical(named.is_absolute() ? named : scenario.parent_path() / named, ec);
+  if (ec || !within(root_, full))
+    throw PathError("people: '" + named.string() + "' lies outside " + root_.string() + " (edit it there)");
+  return full.lexically_relative(root_).string();
+}
+
 Json Editor::open(const std::string& relative) const {
   const fs::path file = resolve(relative, true);
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  Json out = {{"path", relative}, {"doc", nullptr}, {"scene", nullptr}, {"error", nullptr}};
+  Json out = {{"path", relative}, {"doc", nullptr}, {"people", nullptr}, {"scene", nullptr}, {"error", nullptr}};
   try {
-    out["doc"] = jsonFromYaml(text.str());
+    out["doc"] = jsonFromYaml(readText(file));
   } catch (const std::invalid_argument& e) {
     out["error"] = {{"message", relative + ": " + e.what()}, {"file", relative}};
     return out;
   }
+  // People kept in an agents file travel with the scenario, to be edited and saved with it.
+  try {
+    if (auto agents = agentsFileOf(relative, out["doc"])) {
+      const fs::path agents_file = resolve(*agents, true);
+      out["people"] = {{"path", *agents}, {"doc", jsonFromYaml(readText(agents_file))}};
+    }
+  } catch (const std::exception& e) {
+    out["people"] = {{"path", nullptr}, {"doc", nullptr}, {"error", e.what()}};
+  }
   try {
     out["scene"] = sceneJson(loadScenario(file.string()));
   } catch (const std::exception& e) {
-    out["error"] = errorJson(e, file, relative, root_);
+    out["error"] = errorJson(e, {{file, relative}}, root_);
   }
   return out;
 }
 
-Json Editor::validate(const std::string& relative, const Json& doc) const {
+Json Editor::validate(const std::string& relative, const Json& doc, const Json& people_doc) const {
   const fs::path target = resolve(relative, false);
-  const std::string yaml = yamlFromJson(doc);
   // The loader reads files, and relative map / agent / tree paths resolve from the file's folder:
-  // check a copy written beside the target.
+  // check copies written beside the targets.
   if (!fs::is_directory(target.parent_path())) throw PathError("'" + relative + "': its folder does not exist");
-  const fs::path temp = target.parent_path() /
-                        (".hunav_view_" + std::to_string(::getpid()) + "_" + std::to_string(temp_counter++) + ".yaml");
-  {
-    std::ofstream out(temp);
-    out << yaml;
-    if (!out) throw std::runtime_error("cannot write " + temp.string());
+  auto tempBeside = [](const fs::path& f) {
+    return f.parent_path() /
+           (".hunav_view_" + std::to_string(::getpid()) + "_" + std::to_string(temp_counter++) + ".yaml");
+  };
+  std::vector<StandIn> stand_ins;
+  Json scenario_doc = doc;
+  std::string people_yaml;
+  if (!people_doc.is_null()) {
+    const auto agents = agentsFileOf(relative, doc);
+    if (!agents) throw std::invalid_argument("an agents file document was sent, but the scenario's people: is no file name");
+    people_yaml = yamlFromJson(people_doc);
+    const fs::path agents_target = resolve(*agents, false);
+    const fs::path agents_temp = tempBeside(agents_target);
+    stand_ins.push_back({agents_temp, *agents});
+    // The copy of the scenario names the copy of the agents file, in the same folder as the original.
+    const fs::path named(peopleFileName(doc)->get<std::string>());
+    for (auto& kv : scenario_doc["__map"])
+      if (kv[0] == "people") kv[1] = (named.parent_path() / agents_temp.filename()).string();
   }
+  const std::string yaml = yamlFromJson(scenario_doc);
+  stand_ins.push_back({tempBeside(target), relative});
   Json result = {{"ok", false}, {"error", nullptr}, {"scene", nullptr}};
   try {
-    Scenario s = loadScenario(temp.string());
+    if (stand_ins.size() == 2) writeText(stand_ins[0].temp, people_yaml);
+    writeText(stand_ins.back().temp, yaml);
+    Scenario s = loadScenario(stand_ins.back().temp.string());
     s.file = target.string();
     result["ok"] = true;
     result["scene"] = sceneJson(s);
   } catch (const std::exception& e) {
-    result["error"] = errorJson(e, temp, relative, root_);
+    result["error"] = errorJson(e, stand_ins, root_);
   }
   std::error_code ec;
-  fs::remove(temp, ec);
+  for (const auto& s : stand_ins) fs::remove(s.temp, ec);
   return result;
 }
 
-Json Editor::save(const std::string& relative, const Json& doc) const {
-  Json result = validate(relative, doc);
+Json Editor::save(const std::string& relative, const Json& doc, const Json& people_doc) const {
+  Json result = validate(relative, doc, people_doc);
   if (!result["ok"].get<bool>()) return result;
-  const fs::path target = resolve(relative, false);
-  const fs::path temp = target.parent_path() / (".hunav_view_save_" + std::to_string(::getpid()) + ".yaml");
-  {
-    std::ofstream out(temp);
-    out << yamlFromJson(doc);
-    if (!out) throw std::runtime_error("cannot write " + temp.string());
+  if (!people_doc.is_null()) {
+    const std::string agents = *agentsFileOf(relative, doc);
+    writeWhole(resolve(agents, false), yamlFromJson(people_doc));
+    result["people_path"] = agents;
   }
-  fs::rename(temp, target);  // whole or not at all
+  writeWhole(resolve(relative, false), yamlFromJson(doc));
   result["path"] = relative;
   return result;
 }
@@ -274,7 +344,7 @@ Json Editor::run(const std::string& relative, const std::string& planner, double
     result["fingerprint"] = outcome.episode.fingerprint;
     result["sim_time"] = outcome.episode.sim_time;
   } catch (const std::exception& e) {
-    result["error"] = errorJson(e, file, relative, root_);
+    result["error"] = errorJson(e, {{file, relative}}, root_);
   }
   return result;
 }

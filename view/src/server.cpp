@@ -43,7 +43,14 @@ std::optional<std::string> stringField(const Json& j, const char* key, httplib::
 }
 
 // The {path, doc} body of an editor request (validate, save), or an answer 400 and nullopt.
-std::optional<std::pair<std::string, Json>> docRequest(const httplib::Request& req, httplib::Response& res) {
+// {path, doc, people_doc?}: a scenario document and, optionally, its agents file's.
+struct DocRequest {
+  std::string path;
+  Json doc;
+  Json people_doc;
+};
+
+std::optional<DocRequest> docRequest(const httplib::Request& req, httplib::Response& res) {
   auto j = body(req, res);
   if (!j) return std::nullopt;
   auto path = stringField(*j, "path", res);
@@ -52,7 +59,7 @@ std::optional<std::pair<std::string, Json>> docRequest(const httplib::Request& r
     sendError(res, 400, "missing field 'doc'");
     return std::nullopt;
   }
-  return std::make_pair(*path, (*j)["doc"]);
+  return DocRequest{*path, (*j)["doc"], j->value("people_doc", Json(nullptr))};
 }
 
 }  // namespace
@@ -159,13 +166,13 @@ void ViewServer::routes() {
   s.Post("/api/editor/validate", [editor](const httplib::Request& req, httplib::Response& res) {
     Editor* e = editor(res);
     if (e == nullptr) return;
-    if (auto d = docRequest(req, res)) sendJson(res, e->validate(d->first, d->second));
+    if (auto d = docRequest(req, res)) sendJson(res, e->validate(d->path, d->doc, d->people_doc));
   });
   s.Post("/api/editor/save", [editor](const httplib::Request& req, httplib::Response& res) {
     Editor* e = editor(res);
     if (e == nullptr) return;
     // A scenario the loader rejects is an answer ({ok: false, error}), not a failed request.
-    if (auto d = docRequest(req, res)) sendJson(res, e->save(d->first, d->second));
+    if (auto d = docRequest(req, res)) sendJson(res, e->save(d->path, d->doc, d->people_doc));
   });
   s.Post("/api/editor/run", [this, editor](const httplib::Request& req, httplib::Response& res) {
     Editor* e = editor(res);

@@ -6,6 +6,7 @@ const BEHAVIORS = { 1: 'regular', 2: 'impassive', 3: 'surprised', 4: 'scared', 5
 const COLORS = { 0: '#444444', 1: '#1f77b4', 2: '#7f7f7f', 3: '#e6b800', 4: '#9467bd', 5: '#2ca02c', 6: '#d62728' };
 const STATES = { 0: 'inactive', 1: 'reaction active (1)', 2: 'reaction active (2)' };
 const ACTIVE_RING = '#ff7f0e';
+const TRAIL_STEP = 0.1;  // s of simulated time between kept trail points
 const TRAIL_SECONDS = 6;
 
 const $ = (id) => document.getElementById(id);
@@ -76,6 +77,16 @@ function cross(x, y, size, color) {
   ctx.beginPath(); ctx.moveTo(px - size, py - size); ctx.lineTo(px + size, py + size);
   ctx.moveTo(px - size, py + size); ctx.lineTo(px + size, py - size); ctx.stroke();
 }
+// Crosses of one colour added to one path: a thousand goals are one stroke, not a thousand.
+function addCross(path, x, y, size) {
+  const [px, py] = toPx(x, y);
+  path.moveTo(px - size, py - size); path.lineTo(px + size, py + size);
+  path.moveTo(px - size, py + size); path.lineTo(px + size, py - size);
+}
+function strokeCrosses(byColor) {
+  ctx.lineWidth = 1.5;
+  for (const [color, path] of byColor) { ctx.strokeStyle = color; ctx.stroke(path); }
+}
 function ring(x, y, r, color, width) {
   const [px, py] = toPx(x, y);
   ctx.strokeStyle = color; ctx.lineWidth = width;
@@ -96,7 +107,10 @@ function updateTrails(frame) {
     if (!tr) { tr = []; app.trails.set(id, tr); }
     if (tr.length && tr[tr.length - 1][2] > t) tr.length = 0;  // time went back: a new episode or a seek
     if (tr.length && tr[tr.length - 1][2] === t) return;
-    tr.push([x, y, t]);
+    // A point per TRAIL_STEP of simulated time, plus the moving head: a thousand trails stay a few
+    // tens of thousands of segments to raster, whatever the frame rate.
+    if (tr.length >= 2 && t - tr[tr.length - 2][2] < TRAIL_STEP) tr[tr.length - 1] = [x, y, t];
+    else tr.push([x, y, t]);
     while (tr.length && tr[0][2] < t - TRAIL_SECONDS) tr.shift();
   };
   add('robot', frame.robot.x, frame.robot.y);
@@ -153,8 +167,15 @@ function drawFrame(f) {
   const t = f.t;
   drawTrails(t);
   // The configured goals of the scene, then each person's current goal and the robot's.
-  if (app.scene) for (const a of app.scene.agents) for (const g of a.goals) cross(g[0], g[1], 3, '#bbbbbb');
-  for (const p of f.people) if (p[9] !== null) cross(p[9], p[10], 4, COLORS[p[5]] || '#000');
+  const crosses = new Map([['#bbbbbb', new Path2D()]]);
+  if (app.scene) for (const a of app.scene.agents) for (const g of a.goals) addCross(crosses.get('#bbbbbb'), g[0], g[1], 3);
+  for (const p of f.people) {
+    if (p[9] === null) continue;
+    const color = COLORS[p[5]] || '#000';
+    if (!crosses.has(color)) crosses.set(color, new Path2D());
+    addCross(crosses.get(color), p[9], p[10], 4);
+  }
+  strokeCrosses(crosses);
   if (f.robot.goal) { ring(f.robot.goal[0], f.robot.goal[1], Math.max(4, f.robot.goal[2] * view.scale), '#2e7d32', 2); cross(f.robot.goal[0], f.robot.goal[1], 5, '#2e7d32'); }
   if (f.path && f.path.points.length > 1) {
     ctx.strokeStyle = '#00acc1'; ctx.lineWidth = 2; ctx.setLineDash([6, 4]); ctx.beginPath();
@@ -437,7 +458,28 @@ function mpath(n, keys) { for (const k of keys) { n = Array.isArray(n) ? n[k] : 
 function ensureMap(n, key) { let v = mget(n, key); if (!isMap(v)) { v = { __map: [] }; mset(n, key, v); } return v; }
 function num(v, dflt = 0) { const x = parseFloat(v); return Number.isFinite(x) ? x : dflt; }
 
-function edPeopleParams() { return mpath(app.ed.doc, ['people', 'hunav_loader', 'ros__parameters']); }
+// The people's document: the agents file the scenario names (opened and saved with it), or the
+// scenario's own `people:` mapping.
+function edPeopleRoot() { return app.ed.peopleDoc || mget(app.ed.doc, 'people'); }
+function edPeopleParams() { const r = edPeopleRoot(); return isMap(r) ? mpath(r, ['hunav_loader', 'ros__parameters']) : undefined; }
+// The generator entries (`people: generate:`, one mapping or a list of them).
+function edGenerators() {
+  const r = edPeopleRoot(), g = isMap(r) ? mget(r, 'generate') : undefined;
+  if (isMap(g)) return [g];
+  return Array.isArray(g) ? g.filter(isMap) : [];
+}
+// A generator's region {x: [lo, hi] | v, y: ...} as a draggable centre that moves the whole box.
+function intervalOf(v) { return Array.isArray(v) ? [num(v[0]), num(v[1])] : [num(v), num(v)]; }
+function regionHandle(gen, index) {
+  const region = mget(gen, 'region');
+  if (!isMap(region)) return null;
+  const ox = mget(region, 'x'), oy = mget(region, 'y');
+  const [x0, x1] = intervalOf(ox), [y0, y1] = intervalOf(oy);
+  const shift = (v, d) => (Array.isArray(v) ? v.map((e) => Math.round((num(e) + d) * 100) / 100) : Math.round((num(v) + d) * 100) / 100);
+  return { x: (x0 + x1) / 2, y: (y0 + y1) / 2, box: [x0, y0, x1, y1], role: 'region', select: { kind: 'generator', index },
+    // From the values when the handle was made: a drag calls set() with each new position.
+    set: (x, y) => { mset(region, 'x', shift(ox, x - (x0 + x1) / 2)); mset(region, 'y', shift(oy, y - (y0 + y1) / 2)); } };
+}
 function edAgents() {
   const params = edPeopleParams();
   const names = params ? mget(params, 'agents') : undefined;
@@ -475,6 +517,7 @@ function edHandles() {
       if (isMap(gn)) hs.push(Object.assign(pointHandle(gn, { kind: 'person', name: a.name }), { role: 'goal', behavior: behaviorCode(a.node), name: a.name }));
     });
   }
+  edGenerators().forEach((g, gi) => { const h = regionHandle(g, gi); if (h) hs.push(h); });
   const map = mget(doc, 'map');
   const walls = isMap(map) ? mget(map, 'walls') : undefined;
   if (Array.isArray(walls)) walls.forEach((w, wi) => Array.isArray(w) && w.forEach((p, pi) => {
@@ -505,6 +548,17 @@ function drawEditor() {
     pts.forEach((h, i) => { const [x, y] = toPx(h.x, h.y); if (i) ctx.lineTo(x, y); else ctx.moveTo(x, y); });
     ctx.stroke();
   }
+  // People the loader made that are not handles (the generator's): shown, edited through its entry.
+  const listed = new Set(edAgents().map((a) => a.name));
+  if (app.ed.scene && Array.isArray(app.ed.scene.agents)) {
+    ctx.globalAlpha = 0.35;
+    for (const a of app.ed.scene.agents) {
+      if (listed.has(a.name) || !Array.isArray(a.start)) continue;
+      const [px, py] = toPx(a.start[0], a.start[1]);
+      disc(px, py, Math.max(2, a.radius * view.scale), COLORS[a.behavior] || '#000');
+    }
+    ctx.globalAlpha = 1;
+  }
   const drawnEd = [];
   for (const h of hs) {
     const [px, py] = toPx(h.x, h.y);
@@ -524,6 +578,11 @@ function drawEditor() {
       ctx.fillStyle = COLORS[h.behavior]; ctx.fillRect(px - 4, py - 4, 8, 8);
     } else if (h.role === 'wall') {
       ctx.fillStyle = '#37474f'; ctx.fillRect(px - 3, py - 3, 6, 6);
+    } else if (h.role === 'region') {
+      const [ax, ay] = toPx(h.box[0], h.box[3]), [bx, by] = toPx(h.box[2], h.box[1]);
+      ctx.save(); ctx.setLineDash([6, 4]); ctx.strokeStyle = sel ? '#ff6f00' : '#5c6bc0'; ctx.lineWidth = 2;
+      ctx.strokeRect(ax, ay, bx - ax, by - ay); ctx.restore();
+      ctx.fillStyle = '#5c6bc0'; ctx.beginPath(); ctx.moveTo(px, py - 7); ctx.lineTo(px + 7, py); ctx.lineTo(px, py + 7); ctx.lineTo(px - 7, py); ctx.fill();
     }
     if (sel) ring(h.x, h.y, 10, '#ff6f00', 2);
     drawnEd.push({ role: h.role, name: h.name || null, x: h.x, y: h.y, px, py });
@@ -547,23 +606,32 @@ function field(node, key, label, opts = {}) {
     for (const [v, t] of opts.choices) { const o = document.createElement('option'); o.value = v; o.textContent = t; input.appendChild(o); }
   } else { input = document.createElement('input'); }
   const cur = mget(node, key);
-  input.value = cur === undefined || cur === null ? (opts.dflt !== undefined ? opts.dflt : '') : String(cur);
+  input.value = cur === undefined || cur === null ? (opts.dflt !== undefined ? opts.dflt : '') : showValue(cur);
   input.name = key;
   input.addEventListener('change', () => {
     const v = input.value.trim();
     if (v === '' && !opts.choices) mdel(node, key);
-    else mset(node, key, opts.number && Number.isFinite(Number(v)) ? Number(v) : v);
+    else mset(node, key, opts.number ? numberOrInterval(v) : v);
     edChanged();
   });
   div.appendChild(lab); div.appendChild(input);
   const err = document.createElement('div'); err.className = 'field-error'; div.appendChild(err);
   return div;
 }
+// A number, or an interval written [low, high] (the generator's max_vel): else the text as typed,
+// for the loader to name.
+function numberOrInterval(v) {
+  if (Number.isFinite(Number(v))) return Number(v);
+  const m = /^\[\s*([^,\]]+)\s*,\s*([^\]]+)\]$/.exec(v);
+  if (m && Number.isFinite(Number(m[1])) && Number.isFinite(Number(m[2]))) return [Number(m[1]), Number(m[2])];
+  return v;
+}
+function showValue(v) { return Array.isArray(v) ? '[' + v.join(', ') + ']' : String(v); }
 function edProps() {
   const box = $('ed-props');
   box.innerHTML = '';
   const sel = app.ed && app.ed.selected;
-  if (!sel) { box.textContent = 'drag the robot, its goal, people, their goals (squares) and walls; click one to edit it'; return; }
+  if (!sel) { box.textContent = 'drag the robot, its goal, people, their goals (squares), walls and generated people\'s regions (diamonds); click one to edit it'; return; }
   const doc = app.ed.doc;
   const h = document.createElement('h2');
   box.appendChild(h);
@@ -599,6 +667,17 @@ function edProps() {
     const rm = document.createElement('button'); rm.textContent = '- last goal';
     rm.onclick = () => { const goals = mget(node, 'goals') || []; if (goals.length > 1) { mdel(node, String(goals.pop())); edChanged(); } };
     row.appendChild(add); row.appendChild(rm); box.appendChild(row);
+  } else if (sel.kind === 'generator') {
+    const gen = edGenerators()[sel.index];
+    if (!isMap(gen)) return;
+    h.textContent = 'generated people ' + sel.index + ' (drag the region)';
+    for (const [k, l] of [['count', 'how many'], ['max_vel', 'speed (m/s, or [low, high])'], ['radius', 'radius (m)'], ['goal_radius', 'goal radius (m)'],
+      ['min_spacing', 'start spacing (m)'], ['group_id', 'group (-1: none)']])
+      box.appendChild(field(gen, k, l, { number: true }));
+    let beh = mget(gen, 'behavior');
+    if (!isMap(beh)) { beh = mapOf({ type: beh === undefined ? 'regular' : String(beh) }); mset(gen, 'behavior', beh); }
+    box.appendChild(field(beh, 'type', 'behavior', { choices: Object.values(BEHAVIORS).map((n) => [n, n]), dflt: 'regular' }));
+    box.appendChild(field(beh, 'configuration', 'configuration', { choices: [['0', 'default'], ['1', 'custom'], ['2', 'random normal'], ['3', 'random uniform']], dflt: '0' }));
   } else if (sel.kind === 'box') {
     h.textContent = 'box ' + sel.index;
     const b = mget(mget(doc, 'map'), 'boxes')[sel.index];
@@ -639,14 +718,14 @@ function edResult(res, what) {
 }
 async function edValidate() {
   if (!app.ed) return false;
-  const res = await edPost('/api/editor/validate', { path: edTarget(), doc: app.ed.doc });
+  const res = await edPost('/api/editor/validate', { path: edTarget(), doc: app.ed.doc, people_doc: app.ed.peopleDoc || null });
   return edResult(res, 'the scenario loads');
 }
 async function edSave() {
   if (!app.ed) return false;
   const path = edTarget();
-  const res = await edPost('/api/editor/save', { path, doc: app.ed.doc });
-  const ok = edResult(res, 'saved ' + path);
+  const res = await edPost('/api/editor/save', { path, doc: app.ed.doc, people_doc: app.ed.peopleDoc || null });
+  const ok = edResult(res, 'saved ' + path + (res.people_path ? ' and ' + res.people_path : ''));
   if (ok) { app.ed.path = path; app.ed.saved = (app.ed.saved || 0) + 1; }
   return ok;
 }
@@ -659,6 +738,7 @@ async function edRun() {
   const data = await (await fetch('/api/editor/replay?path=' + encodeURIComponent(res.out_dir))).json();
   app.scene = app.ed.scene;
   setEditing(false);
+  $('banner').textContent = 'replay of the run of ' + app.ed.path + ' (' + res.out_dir + ')';
   startReplay(data);
   app.lastRun = res;
 }
@@ -674,9 +754,13 @@ async function edOpen(path) {
   const r = await fetch('/api/editor/open?path=' + encodeURIComponent(path));
   const j = await r.json();
   if (!r.ok || j.error && typeof j.error === 'string') { edStatus(j.error || 'cannot open ' + path, true); return false; }
-  app.ed = { path, doc: j.doc, scene: j.scene, selected: null, error: j.error };
+  const people = j.people || {};
+  app.ed = { path, doc: j.doc, peopleDoc: people.doc || null, peoplePath: people.path || null, scene: j.scene, selected: null, error: j.error };
   $('ed-path').value = path;
-  if (j.error) edStatus(j.error.message, true); else edStatus('opened ' + path, false);
+  $('banner').textContent = 'editing ' + path + (people.path ? ' and ' + people.path : '');
+  if (j.error) edStatus(j.error.message, true);
+  else if (people.error) edStatus('opened ' + path + '; its people are read only: ' + people.error, true);
+  else edStatus('opened ' + path + (people.path ? ' with its people in ' + people.path + ' (saved with it)' : ''), false);
   if (j.scene) { app.scene = j.scene; view.fitted = false; fit(); }
   edProps();
   app.dirty = true;
@@ -696,8 +780,9 @@ function edNew() {
   else mset(map, 'walls', [[[c[0] - 5, c[1] - 4], [c[0] + 5, c[1] - 4], [c[0] + 5, c[1] + 4], [c[0] - 5, c[1] + 4], [c[0] - 5, c[1] - 4]]]);
   const doc = mapOf({ name: path.split('/').pop().replace(/\.ya?ml$/, ''), dt: 0.01, time_limit: 60, seed: 1, map,
     robot: mapOf({ radius: 0.3, start: mapOf({ x: c[0] - 3, y: c[1], yaw: 0 }), goal: mapOf({ x: c[0] + 3, y: c[1], radius: 0.3 }) }) });
-  app.ed = { path, doc, scene: null, selected: null, error: null };
+  app.ed = { path, doc, peopleDoc: null, peoplePath: null, scene: null, selected: null, error: null };
   $('ed-path').value = path;
+  $('banner').textContent = 'editing ' + path + ' (new)';
   edChanged();
 }
 function edUniqueAgent() {
@@ -708,7 +793,9 @@ function edUniqueAgent() {
 }
 function edAddPerson() {
   if (!app.ed) return;
-  const people = ensureMap(app.ed.doc, 'people'), loader = ensureMap(people, 'hunav_loader'), params = ensureMap(loader, 'ros__parameters');
+  const named = mget(app.ed.doc, 'people');
+  if (!app.ed.peopleDoc && named !== undefined && !isMap(named)) { edStatus('the people of ' + named + ' are outside the editor folder: edit them there', true); return; }
+  const people = app.ed.peopleDoc || ensureMap(app.ed.doc, 'people'), loader = ensureMap(people, 'hunav_loader'), params = ensureMap(loader, 'ros__parameters');
   if (!Array.isArray(mget(params, 'agents'))) mset(params, 'agents', []);
   const [name, id] = edUniqueAgent();
   const [x, y] = toWorld(canvas.clientWidth / 2, canvas.clientHeight / 2).map((v) => Math.round(v * 100) / 100);
@@ -740,7 +827,10 @@ function edDelete() {
   const sel = app.ed && app.ed.selected;
   if (!sel) return;
   const map = mget(app.ed.doc, 'map');
-  if (sel.kind === 'person') {
+  if (sel.kind === 'generator') {
+    const r = edPeopleRoot(), g = mget(r, 'generate');
+    if (Array.isArray(g)) g.splice(g.indexOf(edGenerators()[sel.index]), 1); else mdel(r, 'generate');
+  } else if (sel.kind === 'person') {
     const params = edPeopleParams();
     mset(params, 'agents', mget(params, 'agents').filter((n) => String(n) !== sel.name));
     mdel(params, sel.name);

@@ -6,6 +6,7 @@
 // saving writes back every key the user did not touch; the project's own loader (loadScenario)
 // validates every version before it is saved, and its "file:line: key: what" is sent back.
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -34,18 +35,26 @@ class Editor {
 
   // Scenario files (.yaml/.yml) under the root, relative, sorted (not following symlinks out of it).
   Json files() const;
-  // {path, doc, scene | null, error | null}: the tree of the file and, when it loads, its scene.
+  // {path, doc, people, scene | null, error | null}: the tree of the file and, when it loads, its
+  // scene. When its `people:` names an agents file, people is {path, doc} of that file (relative to
+  // the root), or {error} when it lies outside the root.
   Json open(const std::string& relative) const;
   // {ok, error: {message, file, line, key, what} | null, scene | null}: `doc` as it would be saved at
   // `relative` (relative map and agent files resolve from that folder), checked by loadScenario.
-  Json validate(const std::string& relative, const Json& doc) const;
-  // validate(), then, when it loads, writes the YAML to `relative` (a new or existing file).
-  Json save(const std::string& relative, const Json& doc) const;
+  // `people_doc` (or null): the edited tree of the agents file the scenario's `people:` names.
+  Json validate(const std::string& relative, const Json& doc, const Json& people_doc = nullptr) const;
+  // validate(), then, when it loads, writes the agents file (if given) and the scenario's YAML to
+  // `relative` (a new or existing file), each whole or not at all.
+  Json save(const std::string& relative, const Json& doc, const Json& people_doc = nullptr) const;
   // Runs the saved scenario at `relative` in this process (runner::runInProcess, planner `planner`),
   // results into root/view_runs/<name>; returns {ok, out_dir (relative), status, fingerprint, error}.
   Json run(const std::string& relative, const std::string& planner, double duration) const;
 
  private:
+  // The agents file (relative to the root) the scenario document's `people:` names, if it names one;
+  // PathError when it lies outside the root.
+  std::optional<std::string> agentsFileOf(const std::string& relative, const Json& doc) const;
+
   std::filesystem::path root_;
 };
 
