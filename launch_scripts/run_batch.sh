@@ -12,8 +12,10 @@ usage() {
   cat <<'EOF'
 Usage: launch_scripts/run_batch.sh --scenarios LIST --planners LIST --seeds SEEDS --out DIR [options]
 
-Runs every (scenario, planner, seed) of the matrix with launch_scripts/run_experiment.sh, several at a
-time (GNU parallel), then writes the batch summary (hunav_summary DIR).
+Runs every (scenario, planner, seed) of the matrix, several at a time (GNU parallel), then writes the
+batch summary (hunav_summary DIR). In the inprocess mode each job is one hunav_run process running a
+chunk of seeds of one scenario and planner (hunav_run --seeds: the same result files as one process per
+run, at the speed of the simulation); in lockstep and realtime each run is a run_experiment.sh.
 
   --scenarios LIST   comma-separated scenario names (scenarios/NAME.yaml) or YAML files
   --planners LIST    comma-separated planners: dwb, scl, sfw, none, or names given --planner-cmd
@@ -24,7 +26,8 @@ time (GNU parallel), then writes the batch summary (hunav_summary DIR).
                      private network namespace, made by run_experiment.sh)
   --duration S       simulated time limit of every run (default: each scenario's time_limit)
   --timeout S        wall-clock limit of every run (run_experiment.sh --timeout: the run is stopped,
-                     aborted, exit 124, and runs again next time); default, per run:
+                     aborted, exit 124, and runs again next time; inprocess: of every chunk, the sum
+                     of its runs' limits); default, per run:
                      HUNAV_BATCH_TIMEOUT_MARGIN (60) + 2 x the run's time limit (--duration, else its
                      scenario's time_limit, else 60) s, so a run that hangs cannot hold the batch
   --profile P        metrics profile: default or hunav_v1
@@ -47,6 +50,8 @@ time (GNU parallel), then writes the batch summary (hunav_summary DIR).
 Layout of DIR:
   runs/<scenario>__<planner>__seed<N>/   the output folder of each run (run_experiment.sh --out),
                                          with its console output in logs/run_experiment.log
+                                         (inprocess: logs/hunav_run.log, its part of the chunk's)
+  logs/<scenario>__<planner>__seeds<A>-<B>.log   inprocess: the console output of each chunk
   matrix.tsv                             the matrix (as --print-matrix)
   batch.log                              one line per invocation: arguments, duration, counts
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
@@ -90,36 +95,91 @@ finished() {
     grep -q -E '"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit|stuck)"' "$1/run.json"
 }
 
-# ---------------------------------------------------------------------------------------------------
-# One run (what each parallel job executes): --run-one DIR FILE SCENARIO PLANNER SEED [run_experiment options]
-# ---------------------------------------------------------------------------------------------------
-if [ "${1:-}" = --run-one ]; then
+# judge_run RUN_DIR RC LOG: what became of a run that exited RC: sets `result` (the progress line's
+# text) and `rc` (0 for a finished run, as a failed expect: condition is a result, not an error).
+judge_run() {
+  local run_dir=$1 log=$3 done=0 status="" reason="" sim=""
+  rc=$2
+  finished "$run_dir" && done=1
+  # status, reason and sim_time of run.json in one read.
+  if [ -s "$run_dir/run.json" ]; then
+    IFS=$'\t' read -r status reason sim < <(awk '
+      function field(k,   m) { if (match($0, "\"" k "\"[[:space:]]*:[[:space:]]*\"?[^\",}]*")) { m = substr($0, RSTART, RLENGTH); sub(/^"[^"]*"[[:space:]]*:[[:space:]]*"?/, "", m); return m } return "" }
+      { if (s == "") s = field("status"); if (r == "") r = field("reason"); if (t == "") t = field("sim_time") }
+      END { printf "%s\t%s\t%s\n", s, (r == "" ? "-" : r), t }' "$run_dir/run.json")
+    [ "$reason" != - ] || reason=""
+  fi
+  if [ "$done" -eq 1 ] && { [ "$rc" -eq 3 ] || grep -q -E '"passed"[[:space:]]*:[[:space:]]*false' "$run_dir/expect.json" 2>/dev/null; }; then
+    # A finished run that failed its scenario's expect: conditions: a result (junit.xml), not an error.
+    result="$status, expectations FAILED (see $run_dir/expect.json)"
+    rc=0
+  elif [ "$done" -eq 1 ] && [ "$rc" -ne 0 ]; then
+    # Complete results, but the run did not exit cleanly (a crash at exit?): keep them, say so.
+    result="results complete, but the run exited $rc (see $log)"
+    printf '%s\n' "${run_dir##*/}" >>"$out/.exited_nonzero"
+  elif [ "$done" -eq 1 ]; then
+    result="$status after $(printf '%.2f' "$sim") s of simulation"
+  elif [ -s "$run_dir/run.json" ]; then
+    # It ended, but not on its own (interrupted, a component gone silent): not a result.
+    result="NOT FINISHED: ${status:-no status}${reason:+ ($reason)}, exit $rc; runs again next time (see $log)"
+    [ "$rc" -ne 0 ] || rc=1
+  else
+    result="FAILED (exit $rc, see $log)"
+    [ "$rc" -ne 0 ] || rc=1
+  fi
+}
+
+# progress LABEL RESULT: one line per run, counted across the parallel jobs of this host.
+progress() {
+  if [ -n "${HUNAV_BATCH_TOTAL:-}" ]; then
+    {
+      flock 9
+      done_count=$(($(cat "$out/.progress" 2>/dev/null || echo 0) + 1))
+      echo "$done_count" >"$out/.progress"
+      printf 'run_batch: [%d/%s] %s: %s\n' "$done_count" "$HUNAV_BATCH_TOTAL" "$1" "$2"
+    } 9>"$out/.progress.lock"
+  else
+    printf 'run_batch: %s: %s\n' "$1" "$2"
+  fi
+}
+
+# run_limit FILE DURATION: the default wall-clock limit of one run (see --help, --timeout): a realtime
+# run takes its time limit in wall clock, the other modes far less; the margin covers start-up and
+# writing the results.
+run_limit() {
+  local limit=$2
+  [ -n "$limit" ] || limit=$(sed -n -E 's/^time_limit:[[:space:]]*([0-9.eE+]+)[[:space:]]*(#.*)?$/\1/p' "$1" | head -n 1)
+  awk -v l="${limit:-60}" -v m="${HUNAV_BATCH_TIMEOUT_MARGIN:-60}" 'BEGIN { printf "%.0f", m + 2 * l }'
+}
+
+# The run options of PLANNER from a job's arguments, with the --planner-cmd/--planner-config of that
+# planner only: sets run_options, and timeout/duration when given.
+planner_options() {
+  local planner=$1
   shift
-  out=$1 file=$2 scenario=$3 planner=$4 seed=$5
-  shift 5
-  # The run options, with the --planner-cmd/--planner-config of this run's planner only.
-  run_options=()
+  run_options=() given_timeout="" given_duration=""
   while [ "$#" -gt 0 ]; do
     case "$1" in
       --planner-cmd | --planner-config)
         [ "${2%%=*}" != "$planner" ] || run_options+=("$1" "${2#*=}")
         shift 2 ;;
+      --timeout) given_timeout=$2; shift 2 ;;
+      --duration) given_duration=$2; run_options+=("$1" "$2"); shift 2 ;;
       *) run_options+=("$1"); shift ;;
     esac
   done
-  # The default wall-clock limit (see --help, --timeout): a realtime run takes its time limit in wall
-  # clock, the other modes far less; the margin covers start-up and writing the results.
-  has_timeout=0 limit=""
-  for ((k = 0; k < ${#run_options[@]}; k++)); do
-    case "${run_options[k]}" in
-      --timeout) has_timeout=1 ;;
-      --duration) limit=${run_options[k + 1]} ;;
-    esac
-  done
-  if [ "$has_timeout" -eq 0 ]; then
-    [ -n "$limit" ] || limit=$(sed -n -E 's/^time_limit:[[:space:]]*([0-9.eE+]+)[[:space:]]*(#.*)?$/\1/p' "$file" | head -n 1)
-    run_options+=(--timeout "$(awk -v l="${limit:-60}" -v m="${HUNAV_BATCH_TIMEOUT_MARGIN:-60}" 'BEGIN { printf "%.0f", m + 2 * l }')")
-  fi
+}
+
+# ---------------------------------------------------------------------------------------------------
+# One run (what each parallel job executes in the lockstep and realtime modes):
+#   --run-one DIR FILE SCENARIO PLANNER SEED [run_experiment options]
+# ---------------------------------------------------------------------------------------------------
+if [ "${1:-}" = --run-one ]; then
+  shift
+  out=$1 file=$2 scenario=$3 planner=$4 seed=$5
+  shift 5
+  planner_options "$planner" "$@"
+  run_options+=(--timeout "${given_timeout:-$(run_limit "$file" "$given_duration")}")
   run_dir="$out/runs/${scenario}__${planner}__seed${seed}"
   label="$scenario $planner seed $seed"
   if finished "$run_dir"; then
@@ -131,41 +191,74 @@ if [ "${1:-}" = --run-one ]; then
     rc=0
     "$repo_root/launch_scripts/run_experiment.sh" --scenario "$file" --planner "$planner" --seed "$seed" \
       --out "$run_dir" "${run_options[@]}" >"$run_dir/logs/run_experiment.log" 2>&1 </dev/null || rc=$?
-    if finished "$run_dir" && [ "$rc" -eq 3 ]; then
-      # A finished run that failed its scenario's expect: conditions: a result (junit.xml), not an error.
-      result="$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1), expectations FAILED (see $run_dir/expect.json)"
-      rc=0
-    elif finished "$run_dir" && [ "$rc" -ne 0 ]; then
-      # Complete results, but the run did not exit cleanly (a crash at exit?): keep them, say so.
-      result="results complete, but run_experiment.sh exited $rc (see $run_dir/logs/run_experiment.log)"
-      printf '%s\n' "${scenario}__${planner}__seed${seed}" >>"$out/.exited_nonzero"
-    elif finished "$run_dir"; then
-      status=$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
-      sim=$(sed -n -E 's/.*"sim_time"[[:space:]]*:[[:space:]]*([^,}]*).*/\1/p' "$run_dir/run.json" | head -n 1)
-      result="$status after $(awk -v t="$sim" 'BEGIN { printf "%.2f", t }') s of simulation"
-    elif [ -s "$run_dir/run.json" ]; then
-      # It ended, but not on its own (interrupted, a component gone silent): not a result.
-      status=$(sed -n -E 's/.*"status"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
-      reason=$(sed -n -E 's/.*"reason"[[:space:]]*:[[:space:]]*"([^"]*)".*/\1/p' "$run_dir/run.json" | head -n 1)
-      result="NOT FINISHED: ${status:-no status}${reason:+ ($reason)}, exit $rc; runs again next time (see $run_dir/logs/run_experiment.log)"
-      [ "$rc" -ne 0 ] || rc=1
-    else
-      result="FAILED (exit $rc, see $run_dir/logs/run_experiment.log)"
-      [ "$rc" -ne 0 ] || rc=1
-    fi
+    judge_run "$run_dir" "$rc" "$run_dir/logs/run_experiment.log"
   fi
-  if [ -n "${HUNAV_BATCH_TOTAL:-}" ]; then
-    # The progress counter, shared by the parallel jobs of this host.
-    {
-      flock 9
-      done_count=$(($(cat "$out/.progress" 2>/dev/null || echo 0) + 1))
-      echo "$done_count" >"$out/.progress"
-      printf 'run_batch: [%d/%s] %s: %s\n' "$done_count" "$HUNAV_BATCH_TOTAL" "$label" "$result"
-    } 9>"$out/.progress.lock"
-  else
-    printf 'run_batch: %s: %s\n' "$label" "$result"
-  fi
+  progress "$label" "$result"
   exit "$rc"
+fi
+
+# ---------------------------------------------------------------------------------------------------
+# A chunk of runs (what each parallel job executes in the inprocess mode): one hunav_run process runs
+# several seeds of one scenario and planner (hunav_run --seeds: the same result files as one process
+# per run), so that a batch costs its simulations, not a shell and a process per run.
+#   --run-chunk DIR FILE SCENARIO PLANNER SEEDS(comma-separated) [run_experiment options]
+# ---------------------------------------------------------------------------------------------------
+if [ "${1:-}" = --run-chunk ]; then
+  shift
+  out=$1 file=$2 scenario=$3 planner=$4 seed_csv=$5
+  shift 5
+  planner_options "$planner" "$@"
+  IFS=',' read -r -a chunk_seeds <<<"$seed_csv"
+  run_args=()
+  for ((k = 0; k < ${#run_options[@]}; k++)); do
+    case "${run_options[k]}" in
+      --mode) k=$((k + 1)) ;;  # inprocess: hunav_run itself
+      *) run_args+=("${run_options[k]}") ;;
+    esac
+  done
+  # The wall-clock limit applies to the chunk: the sum of its runs' limits.
+  limit=$((${#chunk_seeds[@]} * ${given_timeout:-$(run_limit "$file" "$given_duration")}))
+  for seed in "${chunk_seeds[@]}"; do rm -rf "$out/runs/${scenario}__${planner}__seed${seed}"; done
+  mkdir -p "$out/logs"
+  chunk_log="$out/logs/${scenario}__${planner}__seeds${chunk_seeds[0]}-${chunk_seeds[${#chunk_seeds[@]} - 1]}.log"
+  reason_file="$chunk_log.stop"
+  rm -f "$reason_file"
+  rc=0
+  HUNAV_STOP_REASON_FILE=$reason_file "$bin_dir/hunav_run" --scenario "$file" --planner "$planner" --seeds "$seed_csv" \
+    --out "$out/runs" --quiet "${run_args[@]}" >"$chunk_log" 2>&1 </dev/null &
+  run_pid=$!
+  # The watchdog: past the limit, the reason first (the run is then recorded as aborted with it), then SIGTERM.
+  (
+    trap 'kill "$sleeper" 2>/dev/null; exit 0' TERM
+    sleep "$limit" &
+    sleeper=$!
+    wait "$sleeper"
+    echo "wall-clock timeout: the chunk ran longer than ${limit} s" >"$reason_file"
+    kill -TERM "$run_pid" 2>/dev/null
+  ) &
+  watchdog=$!
+  # Ctrl-C or parallel's SIGTERM: hunav_run ends its episode and writes what it recorded.
+  trap 'kill -TERM "$run_pid" 2>/dev/null' INT TERM
+  while kill -0 "$run_pid" 2>/dev/null; do wait "$run_pid" || rc=$?; done
+  kill -TERM "$watchdog" 2>/dev/null || true
+  wait "$watchdog" 2>/dev/null || true
+  # Each run's part of the chunk's console output (up to its "results in" line), in its folder.
+  awk '{ buf = buf $0 "\n" } /^results in / { dir = substr($0, 12); if (system("test -d \"" dir "\"") == 0) {
+         system("mkdir -p \"" dir "/logs\""); printf "%s", buf >(dir "/logs/hunav_run.log"); close(dir "/logs/hunav_run.log") } buf = "" }' \
+    "$chunk_log"
+  hunav_rc=$rc chunk_rc=0
+  for seed in "${chunk_seeds[@]}"; do
+    run_dir="$out/runs/${scenario}__${planner}__seed${seed}"
+    # hunav_run's exit code covers the chunk: judge each run by its files (a run that did not finish
+    # counts as failed whatever the code).
+    run_rc=0
+    finished "$run_dir" || run_rc=$((hunav_rc == 0 ? 1 : hunav_rc))
+    judge_run "$run_dir" "$run_rc" "$chunk_log"
+    progress "$scenario $planner seed $seed" "$result"
+    [ "$rc" -eq 0 ] || chunk_rc=$rc
+  done
+  rm -f "$reason_file"
+  exit "$chunk_rc"
 fi
 
 # ---------------------------------------------------------------------------------------------------
@@ -366,12 +459,48 @@ echo "run_batch: batch folder $out"
 rm -f "$out/.progress" "$out/.exited_nonzero"
 started=$(date +%s.%N)
 parallel_rc=0
-# Each job runs this script with --run-one. parallel hands the command to a shell and quotes the
-# fields it substitutes ({2}...{5}); the rest is quoted here. Ctrl-C reaches every run_experiment.sh,
-# which stops its processes cleanly; the interrupted runs are not finished and run again next time.
-job=$(printf '%q ' "$script_path" --run-one "$out")'{2} {3} {4} {5} '$(printf '%q ' "${run_args[@]}")
-HUNAV_BATCH_TOTAL=$total HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
-  --arg-file "$out/matrix.tsv" "$job" || parallel_rc=$?
+if [ "$mode" = inprocess ]; then
+  # Chunks: the runs still to do of each (scenario, planner), a few seeds per hunav_run process,
+  # about six chunks per job so that the jobs end together (at most 10 runs per chunk: progress lines
+  # come at the end of each chunk). The finished runs are reported as skipped here.
+  [ -x "$bin_dir/hunav_run" ] || { err "$bin_dir/hunav_run is missing: build the project first (bash launch_scripts/setup.sh)"; exit 1; }
+  todo=$((total - already))
+  chunk_size=$(((todo + 6 * jobs - 1) / (6 * jobs)))
+  [ "$chunk_size" -ge 1 ] || chunk_size=1
+  [ "$chunk_size" -le 10 ] || chunk_size=10
+  export HUNAV_BATCH_TOTAL=$total
+  : >"$out/.chunks"
+  current="" seeds_csv="" count=0
+  while IFS=$'\t' read -r _ file label planner seed; do
+    if finished "$out/runs/${label}__${planner}__seed${seed}"; then
+      progress "$label $planner seed $seed" "skipped (finished before)"
+      continue
+    fi
+    if [ "$file"$'\t'"$label"$'\t'"$planner" != "$current" ] || [ "$count" -eq "$chunk_size" ]; then
+      [ -z "$seeds_csv" ] || printf '%s\t%s\n' "$current" "$seeds_csv" >>"$out/.chunks"
+      current="$file"$'\t'"$label"$'\t'"$planner" seeds_csv="" count=0
+    fi
+    seeds_csv=${seeds_csv:+$seeds_csv,}$seed
+    count=$((count + 1))
+  done <"$out/matrix.tsv"
+  [ -z "$seeds_csv" ] || printf '%s\t%s\n' "$current" "$seeds_csv" >>"$out/.chunks"
+  # parallel hands the command to a shell and quotes the fields it substitutes ({1}...{4}); the rest
+  # is quoted here. Ctrl-C reaches every hunav_run, which ends its episode and writes what it recorded;
+  # the interrupted runs are not finished and run again next time.
+  job=$(printf '%q ' "$script_path" --run-chunk "$out")'{1} {2} {3} {4} '$(printf '%q ' "${run_args[@]}")
+  if [ -s "$out/.chunks" ]; then
+    HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
+      --arg-file "$out/.chunks" "$job" || parallel_rc=$?
+  fi
+  rm -f "$out/.chunks"
+else
+  # Each job runs this script with --run-one. parallel hands the command to a shell and quotes the
+  # fields it substitutes ({2}...{5}); the rest is quoted here. Ctrl-C reaches every run_experiment.sh,
+  # which stops its processes cleanly; the interrupted runs are not finished and run again next time.
+  job=$(printf '%q ' "$script_path" --run-one "$out")'{2} {3} {4} {5} '$(printf '%q ' "${run_args[@]}")
+  HUNAV_BATCH_TOTAL=$total HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
+    --arg-file "$out/matrix.tsv" "$job" || parallel_rc=$?
+fi
 elapsed=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 rm -f "$out/.progress" "$out/.progress.lock"
 exited_nonzero=()
