@@ -7,6 +7,7 @@ const COLORS = { 0: '#444444', 1: '#1f77b4', 2: '#7f7f7f', 3: '#e6b800', 4: '#94
 const STATES = { 0: 'inactive', 1: 'reaction active (1)', 2: 'reaction active (2)' };
 const ACTIVE_RING = '#ff7f0e';
 const TRAIL_STEP = 0.1;  // s of simulated time between kept trail points
+const CROWD = 300, CROWD_TRAIL_STEP = 0.5;  // more people than CROWD: coarser trails
 const TRAIL_SECONDS = 6;
 
 const $ = (id) => document.getElementById(id);
@@ -109,10 +110,12 @@ function updateTrails(frame) {
     if (tr.length && tr[tr.length - 1][2] === t) return;
     // A point per TRAIL_STEP of simulated time, plus the moving head: a thousand trails stay a few
     // tens of thousands of segments to raster, whatever the frame rate.
-    if (tr.length >= 2 && t - tr[tr.length - 2][2] < TRAIL_STEP) tr[tr.length - 1] = [x, y, t];
+    if (tr.length >= 2 && t - tr[tr.length - 2][2] < step) tr[tr.length - 1] = [x, y, t];
     else tr.push([x, y, t]);
     while (tr.length && tr[0][2] < t - TRAIL_SECONDS) tr.shift();
   };
+  // Crowds: a point per 0.5 s (a thousand 6 s trails are 12,000 segments for the software rasterizer).
+  const step = frame.people.length > CROWD ? CROWD_TRAIL_STEP : TRAIL_STEP;
   add('robot', frame.robot.x, frame.robot.y);
   for (const p of frame.people) add(p[0], p[1], p[2]);
 }
@@ -167,15 +170,20 @@ function drawFrame(f) {
   const t = f.t;
   drawTrails(t);
   // The configured goals of the scene, then each person's current goal and the robot's.
+  // Goals: crosses; in a crowd only the current goals, as small squares (one fill per colour): the
+  // software rasterizer of headless Chromium spends most of a crowd's frame on thin strokes.
+  const crowd = f.people.length > CROWD;
   const crosses = new Map([['#bbbbbb', new Path2D()]]);
-  if (app.scene) for (const a of app.scene.agents) for (const g of a.goals) addCross(crosses.get('#bbbbbb'), g[0], g[1], 3);
+  if (app.scene && !crowd) for (const a of app.scene.agents) for (const g of a.goals) addCross(crosses.get('#bbbbbb'), g[0], g[1], 3);
   for (const p of f.people) {
     if (p[9] === null) continue;
     const color = COLORS[p[5]] || '#000';
     if (!crosses.has(color)) crosses.set(color, new Path2D());
-    addCross(crosses.get(color), p[9], p[10], 4);
+    if (crowd) { const [gx, gy] = toPx(p[9], p[10]); crosses.get(color).rect(gx - 1.5, gy - 1.5, 3, 3); }
+    else addCross(crosses.get(color), p[9], p[10], 4);
   }
-  strokeCrosses(crosses);
+  if (crowd) for (const [color, path] of crosses) { ctx.fillStyle = color; ctx.fill(path); }
+  else strokeCrosses(crosses);
   if (f.robot.goal) { ring(f.robot.goal[0], f.robot.goal[1], Math.max(4, f.robot.goal[2] * view.scale), '#2e7d32', 2); cross(f.robot.goal[0], f.robot.goal[1], 5, '#2e7d32'); }
   if (f.path && f.path.points.length > 1) {
     ctx.strokeStyle = '#00acc1'; ctx.lineWidth = 2; ctx.setLineDash([6, 4]); ctx.beginPath();
