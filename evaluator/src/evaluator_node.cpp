@@ -263,12 +263,7 @@ class EvaluatorNode::Worker {
   std::thread thread_;
 };
 
-namespace {
-
-bool finite(double v) { return std::isfinite(v); }
-
-// `points` is scratch space, reused to avoid an allocation per entity and tick.
-EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& points) {
+EntityState entityOf(const agent_state_t& a) {
   EntityState e;
   e.id = a.id;
   e.group = a.group_id;
@@ -290,6 +285,16 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
     e.goal_y = a.goals[0].y;
     e.goal_radius = a.goal_radius;
   }
+  return e;
+}
+
+namespace {
+
+bool finite(double v) { return std::isfinite(v); }
+
+// `points` is scratch space, reused to avoid an allocation per entity and tick.
+EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& points) {
+  EntityState e = entityOf(a);
   points.clear();
   for (const auto& o : a.obstacles) points.emplace_back(o.x, o.y);
   e.obstacles_begin = rec.addObstacles(points);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "hunav/cli.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/transport.hpp"
@@ -13,34 +14,6 @@
 
 namespace hunav::runner {
 
-namespace {
-
-// The columns of states.csv the comparison reads (no obstacle points: it does not use them).
-evaluator::EntityState entityOf(const agent_state_t& a) {
-  evaluator::EntityState e;
-  e.id = a.id;
-  e.group = a.group_id;
-  e.behavior = a.behavior;
-  e.behavior_state = a.behavior_state;
-  e.x = a.x;
-  e.y = a.y;
-  e.yaw = a.yaw;
-  e.vx = a.vx;
-  e.vy = a.vy;
-  e.vyaw = a.vyaw;
-  e.linear_vel = a.linear_vel;
-  e.angular_vel = a.angular_vel;
-  e.radius = a.radius;
-  if (!a.goals.empty()) {
-    e.has_goal = true;
-    e.goal_x = a.goals[0].x;
-    e.goal_y = a.goals[0].y;
-    e.goal_radius = a.goal_radius;
-  }
-  return e;
-}
-
-}  // namespace
 
 evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector<double>& sample_times) {
   evaluator::Recording rec;
@@ -69,8 +42,8 @@ evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector
     const double t = world.time();
     if (t == sample_times[next]) {
       agents.clear();
-      for (const agent_state_t& a : world.agents()) agents.push_back(entityOf(a));
-      rec.addSample(t, entityOf(world.robot()), agents);
+      for (const agent_state_t& a : world.agents()) agents.push_back(evaluator::entityOf(a));
+      rec.addSample(t, evaluator::entityOf(world.robot()), agents);
       ++next;
       continue;
     }

@@ -54,6 +54,10 @@ namespace hunav::evaluator {
 // and an atomic store, already pays with the 2 people of the passing scenario: evaluator/README.md).
 inline constexpr std::size_t kWorkerMinPeople = 0;
 
+// An agent (or the robot) of a world state as the evaluator records it, without its obstacle points
+// (the robot-free run of a counterfactual records its people the same way).
+EntityState entityOf(const agent_state_t& a);
+
 struct EvaluatorOptions {
   std::filesystem::path out_dir;     // created when missing
   std::string profile = "default";   // metric profile (knownProfiles())
