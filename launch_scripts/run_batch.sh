@@ -225,7 +225,7 @@ if [ "${1:-}" = --run-chunk ]; then
   rm -f "$reason_file"
   rc=0
   HUNAV_STOP_REASON_FILE=$reason_file "$bin_dir/hunav_run" --scenario "$file" --planner "$planner" --seeds "$seed_csv" \
-    --out "$out/runs" --quiet "${run_args[@]}" >"$chunk_log" 2>&1 </dev/null &
+    --folder-label "$scenario" --out "$out/runs" --quiet "${run_args[@]}" >"$chunk_log" 2>&1 </dev/null &
   run_pid=$!
   # The watchdog: past the limit, the reason first (the run is then recorded as aborted with it), then SIGTERM.
   (

@@ -104,6 +104,10 @@ int main(int argc, char** argv) {
       ->excludes(seed_opt);
   app.add_option("--planners", planner_list,
                  "with --seeds: comma-separated planners, each run on every seed (default: --planner)");
+  std::string folder_label;
+  app.add_option("--folder-label", folder_label,
+                 "with --seeds: the <scenario> part of each run's folder name (default: the scenario's name:; "
+                 "run_batch.sh passes its label of the scenario file)");
   app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
       ->check(hunav::cli::positiveNumber());
   app.add_option("--sample-rate", sample_rate,
@@ -203,7 +207,9 @@ int main(int argc, char** argv) {
           hunav::Scenario s = static_cast<std::uint64_t>(episode_seed) == scenario.seed ? scenario : prepare(episode_seed);
           s.evaluation_sample_rate = scenario.evaluation_sample_rate;
           episode.out_dir =
-              (std::filesystem::path(out_root) / hunav::runner::batchRunFolder(s.name, planner, episode_seed)).string();
+              (std::filesystem::path(out_root) /
+               hunav::runner::batchRunFolder(folder_label.empty() ? s.name : folder_label, planner, episode_seed))
+                  .string();
           code = runEpisode(s, episode, quiet);
         } catch (const hunav::ConfigError& e) {
           std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": " << e.what() << "\n";

@@ -45,6 +45,12 @@ done <"$work/list.files"
 cmp -s "$work/list/crowd__dwb__seed1/states.csv" "$work/list/crowd__dwb__seed2/states.csv" &&
   fail "the crowds of seeds 1 and 2 are the same"
 
+# --folder-label names the folders (run_batch.sh's label of a scenario file whose name: differs);
+# the run id keeps the scenario's name.
+"$bin/hunav_run" --scenario "$repo/scenarios/passing.yaml" --seeds 3 --folder-label copy --duration 1 \
+  --out "$work/label" --quiet >/dev/null || fail "--folder-label run exited $?"
+grep -q '"run_id": "passing_dwb_s3"' "$work/label/copy__dwb__seed3/run.json" || fail "--folder-label: no copy__dwb__seed3"
+
 # Bad lists: exit 2, the item named, nothing run.
 expect_bad() {
   local want=$1
