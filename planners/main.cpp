@@ -9,8 +9,6 @@
 #include "hunav/scenario.hpp"
 #include "hunav/transport.hpp"
 
-#include <hunav/planner_ready_t.hpp>
-
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -90,20 +88,18 @@ int main(int argc, char** argv) {
     bus_options.direct_on_every_port = true;
     bus_options.filter_unsubscribed_channels = true;
     hunav::Bus bus(hunav::resolveLcmUrl(lcm_url), bus_options);
-    hp::PlannerNode node(bus, std::move(planner));
+    hp::PlannerNode node(bus, std::move(planner), planner_name);
     // The readiness handshake (docs/planner_contract.md, "Readiness"): subscribed now, so announce it,
     // and keep announcing it (a world started later waits for one before its first episode).
-    hunav::planner_ready_t announce{};
-    announce.name = planner_name;
     const auto period = std::chrono::milliseconds(hunav::channels::kPlannerReadyPeriodMs);
     auto last_announce = std::chrono::steady_clock::now();
-    bus.publish(hunav::channels::kPlannerReady, announce);
+    node.announce();
     std::cout << "ready" << std::endl;
 
     while (!g_stop && (episodes == 0 || node.episodesEnded() < episodes)) {
       bus.handleFor(std::chrono::milliseconds(100));
       if (const auto now = std::chrono::steady_clock::now(); now - last_announce >= period) {
-        bus.publish(hunav::channels::kPlannerReady, announce);
+        node.announce();
         last_announce = now;
       }
     }

@@ -626,6 +626,8 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     info.wall_time = end->wall_time;
     info.fingerprint = end->fingerprint;
     info.world_dropped_messages = end->dropped_messages;
+    info.manager_dropped_messages = end->manager_dropped_messages;
+    info.planner_dropped_messages = end->planner_dropped_messages;
     // Stopped from outside (an interrupt, or a supervisor's reason: episode_status::stopCause), the
     // episode was cut short even when the world still sent its END.
     const auto stop = episode_status::stopCause();

@@ -193,6 +193,8 @@ void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<M
   integer("lost_ticks", info.lost_ticks);
   integer("dropped_messages", info.dropped_messages);
   integer("world_dropped_messages", info.world_dropped_messages);
+  integer("manager_dropped_messages", info.manager_dropped_messages);
+  integer("planner_dropped_messages", info.planner_dropped_messages);
   str("fingerprint", info.fingerprint);
   str("recorded_fingerprint", info.recorded_fingerprint);
   str("git_commit", info.git_commit);
@@ -242,6 +244,10 @@ RunInfo readRunJson(const fs::path& file) {
   info.lost_ticks = r.get<std::int64_t>(root, "lost_ticks", "", info.lost_ticks);
   info.dropped_messages = r.get<std::int64_t>(root, "dropped_messages", "", info.dropped_messages);
   info.world_dropped_messages = r.get<std::int64_t>(root, "world_dropped_messages", "", info.world_dropped_messages);
+  info.manager_dropped_messages =
+      r.get<std::int64_t>(root, "manager_dropped_messages", "", info.manager_dropped_messages);
+  info.planner_dropped_messages =
+      r.get<std::int64_t>(root, "planner_dropped_messages", "", info.planner_dropped_messages);
   info.fingerprint = r.get<std::string>(root, "fingerprint", "", info.fingerprint);
   info.recorded_fingerprint = r.get<std::string>(root, "recorded_fingerprint", "", info.recorded_fingerprint);
   info.git_commit = r.get<std::string>(root, "git_commit", "", info.git_commit);

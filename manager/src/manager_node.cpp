@@ -9,9 +9,13 @@ ManagerNode::ManagerNode(Bus& bus, bool count_episodes) : bus_(bus) {
   request_drops_ =
       &bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) { onRequest(r); });
   if (count_episodes)
-    bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
+    event_drops_ = &bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
       if (e.event == episode_event_t::END) ++episodes_ended_;
     });
+}
+
+std::uint64_t ManagerNode::droppedMessages() const {
+  return request_drops_->count + (event_drops_ != nullptr ? event_drops_->count : 0) + bus_.malformedDatagrams();
 }
 
 void ManagerNode::onRequest(const step_request_t& request) {
@@ -32,6 +36,7 @@ void ManagerNode::onRequest(const step_request_t& request) {
   }
   have_answered_ = have_last_ = false;  // until the new reply is complete
   manager_.step(request, last_reply_);  // reuses the last reply's storage
+  last_reply_.dropped_messages = static_cast<std::int64_t>(droppedMessages());
   answered_seq_ = request.seq;
   answered_episode_ = request.episode;
   have_answered_ = true;

@@ -33,6 +33,7 @@ class GoToGoalPlanner {
   void announceReady() {
     hunav::planner_ready_t ready{};
     ready.name = "example_planner";
+    ready.dropped_messages = 0;  // LCM drops what does not decode before our callbacks: nothing counted here
     lcm_.publish("PLANNER_READY", &ready);
   }
 

@@ -17,10 +17,28 @@ void require(bool condition, const char* what) {
 }
 }  // namespace
 
-PlannerNode::PlannerNode(Bus& bus, std::unique_ptr<Planner> planner) : bus_(bus), planner_(std::move(planner)) {
-  bus_.subscribe<robot_observation_t>(channels::kRobotObservation,
-                                      [this](const robot_observation_t& obs) { onObservation(obs); });
-  bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { onEpisodeEvent(e); });
+PlannerNode::PlannerNode(Bus& bus, std::unique_ptr<Planner> planner, std::string name)
+    : bus_(bus), planner_(std::move(planner)), name_(std::move(name)) {
+  observation_drops_ = &bus_.subscribe<robot_observation_t>(
+      channels::kRobotObservation, [this](const robot_observation_t& obs) { onObservation(obs); });
+  event_drops_ = &bus_.subscribe<episode_event_t>(channels::kEpisodeEvent,
+                                                  [this](const episode_event_t& e) { onEpisodeEvent(e); });
+}
+
+std::uint64_t PlannerNode::droppedMessages() const {
+  return observation_drops_->count + event_drops_->count + bus_.malformedDatagrams();
+}
+
+void PlannerNode::announce() {
+  planner_ready_t ready{};
+  ready.name = name_;
+  dropped_announced_ = droppedMessages();
+  ready.dropped_messages = static_cast<std::int64_t>(dropped_announced_);
+  bus_.publish(channels::kPlannerReady, ready);
+}
+
+void PlannerNode::announceNewDrops() {
+  if (droppedMessages() != dropped_announced_) announce();
 }
 
 void PlannerNode::validate(const robot_observation_t& obs) {
@@ -58,6 +76,7 @@ void PlannerNode::beginEpisode(std::int64_t episode) {
 }
 
 void PlannerNode::onObservation(const robot_observation_t& obs) {
+  announceNewDrops();  // before the command: the world has the count by the time it answers
   validate(obs);
   if (!episode_ || obs.episode != *episode_) beginEpisode(obs.episode);
   if (last_reply_) {
@@ -104,6 +123,7 @@ void PlannerNode::onEpisodeEvent(const episode_event_t& event) {
   if (event.event == episode_event_t::START) {
     // A restarted world may reuse an episode number: after an END, any START begins afresh.
     if (!episode_ || event.episode != *episode_ || episode_ended_) beginEpisode(event.episode);
+    announce();  // so a world hears the count in every mode (in process nothing else announces)
   } else if (event.event == episode_event_t::END) {
     if (!episode_ || event.episode != *episode_) beginEpisode(event.episode);  // ended unseen
     else if (episode_ended_) return;                                          // a repeated END

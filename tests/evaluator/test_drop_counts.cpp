@@ -1,5 +1,5 @@
 // run.json counts every message the evaluator dropped (those that do not decode too, which it left
-// out before) and carries the world's count from the END event.
+// out before) and carries the world's, the manager's and the planner's counts from the END event.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -36,6 +36,8 @@ TEST(DropCounts, UndecodableAndRejectedMessagesAndTheWorldsCountGoIntoRunJson) {
   world.publish(hunav::channels::kWorldState, worldState(1, 2, 40000, robotMsg(0, 0, 0, 0, 0), people));
   hunav::episode_event_t end = endEvent(1, 3, 0.04, "0123456789abcdef", "time_limit");
   end.dropped_messages = 5;
+  end.manager_dropped_messages = 7;
+  end.planner_dropped_messages = -1;  // no planner heard
   world.publish(hunav::channels::kEpisodeEvent, end);
   bus.handleAvailable();
 
@@ -46,6 +48,11 @@ TEST(DropCounts, UndecodableAndRejectedMessagesAndTheWorldsCountGoIntoRunJson) {
   EXPECT_EQ(info.world_dropped_messages, 5);
   EXPECT_EQ(info.recorded_ticks, 2);
   EXPECT_EQ(info.lost_ticks, 0);
-  EXPECT_NE(readFile(dir / "run.json").find("\"world_dropped_messages\": 5"), std::string::npos);
+  EXPECT_EQ(info.manager_dropped_messages, 7);
+  EXPECT_EQ(info.planner_dropped_messages, -1);
+  const std::string json = readFile(dir / "run.json");
+  EXPECT_NE(json.find("\"world_dropped_messages\": 5"), std::string::npos);
+  EXPECT_NE(json.find("\"manager_dropped_messages\": 7"), std::string::npos);
+  EXPECT_NE(json.find("\"planner_dropped_messages\": -1"), std::string::npos);
   EXPECT_EQ(checkOutputs(dir), 0);
 }

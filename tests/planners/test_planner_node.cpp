@@ -131,6 +131,34 @@ TEST_F(PlannerNodeTest, InvalidObservationsAreDroppedAndCounted) {
   EXPECT_EQ(commands_.size(), 1u);
 }
 
+TEST_F(PlannerNodeTest, AnnouncesItsDropCountAtStartAndWhenItGrows) {
+  std::vector<planner_ready_t> told;
+  bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [&](const planner_ready_t& r) { told.push_back(r); });
+  sendEvent(episode_event_t::START, 1);
+  ASSERT_EQ(told.size(), 1u);  // START: the count so far
+  EXPECT_EQ(told[0].dropped_messages, 0);
+  send(observation(1));
+  EXPECT_EQ(told.size(), 1u);  // nothing new: no announcement
+  robot_observation_t bad = observation(2);
+  bad.yaw = std::numeric_limits<double>::infinity();
+  send(bad);
+  EXPECT_EQ(told.size(), 1u);  // the drop is counted after the handler ran: told with the next message
+  send(bad);                   // the next one tells the first drop, then is dropped too
+  ASSERT_EQ(told.size(), 2u);
+  EXPECT_EQ(told[1].dropped_messages, 1);
+  EXPECT_EQ(node_->droppedMessages(), 2u);
+  send(observation(2));  // the next good observation tells the second, before its command
+  ASSERT_EQ(told.size(), 3u);
+  EXPECT_EQ(told[2].dropped_messages, 2);
+  EXPECT_EQ(commands_.size(), 2u);
+  send(observation(3));  // nothing new
+  EXPECT_EQ(told.size(), 3u);
+  node_->announce();  // the process's heartbeat says the same
+  bus_.handleAvailable();
+  ASSERT_EQ(told.size(), 4u);
+  EXPECT_EQ(told[3].dropped_messages, 2);
+}
+
 TEST(PlannerNodeValidate, RejectsNonFiniteAndImpossibleValues) {
   const Scenario s = passing();
   const robot_observation_t good = makeObservation(s, Vec2(0, 0), 0.0, 0.0, 0.0);

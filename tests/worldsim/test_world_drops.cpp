@@ -14,6 +14,8 @@
 
 #include "hunav/channels.hpp"
 #include "hunav/manager/manager_node.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/planner_node.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
 using namespace hunav;
@@ -137,4 +139,102 @@ TEST(WorldDrops, SilenceIsStillSilence) {
   const auto r = world.runEpisode();
   EXPECT_EQ(r.reason.find("manager did not answer seq 1"), 0u) << r.reason;
   EXPECT_EQ(r.dropped_messages, 0u);
+}
+
+namespace {
+
+// A step request the manager rejects (dt < 0) and an observation the planner rejects (x NaN).
+void sendBadStepRequest(Bus& bus) {
+  step_request_t r{};
+  r.dt = -1.0;
+  bus.publish(channels::kStepRequest, r);
+}
+void sendBadObservation(Bus& bus) {
+  robot_observation_t o{};
+  o.x = std::nan("");
+  bus.publish(channels::kRobotObservation, o);
+}
+
+}  // namespace
+
+// The manager tells its count in every step reply, the planner in its PLANNER_READY announcements;
+// the END event carries each one's share of the episode (what it told minus what it had told at the
+// previous END), so drops before a START count for the episode it opens.
+TEST(WorldDrops, ManagerAndPlannerCountsReachTheEndEventPerEpisode) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  Events events(bus);
+  manager::ManagerNode manager(bus);
+  Scenario s = passing();
+  s.time_limit = 1.0;
+  planners::PlannerNode planner(bus, planners::createPlanner("dwb", s), "dwb");
+  WorldOptions o = fastOptions();
+  o.planner = "dwb";
+  WorldSim world(bus, s, o);
+
+  sendBadStepRequest(bus);  // before the first START: the first episode's
+  sendBadObservation(bus);
+  sendBadObservation(bus);
+  const auto first = world.runEpisode();
+  bus.handleAvailable();
+  EXPECT_EQ(first.status, "time_limit") << first.reason;
+  EXPECT_EQ(first.manager_dropped_messages, 1);
+  EXPECT_EQ(first.planner_dropped_messages, 2);
+  EXPECT_EQ(first.dropped_messages, 0u);  // the world's own
+  ASSERT_EQ(events.all.size(), 2u);
+  EXPECT_EQ(events.all[1].manager_dropped_messages, 1);
+  EXPECT_EQ(events.all[1].planner_dropped_messages, 2);
+
+  const auto second = world.runEpisode();  // nothing dropped: 0, not the totals 1 and 2
+  bus.handleAvailable();
+  EXPECT_EQ(second.manager_dropped_messages, 0);
+  EXPECT_EQ(second.planner_dropped_messages, 0);
+
+  for (int i = 0; i < 3; ++i) sendBadStepRequest(bus);
+  sendBadObservation(bus);
+  const auto third = world.runEpisode();
+  bus.handleAvailable();
+  EXPECT_EQ(third.manager_dropped_messages, 3);  // told 4 in all, 1 at the last END
+  EXPECT_EQ(third.planner_dropped_messages, 1);  // told 3 in all, 2 at the last END
+  EXPECT_EQ(manager.droppedMessages(), 4u);
+  EXPECT_EQ(planner.droppedMessages(), 3u);
+  ASSERT_EQ(events.all.size(), 6u);
+  EXPECT_EQ(events.all[4].manager_dropped_messages, 0);  // a START carries 0
+  EXPECT_EQ(events.all[5].manager_dropped_messages, 3);
+}
+
+// -1, not 0, when the world heard no count: no people (no step replies), a planner that never
+// announced itself.
+TEST(WorldDrops, UnheardCountsAreMinusOne) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  HugeCommand planner(bus, 0.5);  // answers, never announces
+  Scenario s = passing();
+  s.agents.clear();
+  s.time_limit = 0.5;
+  WorldSim world(bus, s, fastOptions());
+  const auto r = world.runEpisode();
+  EXPECT_EQ(r.status, "time_limit") << r.reason;
+  EXPECT_EQ(r.manager_dropped_messages, -1);
+  EXPECT_EQ(r.planner_dropped_messages, -1);
+}
+
+// A negative count is not a count: the reply is dropped (and named in the abort reason).
+TEST(WorldDrops, ANegativeCountInAStepReplyIsDropped) {
+  lcm::LCM lcm("memq://");
+  Bus bus(lcm);
+  bus.subscribe<step_request_t>(channels::kStepRequest, [&bus](const step_request_t& r) {
+    step_reply_t reply{};
+    reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
+    reply.seq = r.seq;
+    reply.episode = r.episode;
+    reply.agents = r.agents;
+    reply.num_agents = r.num_agents;
+    reply.dropped_messages = -5;
+    bus.publish(channels::kStepReply, reply);
+  });
+  WorldSim world(bus, passing(), fastOptions());
+  const auto r = world.runEpisode();
+  EXPECT_EQ(r.status, "aborted");
+  EXPECT_NE(r.reason.find("the last: step reply: negative dropped_messages"), std::string::npos) << r.reason;
 }

@@ -79,8 +79,25 @@ WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
   reply_drops_ = &bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
   command_drops_ =
       &bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
-  if (options_.planner_ready_timeout.count() > 0)
-    bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [this](const planner_ready_t&) { planner_ready_ = true; });
+  if (options_.planner != "none")
+    bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [this](const planner_ready_t& ready) {
+      planner_drops_.tell(ready.dropped_messages);  // a negative count: dropped, not an announcement
+      planner_ready_ = true;
+    });
+}
+
+void WorldSim::PeerDrops::tell(std::int64_t count) {
+  if (count < 0) throw BadMessage("negative dropped_messages");
+  heard = true;
+  told = static_cast<std::uint64_t>(count);
+}
+
+std::int64_t WorldSim::PeerDrops::takeEpisodeShare() {
+  if (!heard) return -1;
+  // A peer that restarted counts from 0 again: all it told is this episode's.
+  const std::uint64_t share = told >= at_last_end ? told - at_last_end : told;
+  at_last_end = told;
+  return static_cast<std::int64_t>(share);
 }
 
 WorldSim::~WorldSim() = default;
@@ -227,6 +244,7 @@ void WorldSim::onStepReply(const step_reply_t& reply) {
   if (reply.episode != episode_ || reply.seq != step_seq_ || reply_arrived_) return;  // stale or duplicate
   checkAgentStates(reply.agents, reply.num_agents, "step reply");
   if (reply.agents.size() != agents_.size()) throw BadMessage("step reply: wrong number of agents");
+  if (reply.dropped_messages < 0) throw BadMessage("step reply: negative dropped_messages");
   for (std::size_t i = 0; i < agents_.size(); ++i)
     if (reply.agents[i].id != agents_[i].id) throw BadMessage("step reply: agents out of order");
   next_motion_.resize(agents_.size());
@@ -243,6 +261,7 @@ void WorldSim::onStepReply(const step_reply_t& reply) {
     s.desired_speed = next.desired_speed;
     next_motion_[i] = NextMotion{next.vx, next.vy, next.yaw};
   }
+  manager_drops_.tell(reply.dropped_messages);
   reply_arrived_ = true;
 }
 
@@ -619,6 +638,8 @@ void WorldSim::endEpisode(EpisodeResult& result) {
   result.dropped_messages = dropped - dropped_at_last_end_;
   dropped_at_last_end_ = dropped;
   ev.dropped_messages = static_cast<int64_t>(result.dropped_messages);
+  ev.manager_dropped_messages = result.manager_dropped_messages = manager_drops_.takeEpisodeShare();
+  ev.planner_dropped_messages = result.planner_dropped_messages = planner_drops_.takeEpisodeShare();
   bus_.publish(channels::kEpisodeEvent, ev);
 }
 

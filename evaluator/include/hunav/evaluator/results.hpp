@@ -31,6 +31,10 @@ struct RunInfo {
   std::int64_t lost_ticks = 0;
   std::int64_t dropped_messages = 0;        // by the evaluator: rejected or undecodable, this episode
   std::int64_t world_dropped_messages = 0;  // by the world, this episode (its END event's count)
+  // By the manager and the planner, this episode, as the END event told (-1: not known: no END, no
+  // people or planner, or a component that never told its count).
+  std::int64_t manager_dropped_messages = -1;
+  std::int64_t planner_dropped_messages = -1;
   std::string fingerprint;           // the world's (END); the recorded one for an incomplete run
   std::string recorded_fingerprint;  // FNV-1a 64 of the encoded world states the evaluator recorded
   std::string git_commit;

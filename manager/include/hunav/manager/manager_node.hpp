@@ -1,5 +1,6 @@
 #pragma once
-// The manager process logic: answers STEP_REQUEST with STEP_REPLY.
+// The manager process logic: answers STEP_REQUEST with STEP_REPLY. Each reply carries the
+// messages the node dropped so far (the world puts the episode's share into its END event).
 #include "hunav/manager/agent_manager.hpp"
 #include "hunav/transport.hpp"
 
@@ -23,12 +24,15 @@ class ManagerNode {
   // The step requests it dropped (undecodable, or rejected: bad numbers, a behavior tree that is not
   // one of its own) and why the last one was.
   const SubscriptionDrops& requestDrops() const { return *request_drops_; }
+  // Everything it dropped: step requests, events, and (on a socket bus) malformed datagrams.
+  std::uint64_t droppedMessages() const;
 
  private:
   void onRequest(const step_request_t& request);
 
   Bus& bus_;
   const SubscriptionDrops* request_drops_ = nullptr;
+  const SubscriptionDrops* event_drops_ = nullptr;  // with count_episodes
   AgentManager manager_;
   bool have_answered_ = false;  // answered_seq_ and answered_episode_ are set
   std::int64_t answered_seq_ = 0;

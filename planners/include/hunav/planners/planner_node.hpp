@@ -7,6 +7,8 @@
 //  - Invalid observations (non-finite numbers, impossible sizes or limits) are dropped and counted
 //    by the Bus (BadMessage).
 //  - EPISODE_EVENT END events are counted, so the process can stop after N episodes.
+//  - It announces itself on PLANNER_READY (planner_ready_t with its drop count) at each START and
+//    whenever its drop count grew; a process repeats announce() as its heartbeat (planners/main.cpp).
 //  - With each command of a planner that keeps a global path (dwb, scl, sfw), the path goes out on
 //    ROBOT_PATH (planned_path_t) for monitors such as hunav_view; nobody in the step protocol reads it.
 #include "hunav/planners/planner.hpp"
@@ -14,12 +16,14 @@
 
 #include <hunav/episode_event_t.hpp>
 #include <hunav/planned_path_t.hpp>
+#include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 
 namespace hunav::planners {
 
@@ -30,8 +34,15 @@ class PlannerNode {
   static constexpr int kMaxRanges = 100000;  // the scenario loader's limit on laser beams
   static constexpr int kMaxPeople = 10000;
 
-  // Subscribes ROBOT_OBSERVATION and EPISODE_EVENT on `bus` (which must outlive the node).
-  PlannerNode(Bus& bus, std::unique_ptr<Planner> planner);
+  // Subscribes ROBOT_OBSERVATION and EPISODE_EVENT on `bus` (which must outlive the node); `name`
+  // goes into its PLANNER_READY announcements.
+  PlannerNode(Bus& bus, std::unique_ptr<Planner> planner, std::string name = "");
+
+  // Publishes planner_ready_t on PLANNER_READY: the name and droppedMessages().
+  void announce();
+  // Messages this node dropped since it was created: observations and events it rejected or could
+  // not decode, and (on a socket bus) malformed datagrams.
+  std::uint64_t droppedMessages() const;
 
   std::int64_t episodesEnded() const { return episodes_ended_; }
   std::uint64_t plansComputed() const { return plans_computed_; }
@@ -49,9 +60,15 @@ class PlannerNode {
   void beginEpisode(std::int64_t episode);
   // Publishes the planner's global path on ROBOT_PATH, when it keeps one (after a fresh plan).
   void publishPath(const robot_observation_t& obs);
+  // Announces again when the drop count grew since the last announcement (checked per message).
+  void announceNewDrops();
 
   Bus& bus_;
   std::unique_ptr<Planner> planner_;
+  std::string name_;
+  const SubscriptionDrops* observation_drops_ = nullptr;
+  const SubscriptionDrops* event_drops_ = nullptr;
+  std::uint64_t dropped_announced_ = 0;
   std::optional<std::int64_t> episode_;  // the episode being served
   bool episode_ended_ = false;           // its END event arrived
   std::optional<robot_command_t> last_reply_;

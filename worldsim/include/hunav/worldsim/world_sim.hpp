@@ -59,6 +59,10 @@ struct EpisodeResult {
   std::string fingerprint;
   std::uint64_t collisions = 0;  // contact events of the episode (the sum over its world states)
   std::uint64_t dropped_messages = 0;  // the world dropped in the episode (its END event's count)
+  // What the manager and the planner dropped in the episode, as their step replies and PLANNER_READY
+  // announcements told; -1 when the world heard no count (no people, no planner, a silent one).
+  std::int64_t manager_dropped_messages = -1;
+  std::int64_t planner_dropped_messages = -1;
   std::string run_id;
   std::uint64_t seed = 0;
   // The episode ran to an end of its own (goal_reached, time_limit or stuck: an outcome of the
@@ -200,6 +204,17 @@ class WorldSim {
   const SubscriptionDrops* reply_drops_ = nullptr;  // its subscriptions' drop counts (Bus::subscribe)
   const SubscriptionDrops* command_drops_ = nullptr;
   std::uint64_t dropped_at_last_end_ = 0;
+  // A peer's drop count as it last told it (cumulative since it started), and its value at the last
+  // END: the episode's share is the difference.
+  struct PeerDrops {
+    bool heard = false;
+    std::uint64_t told = 0;
+    std::uint64_t at_last_end = 0;
+    void tell(std::int64_t count);
+    std::int64_t takeEpisodeShare();  // -1 when never heard
+  };
+  PeerDrops manager_drops_;
+  PeerDrops planner_drops_;
   StuckDetector stuck_;  // of the current episode (reset())
   Fingerprint fingerprint_;
 };
