@@ -17,7 +17,10 @@ class WorkerPool {
  public:
   // `threads`: threads in all, the caller's included (threads - 1 are started here).
   explicit WorkerPool(int threads) {
-    for (int t = 1; t < threads; ++t) threads_.emplace_back([this] { loop(); });
+    // The generation a thread starts from is taken here, not when the thread first runs: one that
+    // starts late (a loaded machine) must still see the jobs and the stop that came before it ran.
+    const std::uint64_t start = generation_.load();
+    for (int t = 1; t < threads; ++t) threads_.emplace_back([this, start] { loop(start); });
   }
   ~WorkerPool() {
     {
@@ -96,8 +99,7 @@ class WorkerPool {
     }
   }
 
-  void loop() {
-    std::uint64_t seen = generation_.load();
+  void loop(std::uint64_t seen) {
     for (;;) {
       const auto until = std::chrono::steady_clock::now() + kWorkerSpin;
       for (int spin = 0; generation_.load() == seen; ++spin) {
@@ -109,7 +111,7 @@ class WorkerPool {
       {
         std::unique_lock<std::mutex> lock(mutex_);
         ++sleepers_;
-        wake_.wait(lock, [&] { return generation_.load() != seen; });
+        wake_.wait(lock, [&] { return stop_ || generation_.load() != seen; });
         --sleepers_;
         if (stop_) return;
         seen = generation_.load();
