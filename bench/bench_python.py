@@ -3,6 +3,7 @@
 
     PYTHONPATH=build/python taskset -c 0 /usr/bin/python3 bench/bench_python.py [--episodes 20]
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_python.py --vector-only --worlds 2
+    ... --no-states-csv: every loop without states.csv (states_csv=False; the same episodes)
 
 A step is one control period (10 world ticks of 0.01 s in scenarios/passing.yaml) with the action
 computed in Python by the go-to-goal policy below; episodes use seeds first_seed.. and run to their
@@ -32,6 +33,7 @@ import hunav
 from hunav.gym import HuNavEnv
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
+SIM_OPTIONS = {}  # extra keyword arguments of every Simulation, HuNavEnv and VectorSimulation (--no-states-csv)
 
 
 def go_to_goal(robot, goal):
@@ -50,7 +52,7 @@ def digest(fingerprints):
 
 
 def bench_sim(scenario, seeds):
-    sim = hunav.Simulation(scenario)
+    sim = hunav.Simulation(scenario, **SIM_OPTIONS)
     steps, prints = 0, []
     start, cpu, proc = time.perf_counter(), time.thread_time(), time.process_time()
     for seed in seeds:
@@ -63,7 +65,7 @@ def bench_sim(scenario, seeds):
 
 
 def bench_env(scenario, seeds):
-    env = HuNavEnv(scenario)
+    env = HuNavEnv(scenario, **SIM_OPTIONS)
     steps, prints = 0, []
     start, cpu, proc = time.perf_counter(), time.thread_time(), time.process_time()
     for seed in seeds:
@@ -83,7 +85,7 @@ def bench_env(scenario, seeds):
 
 def bench_vector(scenario, seeds, worlds, threads):
     """The episodes over `worlds` worlds: a world whose episode ends starts the next seed."""
-    vs = hunav.VectorSimulation(worlds, scenario, seeds=seeds[:worlds], threads=threads)
+    vs = hunav.VectorSimulation(worlds, scenario, seeds=seeds[:worlds], threads=threads, **SIM_OPTIONS)
     steps, prints = 0, {}
     start, cpu, proc = time.perf_counter(), time.thread_time(), time.process_time()
     obs = vs.reset()
@@ -136,7 +138,11 @@ def main():
     parser.add_argument("--bench-stepped", default=str(REPO / "build" / "bin" / "bench_stepped"),
                         help="the C++ baseline binary")
     parser.add_argument("--vector-only", action="store_true", help="only the vector figures")
+    parser.add_argument("--no-states-csv", action="store_true",
+                        help="without states.csv (states_csv=False; bench_stepped --no-states-csv)")
     args = parser.parse_args()
+    if args.no_states_csv:
+        SIM_OPTIONS["states_csv"] = False
     seeds = list(range(args.first_seed, args.first_seed + args.episodes))
     cpus = sorted(os.sched_getaffinity(0))
     print(f"scenario {args.scenario}, {args.episodes} episodes (seeds {seeds[0]}..{seeds[-1]}), "
@@ -148,7 +154,8 @@ def main():
             runs = []
             for _ in range(args.repeat):
                 out = subprocess.run([args.bench_stepped, "--scenario", args.scenario, "--episodes",
-                                      str(args.episodes), "--first-seed", str(args.first_seed)],
+                                      str(args.episodes), "--first-seed", str(args.first_seed)]
+                                     + (["--no-states-csv"] if args.no_states_csv else []),
                                      capture_output=True, text=True, check=True).stdout
                 fields = out.split()
                 cpu = [i for i, f in enumerate(fields) if f == "CPU"]

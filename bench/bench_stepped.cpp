@@ -2,6 +2,7 @@
 // the baseline of bench/bench_python.py, which runs the same episodes from Python. A step is one
 // control period (10 ticks of 0.01 s in the shipped scenarios) with the go-to-goal command below.
 //   build/bin/bench_stepped [--scenario scenarios/passing.yaml] [--episodes 20] [--first-seed 1]
+//                           [--no-states-csv]
 // Prints steps, seconds, steps per second, microseconds per step, the CPU time per step of this (the
 // stepping) thread and of the whole process (the evaluator's worker threads too: what one core
 // would do; both the figures least disturbed by other work on the machine) and a digest of the episodes' fingerprints
@@ -64,6 +65,8 @@ int main(int argc, char** argv) {
   app.add_option("--episodes", episodes, "episodes (seeds first-seed, first-seed + 1, ...)")
       ->check(CLI::PositiveNumber);
   app.add_option("--first-seed", first_seed, "seed of the first episode")->check(hunav::cli::nonNegativeInteger());
+  bool no_states_csv = false;
+  app.add_flag("--no-states-csv", no_states_csv, "without states.csv (hunav.Simulation(states_csv=False))");
   CLI11_PARSE(app, argc, argv);
 
   std::string dir = (std::filesystem::temp_directory_path() / "hunav-bench-stepped-XXXXXX").string();
@@ -83,6 +86,7 @@ int main(int argc, char** argv) {
     hunav::runner::RunOptions options;
     options.planner = "python";  // the name hunav.Simulation records
     options.out_dir = dir;
+    options.states_csv = !no_states_csv;
     hunav::runner::SteppedRun run(scenario, options, true);
     run.start();
     while (!run.ended()) {

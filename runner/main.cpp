@@ -134,7 +134,13 @@ int main(int argc, char** argv) {
   app.add_flag("--counterfactual", options.counterfactual,
                "also run the episode with the same seed without the robot and compare each person's trajectory: "
                "counterfactual.csv per person and the counterfactual_* metrics (docs/metrics.md)");
+  bool no_states_csv = false;
+  app.add_flag("--no-states-csv", no_states_csv,
+               "do not write states.csv (the metrics and every other file are the same; saves formatting one row "
+               "per entity per sample); not with --counterfactual, which reads it back")
+      ->excludes("--counterfactual");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+  options.states_csv = !no_states_csv;
 
   if (sample_rate != -1.0) {  // given (NaN included: CLI11's check lets it through)
     try {

@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 struct EvaluatorNode::Episode {
   RunInfo info;
   fs::path run_dir;
-  std::unique_ptr<StatesCsvWriter> states;
+  std::unique_ptr<StatesCsvWriter> states;  // none without EvaluatorOptions::states_csv
+  std::size_t unflushed_ticks = 0;          // samples recorded since the last flush
   std::unique_ptr<RunEvaluation> evaluation;
   SampleRate rate;
   Recording sample;             // the current sample only (its buffers are reused)
@@ -389,6 +390,8 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
   if (options_.episodes < 0) throw std::invalid_argument("episodes must be >= 0 (0 = no limit)");
   SampleRate check(options_.sample_rate);  // throws for a bad rate
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
+  if (options_.robot_free_run && !options_.states_csv)
+    throw std::invalid_argument("the counterfactual reads states.csv back: it needs states_csv");
   event_drops_ =
       &bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
   state_drops_ =
@@ -462,8 +465,10 @@ void EvaluatorNode::begin(const episode_event_t& start) {
     ep->run_dir = options_.out_dir / name;
   }
   fs::create_directories(ep->run_dir);
-  ep->states = std::make_unique<StatesCsvWriter>(ep->run_dir / "states.csv");
-  info.states_file = ep->states->path().string();
+  if (options_.states_csv) {
+    ep->states = std::make_unique<StatesCsvWriter>(ep->run_dir / "states.csv");
+    info.states_file = ep->states->path().string();
+  }
   const OutputOptions outputs{options_.out_dir, ep->run_dir, options_.hunav_txt, false};
   ep->evaluation = std::make_unique<RunEvaluation>(registry_, options_.profile, options_.experiment_tag, outputs);
   current_ = std::move(ep);
@@ -542,9 +547,10 @@ void EvaluatorNode::processEncoded(Episode& ep, std::vector<std::uint8_t>& bytes
 
 void EvaluatorNode::record(Episode& ep, Recording& sample, double t, const EntityState& robot) {
   sample.addSample(t, robot, agents_scratch_);
-  ep.states->write(sample, sample.back());
+  if (ep.states) ep.states->write(sample, sample.back());
   ep.evaluation->add(sample, sample.back());
-  if (ep.states->bufferedTicks() >= kFlushTicks || ep.states->bufferedBytes() >= kFlushBytes) {
+  ++ep.unflushed_ticks;
+  if (ep.unflushed_ticks >= kFlushTicks || (ep.states && ep.states->bufferedBytes() >= kFlushBytes)) {
     flush(ep);
   } else {
     flushIfDue(ep);
@@ -571,13 +577,14 @@ void EvaluatorNode::process(Episode& ep, const world_state_t& ws, double t, bool
 }
 
 void EvaluatorNode::flush(Episode& ep) {
-  ep.states->flush();
+  if (ep.states) ep.states->flush();
   ep.evaluation->flush();
+  ep.unflushed_ticks = 0;
   ep.last_flush = std::chrono::steady_clock::now();
 }
 
 void EvaluatorNode::flushIfDue(Episode& ep) {
-  if (ep.states->bufferedTicks() == 0) return;
+  if (ep.unflushed_ticks == 0) return;
   if (std::chrono::steady_clock::now() - ep.last_flush >= kFlushAge) flush(ep);
 }
 
@@ -648,7 +655,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
   // A failing close must not cost the metrics and run.json: report it after writing them.
   std::exception_ptr close_error;
   try {
-    ep->states->close();
+    if (ep->states) ep->states->close();
   } catch (const std::exception&) {
     close_error = std::current_exception();
   }

@@ -24,6 +24,7 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   if (options.evaluator_worker_min_people >= 0)
     e.worker_min_people = static_cast<std::size_t>(options.evaluator_worker_min_people);
   if (options.counterfactual) e.robot_free_run = robotFreeRunOf(scenario);
+  e.states_csv = options.states_csv;
   return e;
 }
 

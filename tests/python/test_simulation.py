@@ -85,6 +85,28 @@ def test_state_metrics_fingerprint_and_save(passing, tmp_path):
     assert (out / "states.csv").read_text().startswith("t,kind,id,x,y,yaw")
 
 
+def test_without_states_csv_the_same_episode_and_metrics(passing, tmp_path):
+    """states_csv=False (for learning loops that never read it) leaves out states.csv only."""
+    results = []
+    for states_csv in (True, False):
+        sim = hunav.Simulation(passing, seed=4, states_csv=states_csv)
+        trace, fingerprint = run_scripted(sim, 4, 400)
+        out = tmp_path / f"states_{states_csv}"
+        sim.save(str(out))
+        results.append((trace, fingerprint, sim.metrics(), sim.info()["status"], out))
+    (trace, fingerprint, metrics, status, out), (trace2, fingerprint2, metrics2, status2, out2) = results
+    assert fingerprint2 == fingerprint and status2 == status == "goal_reached"
+    assert metrics2 == metrics and metrics["social_work"] > 0.0
+    assert len(trace2) == len(trace) and all((a["robot"] == b["robot"]).all() for a, b in zip(trace, trace2))
+    assert (out / "states.csv").exists() and not (out2 / "states.csv").exists()
+    assert (out2 / "metrics.csv").read_text() == (out / "metrics.csv").read_text()
+    vs = hunav.VectorSimulation(2, passing, seeds=[4, 5], states_csv=False)
+    vs.reset()
+    vs.step(np.zeros((2, 2)))
+    with pytest.raises(TypeError):
+        hunav.Simulation(passing, states_csv="no")
+
+
 def test_metrics_while_running(passing):
     sim = hunav.Simulation(passing, seed=1)
     sim.reset()

@@ -34,6 +34,8 @@ struct RunOptions {
   // Also run the episode without the robot and write the robot's effect on people (counterfactual.csv,
   // the counterfactual_* metrics: docs/metrics.md); off: the files exactly as before.
   bool counterfactual = false;
+  // Write states.csv (EvaluatorOptions::states_csv); off: the metrics and other files unchanged.
+  bool states_csv = true;
 };
 
 struct RunOutcome {
