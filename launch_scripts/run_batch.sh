@@ -202,13 +202,25 @@ fi
 # several seeds of one scenario and planner (hunav_run --seeds: the same result files as one process
 # per run), so that a batch costs its simulations, not a shell and a process per run.
 #   --run-chunk DIR FILE SCENARIO PLANNER SEEDS(comma-separated) [run_experiment options]
+# Seeds whose run is finished already are reported as skipped and not run again (slurm_batch.sh's
+# tasks hand over their whole range; run_batch.sh itself leaves them out of its chunks).
 # ---------------------------------------------------------------------------------------------------
 if [ "${1:-}" = --run-chunk ]; then
   shift
   out=$1 file=$2 scenario=$3 planner=$4 seed_csv=$5
   shift 5
   planner_options "$planner" "$@"
-  IFS=',' read -r -a chunk_seeds <<<"$seed_csv"
+  IFS=',' read -r -a given_seeds <<<"$seed_csv"
+  chunk_seeds=()
+  for seed in "${given_seeds[@]}"; do
+    if finished "$out/runs/${scenario}__${planner}__seed${seed}"; then
+      progress "$scenario $planner seed $seed" "skipped (finished before)"
+    else
+      chunk_seeds+=("$seed")
+    fi
+  done
+  [ "${#chunk_seeds[@]}" -gt 0 ] || exit 0
+  seed_csv=$(IFS=','; echo "${chunk_seeds[*]}")
   run_args=()
   for ((k = 0; k < ${#run_options[@]}; k++)); do
     case "${run_options[k]}" in

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The matrix of launch_scripts/run_batch.sh on a Slurm cluster: one run per array task, then one
-# aggregation job (hunav_summary) once every task has ended. See --help.
+# The matrix of launch_scripts/run_batch.sh on a Slurm cluster: a few runs per array task (in the
+# inprocess mode one hunav_run process per scenario and planner of the task, as run_batch.sh's chunks),
+# then one aggregation job (hunav_summary) once every task has ended. See --help.
 set -euo pipefail
 
 script_path=$(readlink -f "${BASH_SOURCE[0]}")
@@ -12,20 +13,26 @@ usage() {
   cat <<'EOF'
 Usage:
   launch_scripts/slurm_batch.sh --scenarios LIST --planners LIST --seeds SEEDS --out DIR [options]
-      Writes DIR/matrix.tsv and submits a job array (one task per run) and an aggregation job that
-      starts once every task has ended (sbatch --dependency=afterany).
+      Writes DIR/matrix.tsv and submits a job array (--runs-per-task runs per task) and an
+      aggregation job that starts once every task has ended (sbatch --dependency=afterany).
   launch_scripts/slurm_batch.sh --scenarios LIST --planners LIST --seeds SEEDS --print-matrix
-      Prints the matrix: index (= SLURM_ARRAY_TASK_ID), scenario file, scenario, planner, seed.
+      Prints the matrix: index, scenario file, scenario, planner, seed (task T holds the rows
+      T*N .. T*N+N-1, N = --runs-per-task).
   launch_scripts/slurm_batch.sh --task DIR [--dry-run]
-      (What each array task runs.) Runs row $SLURM_ARRAY_TASK_ID of DIR/matrix.tsv, unless it is
-      finished already (ended goal_reached, time_limit or stuck: run_batch.sh --help); --dry-run
-      prints the row and the command instead.
+      (What each array task runs.) Runs the rows of task $SLURM_ARRAY_TASK_ID in DIR/matrix.tsv,
+      except those finished already (ended goal_reached, time_limit or stuck: run_batch.sh --help):
+      in the inprocess mode one hunav_run --seeds process per scenario and planner among them
+      (run_batch.sh's chunks: the same result files), else one run_experiment.sh per row; --dry-run
+      prints the rows and the commands instead.
   launch_scripts/slurm_batch.sh --aggregate DIR
       (What the final job runs.) hunav_summary DIR.
 
 Options of a submission (the matrix options are run_batch.sh's: --scenarios, --planners, --seeds,
 --mode, --duration, --timeout, --profile, --metrics FILE, --format F, --counterfactual,
 --planner-config NAME=FILE, --planner-cmd NAME=CMD):
+  --runs-per-task N    runs per array task (default: 10 in the inprocess mode, where a task's runs
+                       share a process; 1 in lockstep and realtime); the task's wall-clock need is
+                       the sum of its runs' (give sbatch --time accordingly)
   --max-parallel N     at most N tasks at a time (sbatch --array=0-M%N)
   --sbatch-args "..."  more sbatch options for both jobs (e.g. "--partition=short --time=00:20:00")
   --dry-run            print the sbatch commands instead of submitting them
@@ -57,22 +64,54 @@ case "${1:-}" in
     [ "${3:-}" != --dry-run ] || dry_run=1
     [ -n "${SLURM_ARRAY_TASK_ID:-}" ] || usage_error "--task: SLURM_ARRAY_TASK_ID is not set (run it as an array task)"
     [[ $SLURM_ARRAY_TASK_ID =~ ^[0-9]+$ ]] || usage_error "--task: SLURM_ARRAY_TASK_ID is not a number"
-    row=$(awk -F'\t' -v i="$SLURM_ARRAY_TASK_ID" '$1 == i { print; exit }' "$out/matrix.tsv")
-    [ -n "$row" ] || { err "no row $SLURM_ARRAY_TASK_ID in $out/matrix.tsv"; exit 2; }
-    IFS=$'\t' read -r index file scenario planner seed <<<"$row"
+    per_task=1
+    [ ! -s "$out/slurm_runs_per_task" ] || per_task=$(cat "$out/slurm_runs_per_task")
+    [[ $per_task =~ ^[1-9][0-9]*$ ]] || { err "$out/slurm_runs_per_task:1: not a number of runs: '$per_task'"; exit 2; }
+    first=$((SLURM_ARRAY_TASK_ID * per_task))
+    rows=$(awk -F'\t' -v a="$first" -v b="$((first + per_task))" '$1 >= a && $1 < b' "$out/matrix.tsv")
+    [ -n "$rows" ] || { err "no row for task $SLURM_ARRAY_TASK_ID (rows $first..$((first + per_task - 1))) in $out/matrix.tsv"; exit 2; }
     options=()
     if [ -s "$out/slurm_options" ]; then mapfile -t options <"$out/slurm_options"; fi
-    cmd=("$run_batch" --run-one "$out" "$file" "$scenario" "$planner" "$seed" "${options[@]}")
+    mode=inprocess
+    for ((k = 0; k + 1 < ${#options[@]}; k++)); do [ "${options[k]}" != --mode ] || mode=${options[k + 1]}; done
+    # The commands of the task: in the inprocess mode one chunk per scenario and planner (consecutive
+    # rows), else one run per row.
+    commands=()
+    group="" seeds=""
+    flush_group() {
+      [ -n "$seeds" ] || return 0
+      IFS=$'\t' read -r g_file g_scenario g_planner <<<"$group"
+      commands+=("$(printf '%q ' "$run_batch" --run-chunk "$out" "$g_file" "$g_scenario" "$g_planner" "$seeds" "${options[@]}")")
+      seeds=""
+    }
+    while IFS=$'\t' read -r index file scenario planner seed; do
+      [ "$dry_run" -eq 0 ] || printf 'task %s: scenario %s planner %s seed %s (%s)\n' "$SLURM_ARRAY_TASK_ID" "$scenario" "$planner" "$seed" "$file"
+      if [ "$mode" = inprocess ] && [ "$per_task" -gt 1 ]; then
+        [ "$file"$'\t'"$scenario"$'\t'"$planner" = "$group" ] || flush_group
+        group="$file"$'\t'"$scenario"$'\t'"$planner"
+        seeds=${seeds:+$seeds,}$seed
+      else
+        commands+=("$(printf '%q ' "$run_batch" --run-one "$out" "$file" "$scenario" "$planner" "$seed" "${options[@]}")")
+      fi
+    done <<<"$rows"
+    flush_group
     if [ "$dry_run" -eq 1 ]; then
-      printf 'task %s: scenario %s planner %s seed %s (%s)\n' "$index" "$scenario" "$planner" "$seed" "$file"
-      printf '%q ' "${cmd[@]}"
-      echo
+      printf '%s\n' "${commands[@]}"
       exit 0
     fi
     # A run finished without --counterfactual is not finished for a batch with it (run_batch.sh).
     cf=0
     for o in "${options[@]}"; do [ "$o" != --counterfactual ] || cf=1; done
-    HUNAV_BATCH_COUNTERFACTUAL=$cf HUNAV_BIN_DIR=$bin_dir exec "${cmd[@]}"
+    export HUNAV_BATCH_COUNTERFACTUAL=$cf HUNAV_BIN_DIR=$bin_dir
+    # Every command runs (a failed run does not stop the task's others); the task's exit code is the
+    # last non-zero one.
+    task_rc=0
+    for c in "${commands[@]}"; do
+      rc=0
+      eval "$c" || rc=$?
+      [ "$rc" -eq 0 ] || task_rc=$rc
+    done
+    exit "$task_rc"
     ;;
   --aggregate)
     [ "$#" -ge 2 ] || usage_error "--aggregate needs the batch folder"
@@ -83,7 +122,7 @@ esac
 # ---------------------------------------------------------------------------------------------------
 # Submission
 # ---------------------------------------------------------------------------------------------------
-matrix_args=() out="" print_matrix=0 dry_run=0 max_parallel="" sbatch_args="" run_options=()
+matrix_args=() out="" print_matrix=0 dry_run=0 max_parallel="" sbatch_args="" run_options=() runs_per_task="" mode=inprocess
 while [ "$#" -gt 0 ]; do
   opt=$1 value=""
   case "$opt" in
@@ -95,7 +134,7 @@ while [ "$#" -gt 0 ]; do
     --dry-run) dry_run=1 ;;
     --counterfactual) matrix_args+=("$opt"); run_options+=("$opt") ;;
     --scenarios | --planners | --seeds | --out | --mode | --duration | --timeout | --profile | --max-parallel | \
-      --sbatch-args | --planner-cmd | --planner-config | --metrics | --format)
+      --sbatch-args | --planner-cmd | --planner-config | --metrics | --format | --runs-per-task)
       if [ -z "$value" ]; then
         [ "$#" -ge 2 ] || usage_error "$opt needs a value"
         value=$2
@@ -103,7 +142,9 @@ while [ "$#" -gt 0 ]; do
       fi
       case "$opt" in
         --scenarios | --planners | --seeds) matrix_args+=("$opt" "$value") ;;
-        --mode | --duration | --timeout | --profile | --planner-cmd | --format) matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
+        --mode | --duration | --timeout | --profile | --planner-cmd | --format)
+          [ "$opt" != --mode ] || mode=$value
+          matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
         --metrics)
           # The tasks may start in another folder: the file by its absolute path.
           [ ! -f "$value" ] || value=$(readlink -f "$value")
@@ -114,6 +155,7 @@ while [ "$#" -gt 0 ]; do
           matrix_args+=("$opt" "$value"); run_options+=("$opt" "$value") ;;
         --out) out=$value ;;
         --max-parallel) max_parallel=$value ;;
+        --runs-per-task) runs_per_task=$value ;;
         --sbatch-args) sbatch_args=$value ;;
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
@@ -127,13 +169,20 @@ if [ "$print_matrix" -eq 1 ]; then exec "$run_batch" "${matrix_args[@]}" --print
 if [ -n "$max_parallel" ] && ! [[ $max_parallel =~ ^[1-9][0-9]*$ ]]; then
   usage_error "--max-parallel must be an integer >= 1 (got '$max_parallel')"
 fi
+if [ -n "$runs_per_task" ] && ! [[ $runs_per_task =~ ^[1-9][0-9]*$ ]]; then
+  usage_error "--runs-per-task must be an integer >= 1 (got '$runs_per_task')"
+fi
+# In the inprocess mode a task's runs share one hunav_run process per scenario and planner.
+[ -n "$runs_per_task" ] || { [ "$mode" = inprocess ] && runs_per_task=10 || runs_per_task=1; }
 matrix=$("$run_batch" "${matrix_args[@]}" --print-matrix) || exit $?
 mkdir -p "$out/runs" || { err "cannot create the batch folder '$out'"; exit 1; }
 out=$(cd "$out" && pwd)
 printf '%s\n' "$matrix" >"$out/matrix.tsv"
 if [ "${#run_options[@]}" -gt 0 ]; then printf '%s\n' "${run_options[@]}" >"$out/slurm_options"; else : >"$out/slurm_options"; fi
 count=$(wc -l <"$out/matrix.tsv")
-array="0-$((count - 1))"
+echo "$runs_per_task" >"$out/slurm_runs_per_task"
+tasks=$(((count + runs_per_task - 1) / runs_per_task))
+array="0-$((tasks - 1))"
 [ -z "$max_parallel" ] || array+="%$max_parallel"
 
 # shellcheck disable=SC2206 # sbatch_args holds options, split on spaces on purpose
@@ -146,7 +195,7 @@ array_cmd=(sbatch --parsable --job-name=hunav_batch --array="$array" --cpus-per-
   --output="$out/slurm_logs/task-%A_%a.log" "${extra[@]}" --wrap="$task_cmd")
 summary_sbatch=(sbatch --parsable --job-name=hunav_summary --cpus-per-task=1
   --output="$out/slurm_logs/summary-%j.log" "${extra[@]}" --wrap="$summary_cmd")
-echo "slurm_batch: $count runs -> $out (matrix.tsv)"
+echo "slurm_batch: $count runs in $tasks tasks of up to $runs_per_task -> $out (matrix.tsv)"
 if [ "$dry_run" -eq 1 ]; then
   printf '%q ' "${array_cmd[@]}"
   echo
@@ -158,5 +207,5 @@ command -v sbatch >/dev/null 2>&1 || { err "sbatch is not available (is this a S
 array_job=$("${array_cmd[@]}")
 array_job=${array_job%%;*}
 summary_job=$("${summary_sbatch[@]:0:2}" --dependency="afterany:$array_job" "${summary_sbatch[@]:2}")
-echo "slurm_batch: submitted array job $array_job ($count tasks) and summary job ${summary_job%%;*}"
+echo "slurm_batch: submitted array job $array_job ($tasks tasks) and summary job ${summary_job%%;*}"
 echo "slurm_batch: watch with: squeue -j $array_job; results in $out/summary.md when both are done"

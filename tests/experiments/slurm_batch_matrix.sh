@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # slurm_batch.sh without Slurm: the index -> (scenario, planner, seed) mapping of the array tasks,
-# two tasks run for real and aggregated, and the submission (a stand-in sbatch records its arguments).
+# two tasks run for real and aggregated, and the submission (a stand-in sbatch records its arguments);
+# then tasks of several runs (--runs-per-task: one hunav_run per scenario and planner of a task) give
+# the same results as one run per task and skip what is finished.
 # Expects REPO and BIN (ctest sets them).
 set -euo pipefail
 export HUNAV_BIN_DIR="$BIN"
@@ -39,7 +41,7 @@ out="$WORK/batch"
 # dwb with a parameter file given by a relative path (the tasks get its absolute path).
 printf 'dwb:\n  sim_time: 1.5\n' >"$WORK/dwb_params.yaml"
 (cd "$WORK" && SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" \
-  "$SLURM" "${matrix[@]}" --duration 2 --max-parallel 5 --sbatch-args "--partition=short" \
+  "$SLURM" "${matrix[@]}" --duration 2 --max-parallel 5 --sbatch-args "--partition=short" --runs-per-task 1 \
   --planner-config dwb=dwb_params.yaml --out "$out" >"$WORK/submit.log")
 grep -qx -- "dwb=$WORK/dwb_params.yaml" "$out/slurm_options" || fail "slurm_options lacks the absolute --planner-config"
 cmp -s "$out/matrix.tsv" "$WORK/matrix.tsv" || fail "the submitted matrix.tsv differs from --print-matrix"
@@ -79,4 +81,39 @@ task_out=$(SLURM_ARRAY_TASK_ID=0 "$SLURM" --task "$out")
 [ "$before" = "$(stat -c '%Y' "$json")" ] || fail "the stuck run was run again"
 "$SLURM" --aggregate "$out" >/dev/null
 grep -q '^passing,dwb,3,stuck,2,' "$out/summary.csv" || fail "the stuck run is not in summary.csv as stuck"
+
+# Several runs per task. The default in the inprocess mode is 10 (18 runs: tasks 0 and 1).
+: >"$WORK/sbatch.log"
+SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" "$SLURM" "${matrix[@]}" --duration 2 --out "$WORK/tens" \
+  >"$WORK/submit_tens.log"
+[[ $(sed -n 1p "$WORK/sbatch.log") == *"--array=0-1 "* ]] || fail "default runs per task: $(sed -n 1p "$WORK/sbatch.log")"
+grep -q "18 runs in 2 tasks of up to 10" "$WORK/submit_tens.log" || fail "$(cat "$WORK/submit_tens.log")"
+# 4 per task: 5 tasks; task 3 holds rows 12-15 = crossing scl seeds 3, 4, 9 and crossing sfw seed 3:
+# two hunav_run --seeds processes.
+chunked="$WORK/chunked"
+: >"$WORK/sbatch.log"
+SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" "$SLURM" "${matrix[@]}" --duration 2 --runs-per-task 4 \
+  --out "$chunked" >/dev/null
+[[ $(sed -n 1p "$WORK/sbatch.log") == *"--array=0-4 "* ]] || fail "4 runs per task: $(sed -n 1p "$WORK/sbatch.log")"
+dry=$(SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" --dry-run)
+[ "$(grep -c '^task 3: scenario crossing' <<<"$dry")" -eq 4 ] || fail "task 3 rows: $dry"
+[ "$(grep -c -- '--run-chunk' <<<"$dry")" -eq 2 ] || fail "task 3 should be two chunks: $dry"
+plain=$(tr -d '\\' <<<"$dry")  # printf %q escapes the commas
+grep -q -- "--run-chunk .* scl 3,4,9 " <<<"$plain" && grep -q -- "--run-chunk .* sfw 3 " <<<"$plain" || fail "task 3 chunks: $dry"
+rc=0
+SLURM_ARRAY_TASK_ID=5 "$SLURM" --task "$chunked" >/dev/null 2>&1 || rc=$?
+[ "$rc" -eq 2 ] || fail "task 5 of 5 (beyond the matrix) exited $rc, expected 2"
+SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" >"$WORK/task3.log"
+[ "$(grep -c 'after 2.00 s of simulation' "$WORK/task3.log")" -eq 4 ] || fail "task 3: $(cat "$WORK/task3.log")"
+# The same run as task 13 of the one-run-per-task batch: the same result.
+fp() { sed -n -E 's/.*"fingerprint": *"([0-9a-f]+)".*/\1/p' "$1/run.json"; }
+[ "$(fp "$chunked/runs/crossing__scl__seed4")" = "$(fp "$out/runs/crossing__scl__seed4")" ] || fail "chunked and single runs differ"
+cmp -s <(cut -d, -f2- "$chunked/runs/crossing__scl__seed4/metrics.csv") <(cut -d, -f2- "$out/runs/crossing__scl__seed4/metrics.csv") ||
+  fail "chunked and single metrics differ"
+# Again: every run is finished, nothing runs.
+json="$chunked/runs/crossing__scl__seed9/run.json"
+before=$(stat -c '%Y' "$json")
+SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" >"$WORK/task3_again.log"
+[ "$(grep -c 'skipped (finished before)' "$WORK/task3_again.log")" -eq 4 ] || fail "again: $(cat "$WORK/task3_again.log")"
+[ "$before" = "$(stat -c '%Y' "$json")" ] || fail "a finished run of a chunk ran again"
 echo "PASS slurm_batch_matrix"
