@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
@@ -52,21 +53,30 @@ class HugeCommand {
   }
 };
 
-// Answers every step request with each person's radius set to 1e6 m: a reply every receiver drops.
-class BrokenManager {
+// Answers every step request with the people as they were (an echo), changed by `tweak`.
+class EchoingManager {
  public:
-  explicit BrokenManager(Bus& bus) {
-    bus.subscribe<step_request_t>(channels::kStepRequest, [&bus](const step_request_t& r) {
+  EchoingManager(Bus& bus, std::function<void(step_reply_t&)> tweak) {
+    bus.subscribe<step_request_t>(channels::kStepRequest, [&bus, tweak](const step_request_t& r) {
       step_reply_t reply{};
       reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
       reply.seq = r.seq;
       reply.episode = r.episode;
       reply.agents = r.agents;
       reply.num_agents = r.num_agents;
-      for (agent_state_t& a : reply.agents) a.radius = 1e6;
+      tweak(reply);
       bus.publish(channels::kStepReply, reply);
     });
   }
+};
+
+// Each person's radius set to 1e6 m: a reply every receiver drops.
+class BrokenManager : public EchoingManager {
+ public:
+  explicit BrokenManager(Bus& bus)
+      : EchoingManager(bus, [](step_reply_t& reply) {
+          for (agent_state_t& a : reply.agents) a.radius = 1e6;
+        }) {}
 };
 
 struct Events {
@@ -223,16 +233,7 @@ TEST(WorldDrops, UnheardCountsAreMinusOne) {
 TEST(WorldDrops, ANegativeCountInAStepReplyIsDropped) {
   lcm::LCM lcm("memq://");
   Bus bus(lcm);
-  bus.subscribe<step_request_t>(channels::kStepRequest, [&bus](const step_request_t& r) {
-    step_reply_t reply{};
-    reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
-    reply.seq = r.seq;
-    reply.episode = r.episode;
-    reply.agents = r.agents;
-    reply.num_agents = r.num_agents;
-    reply.dropped_messages = -5;
-    bus.publish(channels::kStepReply, reply);
-  });
+  EchoingManager manager(bus, [](step_reply_t& reply) { reply.dropped_messages = -5; });
   WorldSim world(bus, passing(), fastOptions());
   const auto r = world.runEpisode();
   EXPECT_EQ(r.status, "aborted");
