@@ -4,6 +4,7 @@
     PYTHONPATH=build/python taskset -c 0 /usr/bin/python3 bench/bench_python.py [--episodes 20]
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_python.py --vector-only --worlds 2
     ... --no-states-csv: every loop without states.csv (states_csv=False; the same episodes)
+    ... --no-per-tick-files: every loop without the per-tick metric files (per_tick_files=False)
 
 A step is one control period (10 world ticks of 0.01 s in scenarios/passing.yaml) with the action
 computed in Python by the go-to-goal policy below; episodes use seeds first_seed.. and run to their
@@ -140,9 +141,13 @@ def main():
     parser.add_argument("--vector-only", action="store_true", help="only the vector figures")
     parser.add_argument("--no-states-csv", action="store_true",
                         help="without states.csv (states_csv=False; bench_stepped --no-states-csv)")
+    parser.add_argument("--no-per-tick-files", action="store_true",
+                        help="without the per-tick metric files (per_tick_files=False; bench_stepped too)")
     args = parser.parse_args()
     if args.no_states_csv:
         SIM_OPTIONS["states_csv"] = False
+    if args.no_per_tick_files:
+        SIM_OPTIONS["per_tick_files"] = False
     seeds = list(range(args.first_seed, args.first_seed + args.episodes))
     cpus = sorted(os.sched_getaffinity(0))
     print(f"scenario {args.scenario}, {args.episodes} episodes (seeds {seeds[0]}..{seeds[-1]}), "
@@ -155,7 +160,8 @@ def main():
             for _ in range(args.repeat):
                 out = subprocess.run([args.bench_stepped, "--scenario", args.scenario, "--episodes",
                                       str(args.episodes), "--first-seed", str(args.first_seed)]
-                                     + (["--no-states-csv"] if args.no_states_csv else []),
+                                     + (["--no-states-csv"] if args.no_states_csv else [])
+                                     + (["--no-per-tick-files"] if args.no_per_tick_files else []),
                                      capture_output=True, text=True, check=True).stdout
                 fields = out.split()
                 cpu = [i for i, f in enumerate(fields) if f == "CPU"]

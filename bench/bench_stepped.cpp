@@ -2,7 +2,7 @@
 // the baseline of bench/bench_python.py, which runs the same episodes from Python. A step is one
 // control period (10 ticks of 0.01 s in the shipped scenarios) with the go-to-goal command below.
 //   build/bin/bench_stepped [--scenario scenarios/passing.yaml] [--episodes 20] [--first-seed 1]
-//                           [--no-states-csv]
+//                           [--no-states-csv] [--no-per-tick-files]
 // Prints steps, seconds, steps per second, microseconds per step, the CPU time per step of this (the
 // stepping) thread and of the whole process (the evaluator's worker threads too: what one core
 // would do; both the figures least disturbed by other work on the machine) and a digest of the episodes' fingerprints
@@ -67,6 +67,9 @@ int main(int argc, char** argv) {
   app.add_option("--first-seed", first_seed, "seed of the first episode")->check(hunav::cli::nonNegativeInteger());
   bool no_states_csv = false;
   app.add_flag("--no-states-csv", no_states_csv, "without states.csv (hunav.Simulation(states_csv=False))");
+  bool no_per_tick_files = false;
+  app.add_flag("--no-per-tick-files", no_per_tick_files,
+               "without the per-tick metric files (hunav.Simulation(per_tick_files=False))");
   CLI11_PARSE(app, argc, argv);
 
   std::string dir = (std::filesystem::temp_directory_path() / "hunav-bench-stepped-XXXXXX").string();
@@ -87,6 +90,7 @@ int main(int argc, char** argv) {
     options.planner = "python";  // the name hunav.Simulation records
     options.out_dir = dir;
     options.states_csv = !no_states_csv;
+    options.per_tick_files = !no_per_tick_files;
     hunav::runner::SteppedRun run(scenario, options, true);
     run.start();
     while (!run.ended()) {

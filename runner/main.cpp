@@ -139,8 +139,13 @@ int main(int argc, char** argv) {
                "do not write states.csv (the metrics and every other file are the same; saves formatting one row "
                "per entity per sample); not with --counterfactual, which reads it back")
       ->excludes("--counterfactual");
+  bool no_per_tick_files = false;
+  app.add_flag("--no-per-tick-files", no_per_tick_files,
+               "do not write the per-tick metric files (metrics_steps.csv, metrics_beh_<b>_steps.csv); the metrics "
+               "and summaries are the same");
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
   options.states_csv = !no_states_csv;
+  options.per_tick_files = !no_per_tick_files;
 
   if (sample_rate != -1.0) {  // given (NaN included: CLI11's check lets it through)
     try {

@@ -469,7 +469,8 @@ void EvaluatorNode::begin(const episode_event_t& start) {
     ep->states = std::make_unique<StatesCsvWriter>(ep->run_dir / "states.csv");
     info.states_file = ep->states->path().string();
   }
-  const OutputOptions outputs{options_.out_dir, ep->run_dir, options_.hunav_txt, false};
+  OutputOptions outputs{options_.out_dir, ep->run_dir, options_.hunav_txt, false};
+  outputs.per_tick_files = options_.per_tick_files;
   ep->evaluation = std::make_unique<RunEvaluation>(registry_, options_.profile, options_.experiment_tag, outputs);
   current_ = std::move(ep);
 }

@@ -216,6 +216,7 @@ struct RunEvaluation::Impl {
   fs::path stepsTxt(const std::string& stem) const { return options.out_dir / (stem + "_steps_" + tag + ".txt"); }
 
   void open(std::unique_ptr<StepsFile>& csv, std::unique_ptr<StepsFile>& txt, const std::string& stem, bool active) {
+    if (!options.per_tick_files) return;  // csv and txt stay null
     csv = std::make_unique<StepsFile>(stepsCsv(stem), options.replace_at_end, false, columns, active, numbers);
     if (options.hunav_txt)
       txt = std::make_unique<StepsFile>(stepsTxt(stem), options.replace_at_end, true, columns, active, numbers);
@@ -231,8 +232,9 @@ struct RunEvaluation::Impl {
     }
   }
 
-  void writeRows(StepsFile& csv, StepsFile* txt, const double* active) {
-    csv.row(time_csv, row.data(), row.size(), active);
+  void writeRows(StepsFile* csv, StepsFile* txt, const double* active) {
+    if (csv == nullptr) return;  // no per-tick files
+    csv->row(time_csv, row.data(), row.size(), active);
     if (txt != nullptr) txt->row(time_txt, row.data(), row.size(), active);
   }
 
@@ -250,9 +252,10 @@ struct RunEvaluation::Impl {
         for (const Sample& s : chunk.samples()) {
           history_cache.reset(0);
           track->set->add(SampleView(chunk, s, history_cache), row.data());
-          formatTimes(s.t);
           const double active = active_any_behavior && history_active[k++] ? 1.0 : 0.0;
-          writeRows(*track->csv, track->txt.get(), &active);
+          if (!track->csv) continue;
+          formatTimes(s.t);
+          writeRows(track->csv.get(), track->txt.get(), &active);
         }
       }
     }
@@ -303,11 +306,13 @@ struct RunEvaluation::Impl {
 
     cache.reset(s.agents_count);
     run.add(SampleView(r, s, cache), run_row.data());
-    formatTimes(s.t);
-    // The values' text of the csv row, formatted once: a mirroring track's csv row has the same.
-    StepsFile::valuesText(run_text, ',', run_row.data(), run_row.size(), numbers);
-    steps_csv->rowFromText(time_csv, run_text, nullptr);
-    if (steps_txt) steps_txt->row(time_txt, run_row.data(), run_row.size(), nullptr);
+    if (steps_csv) {
+      formatTimes(s.t);
+      // The values' text of the csv row, formatted once: a mirroring track's csv row has the same.
+      StepsFile::valuesText(run_text, ',', run_row.data(), run_row.size(), numbers);
+      steps_csv->rowFromText(time_csv, run_text, nullptr);
+      if (steps_txt) steps_txt->row(time_txt, run_row.data(), run_row.size(), nullptr);
+    }
 
     bool started_now = false;
     for (std::size_t b = 1; b <= 6; ++b) {
@@ -315,18 +320,18 @@ struct RunEvaluation::Impl {
       startTrack(static_cast<int>(b), first_sample && wholeSample(b));
       started_now = true;
     }
-    if (started_now) formatTimes(s.t);  // the replay formatted the times of earlier samples
+    if (started_now && steps_csv) formatTimes(s.t);  // the replay formatted the times of earlier samples
     for (std::size_t b = 1; b <= 6; ++b) {
       BehaviorTrack* track = tracks[b].get();
       if (track == nullptr) continue;
       const double act = (active_any_behavior ? any_active : active[b]) ? 1.0 : 0.0;
       if (!track->set) {
-        track->csv->rowFromText(time_csv, run_text, &act);
+        if (track->csv) track->csv->rowFromText(time_csv, run_text, &act);
         if (track->txt) track->txt->row(time_txt, run_row.data(), run_row.size(), &act);
         continue;
       }
       track->set->add(SampleView(r, s, cache, members[b]), row.data());
-      writeRows(*track->csv, track->txt.get(), &act);
+      writeRows(track->csv.get(), track->txt.get(), &act);
     }
     if (started_tracks < 6) {
       keepRobot(r, s, any_active);
@@ -341,7 +346,7 @@ struct RunEvaluation::Impl {
     if (steps_csv) f(*steps_csv);
     if (steps_txt) f(*steps_txt);
     for (auto& t : tracks) {
-      if (!t) continue;
+      if (!t || !t->csv) continue;
       f(*t->csv);
       if (t->txt) f(*t->txt);
     }

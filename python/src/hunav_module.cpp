@@ -158,7 +158,8 @@ class Simulation {
   Simulation(std::string scenario_file, std::optional<long long> seed, std::optional<std::string> planner,
              std::optional<double> duration, std::optional<double> sample_rate, std::string planner_config,
              std::string profile, std::string out_dir, std::optional<std::string> experiment_tag, std::string run_id,
-             std::string metrics_file, std::string format, bool evaluator_thread = true, bool states_csv = true)
+             std::string metrics_file, std::string format, bool evaluator_thread = true, bool states_csv = true,
+             bool per_tick_files = true)
       : file_(std::move(scenario_file)),
         duration_(duration.value_or(0.0)),
         sample_rate_(sample_rate),
@@ -180,6 +181,7 @@ class Simulation {
     options_.hunav_txt = format == "hunav_txt";
     options_.run_id = std::move(run_id);
     options_.states_csv = states_csv;
+    options_.per_tick_files = per_tick_files;
     // Without its worker thread the evaluator takes each tick's sample on the stepping thread (the
     // same results): what VectorSimulation wants, whose own threads keep the cores busy.
     if (!evaluator_thread) options_.evaluator_worker_min_people = std::numeric_limits<int>::max();
@@ -452,7 +454,7 @@ class VectorSimulation {
                    std::optional<double> duration, std::optional<double> sample_rate, const std::string& planner_config,
                    const std::string& profile, std::optional<std::string> experiment_tag,
                    const std::string& metrics_file, const std::string& format, bool evaluator_thread,
-                   bool states_csv) {
+                   bool states_csv, bool per_tick_files) {
     if (n < 1) throw std::invalid_argument("n must be >= 1");
     if (seeds && seeds->size() != static_cast<std::size_t>(n))
       throw std::invalid_argument("seeds has " + std::to_string(seeds->size()) + " values for " + std::to_string(n) +
@@ -461,7 +463,8 @@ class VectorSimulation {
     if (max_people && *max_people < 0) throw std::invalid_argument("max_people must be >= 0");
     auto make = [&](std::optional<long long> seed) {
       return std::make_shared<Simulation>(scenario, seed, planner, duration, sample_rate, planner_config, profile, "",
-                                          experiment_tag, "", metrics_file, format, evaluator_thread, states_csv);
+                                          experiment_tag, "", metrics_file, format, evaluator_thread, states_csv,
+                                          per_tick_files);
     };
     // Default seeds: the scenario's seed, then one more per world.
     sims_.push_back(make(seeds ? std::optional<long long>((*seeds)[0]) : std::nullopt));
@@ -787,12 +790,12 @@ PYBIND11_MODULE(_hunav, m) {
   py::class_<Simulation, std::shared_ptr<Simulation>>(m, "Simulation")
       .def(py::init<std::string, std::optional<long long>, std::optional<std::string>, std::optional<double>,
                     std::optional<double>, std::string, std::string, std::string, std::optional<std::string>,
-                    std::string, std::string, std::string, bool, bool>(),
+                    std::string, std::string, std::string, bool, bool, bool>(),
            py::arg("scenario"), py::arg("seed") = py::none(), py::arg("planner") = py::none(),
            py::arg("duration") = py::none(), py::arg("sample_rate") = py::none(), py::arg("planner_config") = "",
            py::arg("profile") = "default", py::arg("out_dir") = "", py::arg("experiment_tag") = py::none(),
            py::arg("run_id") = "", py::arg("metrics") = "", py::arg("format") = "csv",
-           py::arg("evaluator_thread") = true, py::arg("states_csv") = true)
+           py::arg("evaluator_thread") = true, py::arg("states_csv") = true, py::arg("per_tick_files") = true)
       .def("reset", &Simulation::reset, py::arg("seed") = py::none())
       .def("step", &Simulation::step, py::arg("v"), py::arg("w"), py::arg("vy") = 0.0)
       .def("run", &Simulation::run)
@@ -820,12 +823,12 @@ PYBIND11_MODULE(_hunav, m) {
   py::class_<VectorSimulation>(m, "VectorSimulation")
       .def(py::init<int, std::string, std::optional<std::vector<long long>>, std::optional<std::string>,
                     std::optional<int>, std::optional<int>, std::optional<double>, std::optional<double>, std::string,
-                    std::string, std::optional<std::string>, std::string, std::string, bool, bool>(),
+                    std::string, std::optional<std::string>, std::string, std::string, bool, bool, bool>(),
            py::arg("n"), py::arg("scenario"), py::arg("seeds") = py::none(), py::arg("planner") = py::none(),
            py::arg("threads") = py::none(), py::arg("max_people") = py::none(), py::arg("duration") = py::none(),
            py::arg("sample_rate") = py::none(), py::arg("planner_config") = "", py::arg("profile") = "default",
            py::arg("experiment_tag") = py::none(), py::arg("metrics") = "", py::arg("format") = "csv",
-           py::arg("evaluator_thread") = false, py::arg("states_csv") = true)
+           py::arg("evaluator_thread") = false, py::arg("states_csv") = true, py::arg("per_tick_files") = true)
       .def("reset", &VectorSimulation::reset, py::arg("seeds") = py::none(), py::arg("indices") = py::none())
       .def("step", &VectorSimulation::step, py::arg("actions"))
       .def("run", &VectorSimulation::run)

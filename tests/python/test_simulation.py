@@ -85,22 +85,24 @@ def test_state_metrics_fingerprint_and_save(passing, tmp_path):
     assert (out / "states.csv").read_text().startswith("t,kind,id,x,y,yaw")
 
 
-def test_without_states_csv_the_same_episode_and_metrics(passing, tmp_path):
-    """states_csv=False (for learning loops that never read it) leaves out states.csv only."""
+def test_fewer_files_the_same_episode_and_metrics(passing, tmp_path):
+    """states_csv=False and per_tick_files=False (for learning loops that never read them) leave out
+    states.csv and the per-tick metric files only."""
     results = []
-    for states_csv in (True, False):
-        sim = hunav.Simulation(passing, seed=4, states_csv=states_csv)
+    for files in (True, False):
+        sim = hunav.Simulation(passing, seed=4, states_csv=files, per_tick_files=files)
         trace, fingerprint = run_scripted(sim, 4, 400)
-        out = tmp_path / f"states_{states_csv}"
+        out = tmp_path / f"files_{files}"
         sim.save(str(out))
         results.append((trace, fingerprint, sim.metrics(), sim.info()["status"], out))
     (trace, fingerprint, metrics, status, out), (trace2, fingerprint2, metrics2, status2, out2) = results
     assert fingerprint2 == fingerprint and status2 == status == "goal_reached"
     assert metrics2 == metrics and metrics["social_work"] > 0.0
     assert len(trace2) == len(trace) and all((a["robot"] == b["robot"]).all() for a, b in zip(trace, trace2))
-    assert (out / "states.csv").exists() and not (out2 / "states.csv").exists()
+    assert (out / "states.csv").exists() and (out / "metrics_steps.csv").exists()
+    assert sorted(p.name for p in out2.iterdir()) == ["metrics.csv", "metrics_beh_1.csv", "run.json"]
     assert (out2 / "metrics.csv").read_text() == (out / "metrics.csv").read_text()
-    vs = hunav.VectorSimulation(2, passing, seeds=[4, 5], states_csv=False)
+    vs = hunav.VectorSimulation(2, passing, seeds=[4, 5], states_csv=False, per_tick_files=False)
     vs.reset()
     vs.step(np.zeros((2, 2)))
     with pytest.raises(TypeError):

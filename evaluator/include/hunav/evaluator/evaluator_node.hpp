@@ -88,6 +88,8 @@ struct EvaluatorOptions {
   // as with it, without formatting the rows (about a fifth of a small scenario's CPU: what a learning
   // loop that never reads them saves); not with robot_free_run, which reads states.csv back.
   bool states_csv = true;
+  // Write the per-tick metric files (OutputOptions::per_tick_files); off: the same metrics.
+  bool per_tick_files = true;
 };
 
 class EvaluatorNode {

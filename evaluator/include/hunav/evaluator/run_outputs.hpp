@@ -32,6 +32,9 @@ struct OutputOptions {
   // finish(); a run that fails leaves the folder as it was (offline). Otherwise the rows reach the
   // files under their own names as samples arrive (live: what was recorded is on disk).
   bool replace_at_end = false;
+  // Write the per-tick files (metrics_steps.csv, metrics_beh_<b>_steps.csv and their txt). Off: the
+  // same metrics and summaries, without formatting a row per file per sample.
+  bool per_tick_files = true;
 };
 
 class RunEvaluation {

@@ -36,6 +36,8 @@ struct RunOptions {
   bool counterfactual = false;
   // Write states.csv (EvaluatorOptions::states_csv); off: the metrics and other files unchanged.
   bool states_csv = true;
+  // Write the per-tick metric files (EvaluatorOptions::per_tick_files); off: the same metrics.
+  bool per_tick_files = true;
 };
 
 struct RunOutcome {
