@@ -136,6 +136,8 @@ def main():
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--repeat", type=int, default=3, help="runs of each figure; the best is printed")
     parser.add_argument("--worlds", type=int, default=2, help="worlds of the vector figure")
+    parser.add_argument("--threads", type=int, default=0,
+                        help="threads of the vector figure's second line (default: the worlds, at most the CPUs)")
     parser.add_argument("--bench-stepped", default=str(REPO / "build" / "bin" / "bench_stepped"),
                         help="the C++ baseline binary")
     parser.add_argument("--vector-only", action="store_true", help="only the vector figures")
@@ -182,9 +184,10 @@ def main():
 
     one = line(f"vector {args.worlds} worlds, 1 thread",
                *best_of(args.repeat, bench_vector, args.scenario, seeds, args.worlds, 1))
-    many = line(f"vector {args.worlds} worlds, {args.worlds} threads",
-                *best_of(args.repeat, bench_vector, args.scenario, seeds, args.worlds, args.worlds))
-    print(f"{'':<30} speed-up of {args.worlds} threads: {one[0] / many[0]:.2f}x (wall clock)")
+    threads = args.threads or min(args.worlds, len(cpus))
+    many = line(f"vector {args.worlds} worlds, {threads} threads",
+                *best_of(args.repeat, bench_vector, args.scenario, seeds, args.worlds, threads))
+    print(f"{'':<30} speed-up of {threads} threads: {one[0] / many[0]:.2f}x (wall clock)")
 
 
 if __name__ == "__main__":
