@@ -7,35 +7,16 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/signals.hpp"
 #include "hunav/transport.hpp"
 
 #include <CLI/CLI.hpp>
 
-#include <atomic>
-#include <csignal>
+#include <chrono>
 #include <iostream>
 #include <optional>
-#include <pthread.h>
-#include <thread>
 
 namespace {
-
-std::atomic<bool> g_stop{false};
-
-// SIGINT and SIGTERM are blocked in every thread and taken by one waiting thread, so LCM's wait
-// for messages is never interrupted; the main loop sees the flag within one handleFor() timeout.
-void catchTerminationSignals() {
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-  std::thread([signals] {
-    int received = 0;
-    sigwait(&signals, &received);
-    g_stop = true;
-  }).detach();
-}
 
 std::string joined(const std::vector<std::string>& names) {
   std::string s;
@@ -69,17 +50,17 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
-  try {
-    if (!hp::hasPlanner(planner_name)) {
-      std::cerr << "--planner: unknown planner '" << planner_name << "' (known: " << joined(hp::plannerNames()) << ")\n";
-      return hunav::kExitBadInput;
-    }
+  if (!hp::hasPlanner(planner_name)) {
+    std::cerr << "--planner: unknown planner '" << planner_name << "' (known: " << joined(hp::plannerNames()) << ")\n";
+    return hunav::kExitBadInput;
+  }
+  const auto& stop = hunav::installStopSignals();
+  return hunav::cli::run("hunav_planner", [&] {
     const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
     std::optional<hunav::YamlReader> config;
     if (!config_file.empty()) config.emplace(config_file);
     auto planner = hp::createPlanner(planner_name, scenario, config ? &*config : nullptr);
 
-    catchTerminationSignals();
     // On udpm our direct receiver reads ROBOT_OBSERVATION and EPISODE_EVENT in this thread (no LCM
     // reader thread and pipe), and a socket filter keeps the rest of the URL's port (a WORLD_STATE
     // every tick) in the kernel, so this process wakes only for its own messages. A lost
@@ -96,7 +77,7 @@ int main(int argc, char** argv) {
     node.announce();
     std::cout << "ready" << std::endl;
 
-    while (!g_stop && (episodes == 0 || node.episodesEnded() < episodes)) {
+    while (!stop.load() && (episodes == 0 || node.episodesEnded() < episodes)) {
       bus.handleFor(std::chrono::milliseconds(100));
       if (const auto now = std::chrono::steady_clock::now(); now - last_announce >= period) {
         node.announce();
@@ -107,11 +88,5 @@ int main(int argc, char** argv) {
     std::cerr << "hunav_planner: " << node.plansComputed() << " plans, " << node.repliesResent()
               << " resent replies, " << bus.droppedMessages() << " dropped messages\n";
     return 0;
-  } catch (const hunav::ConfigError& e) {
-    std::cerr << e.what() << "\n";
-    return hunav::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "hunav_planner: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
