@@ -10,18 +10,17 @@
 //   whole: runInProcess() end to end, wall clock (files and end-of-run metrics included);
 //   CPU:   CPU time of this process over runInProcess() (user + system, all threads), so the
 //          figure least affected by other work on the machine.
-#include "hunav/runner/in_process_run.hpp"
-
-#include <CLI/CLI.hpp>
-
 #include <sys/resource.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <vector>
+
+#include "hunav/runner/in_process_run.hpp"
 
 namespace {
 double cpuSeconds() {

@@ -10,10 +10,6 @@
 //           the STATE messages the ping process publishes after each round trip (a world state)
 // --wait block: lcm.handleTimeout() (select on LCM's notify pipe, as our Bus does); --wait spin: poll
 // with a zero timeout until the answer is there.
-#include <lcm/lcm-cpp.hpp>
-
-#include <CLI/CLI.hpp>
-
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -21,6 +17,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -29,6 +26,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
 #include <string>
@@ -49,8 +47,10 @@ double cpuSeconds() {
 void report(const char* what, std::vector<double>& rtt_us, double cpu_s) {
   std::sort(rtt_us.begin(), rtt_us.end());
   const std::size_t n = rtt_us.size();
-  std::printf("%s: %zu round trips, median %.1f us, p10 %.1f us, p90 %.1f us, min %.1f us; ping process CPU %.1f us per round trip\n",
-              what, n, rtt_us[n / 2], rtt_us[n / 10], rtt_us[n * 9 / 10], rtt_us[0], cpu_s / static_cast<double>(n) * 1e6);
+  std::printf(
+      "%s: %zu round trips, median %.1f us, p10 %.1f us, p90 %.1f us, min %.1f us; ping process CPU %.1f us per round "
+      "trip\n",
+      what, n, rtt_us[n / 2], rtt_us[n / 10], rtt_us[n * 9 / 10], rtt_us[0], cpu_s / static_cast<double>(n) * 1e6);
 }
 
 // ---- LCM udpm ----
@@ -79,7 +79,8 @@ class Channels {
     const auto query = url_.find('?', colon);
     const int port = std::stoi(url_.substr(colon + 1, query - colon - 1));
     const int offset = channel == "PING" ? 1 : channel == "PONG" ? 2 : 3;
-    return url_.substr(0, colon + 1) + std::to_string(port + offset) + (query == std::string::npos ? "" : url_.substr(query));
+    return url_.substr(0, colon + 1) + std::to_string(port + offset) +
+           (query == std::string::npos ? "" : url_.substr(query));
   }
   std::string url_;
   bool split_;

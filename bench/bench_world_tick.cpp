@@ -5,17 +5,16 @@
 //
 // Measured as CPU time of this thread (CLOCK_THREAD_CPUTIME_ID) per tick, so other processes on the
 // machine do not inflate it; the minimum and the median over many ticks are the figures to report.
-#include "hunav/worldsim/physics_world.hpp"
-#include "hunav/worldsim/sensors.hpp"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <random>
 #include <vector>
+
+#include "hunav/worldsim/physics_world.hpp"
+#include "hunav/worldsim/sensors.hpp"
 
 using namespace hunav;
 using hunav::worldsim::PhysicsWorld;
@@ -148,12 +147,14 @@ int main(int argc, char** argv) {
   const double n = static_cast<double>(ticks);
   std::printf("world tick, %d people in a 40 x 40 m hall (%zu static shapes), %d ticks after %d warm-up ticks\n",
               people, scenario.shapes.size(), ticks, warmup);
-  std::printf("  per tick (thread CPU time): min %.3f ms, median %.3f ms, p90 %.3f ms, mean %.3f ms  (target <= 1.5 ms)\n",
-              1e3 * percentile(tick_times, 0.0), 1e3 * percentile(tick_times, 0.5), 1e3 * percentile(tick_times, 0.9),
-              1e3 * (total.step + total.obstacles + total.sight + total.laser) / n);
-  std::printf("  mean parts: box2d step (with velocities) %.3f ms, obstacle points %.3f ms, line of sight %.3f ms, "
-              "laser 360 beams %.3f ms\n",
-              1e3 * total.step / n, 1e3 * total.obstacles / n, 1e3 * total.sight / n, 1e3 * total.laser / n);
+  std::printf(
+      "  per tick (thread CPU time): min %.3f ms, median %.3f ms, p90 %.3f ms, mean %.3f ms  (target <= 1.5 ms)\n",
+      1e3 * percentile(tick_times, 0.0), 1e3 * percentile(tick_times, 0.5), 1e3 * percentile(tick_times, 0.9),
+      1e3 * (total.step + total.obstacles + total.sight + total.laser) / n);
+  std::printf(
+      "  mean parts: box2d step (with velocities) %.3f ms, obstacle points %.3f ms, line of sight %.3f ms, "
+      "laser 360 beams %.3f ms\n",
+      1e3 * total.step / n, 1e3 * total.obstacles / n, 1e3 * total.sight / n, 1e3 * total.laser / n);
   std::printf("  per tick: %.1f obstacle points, %.1f people in sight of the robot, %.2f new contacts\n",
               static_cast<double>(obstacle_points) / n, static_cast<double>(visible) / n,
               static_cast<double>(contacts) / n);

@@ -13,24 +13,13 @@
 //    log (e.g. `hunav_run --record`) are loaded into memory, then played through an EvaluatorNode on
 //    an in-process bus (decoding, recording, states.csv, metrics and every result file at END),
 //    `repeat` times; reports the process CPU time per tick of the best repetition. --worker 1: with
-//    EvaluatorOptions::worker_thread (from --worker-min-people people, default kWorkerMinPeople); also reports the CPU time of the thread that publishes (the bus
-//    handler's share: what the evaluator costs the one-process runner's loop), the worker thread's
-//    (the process's minus the publishing thread's, per repetition) and the wall time. --typed 1: the
-//    world states are decoded beforehand and published as objects (Bus::publish of a message given
-//    up, as the world does in the one-process runner), so the publishing thread's figure is the bus
-//    hand-off and the evaluator's handler without LCM decoding.
-#include "hunav/channels.hpp"
-#include "hunav/lcm_log_reader.hpp"
-#include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/offline.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-
-#include <hunav/world_state_t.hpp>
-
-#include <lcm/lcm-cpp.hpp>
+//    EvaluatorOptions::worker_thread (from --worker-min-people people, default kWorkerMinPeople); also reports the CPU
+//    time of the thread that publishes (the bus handler's share: what the evaluator costs the one-process runner's
+//    loop), the worker thread's (the process's minus the publishing thread's, per repetition) and the wall time.
+//    --typed 1: the world states are decoded beforehand and published as objects (Bus::publish of a message given up,
+//    as the world does in the one-process runner), so the publishing thread's figure is the bus hand-off and the
+//    evaluator's handler without LCM decoding.
 #include <sys/resource.h>
-
-#include <ctime>
 
 #include <algorithm>
 #include <chrono>
@@ -38,8 +27,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <hunav/world_state_t.hpp>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
+
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/evaluator/offline.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/lcm_log_reader.hpp"
 
 using namespace hunav::evaluator;
 namespace fs = std::filesystem;
@@ -180,15 +178,24 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "bench_evaluator: %s needs a value\n%s", argv[i], usage);
       return 2;
     }
-    if (!std::strcmp(argv[i], "--ticks")) ticks = std::atol(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--people")) people = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--dir")) dir = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--profile")) profile = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--replay")) replay_log = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--worker")) worker = std::atoi(argv[i + 1]) != 0;
-    else if (!std::strcmp(argv[i], "--typed")) typed = std::atoi(argv[i + 1]) != 0;
-    else if (!std::strcmp(argv[i], "--worker-min-people")) worker_min_people = std::strtoul(argv[i + 1], nullptr, 10);
+    if (!std::strcmp(argv[i], "--ticks"))
+      ticks = std::atol(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--people"))
+      people = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--dir"))
+      dir = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--profile"))
+      profile = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--replay"))
+      replay_log = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--repeat"))
+      repeat = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--worker"))
+      worker = std::atoi(argv[i + 1]) != 0;
+    else if (!std::strcmp(argv[i], "--typed"))
+      typed = std::atoi(argv[i + 1]) != 0;
+    else if (!std::strcmp(argv[i], "--worker-min-people"))
+      worker_min_people = std::strtoul(argv[i + 1], nullptr, 10);
     else {
       std::fprintf(stderr, "bench_evaluator: unknown option %s\n%s", argv[i], usage);
       return 2;
@@ -223,7 +230,8 @@ int main(int argc, char** argv) {
       robot.goal_x = 10.0;
       robot.goal_y = 0.5;
       robot.goal_radius = 0.3;
-      robot.obstacles_begin = r.addObstacles({hunav::Vec2(robot.x, robot.y + 1.3), hunav::Vec2(robot.x - 2.1, robot.y)});
+      robot.obstacles_begin =
+          r.addObstacles({hunav::Vec2(robot.x, robot.y + 1.3), hunav::Vec2(robot.x - 2.1, robot.y)});
       robot.obstacles_count = 2;
       for (int j = 0; j < people; ++j) {
         EntityState& a = agents[static_cast<std::size_t>(j)];

@@ -1,5 +1,10 @@
 // hunav_evaluator: records episodes from LCM and writes their metrics, or recomputes the metrics of
 // a run from its states.csv. See `hunav_evaluator --help` and evaluator/README.md.
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+#include <system_error>
+
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/episode_status.hpp"
@@ -9,12 +14,6 @@
 #include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/transport.hpp"
-
-#include <CLI/CLI.hpp>
-
-#include <filesystem>
-#include <iostream>
-#include <system_error>
 
 namespace {
 
@@ -33,8 +32,8 @@ void reportReceiveLosses(const hunav::Bus& bus) {
   const hunav::ReceiveLosses losses = bus.receiveLosses();
   if (!losses.any()) return;
   std::cerr << "hunav_evaluator: the receive socket lost " << losses.overflowed_datagrams
-            << " datagrams (its buffer was full: raise recv_buf_size in the LCM URL) and "
-            << losses.incomplete_messages << " fragmented messages\n";
+            << " datagrams (its buffer was full: raise recv_buf_size in the LCM URL) and " << losses.incomplete_messages
+            << " fragmented messages\n";
 }
 
 int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string& lcm_url) {
@@ -128,7 +127,8 @@ int main(int argc, char** argv) {
       "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status interrupted, or aborted\n"
       "with the first line of $HUNAV_STOP_REASON_FILE as the reason when that file exists).\n"
       "Offline: --states FILE recomputes the results of a states.csv into --out (metrics.csv, run.json,\n"
-      "per-tick files and states.csv; provenance taken from the run.json beside it); --log FILE replays an LCM log and writes what the live evaluator\n"
+      "per-tick files and states.csv; provenance taken from the run.json beside it); --log FILE replays an LCM log and "
+      "writes what the live evaluator\n"
       "wrote. --sample-rate HZ records and evaluates at most HZ samples per second of simulation time.\n"
       "Metric definitions: docs/metrics.md. Exit codes: 0 done, 1 error, 2 bad command line or input file."};
   std::string out_dir;
@@ -148,7 +148,8 @@ int main(int argc, char** argv) {
                  "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
       ->required();
   app.add_option("--profile", profile,
-                 "metric profile: 'default' = HuNavSim's metrics with its bugs fixed, 'hunav_v1' = HuNavSim v1's numbers (docs/metrics.md)")
+                 "metric profile: 'default' = HuNavSim's metrics with its bugs fixed, 'hunav_v1' = HuNavSim v1's "
+                 "numbers (docs/metrics.md)")
       ->check(CLI::IsMember(hunav::evaluator::knownProfiles()))
       ->capture_default_str();
   auto* tag_opt = app.add_option("--experiment-tag", experiment_tag,
@@ -157,29 +158,31 @@ int main(int argc, char** argv) {
   auto* episodes_opt = app.add_option("--episodes", episodes, "episodes to record before exiting; 0 = until a signal")
                            ->check(hunav::cli::nonNegativeInteger())
                            ->capture_default_str();
-  auto* url_opt = app.add_option("--lcm-url", lcm_url,
-                                 "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
+  auto* url_opt = app.add_option(
+      "--lcm-url", lcm_url, "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
   auto* states_opt = app.add_option("--states", states_file,
                                     "offline: recompute metrics.csv and run.json of this states.csv into --out");
   auto* log_opt = app.add_option("--log", log_file,
                                  "offline: replay the EPISODE_EVENT and WORLD_STATE events of this LCM log into --out");
   states_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(log_opt);
   log_opt->excludes(episodes_opt)->excludes(url_opt);
-  app.add_option("--metrics", metrics_file,
-                 "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
-                 "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics, "
-                 "else every metric")
+  app.add_option(
+         "--metrics", metrics_file,
+         "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
+         "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics, "
+         "else every metric")
       ->check(CLI::ExistingFile);
   app.add_option("--format", format,
                  "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's tab-separated .txt files")
       ->check(CLI::IsMember({"csv", "hunav_txt"}))
       ->capture_default_str();
   app.add_flag("--no-live-metrics", no_live, "live: do not publish LIVE_METRICS (1 Hz of simulation time)");
-  auto* rate_opt = app.add_option("--sample-rate", sample_rate,
-                 "record and evaluate one sample per 1/HZ s of simulation time (the first world state at or after "
-                 "each step of a grid from the first sample; docs/metrics.md); 0 = every world state or row")
-      ->check(CLI::Range(0.0, 1e6))
-      ->capture_default_str();
+  auto* rate_opt =
+      app.add_option("--sample-rate", sample_rate,
+                     "record and evaluate one sample per 1/HZ s of simulation time (the first world state at or after "
+                     "each step of a grid from the first sample; docs/metrics.md); 0 = every world state or row")
+          ->check(CLI::Range(0.0, 1e6))
+          ->capture_default_str();
   app.add_option("--scenario", scenario_file,
                  "live: the scenario of the run; its evaluation.sample_rate (scenarios/README.md) is the sample rate "
                  "unless --sample-rate is given")
@@ -204,8 +207,8 @@ int main(int argc, char** argv) {
       if (rate_opt->count() == 0) sample_rate = scenario.evaluation_sample_rate;
       if (metrics_file.empty()) metrics_file = scenario.evaluation_metrics;
     }
-    hunav::evaluator::applyMetricsFile(metrics_file, profile, rate_opt->count() > 0, sample_rate,
-                                       tag_opt->count() > 0, experiment_tag);
+    hunav::evaluator::applyMetricsFile(metrics_file, profile, rate_opt->count() > 0, sample_rate, tag_opt->count() > 0,
+                                       experiment_tag);
   } catch (const hunav::ConfigError& e) {
     std::cerr << e.what() << "\n";
     return hunav::kExitBadInput;

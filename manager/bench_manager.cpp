@@ -3,17 +3,17 @@
 // against all pairs on random crowds.
 //   bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact]
 //                 [--fingerprint] [--social-only]
-#include "hunav/fingerprint.hpp"
-#include "hunav/manager/agent_manager.hpp"
-
 #include <algorithm>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <random>
 #include <string>
 #include <vector>
+
+#include "hunav/fingerprint.hpp"
+#include "hunav/manager/agent_manager.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -112,8 +112,7 @@ void timeSocialOnly(int n, double hall, int steps, double cutoff) {
   const step_request_t r = crowd(n, hall, 42);
   StepSnapshot snap;
   snap.request = &r;
-  for (const auto& a : r.agents)
-    snap.agents.push_back(SfmBody{a.id, -1, Vec2(a.x, a.y), Vec2(a.vx, a.vy), a.radius});
+  for (const auto& a : r.agents) snap.agents.push_back(SfmBody{a.id, -1, Vec2(a.x, a.y), Vec2(a.vx, a.vy), a.radius});
   snap.index();
   NeighborGrid grid;
   long pairs = 0;
@@ -126,8 +125,8 @@ void timeSocialOnly(int n, double hall, int steps, double cutoff) {
     computePeopleSocial(snap, grid, cutoff);
     best = std::min(best, threadCpuSeconds() - t0);
   }
-  std::printf("%d agents, %.1f m hall, cut-off %.1f m: %ld pairs, social force %.3f ms (min), %.2f ns/pair\n", n,
-              hall, cutoff, pairs, best * 1e3, best * 1e9 / static_cast<double>(pairs));
+  std::printf("%d agents, %.1f m hall, cut-off %.1f m: %ld pairs, social force %.3f ms (min), %.2f ns/pair\n", n, hall,
+              cutoff, pairs, best * 1e3, best * 1e9 / static_cast<double>(pairs));
 }
 
 // Fingerprint of every agent state over `steps` steps of a crowd (mixed behaviors, groups, a moving
@@ -169,7 +168,8 @@ void cutoffError(double cutoff, int crowds, int n, double hall) {
     const step_request_t r = crowd(n, hall, 1000 + static_cast<std::uint64_t>(k));
     StepSnapshot exact;
     exact.request = &r;
-    for (const auto& a : r.agents) exact.agents.push_back(SfmBody{a.id, -1, Vec2(a.x, a.y), Vec2(a.vx, a.vy), a.radius});
+    for (const auto& a : r.agents)
+      exact.agents.push_back(SfmBody{a.id, -1, Vec2(a.x, a.y), Vec2(a.vx, a.vy), a.radius});
     exact.index();
     StepSnapshot cut = exact;
     NeighborGrid grid;
@@ -186,9 +186,10 @@ void cutoffError(double cutoff, int crowds, int n, double hall) {
       ++count;
     }
   }
-  std::printf("cutoff %.1f m: mean |F_soc| %.5f, mean error %.6f (%.3f%% of mean force), max error %.6f, "
-              "max relative error %.2f%%\n",
-              cutoff, sum_force / count, sum_err / count, 100.0 * sum_err / sum_force, max_err, 100.0 * max_rel);
+  std::printf(
+      "cutoff %.1f m: mean |F_soc| %.5f, mean error %.6f (%.3f%% of mean force), max error %.6f, "
+      "max relative error %.2f%%\n",
+      cutoff, sum_force / count, sum_err / count, 100.0 * sum_err / sum_force, max_err, 100.0 * max_rel);
 }
 
 }  // namespace
@@ -199,15 +200,25 @@ int main(int argc, char** argv) {
   bool error = false, exact = true, fingerprint = false, social_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s: value missing\n", a.c_str()), std::exit(2), ""); };
-    if (a == "--agents") n = std::atoi(next());
-    else if (a == "--hall") hall = std::atof(next());
-    else if (a == "--steps") steps = std::atoi(next());
-    else if (a == "--cutoff") cutoff = std::atof(next());
-    else if (a == "--error") error = true;
-    else if (a == "--no-exact") exact = false;
-    else if (a == "--fingerprint") fingerprint = true;
-    else if (a == "--social-only") social_only = true;
+    auto next = [&] {
+      return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s: value missing\n", a.c_str()), std::exit(2), "");
+    };
+    if (a == "--agents")
+      n = std::atoi(next());
+    else if (a == "--hall")
+      hall = std::atof(next());
+    else if (a == "--steps")
+      steps = std::atoi(next());
+    else if (a == "--cutoff")
+      cutoff = std::atof(next());
+    else if (a == "--error")
+      error = true;
+    else if (a == "--no-exact")
+      exact = false;
+    else if (a == "--fingerprint")
+      fingerprint = true;
+    else if (a == "--social-only")
+      social_only = true;
     else {
       std::fprintf(stderr,
                    "usage: bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact] "
@@ -229,13 +240,14 @@ int main(int argc, char** argv) {
     return 0;
   }
   const StepTimes grid = timeSteps(n, hall, steps, cutoff);
-  std::printf("%d agents, %.1f x %.1f m hall, cut-off %.1f m: %.3f ms/step (min), %.3f ms/step (median), "
-              "thread CPU time over %d steps\n",
-              n, hall, hall, cutoff, grid.min_ms, grid.median_ms, steps);
+  std::printf(
+      "%d agents, %.1f x %.1f m hall, cut-off %.1f m: %.3f ms/step (min), %.3f ms/step (median), "
+      "thread CPU time over %d steps\n",
+      n, hall, hall, cutoff, grid.min_ms, grid.median_ms, steps);
   if (!exact) return 0;
   const int exact_steps = std::max(1, steps / (n >= 5000 ? 20 : 4));
   const StepTimes all = timeSteps(n, hall, exact_steps, 0.0);
-  std::printf("%d agents, %.1f x %.1f m hall, all pairs: %.3f ms/step (min), %.3f ms/step (median) over %d steps\n",
-              n, hall, hall, all.min_ms, all.median_ms, exact_steps);
+  std::printf("%d agents, %.1f x %.1f m hall, all pairs: %.3f ms/step (min), %.3f ms/step (median) over %d steps\n", n,
+              hall, hall, all.min_ms, all.median_ms, exact_steps);
   return 0;
 }

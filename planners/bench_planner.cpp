@@ -8,23 +8,23 @@
 // episodes of call k's time is its cost without the noise of other processes (cache pollution,
 // preemption); the statistics are over those minima. Cycles that replanned the global path (A*)
 // are summarised apart: they are the expensive ones.
+#include <time.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <hunav/wire_checks.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 #include "hunav/channels.hpp"
 #include "hunav/lcm_log_reader.hpp"
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/sim_tools.hpp"
-
-#include <CLI/CLI.hpp>
-#include <hunav/wire_checks.hpp>
-#include <lcm/lcm-cpp.hpp>
-
-#include <algorithm>
-#include <cstdio>
-#include <optional>
-#include <stdexcept>
-#include <string>
-#include <time.h>
-#include <vector>
 
 namespace {
 namespace hp = hunav::planners;
@@ -66,8 +66,8 @@ std::vector<Call> closedLoopEpisode(hp::DwbPlanner& planner, const hunav::Scenar
       const hunav::robot_observation_t obs = world.observe();
       const double start = threadCpuMicros();
       cmd = planner.plan(obs);
-      calls.push_back({threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions(),
-                       cmd.v, cmd.w});
+      calls.push_back(
+          {threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions(), cmd.v, cmd.w});
       if (planner.lastDecision() == hp::DwbPlanner::Decision::AtGoal) {
         reached = true;
         break;
@@ -100,8 +100,8 @@ std::vector<Call> replayEpisode(hp::DwbPlanner& planner, const std::vector<hunav
   for (const hunav::robot_observation_t& obs : observations) {
     const double start = threadCpuMicros();
     const hunav::robot_command_t cmd = planner.plan(obs);
-    calls.push_back({threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions(),
-                     cmd.v, cmd.w});
+    calls.push_back(
+        {threadCpuMicros() - start, planner.lastReplanned(), planner.globalPlanner().lastExpansions(), cmd.v, cmd.w});
   }
   return calls;
 }
@@ -109,8 +109,9 @@ std::vector<Call> replayEpisode(hp::DwbPlanner& planner, const std::vector<hunav
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_planner: CPU time of one plan() cycle of a costmap planner, closed loop in MiniWorld or "
-               "replaying the observations of an LCM log (per call, the minimum over identical episodes)"};
+  CLI::App app{
+      "bench_planner: CPU time of one plan() cycle of a costmap planner, closed loop in MiniWorld or "
+      "replaying the observations of an LCM log (per call, the minimum over identical episodes)"};
   std::string scenario_file = std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml";
   std::string planner_name = "dwb";
   std::string config_file;
@@ -141,14 +142,14 @@ int main(int argc, char** argv) {
     std::vector<hunav::robot_observation_t> observations;
     if (!log_file.empty()) observations = readObservations(log_file);
 
-    std::vector<Call> best;  // per call, the fastest over the episodes
+    std::vector<Call> best;        // per call, the fastest over the episodes
     std::vector<double> every_us;  // every call of every episode
     int reached = 0;
     for (int e = 0; e < episodes; ++e) {
       planner->reset();
       bool episode_reached = false;
-      const std::vector<Call> calls =
-          log_file.empty() ? closedLoopEpisode(*planner, scenario, episode_reached) : replayEpisode(*planner, observations);
+      const std::vector<Call> calls = log_file.empty() ? closedLoopEpisode(*planner, scenario, episode_reached)
+                                                       : replayEpisode(*planner, observations);
       reached += episode_reached ? 1 : 0;
       for (const Call& c : calls) every_us.push_back(c.cpu_us);
       if (e == 0) {
@@ -162,7 +163,8 @@ int main(int argc, char** argv) {
         }
         continue;
       }
-      if (calls.size() != best.size()) throw std::runtime_error("the episodes differ: the planner is not deterministic");
+      if (calls.size() != best.size())
+        throw std::runtime_error("the episodes differ: the planner is not deterministic");
       for (std::size_t k = 0; k < calls.size(); ++k) best[k].cpu_us = std::min(best[k].cpu_us, calls[k].cpu_us);
     }
 
@@ -177,21 +179,26 @@ int main(int argc, char** argv) {
       max_expansions = std::max(max_expansions, c.expansions);
     }
     if (log_file.empty())
-      std::printf("planner %s, scenario %s, closed loop in MiniWorld: %d episodes (%d reached the goal), %zu plan() calls each\n",
-                  planner_name.c_str(), scenario.name.c_str(), episodes, reached, best.size());
+      std::printf(
+          "planner %s, scenario %s, closed loop in MiniWorld: %d episodes (%d reached the goal), %zu plan() calls "
+          "each\n",
+          planner_name.c_str(), scenario.name.c_str(), episodes, reached, best.size());
     else
       std::printf("planner %s, scenario %s, replaying %s: %d replays of %zu plan() calls\n", planner_name.c_str(),
                   scenario.name.c_str(), log_file.c_str(), episodes, best.size());
     const Stats every = summarize(every_us), cpu = summarize(all_us);
-    std::printf("plan() CPU time (every call of every episode):      mean %.1f us, median %.1f us, p99 %.1f us, max %.1f us\n",
-                every.mean, every.median, every.p99, every.max);
-    std::printf("plan() CPU time (per call, min over the episodes):  mean %.1f us, median %.1f us, p99 %.1f us, max %.1f us\n",
-                cpu.mean, cpu.median, cpu.p99, cpu.max);
+    std::printf(
+        "plan() CPU time (every call of every episode):      mean %.1f us, median %.1f us, p99 %.1f us, max %.1f us\n",
+        every.mean, every.median, every.p99, every.max);
+    std::printf(
+        "plan() CPU time (per call, min over the episodes):  mean %.1f us, median %.1f us, p99 %.1f us, max %.1f us\n",
+        cpu.mean, cpu.median, cpu.p99, cpu.max);
     if (!replan_us.empty()) {
       const Stats replan = summarize(replan_us);
-      std::printf("  calls that ran A*: %zu (%.1f%%), mean %.1f us, max %.1f us; %.0f cells expanded on average, %zu at most\n",
-                  replan_us.size(), 100.0 * static_cast<double>(replan_us.size()) / static_cast<double>(best.size()),
-                  replan.mean, replan.max, expansions / static_cast<double>(replan_us.size()), max_expansions);
+      std::printf(
+          "  calls that ran A*: %zu (%.1f%%), mean %.1f us, max %.1f us; %.0f cells expanded on average, %zu at most\n",
+          replan_us.size(), 100.0 * static_cast<double>(replan_us.size()) / static_cast<double>(best.size()),
+          replan.mean, replan.max, expansions / static_cast<double>(replan_us.size()), max_expansions);
     }
     return 0;
   } catch (const std::exception& e) {

@@ -1,20 +1,19 @@
 // hunav_planner: a robot planner process. Answers ROBOT_OBSERVATION with ROBOT_COMMAND (lockstep,
 // see docs/planner_contract.md). Once subscribed, prints "ready" and publishes PLANNER_READY every 0.5 s
 // (the readiness handshake); SIGINT/SIGTERM end it with exit 0.
-#include "hunav/cli.hpp"
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <iostream>
+#include <optional>
+
 #include "hunav/channels.hpp"
+#include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/transport.hpp"
-
-#include <CLI/CLI.hpp>
-
-#include <chrono>
-#include <iostream>
-#include <optional>
 
 namespace {
 
@@ -28,9 +27,10 @@ std::string joined(const std::vector<std::string>& names) {
 
 int main(int argc, char** argv) {
   namespace hp = hunav::planners;
-  CLI::App app{"HuNav-LCM robot planner: answers each robot observation (channel ROBOT_OBSERVATION) with a "
-               "velocity command (ROBOT_COMMAND) echoing its seq. Prints 'ready' on stdout once subscribed. "
-               "Exit codes: 0 done or signalled, 1 runtime error, 2 bad input (file, flag or parameter)."};
+  CLI::App app{
+      "HuNav-LCM robot planner: answers each robot observation (channel ROBOT_OBSERVATION) with a "
+      "velocity command (ROBOT_COMMAND) echoing its seq. Prints 'ready' on stdout once subscribed. "
+      "Exit codes: 0 done or signalled, 1 runtime error, 2 bad input (file, flag or parameter)."};
   std::string planner_name = "dwb";
   std::string scenario_file;
   std::string config_file;
@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
                  "lists every key with its default and meaning");
   app.add_option("--lcm-url", lcm_url,
                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
-  app.add_option("--episodes", episodes, "exit after this many episodes have ended (EPISODE_EVENT END); 0 = run until signalled")
+  app.add_option("--episodes", episodes,
+                 "exit after this many episodes have ended (EPISODE_EVENT END); 0 = run until signalled")
       ->check(hunav::cli::nonNegativeInteger())
       ->capture_default_str();
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
@@ -85,8 +86,8 @@ int main(int argc, char** argv) {
       }
     }
 
-    std::cerr << "hunav_planner: " << node.plansComputed() << " plans, " << node.repliesResent()
-              << " resent replies, " << bus.droppedMessages() << " dropped messages\n";
+    std::cerr << "hunav_planner: " << node.plansComputed() << " plans, " << node.repliesResent() << " resent replies, "
+              << bus.droppedMessages() << " dropped messages\n";
     return 0;
   });
 }

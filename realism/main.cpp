@@ -45,7 +45,9 @@ int main(int argc, char** argv) {
   app.add_option("--goal-radius", p.goal_radius, "goal radius (m)")
       ->check(hunav::cli::nonNegativeNumber())
       ->capture_default_str();
-  app.add_option("--dt", p.dt, "longest simulation step (s)")->check(hunav::cli::positiveNumber())->capture_default_str();
+  app.add_option("--dt", p.dt, "longest simulation step (s)")
+      ->check(hunav::cli::positiveNumber())
+      ->capture_default_str();
   app.add_option("--cutoff", p.cutoff, "social force cut-off (m; <= 0: every person)")->capture_default_str();
   app.add_option("--goal-distance", p.goal_distance,
                  "extrapolated goal: prediction horizons ahead at the last observed velocity")

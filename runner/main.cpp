@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
         return names + "or none";
       }());
   app.add_option("--planner-config", options.planner_config, "YAML file with planner parameters");
-  auto* seed_opt = app.add_option("--seed", seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
+  auto* seed_opt =
+      app.add_option("--seed", seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
   std::string seed_list, planner_list;
   app.add_option("--seeds", seed_list,
                  "run one episode per seed, one after the other in this process: N, A-B or a comma-separated mix "
@@ -215,7 +216,8 @@ int main(int argc, char** argv) {
         episode.run_id = run_id.empty() ? "" : run_id + "_" + planner + "_s" + std::to_string(episode_seed);
         int code;
         try {
-          hunav::Scenario s = static_cast<std::uint64_t>(episode_seed) == scenario.seed ? scenario : prepare(episode_seed);
+          hunav::Scenario s =
+              static_cast<std::uint64_t>(episode_seed) == scenario.seed ? scenario : prepare(episode_seed);
           s.evaluation_sample_rate = scenario.evaluation_sample_rate;
           episode.out_dir =
               (std::filesystem::path(out_root) /
@@ -235,7 +237,8 @@ int main(int argc, char** argv) {
     std::cout << tally.text();
     // Interrupted between two episodes: the ones left are not run (an interrupt's exit code).
     if (options.stop->load() && tally.runs < planners.size() * seeds.size())
-      tally.interrupt_code = hunav::episode_status::exitCodeFor(hunav::episode_status::kInterrupted, hunav::stopSignal());
+      tally.interrupt_code =
+          hunav::episode_status::exitCodeFor(hunav::episode_status::kInterrupted, hunav::stopSignal());
     return tally.exitCode();
   });
 }

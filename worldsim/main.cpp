@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
     // random agent parameters, so each episode loads the file with its own seed.
     std::vector<hunav::Scenario> scenarios{hunav::cli::loadScenarioFor(scenario_file, seed, duration)};
     const auto first_seed = static_cast<long long>(scenarios.front().seed);
-    for (int k = 1; k < episodes; ++k) scenarios.push_back(hunav::cli::loadScenarioFor(scenario_file, first_seed + k, duration));
+    for (int k = 1; k < episodes; ++k)
+      scenarios.push_back(hunav::cli::loadScenarioFor(scenario_file, first_seed + k, duration));
     hunav::worldsim::WorldOptions options;
     options.planner = planner;
     options.mode = mode;
@@ -66,9 +67,8 @@ int main(int argc, char** argv) {
       const auto r = world.runEpisode(scenarios[static_cast<std::size_t>(i)], id);
       std::cout << "episode " << i + 1 << " (run " << r.run_id << ", seed " << r.seed << "): " << r.status << " ("
                 << r.reason << "), " << r.ticks << " ticks, " << r.sim_time << " s simulated in " << r.wall_time
-                << " s, " << r.collisions << " contacts, " << r.dropped_messages << " dropped messages, " << world.resends()
-                << " resends so far, fingerprint "
-                << r.fingerprint << std::endl;
+                << " s, " << r.collisions << " contacts, " << r.dropped_messages << " dropped messages, "
+                << world.resends() << " resends so far, fingerprint " << r.fingerprint << std::endl;
       if (code == 0) code = hunav::episode_status::exitCodeFor(r.status, hunav::stopSignal());
     }
     return code;

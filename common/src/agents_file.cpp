@@ -14,13 +14,20 @@ namespace hunav {
 
 const char* behaviorName(int code) {
   switch (code) {
-    case 1: return "regular";
-    case 2: return "impassive";
-    case 3: return "surprised";
-    case 4: return "scared";
-    case 5: return "curious";
-    case 6: return "threatening";
-    default: return "none";
+    case 1:
+      return "regular";
+    case 2:
+      return "impassive";
+    case 3:
+      return "surprised";
+    case 4:
+      return "scared";
+    case 5:
+      return "curious";
+    case 6:
+      return "threatening";
+    default:
+      return "none";
   }
 }
 
@@ -38,11 +45,26 @@ int behaviorFromName(const std::string& s) {
 BehaviorParams defaultParams(int behavior, double max_vel) {
   BehaviorParams p;
   switch (behavior) {
-    case 3: p.duration = 30.0; p.dist = 4.0; break;
-    case 4: p.duration = 40.0; p.vel = 0.6; p.dist = 3.0; break;
-    case 5: p.duration = 40.0; p.vel = max_vel; p.dist = 1.5; break;
-    case 6: p.duration = 40.0; p.dist = 1.4; break;
-    default: break;
+    case 3:
+      p.duration = 30.0;
+      p.dist = 4.0;
+      break;
+    case 4:
+      p.duration = 40.0;
+      p.vel = 0.6;
+      p.dist = 3.0;
+      break;
+    case 5:
+      p.duration = 40.0;
+      p.vel = max_vel;
+      p.dist = 1.5;
+      break;
+    case 6:
+      p.duration = 40.0;
+      p.dist = 1.4;
+      break;
+    default:
+      break;
   }
   return p;
 }
@@ -94,7 +116,6 @@ Vec2 readPoint(const YamlReader& yr, const YAML::Node& map, const std::string& w
   return p;
 }
 
-
 // `configuration`: 0..3, or HuNavSim 2's names of the modes.
 int readConfiguration(const YamlReader& yr, const YAML::Node& beh, const std::string& bw) {
   const YAML::Node n = yr.child(beh, "configuration", bw, false);
@@ -128,7 +149,8 @@ void readV2Distance(const YamlReader& yr, const YAML::Node& beh, const std::stri
 
 // An agent's `behavior` key (absent: regular with its defaults), into a.behavior and a.params.
 // Reads a.max_vel and a.id, so those must be set first.
-void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& aw, std::uint64_t seed, AgentConfig& a) {
+void readBehavior(const YamlReader& yr, const YAML::Node& m, const std::string& aw, std::uint64_t seed,
+                  AgentConfig& a) {
   // behavior: v1 integer, v1.5 mapping, v2 type string
   const YAML::Node beh = yr.child(m, "behavior", aw, false);
   const std::string bw = YamlReader::join(aw, "behavior");
@@ -234,7 +256,8 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
       const std::string gname = yr.convert<std::string>(g, YamlReader::join(aw, "goals"));
       // A goal of the agent's own mapping (v1, v1.5), else an id of global_goals (HuNavSim 2).
       if (!m[gname] && global_goals && global_goals[gname]) {
-        a.goals.push_back(readPoint(yr, global_goals[gname], YamlReader::join(YamlReader::join(pw, "global_goals"), gname)));
+        a.goals.push_back(
+            readPoint(yr, global_goals[gname], YamlReader::join(YamlReader::join(pw, "global_goals"), gname)));
         continue;
       }
       if (!m[gname])
@@ -373,7 +396,8 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
   if (goal_radius < 0.0 || goal_radius > kMaxCoordinate)
     yr.fail(g["goal_radius"], YamlReader::join(gw, "goal_radius"), "must be in [0, 1e5] m");
   const double spacing = yr.get<double>(g, "min_spacing", gw, 0.1);
-  if (spacing < 0.0 || spacing > 100.0) yr.fail(g["min_spacing"], YamlReader::join(gw, "min_spacing"), "must be in [0, 100] m");
+  if (spacing < 0.0 || spacing > 100.0)
+    yr.fail(g["min_spacing"], YamlReader::join(gw, "min_spacing"), "must be in [0, 100] m");
   const bool cyclic = yr.get<bool>(g, "cyclic_goals", gw, true);
   const int group_id = yr.get<int>(g, "group_id", gw, -1);
   const int skin = yr.get<int>(g, "skin", gw, 0);
@@ -418,13 +442,14 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
     a.source_file = yr.path();
     a.source_line = YamlReader::lineOf(g);
     if (!ids.insert(a.id).second)
-      yr.fail(g, YamlReader::join(gw, "first_id"), "generated id " + std::to_string(a.id) + " is used by another agent");
+      yr.fail(g, YamlReader::join(gw, "first_id"),
+              "generated id " + std::to_string(a.id) + " is used by another agent");
     int attempt = 0;
     do {
       if (++attempt > kAttempts)
         yr.fail(g["region"], YamlReader::join(gw, "region"),
-                "no free start for person " + std::to_string(k + 1) + " of " + std::to_string(count) +
-                    " after " + std::to_string(kAttempts) + " tries: enlarge the region or lower count, radius or min_spacing");
+                "no free start for person " + std::to_string(k + 1) + " of " + std::to_string(count) + " after " +
+                    std::to_string(kAttempts) + " tries: enlarge the region or lower count, radius or min_spacing");
       a.position = pointIn(region);
     } while (!startIsFree(a.position));
     a.radius = radius;
@@ -476,8 +501,8 @@ std::vector<AgentConfig> parseAgents(const YamlReader& yr, const YAML::Node& doc
             readPoint(yr, kv.second, YamlReader::join(YamlReader::join(pw, "global_goals"), kv.first.Scalar()));
       }
     for (const YAML::Node& name_node : names)
-      agents.push_back(readListedAgent(yr, params, pw, yr.convert<std::string>(name_node, YamlReader::join(pw, "agents")),
-                                       seed, ids, global_goals));
+      agents.push_back(readListedAgent(
+          yr, params, pw, yr.convert<std::string>(name_node, YamlReader::join(pw, "agents")), seed, ids, global_goals));
   }
   if (generate) {
     const std::string gw = YamlReader::join(where, "generate");

@@ -13,9 +13,6 @@ std::string format(const std::string& file, int line, const std::string& key, co
 }  // namespace
 
 ConfigError::ConfigError(std::string file, int line, std::string key, std::string what)
-    : std::runtime_error(format(file, line, key, what)),
-      file_(std::move(file)),
-      line_(line),
-      key_(std::move(key)) {}
+    : std::runtime_error(format(file, line, key, what)), file_(std::move(file)), line_(line), key_(std::move(key)) {}
 
 }  // namespace hunav

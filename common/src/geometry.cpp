@@ -46,8 +46,7 @@ bool Shape::contains(const Vec2& p) const {
   for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
     const Vec2& a = points[i];
     const Vec2& b = points[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
       inside = !inside;
   }
   return inside;

@@ -59,12 +59,13 @@ const LcmLogReader::Event* LcmLogReader::next() {
   const auto data_length = static_cast<std::int32_t>(bigEndian(h + 24, 4));
   const std::uint64_t left = size_ - offset_ - kHeaderBytes;
   if (channel_length <= 0 || channel_length > kMaxChannelLength) {
-    fail("channel length " + std::to_string(channel_length) + " (1 to " + std::to_string(kMaxChannelLength) + " expected)");
+    fail("channel length " + std::to_string(channel_length) + " (1 to " + std::to_string(kMaxChannelLength) +
+         " expected)");
     return nullptr;
   }
   if (data_length < 0 || static_cast<std::uint64_t>(channel_length) + static_cast<std::uint64_t>(data_length) > left) {
-    fail("an event of " + std::to_string(channel_length) + " + " + std::to_string(data_length) +
-         " bytes, but only " + std::to_string(left) + " are left (a cut or corrupt log)");
+    fail("an event of " + std::to_string(channel_length) + " + " + std::to_string(data_length) + " bytes, but only " +
+         std::to_string(left) + " are left (a cut or corrupt log)");
     return nullptr;
   }
   event_.number = static_cast<std::int64_t>(bigEndian(h + 4, 8));

@@ -45,9 +45,24 @@ void checkAgentState(const agent_state_t& a, const char* what) {
   const behavior_params_t& bp = a.behavior_params;
   // The common case in one pass: |v| <= kMaxMagnitude is false for NaN and infinities too, so one
   // comparison per number (every receiver checks every agent of every message, every tick).
-  const double numbers[] = {a.x, a.y, a.yaw, a.vx, a.vy, a.vyaw, a.linear_vel, a.angular_vel, a.radius, a.desired_speed,
-                            a.goal_radius, bp.duration, bp.vel, bp.dist, bp.goal_force_factor, bp.obstacle_force_factor,
-                            bp.social_force_factor, bp.other_force_factor};
+  const double numbers[] = {a.x,
+                            a.y,
+                            a.yaw,
+                            a.vx,
+                            a.vy,
+                            a.vyaw,
+                            a.linear_vel,
+                            a.angular_vel,
+                            a.radius,
+                            a.desired_speed,
+                            a.goal_radius,
+                            bp.duration,
+                            bp.vel,
+                            bp.dist,
+                            bp.goal_force_factor,
+                            bp.obstacle_force_factor,
+                            bp.social_force_factor,
+                            bp.other_force_factor};
   bool ok = true;
   for (const double v : numbers) ok &= std::abs(v) <= kMaxMagnitude;
   if (ok && pointsWithinMagnitude(a.goals) && pointsWithinMagnitude(a.obstacles) && withinFieldBounds(a) &&
@@ -59,8 +74,7 @@ void checkAgentState(const agent_state_t& a, const char* what) {
   for (const double v : numbers) largest = std::max(largest, std::abs(v));
   for (const point2d_t& p : a.goals) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
   for (const point2d_t& p : a.obstacles) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
-  for (const double v : numbers)
-    checkFinite(v, "agent field", what);
+  for (const double v : numbers) checkFinite(v, "agent field", what);
   if (!(largest <= kMaxMagnitude))
     throw BadMessage(std::string(what) + ": a number of agent " + std::to_string(a.id) + " is beyond +-" +
                      std::to_string(static_cast<long long>(kMaxMagnitude)));

@@ -1,9 +1,5 @@
 #include "hunav/scenario.hpp"
 
-#include "hunav/agents_file.hpp"
-#include "hunav/episode_status.hpp"
-#include "hunav/yaml_reader.hpp"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -12,6 +8,10 @@
 #include <iterator>
 #include <system_error>
 #include <utility>
+
+#include "hunav/agents_file.hpp"
+#include "hunav/episode_status.hpp"
+#include "hunav/yaml_reader.hpp"
 
 namespace hunav {
 
@@ -66,7 +66,8 @@ Image readPgm(const std::string& path, const std::string& yaml_path, int yaml_li
     return v;
   };
   if (data.size() < 2 || data[0] != 'P' || (data[1] != '5' && data[1] != '2'))
-    return fail("not a PGM image (expected the magic number P5 or P2; convert PNG maps with e.g. `convert map.png map.pgm`)");
+    return fail(
+        "not a PGM image (expected the magic number P5 or P2; convert PNG maps with e.g. `convert map.png map.pgm`)");
   const bool binary = data[1] == '5';
   pos = 2;
   constexpr long kMaxSide = 20000;  // cells; 1 km at 5 cm
@@ -218,7 +219,8 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
     for (const YAML::Node& f : files) {
       const std::string name = yr.convert<std::string>(f, "map.map_server");
       const std::filesystem::path p = relativeTo(yr.path(), name);
-      if (!std::filesystem::is_regular_file(p)) yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'");
+      if (!std::filesystem::is_regular_file(p))
+        yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'");
       for (Shape& sh : loadOccupancyMap(p.string())) {
         checkShapeExtent(yr, f, "map.map_server", sh);
         s.shapes.push_back(std::move(sh));
@@ -283,15 +285,19 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     robot.width = yr.get<double>(r, "width", "robot");
     checkSize(yr, r["length"], "robot.length", robot.length, kMaxBodySize, "100");
     checkSize(yr, r["width"], "robot.width", robot.width, kMaxBodySize, "100");
-    if (r["radius"]) yr.fail(r["radius"], "robot.radius", "a box robot's radius is its half diagonal: leave radius out");
+    if (r["radius"])
+      yr.fail(r["radius"], "robot.radius", "a box robot's radius is its half diagonal: leave radius out");
     robot.radius = 0.5 * std::hypot(robot.length, robot.width);
   } else {
     yr.fail(r["shape"], "robot.shape", "expected circle or box, got '" + shape + "'");
   }
   const std::string drive = yr.get<std::string>(r, "drive", "robot", "differential");
-  if (drive == "differential") robot.drive = RobotDrive::Differential;
-  else if (drive == "holonomic") robot.drive = RobotDrive::Holonomic;
-  else yr.fail(r["drive"], "robot.drive", "expected differential or holonomic, got '" + drive + "'");
+  if (drive == "differential")
+    robot.drive = RobotDrive::Differential;
+  else if (drive == "holonomic")
+    robot.drive = RobotDrive::Holonomic;
+  else
+    yr.fail(r["drive"], "robot.drive", "expected differential or holonomic, got '" + drive + "'");
   const YAML::Node start = yr.child(r, "start", "robot", true);
   robot.start = readXY(yr, start, "robot.start");
   robot.start_yaw = readYaw(yr, start, "yaw", "robot.start");
@@ -330,7 +336,8 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (lim.max_vy > kMaxSpeed) yr.fail(l["max_vy"], "robot.limits.max_vy", "must be <= 10 m/s");
     if (lim.max_w > kMaxYawRate) yr.fail(l["max_w"], "robot.limits.max_w", "must be <= 100 rad/s");
     for (const auto& [key, value] : {std::pair<const char*, double>{"max_acc_v", lim.max_acc_v},
-                                     {"max_acc_w", lim.max_acc_w}, {"max_acc_vy", lim.max_acc_vy}})
+                                     {"max_acc_w", lim.max_acc_w},
+                                     {"max_acc_vy", lim.max_acc_vy}})
       if (value > kMaxAcceleration) yr.fail(l[key], std::string("robot.limits.") + key, "must be <= 1e3");
   }
   if (const YAML::Node l = yr.child(r, "laser", "robot", false)) {
@@ -364,10 +371,11 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
 }
 
 // A point must keep `clearance` from every static shape.
-void checkClear(const YamlReader& yr, const Scenario& s, const YAML::Node& at, const std::string& key,
-                const Vec2& p, double clearance, const char* what) {
+void checkClear(const YamlReader& yr, const Scenario& s, const YAML::Node& at, const std::string& key, const Vec2& p,
+                double clearance, const char* what) {
   for (const Shape& sh : s.shapes)
-    if (sh.distance(p) < clearance) yr.fail(at, key, std::string(what) + " is inside a wall or closer to one than the robot radius");
+    if (sh.distance(p) < clearance)
+      yr.fail(at, key, std::string(what) + " is inside a wall or closer to one than the robot radius");
 }
 
 }  // namespace
@@ -394,7 +402,8 @@ std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
   const bool negate = readNegate(yr, root);
   const double occupied_thresh = yr.get<double>(root, "occupied_thresh", "", 0.65);
   const double free_thresh = yr.get<double>(root, "free_thresh", "", 0.196);
-  if (occupied_thresh < 0.0 || occupied_thresh > 1.0) yr.fail(root["occupied_thresh"], "occupied_thresh", "must be in [0, 1]");
+  if (occupied_thresh < 0.0 || occupied_thresh > 1.0)
+    yr.fail(root["occupied_thresh"], "occupied_thresh", "must be in [0, 1]");
   if (free_thresh < 0.0 || free_thresh > occupied_thresh)
     yr.fail(root["free_thresh"], "free_thresh", "must be in [0, occupied_thresh]");
   const std::string mode = yr.get<std::string>(root, "mode", "", "trinary");
@@ -409,15 +418,18 @@ std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
   for (int row = 0; row < img.height; ++row) {
     const int map_row = img.height - 1 - row;  // the picture's top line is the map's highest y
     for (int col = 0; col < img.width; ++col) {
-      const int v = img.pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(col)];
+      const int v = img.pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(img.width) +
+                               static_cast<std::size_t>(col)];
       bool occ;
       if (mode == "raw") {
         occ = v <= 100 && v > occupied_thresh * 100.0;
       } else {
-        const double p = negate ? static_cast<double>(v) / img.maxval : static_cast<double>(img.maxval - v) / img.maxval;
+        const double p =
+            negate ? static_cast<double>(v) / img.maxval : static_cast<double>(img.maxval - v) / img.maxval;
         occ = p > occupied_thresh;
       }
-      occupied[static_cast<std::size_t>(map_row) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(col)] = occ;
+      occupied[static_cast<std::size_t>(map_row) * static_cast<std::size_t>(img.width) +
+               static_cast<std::size_t>(col)] = occ;
     }
   }
 
@@ -459,9 +471,12 @@ void Scenario::bounds(Vec2& lo, Vec2& hi, double margin) const {
 
 const char* obstaclePointsName(ObstaclePoints p) {
   switch (p) {
-    case ObstaclePoints::Closest: return "closest";
-    case ObstaclePoints::Each: return "each";
-    case ObstaclePoints::Mean: return "mean";
+    case ObstaclePoints::Closest:
+      return "closest";
+    case ObstaclePoints::Each:
+      return "each";
+    case ObstaclePoints::Mean:
+      return "mean";
   }
   return "?";
 }
@@ -488,15 +503,23 @@ std::string readMetricsPath(const YamlReader& yr, const YAML::Node& evaluation, 
 
 // The `people:` keys of the human model (besides hunav_loader and generate).
 void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel& m) {
-  const std::string points = yr.get<std::string>(people, "obstacle_points", "people", obstaclePointsName(m.obstacle_points));
-  if (points == "closest") m.obstacle_points = ObstaclePoints::Closest;
-  else if (points == "each") m.obstacle_points = ObstaclePoints::Each;
-  else if (points == "mean") m.obstacle_points = ObstaclePoints::Mean;
-  else yr.fail(people["obstacle_points"], "people.obstacle_points", "must be closest, each or mean, got '" + points + "'");
+  const std::string points =
+      yr.get<std::string>(people, "obstacle_points", "people", obstaclePointsName(m.obstacle_points));
+  if (points == "closest")
+    m.obstacle_points = ObstaclePoints::Closest;
+  else if (points == "each")
+    m.obstacle_points = ObstaclePoints::Each;
+  else if (points == "mean")
+    m.obstacle_points = ObstaclePoints::Mean;
+  else
+    yr.fail(people["obstacle_points"], "people.obstacle_points", "must be closest, each or mean, got '" + points + "'");
   const std::string nav = yr.get<std::string>(people, "navigation", "people", peopleNavigationName(m.navigation));
-  if (nav == "path") m.navigation = PeopleNavigation::Path;
-  else if (nav == "direct") m.navigation = PeopleNavigation::Direct;
-  else yr.fail(people["navigation"], "people.navigation", "must be path or direct, got '" + nav + "'");
+  if (nav == "path")
+    m.navigation = PeopleNavigation::Path;
+  else if (nav == "direct")
+    m.navigation = PeopleNavigation::Direct;
+  else
+    yr.fail(people["navigation"], "people.navigation", "must be path or direct, got '" + nav + "'");
   m.route_resolution = yr.get<double>(people, "route_resolution", "people", m.route_resolution);
   if (!(m.route_resolution >= 0.02 && m.route_resolution <= 1.0))
     yr.fail(people["route_resolution"], "people.route_resolution", "must be in [0.02, 1] m");
@@ -539,9 +562,12 @@ std::vector<Expectation> readExpectations(const YamlReader& yr, const YAML::Node
       e.kind = Expectation::Kind::Range;
       for (const auto& bound : cond) {
         const std::string b = yr.convert<std::string>(bound.first, key);
-        if (b == "min") e.min = yr.convert<double>(bound.second, key + ".min");
-        else if (b == "max") e.max = yr.convert<double>(bound.second, key + ".max");
-        else yr.fail(bound.first, key, "unknown key '" + b + "' (expected min and/or max)");
+        if (b == "min")
+          e.min = yr.convert<double>(bound.second, key + ".min");
+        else if (b == "max")
+          e.max = yr.convert<double>(bound.second, key + ".max");
+        else
+          yr.fail(bound.first, key, "unknown key '" + b + "' (expected min and/or max)");
       }
       if (!e.min && !e.max) yr.fail(cond, key, "needs min, max or both");
       if (e.min && e.max && *e.min > *e.max) yr.fail(cond, key, "min is larger than max");
@@ -589,10 +615,12 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
     if (s.name.empty() || s.name.size() > 100 || s.name.front() == '.' ||
         !std::all_of(s.name.begin(), s.name.end(), safeChar))
       yr.fail(root["name"], "name",
-              "'" + s.name + "' is not a safe folder name: use 1-100 letters, digits, '_', '-' or '.', not starting with '.'");
+              "'" + s.name +
+                  "' is not a safe folder name: use 1-100 letters, digits, '_', '-' or '.', not starting with '.'");
   } else {
     s.name = std::filesystem::path(path).stem().string();
-    std::replace_if(s.name.begin(), s.name.end(), [&](char c) { return !safeChar(c); }, '_');
+    std::replace_if(
+        s.name.begin(), s.name.end(), [&](char c) { return !safeChar(c); }, '_');
     s.name.erase(0, s.name.find_first_not_of('.'));
     if (s.name.empty()) s.name = "scenario";
   }
@@ -635,7 +663,8 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
       std::error_code ec;
       if (!std::filesystem::exists(p, ec)) yr.fail(people, "people", "cannot open the file '" + p.string() + "'");
-      if (!std::filesystem::is_regular_file(p, ec)) yr.fail(people, "people", "'" + p.string() + "' is not a regular file");
+      if (!std::filesystem::is_regular_file(p, ec))
+        yr.fail(people, "people", "'" + p.string() + "' is not a regular file");
       s.agents = loadAgentsFile(p.string(), s.seed, &s.global_goals);
     } else {
       s.agents = parseAgents(yr, people, "people", s.seed, s.shapes, &s.global_goals);
@@ -645,8 +674,7 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
 
   const YAML::Node robot = root["robot"];
   checkClear(yr, s, robot["start"], "robot.start", s.robot.start, s.robot.radius, "the robot start");
-  if (s.robot.has_goal)
-    checkClear(yr, s, robot["goal"], "robot.goal", s.robot.goal, s.robot.radius, "the robot goal");
+  if (s.robot.has_goal) checkClear(yr, s, robot["goal"], "robot.goal", s.robot.goal, s.robot.radius, "the robot goal");
   for (const AgentConfig& a : s.agents) {
     if (a.id == s.robot.id)
       throw ConfigError(path, YamlReader::lineOf(robot["id"]), "robot.id", "the robot id is used by agent " + a.name);

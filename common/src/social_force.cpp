@@ -23,8 +23,8 @@ int binaryExponent(double v) {
 }
 }  // namespace
 
-Vec2 desiredForce(const SfmBody& me, const Vec2* goal, double goal_radius, double desired_speed,
-                  const SfmParams& p, Vec2* direction) {
+Vec2 desiredForce(const SfmBody& me, const Vec2* goal, double goal_radius, double desired_speed, const SfmParams& p,
+                  Vec2* direction) {
   if (goal != nullptr) {
     const Vec2 to_goal = *goal - me.position;
     const double dist = to_goal.norm();
@@ -98,8 +98,8 @@ bool socialForceLeavesUnchanged(const Vec2& sum, const SfmBody& me, const SfmBod
   return exponent > needed;  // false for a NaN exponent
 }
 
-GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates,
-                        const Vec2& desired_direction, const SfmParams& p) {
+GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates, const Vec2& desired_direction,
+                        const SfmParams& p) {
   GroupForces g;
   if (mates.empty()) return g;
   const double n = static_cast<double>(mates.size() + 1);
@@ -135,8 +135,8 @@ void ForceSet::finish() {
   total = desired + obstacle + social + group;
 }
 
-SfmMotion integrate(const Vec2& position, const Vec2& velocity, double yaw, const Vec2& force,
-                    double desired_speed, double dt) {
+SfmMotion integrate(const Vec2& position, const Vec2& velocity, double yaw, const Vec2& force, double desired_speed,
+                    double dt) {
   SfmMotion m;
   m.velocity = velocity + force * dt;
   const double speed = m.velocity.norm();

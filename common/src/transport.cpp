@@ -1,7 +1,5 @@
 #include "hunav/transport.hpp"
 
-#include "hunav/channels.hpp"
-
 #include <arpa/inet.h>
 #include <linux/filter.h>
 #include <linux/sock_diag.h>
@@ -15,6 +13,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <thread>
+
+#include "hunav/channels.hpp"
 
 namespace hunav {
 
@@ -203,8 +203,8 @@ class DirectReceiver {
           value &= mask;
         }
         const std::size_t done = program.size() + 1;  // after this compare
-        const std::size_t block_end = done + (words - 1 - w) * 2 + 1 +
-                                      ((tail != 0 && w + 1 < words) ? 1 : 0);  // the accept included
+        const std::size_t block_end =
+            done + (words - 1 - w) * 2 + 1 + ((tail != 0 && w + 1 < words) ? 1 : 0);  // the accept included
         program.push_back(BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, value, 0, static_cast<std::uint8_t>(block_end - done)));
       }
       program.push_back(BPF_STMT(BPF_RET | BPF_K, kAccept));
@@ -292,7 +292,8 @@ class DirectReceiver {
     const std::uint8_t* body = p + kLongHeader;
     Assembly* a = nullptr;
     for (Assembly& candidate : assemblies_)
-      if (candidate.from.sin_addr.s_addr == from.sin_addr.s_addr && candidate.from.sin_port == from.sin_port) a = &candidate;
+      if (candidate.from.sin_addr.s_addr == from.sin_addr.s_addr && candidate.from.sin_port == from.sin_port)
+        a = &candidate;
     if (a == nullptr) {
       assemblies_.emplace_back();
       a = &assemblies_.back();

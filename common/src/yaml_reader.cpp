@@ -52,8 +52,7 @@ YamlReader::YamlReader(std::string path) : path_(std::move(path)) {
     throw ConfigError(path_, e.mark.line + 1, "", "not valid YAML: " + e.msg);
   }
   // An empty file has no node to give a line: its first line is where a mapping was expected.
-  if (!root_.IsMap())
-    throw ConfigError(path_, std::max(1, lineOf(root_)), "", "expected a mapping at the top level");
+  if (!root_.IsMap()) throw ConfigError(path_, std::max(1, lineOf(root_)), "", "expected a mapping at the top level");
   rejectDuplicateKeys(*this);
 }
 

@@ -1,11 +1,5 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 
-#include "hunav/channels.hpp"
-#include "hunav/episode_status.hpp"
-#include "hunav/message_checks.hpp"
-
-#include <hunav/live_metrics_t.hpp>
-
 #include <fmt/format.h>
 #include <pthread.h>
 
@@ -16,10 +10,15 @@
 #include <csignal>
 #include <cstring>
 #include <exception>
+#include <hunav/live_metrics_t.hpp>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
 #include <utility>
+
+#include "hunav/channels.hpp"
+#include "hunav/episode_status.hpp"
+#include "hunav/message_checks.hpp"
 
 namespace hunav::evaluator {
 
@@ -40,10 +39,10 @@ struct EvaluatorNode::Episode {
   double first_recorded_t = 0.0;
   double last_recorded_t = 0.0;
   double start_sim_time = 0.0;
-  Fingerprint fingerprint;      // over the encoded world states accepted
+  Fingerprint fingerprint;  // over the encoded world states accepted
   std::chrono::steady_clock::time_point started;
   std::chrono::steady_clock::time_point last_flush;
-  double next_live = 0.0;       // s, simulation time of the next LIVE_METRICS publication
+  double next_live = 0.0;  // s, simulation time of the next LIVE_METRICS publication
 };
 
 namespace {
@@ -227,7 +226,7 @@ class EvaluatorNode::Worker {
         if (head == tail) tail = tail_published_.load(std::memory_order_acquire);
       }
       std::unique_lock<std::mutex> lock(mutex_);
-      idle_.notify_all();  // drain() and wait() (no system call when nobody waits)
+      idle_.notify_all();                                   // drain() and wait() (no system call when nobody waits)
       if (tail_published_.load() == head) urgent_ = false;  // whoever asked has been served
       worker_sleeping_.store(true);
       // seq_cst: either this load sees an item pushed now, or its push() sees the flag and wakes
@@ -244,19 +243,19 @@ class EvaluatorNode::Worker {
   EvaluatorNode& node_;
   std::vector<Item> items_;
   // What each thread writes on a cache line of its own (no false sharing between the two cores).
-  std::size_t tail_ = 0;        // items pushed (producer's thread only)
-  std::size_t head_cache_ = 0;  // head_ as the producer last read it (items up to it are free)
+  std::size_t tail_ = 0;           // items pushed (producer's thread only)
+  std::size_t head_cache_ = 0;     // head_ as the producer last read it (items up to it are free)
   std::size_t limit_ = kCapacity;  // the ring is full with this many items waiting (producer's)
   alignas(kCacheLine) std::atomic<std::size_t> tail_published_{0};  // tail_, for the worker
-  std::atomic<std::size_t> wake_at_{kCapacity / 2};  // the worker wakes with this many waiting
+  std::atomic<std::size_t> wake_at_{kCapacity / 2};                 // the worker wakes with this many waiting
   std::atomic<bool> producer_waiting_{false};
   alignas(kCacheLine) std::atomic<std::size_t> head_{0};  // items done (written per item)
   // Rarely written: read by the producer at every hand-off without a cache miss.
   alignas(kCacheLine) std::atomic<bool> worker_sleeping_{false};
   std::atomic<bool> has_error_{false};  // error_ is set
   std::mutex mutex_;
-  bool urgent_ = false;  // under mutex_: work now, not at the next batch
-  bool stop_ = false;    // under mutex_
+  bool urgent_ = false;       // under mutex_: work now, not at the next batch
+  bool stop_ = false;         // under mutex_
   std::exception_ptr error_;  // under mutex_
   std::condition_variable work_;
   std::condition_variable space_;
@@ -316,12 +315,12 @@ class EncodedWorldState {
     EntityState e;
     p_ += 8;  // utime
     e.id = i32();
-    p_ += 1;  // type
+    p_ += 1;       // type
     skipString();  // name
     e.behavior = i8();
     e.behavior_state = i8();
     p_ += 1 + 8 + 1 + 6 * 8;  // behavior_params: configuration, duration, once, vel .. other_force_factor
-    skipString();  // behavior_tree
+    skipString();             // behavior_tree
     e.group = i32();
     e.x = f64();
     e.y = f64();
@@ -480,8 +479,7 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   Episode& ep = *current_;
   if (ws.episode != ep.info.episode)
     reject(fmt::format("world state of episode {} during episode {}", ws.episode, ep.info.episode));
-  if (ws.tick <= ep.last_tick)
-    reject(fmt::format("world state of tick {} after tick {}", ws.tick, ep.last_tick));
+  if (ws.tick <= ep.last_tick) reject(fmt::format("world state of tick {} after tick {}", ws.tick, ep.last_tick));
   // From here the tick counts as seen: a gap before it is lost, the tick itself at worst dropped.
   ep.info.lost_ticks += ws.tick - ep.last_tick - 1;
   ep.last_tick = ws.tick;

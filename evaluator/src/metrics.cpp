@@ -1,5 +1,4 @@
 #include "hunav/evaluator/metrics.hpp"
-#include "metrics_internal.hpp"
 
 #include <fmt/format.h>
 
@@ -7,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "metrics_internal.hpp"
 
 namespace hunav::evaluator {
 
@@ -436,12 +437,12 @@ struct AvgRobotAngularSpeed {
 // a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) over the interval that ends at the newest sample (t
 // strictly increasing: never a zero step); the history the acceleration metrics keep.
 struct RobotAcceleration {
-  std::size_t n = 0;      // samples seen
-  double v = 0.0;         // speed and time of the newest sample
+  std::size_t n = 0;  // samples seen
+  double v = 0.0;     // speed and time of the newest sample
   double t = 0.0;
-  double a = 0.0;         // acceleration of the interval ending at the newest sample (n >= 2)
-  double a_before = 0.0;  // of the interval before it (n >= 3)
-  double t_before = 0.0;  // time of the sample before the newest
+  double a = 0.0;          // acceleration of the interval ending at the newest sample (n >= 2)
+  double a_before = 0.0;   // of the interval before it (n >= 3)
+  double t_before = 0.0;   // time of the sample before the newest
   double t_before2 = 0.0;  // and of the one before that
   void add(const SampleView& s) {
     const double v_new = s.robot().linear_vel;

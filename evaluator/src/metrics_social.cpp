@@ -7,11 +7,11 @@
 //   - integrates the per-sample quantities over time: value = sum_{k<N} f_k (t_{k+1} - t_k), each
 //     sample standing for the interval up to the next one (as time_not_moving). N <= 1: 0.
 // The per-sample quantity f_k is the per-tick column.
-#include "hunav/evaluator/metrics.hpp"
-#include "metrics_internal.hpp"
-
 #include <algorithm>
 #include <cmath>
+
+#include "hunav/evaluator/metrics.hpp"
+#include "metrics_internal.hpp"
 
 namespace hunav::evaluator {
 

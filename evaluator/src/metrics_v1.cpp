@@ -4,11 +4,11 @@
 // Sums run over the recorded samples, as the original's over its (1 Hz by default) samples.
 // Where the original crashes (division by zero, min/max of an empty list) the value is defined:
 // documented beside each function.
-#include "hunav/evaluator/metrics.hpp"
-#include "metrics_internal.hpp"
-
 #include <algorithm>
 #include <cmath>
+
+#include "hunav/evaluator/metrics.hpp"
+#include "metrics_internal.hpp"
 
 namespace hunav::evaluator {
 
@@ -320,7 +320,7 @@ Vec2 socialForceV1(const Vec2& me_pos, const Vec2& me_vel, const Vec2& other_pos
   const double theta = wrapOnce(std::atan2(e.y(), e.x()) - std::atan2(t.x(), t.y()));
   const double B = 0.35 * len;  // gamma
   const double sign = theta > 0.0 ? 1.0 : (theta < 0.0 ? -1.0 : 0.0);
-  const double fv = -std::exp(-d / B - (3.0 * B * theta) * (3.0 * B * theta));  // n' = 3
+  const double fv = -std::exp(-d / B - (3.0 * B * theta) * (3.0 * B * theta));          // n' = 3
   const double fth = -sign * std::exp(-d / B - (2.0 * B * theta) * (2.0 * B * theta));  // n = 2
   return kV1SocialWeight * (fv * t + fth * leftNormal(t));
 }

@@ -1,19 +1,18 @@
 #include "hunav/evaluator/offline.hpp"
 
-#include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/run_outputs.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-#include "hunav/channels.hpp"
-#include "hunav/lcm_log_reader.hpp"
-
-#include <lcm/lcm-cpp.hpp>
-
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <thread>
+
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/evaluator/run_outputs.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/lcm_log_reader.hpp"
 
 namespace hunav::evaluator {
 
@@ -154,7 +153,6 @@ RunResult evaluateInto(const OfflineOptions& options, StatesCsvReader& reader, c
 
 }  // namespace
 
-
 RunResult recomputeFromStates(const OfflineOptions& options) {
   const MetricRegistry registry = metricsFor(options.profile, options.metrics_file);
   StatesCsvReader reader(options.states_file, SampleRate(options.sample_rate));
@@ -190,7 +188,6 @@ RunResult recomputeFromStates(const OfflineOptions& options) {
     throw;
   }
 }
-
 
 std::vector<RunResult> replayLog(const LogReplayOptions& options, std::string* log_problem) {
   LcmLogReader log(options.log_file);

@@ -1,11 +1,7 @@
 #include "hunav/evaluator/results.hpp"
 
-#include "hunav/config_error.hpp"
-#include "hunav/yaml_reader.hpp"
-
-#include <fmt/format.h>
-
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -18,6 +14,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "hunav/config_error.hpp"
+#include "hunav/yaml_reader.hpp"
 #include "hunav_git_commit.hpp"  // HUNAV_GIT_COMMIT_DEFAULT, generated at build time
 
 namespace hunav::evaluator {
@@ -32,8 +30,8 @@ std::string gitCommit() {
 std::string safeFileName(const std::string& s) {
   std::string out;
   for (const char c : s) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
-                    c == '_' || c == '.';
+    const bool ok =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.';
     out += ok ? c : '_';
   }
   return out.empty() ? std::string("run") : out;
@@ -97,8 +95,8 @@ std::string firstLine(const fs::path& file) {
 }
 
 std::string metricsRow(const RunInfo& info, const std::vector<MetricValue>& metrics) {
-  std::string row = csvField(info.experiment_tag) + "," + csvField(info.run_id) + "," + csvField(info.scenario) +
-                    "," + csvField(info.planner) + "," + std::to_string(info.seed) + "," + csvField(info.profile);
+  std::string row = csvField(info.experiment_tag) + "," + csvField(info.run_id) + "," + csvField(info.scenario) + "," +
+                    csvField(info.planner) + "," + std::to_string(info.seed) + "," + csvField(info.profile);
   for (const auto& m : metrics) row += "," + formatMetricValue(m);
   return row + "\n";
 }

@@ -1,7 +1,5 @@
 #include "hunav/evaluator/run_outputs.hpp"
 
-#include "hunav/evaluator/number_text.hpp"
-
 #include <fmt/format.h>
 
 #include <array>
@@ -12,6 +10,8 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+
+#include "hunav/evaluator/number_text.hpp"
 
 namespace hunav::evaluator {
 
@@ -361,7 +361,7 @@ struct RunEvaluation::Impl {
   std::vector<double> row;      // per-tick values of a behavior
   std::vector<double> run_row;  // per-tick values of the run
   fmt::memory_buffer run_text;  // run_row as the csv row writes it (",v,v,...")
-  NumberText numbers;  // shared by the per-tick files: the robot's columns repeat in every one
+  NumberText numbers;           // shared by the per-tick files: the robot's columns repeat in every one
   std::unique_ptr<StepsFile> steps_csv;
   std::unique_ptr<StepsFile> steps_txt;
   std::array<std::unique_ptr<BehaviorTrack>, 7> tracks;  // by behavior code 1..6

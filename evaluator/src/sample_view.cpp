@@ -1,11 +1,11 @@
 #include "hunav/evaluator/sample_view.hpp"
 
-#include "hunav/evaluator/metrics.hpp"
-#include "metrics_internal.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "hunav/evaluator/metrics.hpp"
+#include "metrics_internal.hpp"
 
 namespace hunav::evaluator {
 

@@ -1,10 +1,10 @@
 // The metric selection file (metrics.hpp, docs/metrics.md): ours (`metrics:` at the top) or
 // HuNavSim's evaluator parameter file (`hunav_evaluator_node: ros__parameters: ...`).
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/yaml_reader.hpp"
-
 #include <algorithm>
 #include <set>
+
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/yaml_reader.hpp"
 
 namespace hunav::evaluator {
 

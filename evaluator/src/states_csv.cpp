@@ -1,8 +1,5 @@
 #include "hunav/evaluator/states_csv.hpp"
 
-#include "hunav/bounds.hpp"
-#include "hunav/config_error.hpp"
-
 #include <fcntl.h>
 #include <fmt/compile.h>
 #include <fmt/format.h>
@@ -15,9 +12,12 @@
 #include <cstring>
 #include <iterator>
 #include <limits>
-#include <string_view>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
+
+#include "hunav/bounds.hpp"
+#include "hunav/config_error.hpp"
 
 namespace hunav::evaluator {
 
@@ -31,11 +31,29 @@ namespace {
 constexpr double kMaxNumber = 1e9;
 constexpr std::size_t kColumns = 19;
 const std::array<const char*, kColumns> kColumnNames{
-    "t",           "kind",          "id",     "x",     "y",     "yaw",    "vx",          "vy",  "vyaw", "linear_vel",
-    "angular_vel", "radius",        "behavior", "behavior_state", "group", "goal_x", "goal_y", "goal_radius", "obs"};
+    "t",     "kind",   "id",         "x",           "y",      "yaw",      "vx",
+    "vy",    "vyaw",   "linear_vel", "angular_vel", "radius", "behavior", "behavior_state",
+    "group", "goal_x", "goal_y",     "goal_radius", "obs"};
 enum Field : std::size_t {
-  kT, kKind, kId, kX, kY, kYaw, kVx, kVy, kVyaw, kLinearVel, kAngularVel, kRadius,
-  kBehavior, kBehaviorState, kGroup, kGoalX, kGoalY, kGoalRadius, kObs
+  kT,
+  kKind,
+  kId,
+  kX,
+  kY,
+  kYaw,
+  kVx,
+  kVy,
+  kVyaw,
+  kLinearVel,
+  kAngularVel,
+  kRadius,
+  kBehavior,
+  kBehaviorState,
+  kGroup,
+  kGoalX,
+  kGoalY,
+  kGoalRadius,
+  kObs
 };
 }  // namespace
 
@@ -44,8 +62,7 @@ enum Field : std::size_t {
 
 StatesCsvWriter::StatesCsvWriter(const fs::path& file) : path_(file) {
   file_ = std::fopen(file.c_str(), "w");
-  if (file_ == nullptr)
-    throw std::runtime_error(file.string() + ": cannot create: " + std::strerror(errno));
+  if (file_ == nullptr) throw std::runtime_error(file.string() + ": cannot create: " + std::strerror(errno));
   if (std::fputs(kStatesCsvHeader, file_) == EOF || std::fputc('\n', file_) == EOF || std::fflush(file_) != 0)
     throw std::runtime_error(path_.string() + ": cannot write: " + std::strerror(errno));
 }
@@ -83,9 +100,7 @@ void StatesCsvWriter::appendRow(const Recording& r, const char* kind, const Enti
   };
   auto appendText = [this](const std::string& text) { buffer_.append(text.data(), text.data() + text.size()); };
   // The text buffer_ received since `at`.
-  auto textSince = [this](std::size_t at, std::string& into) {
-    into.assign(buffer_.data() + at, buffer_.size() - at);
-  };
+  auto textSince = [this](std::size_t at, std::string& into) { into.assign(buffer_.data() + at, buffer_.size() - at); };
   buffer_.append(time_text_.data(), time_text_.data() + time_text_.size());
   if (cache != nullptr && cache->has_head && cache->id == e.id) {
     appendText(cache->head);
@@ -236,7 +251,8 @@ class RowParser {
       const std::size_t colon = item.find(':');
       double x = 0.0;
       double y = 0.0;
-      if (colon == std::string_view::npos || !parseReal(item.substr(0, colon), x) || !parseReal(item.substr(colon + 1), y))
+      if (colon == std::string_view::npos || !parseReal(item.substr(0, colon), x) ||
+          !parseReal(item.substr(colon + 1), y))
         fail(kObs, "expected points as x:y;x:y, got '" + std::string(item) + "'");
       points.emplace_back(x, y);
       if (end == s.size()) break;
@@ -272,7 +288,8 @@ constexpr std::size_t kCopyFlush = std::size_t{1} << 17;  // bytes of copied row
 StatesCsvReader::StatesCsvReader(const fs::path& file, SampleRate rate) : file_(file), rate_(rate) {
   // A folder opens too, and fails only when read ("read error").
   std::error_code ec;
-  if (fs::exists(file, ec) && !fs::is_regular_file(file, ec)) throw ConfigError(file.string(), 0, "", "not a regular file");
+  if (fs::exists(file, ec) && !fs::is_regular_file(file, ec))
+    throw ConfigError(file.string(), 0, "", "not a regular file");
   fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw ConfigError(file.string(), 0, "", "cannot open the file");
   std::error_code size_error;
@@ -302,8 +319,7 @@ StatesCsvReader::~StatesCsvReader() {
 bool StatesCsvReader::nextLine(const char*& begin, const char*& end) {
   while (true) {
     const char* data = block_.data();
-    const auto* newline = static_cast<const char*>(
-        std::memchr(data + block_begin_, '\n', block_end_ - block_begin_));
+    const auto* newline = static_cast<const char*>(std::memchr(data + block_begin_, '\n', block_end_ - block_begin_));
     if (newline != nullptr || (eof_ && block_begin_ < block_end_)) {
       begin = data + block_begin_;
       end = newline != nullptr ? newline : data + block_end_;

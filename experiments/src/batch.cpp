@@ -89,7 +89,8 @@ std::optional<double> metricNumber(const std::string& text) {
 namespace {
 
 // The metrics files written by the evaluator start with these columns; the metrics follow.
-const std::vector<std::string> kProvenanceColumns = {"experiment_tag", "run_id", "scenario", "planner", "seed", "profile"};
+const std::vector<std::string> kProvenanceColumns = {"experiment_tag", "run_id", "scenario",
+                                                     "planner",        "seed",   "profile"};
 
 // A metrics CSV: the header's metric names, the last row's metric values and its profile column.
 struct MetricsCsv {
@@ -107,7 +108,8 @@ MetricsCsv readMetricsCsv(const fs::path& file) {
   const std::vector<std::string> header = splitCsvLine(line);
   if (header.size() < kProvenanceColumns.size() ||
       !std::equal(kProvenanceColumns.begin(), kProvenanceColumns.end(), header.begin()))
-    throw std::runtime_error(file.string() + ":1: header: expected it to start with experiment_tag,run_id,scenario,planner,seed,profile");
+    throw std::runtime_error(
+        file.string() + ":1: header: expected it to start with experiment_tag,run_id,scenario,planner,seed,profile");
   // A repeated metric name would leave one of its values unread (the row keeps the last one).
   for (std::size_t i = kProvenanceColumns.size(); i < header.size(); ++i)
     if (std::find(header.begin(), header.begin() + static_cast<std::ptrdiff_t>(i), header[i]) !=
@@ -123,7 +125,8 @@ MetricsCsv readMetricsCsv(const fs::path& file) {
   }
   if (last.empty()) throw std::runtime_error(file.string() + ": no row after the header");
   if (last.size() != header.size())
-    throw std::runtime_error(fmt::format("{}:{}: expected {} fields, found {}", file.string(), last_line, header.size(), last.size()));
+    throw std::runtime_error(
+        fmt::format("{}:{}: expected {} fields, found {}", file.string(), last_line, header.size(), last.size()));
   std::vector<std::string> names(header.begin() + static_cast<std::ptrdiff_t>(kProvenanceColumns.size()), header.end());
   MetricRow row;
   for (std::size_t i = kProvenanceColumns.size(); i < header.size(); ++i) row[header[i]] = last[i];

@@ -140,7 +140,8 @@ std::string counterfactualMarkdown(const Batch& batch, const std::vector<StatRow
   const auto& names = evaluator::counterfactualMetricNames();
   std::vector<std::string> shown;
   for (const auto& m : names)
-    if (std::find(batch.metric_names.begin(), batch.metric_names.end(), m) != batch.metric_names.end()) shown.push_back(m);
+    if (std::find(batch.metric_names.begin(), batch.metric_names.end(), m) != batch.metric_names.end())
+      shown.push_back(m);
   std::vector<std::string> with;  // planners with counterfactual values
   for (const auto& p : planners)
     if (find(p, "counterfactual_mean_deviation") != nullptr) with.push_back(p);

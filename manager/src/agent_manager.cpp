@@ -1,14 +1,14 @@
 #include "hunav/manager/agent_manager.hpp"
 
-#include "bt_social.hpp"
-#include "people_routes.hpp"
-#include "hunav/transport.hpp"  // BadMessage
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numeric>
 #include <system_error>
+
+#include "bt_social.hpp"
+#include "hunav/transport.hpp"  // BadMessage
+#include "people_routes.hpp"
 
 namespace hunav::manager {
 
@@ -197,8 +197,7 @@ Vec2 routedTarget(TickContext& c, const Vec2& target) {
   AgentMemory& m = c.memory;
   const Vec2 here(c.in.x, c.in.y);
   const std::int64_t now = c.snap.request->utime;
-  const bool fresh = m.has_route && now < m.route_until_utime &&
-                     (target - m.route_target).norm() <= kRouteTargetMove &&
+  const bool fresh = m.has_route && now < m.route_until_utime && (target - m.route_target).norm() <= kRouteTargetMove &&
                      (m.route_direct || (m.route_waypoint - here).norm() > kRouteWaypointReached);
   if (!fresh) {
     // Routes keep the clearance the person's own forces need to get past corners (passMargin).
@@ -329,7 +328,8 @@ std::shared_ptr<const TreeDefinition> AgentManager::definitionFor(const agent_st
     if (named.is_absolute() || path.compare(0, tree_folder_.size(), tree_folder_) != 0)
       throw BadMessage(who + " leads out of the tree folder " + tree_folder_);
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw BadMessage(who + " is not a regular file of the tree folder");
+    if (!std::filesystem::is_regular_file(path, ec))
+      throw BadMessage(who + " is not a regular file of the tree folder");
     try {
       return definitions_[source] = TreeDefinition::load(path, lib_);
     } catch (const ConfigError& e) {
@@ -343,7 +343,8 @@ std::shared_ptr<const TreeDefinition> AgentManager::definitionFor(const agent_st
   if (it != definitions_.end()) return it->second;
   auto o = builtin_override_.find(code);
   const std::string& xml = o != builtin_override_.end() ? o->second : builtinTreeXml(code);
-  return definitions_[source] = TreeDefinition::parse(xml, std::string("behavior_trees/") + builtinTreeName(code), lib_);
+  return definitions_[source] =
+             TreeDefinition::parse(xml, std::string("behavior_trees/") + builtinTreeName(code), lib_);
 }
 
 AgentMemory& AgentManager::memoryAt(std::size_t index, const agent_state_t& a) {

@@ -1,7 +1,5 @@
 #include "hunav/manager/behavior_tree.hpp"
 
-#include "hunav/manager/agent_manager.hpp"
-
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -9,17 +7,31 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <system_error>
-#include <set>
 #include <utility>
+
+#include "hunav/manager/agent_manager.hpp"
 
 namespace hunav::manager {
 
 namespace {
-const char* const kBbNames[] = {"id",  "dt",  "time", "dist", "duration", "once", "vel", "goal_force_factor",
-                                "obstacle_force_factor", "social_force_factor", "other_force_factor",
-                                "max_vel", "target_agent_id", "speaker_id", "observer_id"};
+const char* const kBbNames[] = {"id",
+                                "dt",
+                                "time",
+                                "dist",
+                                "duration",
+                                "once",
+                                "vel",
+                                "goal_force_factor",
+                                "obstacle_force_factor",
+                                "social_force_factor",
+                                "other_force_factor",
+                                "max_vel",
+                                "target_agent_id",
+                                "speaker_id",
+                                "observer_id"};
 static_assert(sizeof(kBbNames) / sizeof(kBbNames[0]) == static_cast<std::size_t>(BbKey::Count));
 }  // namespace
 
@@ -239,8 +251,10 @@ void BtTree::clear() {
     static void run(BtNode* n) {
       if (n == nullptr) return;
       for (std::uint32_t i = 0; i < n->num_children_; ++i) run(n->children_[i]);
-      if (n->in_tree_storage_) n->~BtNode();
-      else delete n;
+      if (n->in_tree_storage_)
+        n->~BtNode();
+      else
+        delete n;
     }
   };
   Destroy::run(root_);

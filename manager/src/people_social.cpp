@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdint>
 #include <condition_variable>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <functional>
@@ -316,7 +316,7 @@ KernelParams kernelParams(const SfmParams& p) { return KernelParams{p.lambda, p.
 // Scratch of the kernel, reused from step to step.
 struct Workspace {
   PairBatch batch;
-  std::vector<double> fx, fy;  // sums, in the grid's order
+  std::vector<double> fx, fy;     // sums, in the grid's order
   std::vector<double> cell_cost;  // pairs tested per cell (to split the work between threads)
   std::vector<int> chunk_start;   // the helper's chunks of cells
 };
@@ -346,8 +346,8 @@ struct GridView {
 // `*batch`; each computed batch goes to `sink(batch, n)` in forEachPair's order (the sink may point
 // `batch` to another batch to fill next).
 template <class Sink>
-void pairsOfCells(const GridView& g, int cell_from, int cell_to, double r2, const KernelParams& kp,
-                  PairBatch*& batch, Sink&& sink) {
+void pairsOfCells(const GridView& g, int cell_from, int cell_to, double r2, const KernelParams& kp, PairBatch*& batch,
+                  Sink&& sink) {
   int n = 0;
   auto pairsWith = [&](int k, int from, int to) {
     for (int m = from; m < to;) {
@@ -500,9 +500,9 @@ class ChunkHelper {
   const std::function<void(int)>* work_ = nullptr;
   std::exception_ptr error_;
   bool ready_ = false, pending_ = false, done_ = false, stop_ = false;
-  int count_ = 0;              // set before the hand-over (mutex_), read by both
-  std::atomic<int> next_{0};   // the next chunk to take
-  std::thread thread_;         // last: starts when everything above exists
+  int count_ = 0;             // set before the hand-over (mutex_), read by both
+  std::atomic<int> next_{0};  // the next chunk to take
+  std::thread thread_;        // last: starts when everything above exists
 };
 
 ChunkHelper& chunkHelper() {
@@ -615,7 +615,9 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
     constexpr double kOwnShare = 0.42;
     constexpr double kChunks = 16.0;  // see LaterPairs::kMaxChunks
     auto bodiesIn = [&](int cx, int cy) {
-      return cx < 0 || cx >= g.nx || cy >= g.ny ? 0.0 : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
+      return cx < 0 || cx >= g.nx || cy >= g.ny
+                 ? 0.0
+                 : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
     };
     std::vector<double>& cost = ws.cell_cost;
     cost.resize(static_cast<std::size_t>(cells));
@@ -628,7 +630,8 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
       total += cost[static_cast<std::size_t>(c)];
     }
     int split = 0;
-    for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split) sum += cost[static_cast<std::size_t>(split)];
+    for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split)
+      sum += cost[static_cast<std::size_t>(split)];
     // The later cells in chunks of about 1/kChunks of the total.
     std::vector<int>& chunk_start = ws.chunk_start;
     chunk_start.assign(1, split);

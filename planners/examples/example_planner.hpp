@@ -2,25 +2,24 @@
 // A minimal external planner for HuNav-LCM: go to the goal, stop when the laser sees something close
 // ahead. It depends only on LCM and the generated message types (docs/planner_contract.md): copy
 // this folder and the .lcm files to start your own planner in any language LCM supports.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 #include <lcm/lcm-cpp.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <cstdio>
 #include <string>
 
 namespace example {
 
 class GoToGoalPlanner {
  public:
-  double stop_distance = 0.45;  // m from the robot's surface: an obstacle this close ahead stops it
-  double stop_half_angle = 0.6; // rad either side of the heading watched by the laser
-  double turn_gain = 1.5;       // 1/s, yaw rate per rad of heading error
+  double stop_distance = 0.45;   // m from the robot's surface: an obstacle this close ahead stops it
+  double stop_half_angle = 0.6;  // rad either side of the heading watched by the laser
+  double turn_gain = 1.5;        // 1/s, yaw rate per rad of heading error
 
   explicit GoToGoalPlanner(lcm::LCM& lcm) : lcm_(lcm) {
     lcm_.subscribe("ROBOT_OBSERVATION", &GoToGoalPlanner::onObservation, this);
@@ -56,7 +55,8 @@ class GoToGoalPlanner {
     for (int i = 0; i < scan.num_ranges; ++i) {
       const double r = scan.ranges[static_cast<std::size_t>(i)];
       if (!(r >= scan.range_min && r < scan.range_max)) continue;
-      const double beam = std::remainder(scan.sensor_yaw + scan.angle_min + i * scan.angle_increment - obs.yaw, 2.0 * M_PI);
+      const double beam =
+          std::remainder(scan.sensor_yaw + scan.angle_min + i * scan.angle_increment - obs.yaw, 2.0 * M_PI);
       if (std::abs(beam) <= stop_half_angle && r < obs.radius + stop_distance) {
         cmd.v = 0.0;
         break;

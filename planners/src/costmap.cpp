@@ -291,9 +291,8 @@ void Costmap::markSegment(const Vec2& a, const Vec2& b, double radius, bool with
 }
 
 void Costmap::markCapsule(const Vec2& a, const Vec2& b, double radius, std::uint8_t max_cost) {
-  markSegment(a, b, radius, false, [max_cost](const MarkingLoop& loop, int, double d2) {
-    return std::min(loop.cost(d2), max_cost);
-  });
+  markSegment(a, b, radius, false,
+              [max_cost](const MarkingLoop& loop, int, double d2) { return std::min(loop.cost(d2), max_cost); });
 }
 
 void Costmap::markWalkingCircle(const Vec2& from, const Vec2& to, double radius) {
@@ -315,8 +314,9 @@ void Costmap::markScan(const laser_scan_t& scan, const std::vector<Circle>& alre
   const double res = params_.resolution;
   const Vec2 win_lo = cellCenter(win_x0_, win_y0_) - Vec2::Constant(0.5 * res + inflation_);
   const Vec2 win_hi = cellCenter(win_x1_, win_y1_) + Vec2::Constant(0.5 * res + inflation_);
-  const double far = std::max({(win_lo - sensor).norm(), (win_hi - sensor).norm(),
-                               (Vec2(win_lo.x(), win_hi.y()) - sensor).norm(), (Vec2(win_hi.x(), win_lo.y()) - sensor).norm()});
+  const double far =
+      std::max({(win_lo - sensor).norm(), (win_hi - sensor).norm(), (Vec2(win_lo.x(), win_hi.y()) - sensor).norm(),
+                (Vec2(win_hi.x(), win_lo.y()) - sensor).norm()});
   int last_marked = -1;
   const int beams = std::min(scan.num_ranges, static_cast<int>(scan.ranges.size()));
   // Beam directions by rotating the first one beam after beam: no trigonometry per beam.
@@ -329,14 +329,14 @@ void Costmap::markScan(const laser_scan_t& scan, const std::vector<Circle>& alre
     dir_s = s * step_c + c * step_s;
     const double r = scan.ranges[static_cast<std::size_t>(i)];
     if (!(r >= scan.range_min && r < scan.range_max) || r > far) continue;  // no return, or too far to matter
-    const Vec2 hit(sensor.x() + r * c, sensor.y() + r * s);  // per component: no vector packing
+    const Vec2 hit(sensor.x() + r * c, sensor.y() + r * s);                 // per component: no vector packing
     if (hit.x() < win_lo.x() || hit.y() < win_lo.y() || hit.x() > win_hi.x() || hit.y() > win_hi.y()) continue;
     // worldToCell(hit) without its clamps: for a finite coordinate, floor(f) lies in [0, size)
     // exactly when f does, and there floor(f) is f truncated.
     const double fx = (hit.x() - origin_.x()) * inv_resolution_, fy = (hit.y() - origin_.y()) * inv_resolution_;
     if (!(fx >= 0.0 && fy >= 0.0 && fx < width_ && fy < height_)) continue;  // off the grid (or NaN)
     const int cell = index(static_cast<int>(fx), static_cast<int>(fy));
-    if (cell == last_marked) continue;  // neighbouring beams often hit the same cell
+    if (cell == last_marked) continue;                           // neighbouring beams often hit the same cell
     if (near_static_[static_cast<std::size_t>(cell)]) continue;  // the map already has it
     const bool covered = std::any_of(already_marked.begin(), already_marked.end(), [&](const Circle& circle) {
       return (hit - circle.center).norm() <= circle.radius + res;

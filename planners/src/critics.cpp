@@ -85,7 +85,8 @@ void PathAlignCritic::prepare(const PlanningContext& ctx) {
 
 double PathAlignCritic::score(const Trajectory& trajectory, const PlanningContext& ctx) const {
   if (!active_) return 0.0;
-  const Vec2 ahead = trajectory.end() + forward_distance_ * Vec2(std::cos(trajectory.end_yaw), std::sin(trajectory.end_yaw));
+  const Vec2 ahead =
+      trajectory.end() + forward_distance_ * Vec2(std::cos(trajectory.end_yaw), std::sin(trajectory.end_yaw));
   double d;
   ctx.path->nearest(ahead, ctx.path_begin, ctx.path_end, &d);
   return d;
@@ -105,7 +106,8 @@ bool OscillationCritic::flips(const Direction& d, double value, double epsilon, 
 }
 
 double OscillationCritic::score(const Trajectory& trajectory, const PlanningContext& ctx) const {
-  const bool oscillates = flips(turn_, trajectory.w, kTurnEpsilon, ctx) || flips(drive_, trajectory.v, kDriveEpsilon, ctx);
+  const bool oscillates =
+      flips(turn_, trajectory.w, kTurnEpsilon, ctx) || flips(drive_, trajectory.v, kDriveEpsilon, ctx);
   return oscillates ? 1.0 : 0.0;
 }
 

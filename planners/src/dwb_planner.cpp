@@ -1,11 +1,11 @@
 #include "hunav/planners/dwb_planner.hpp"
 
-#include "hunav/planners/params.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "hunav/planners/params.hpp"
 
 namespace hunav::planners {
 
@@ -220,7 +220,7 @@ void DwbPlanner::chooseCommand(const VelocityWindow& window, double heading_erro
     // Brake as hard as the window allows; turning toward the path may open a way.
     v = window.clampV(0.0);
     w = window.clampW(std::abs(heading_error) > params_.stopped_rotate_angle ? params_.rotate_gain * heading_error
-                                                                               : 0.0);
+                                                                             : 0.0);
     last_decision_ = Decision::NoAdmissible;
   }
 }
@@ -273,7 +273,9 @@ bool DwbPlanner::motionIsSafe(double v, double w, double duration) {
   return people.score(trajectory_, ctx_) != TrajectoryCritic::kReject;
 }
 
-double DwbPlanner::maxSpeed(const robot_observation_t& obs) { return std::max(std::abs(obs.max_v), std::abs(obs.min_v)); }
+double DwbPlanner::maxSpeed(const robot_observation_t& obs) {
+  return std::max(std::abs(obs.max_v), std::abs(obs.min_v));
+}
 
 void DwbPlanner::updateTransientLayer(const robot_observation_t& obs) {
   costmap_.clearTransient();
@@ -297,7 +299,8 @@ void DwbPlanner::markPeople(const robot_observation_t& obs) {
 
 DwbPlanner::Replan DwbPlanner::scheduledReplan(const robot_observation_t& obs, const Vec2& goal) const {
   const double since_last_plan = static_cast<double>(obs.utime - path_utime_) * 1e-6;
-  if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0) return Replan::Required;  // a new goal (or the clock went back)
+  if (!path_goal_ || goal != *path_goal_ || since_last_plan < 0.0)
+    return Replan::Required;  // a new goal (or the clock went back)
   if (path_.empty()) return since_last_plan >= kFailedPlanRetryPeriod ? Replan::Required : Replan::No;
   return params_.replan_period <= 0.0 || since_last_plan >= params_.replan_period ? Replan::Periodic : Replan::No;
 }
@@ -479,7 +482,8 @@ bool DwbPlanner::sampleEvade(const VelocityWindow& window, double& v, double& w)
       double closest = std::numeric_limits<double>::infinity();
       for (const PredictedPerson& person : ctx_.people)
         for (std::size_t k = 0; k < trajectory_.positions.size(); ++k)
-          closest = std::min(closest, (trajectory_.positions[k] - person.at(trajectory_.timeOf(k))).norm() - person.radius);
+          closest =
+              std::min(closest, (trajectory_.positions[k] - person.at(trajectory_.timeOf(k))).norm() - person.radius);
       if (closest > best) {
         best = closest;
         v = sample_v;

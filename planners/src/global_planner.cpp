@@ -67,11 +67,10 @@ std::size_t GlobalPath::nearest(const Vec2& p, std::size_t first, std::size_t la
     const double until = remaining_[i] - skip;
     std::size_t next = i + 1;
     if (next < last && remaining_[next] > until)
-      next = static_cast<std::size_t>(
-          std::partition_point(remaining_.begin() + static_cast<std::ptrdiff_t>(next),
-                               remaining_.begin() + static_cast<std::ptrdiff_t>(last),
-                               [until](double r) { return r > until; }) -
-          remaining_.begin());
+      next = static_cast<std::size_t>(std::partition_point(remaining_.begin() + static_cast<std::ptrdiff_t>(next),
+                                                           remaining_.begin() + static_cast<std::ptrdiff_t>(last),
+                                                           [until](double r) { return r > until; }) -
+                                      remaining_.begin());
     i = next;
   }
   if (distance != nullptr) *distance = std::sqrt(best_d2);
@@ -316,8 +315,10 @@ bool AStarPlanner::plan(const Costmap& costmap, const Vec2& start, const Vec2& g
   }
   std::reverse(points.begin(), points.end());
   points.front() = start;
-  if (points.size() == 1) points.push_back(goal_cell_free ? goal : points.front());
-  else if (goal_cell_free) points.back() = goal;
+  if (points.size() == 1)
+    points.push_back(goal_cell_free ? goal : points.front());
+  else if (goal_cell_free)
+    points.back() = goal;
   path = GlobalPath(std::move(points));
   return true;
 }

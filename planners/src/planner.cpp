@@ -1,11 +1,11 @@
 #include "hunav/planners/planner.hpp"
 
+#include <map>
+#include <stdexcept>
+
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/scl_planner.hpp"
 #include "hunav/planners/sfw_planner.hpp"
-
-#include <map>
-#include <stdexcept>
 
 namespace hunav::planners {
 
@@ -15,7 +15,8 @@ namespace {
 // The built-in planners; another one is a line here (or a registerPlanner() call before use).
 std::map<std::string, PlannerFactory>& registry() {
   static std::map<std::string, PlannerFactory> planners = {
-      {"dwb", [](const Scenario& scenario, const YamlReader* config) -> std::unique_ptr<Planner> {
+      {"dwb",
+       [](const Scenario& scenario, const YamlReader* config) -> std::unique_ptr<Planner> {
          return std::make_unique<DwbPlanner>(scenario, DwbParams::fromConfig(config));
        }},
       {"scl", &SclPlanner::create},

@@ -1,10 +1,10 @@
 #include "hunav/planners/planner_node.hpp"
 
-#include "hunav/channels.hpp"
-#include "hunav/planners/dwb_planner.hpp"
-
 #include <cmath>
 #include <string>
+
+#include "hunav/channels.hpp"
+#include "hunav/planners/dwb_planner.hpp"
 
 namespace hunav::planners {
 
@@ -42,8 +42,8 @@ void PlannerNode::announceNewDrops() {
 }
 
 void PlannerNode::validate(const robot_observation_t& obs) {
-  const double state[] = {obs.x, obs.y, obs.yaw, obs.v, obs.w, obs.radius, obs.max_v, obs.min_v, obs.max_w,
-                          obs.max_acc_v, obs.max_acc_w, obs.control_period};
+  const double state[] = {obs.x,     obs.y,     obs.yaw,   obs.v,         obs.w,         obs.radius,
+                          obs.max_v, obs.min_v, obs.max_w, obs.max_acc_v, obs.max_acc_w, obs.control_period};
   for (double value : state) requireFinite(value, "robot state or limits");
   require(obs.radius > 0.0, "radius must be > 0");
   require(obs.min_v <= obs.max_v && obs.max_v >= 0.0, "needs min_v <= max_v and max_v >= 0");
@@ -125,8 +125,10 @@ void PlannerNode::onEpisodeEvent(const episode_event_t& event) {
     if (!episode_ || event.episode != *episode_ || episode_ended_) beginEpisode(event.episode);
     announce();  // so a world hears the count in every mode (in process nothing else announces)
   } else if (event.event == episode_event_t::END) {
-    if (!episode_ || event.episode != *episode_) beginEpisode(event.episode);  // ended unseen
-    else if (episode_ended_) return;                                          // a repeated END
+    if (!episode_ || event.episode != *episode_)
+      beginEpisode(event.episode);  // ended unseen
+    else if (episode_ended_)
+      return;  // a repeated END
     episode_ended_ = true;
     ++episodes_ended_;
   } else {

@@ -1,11 +1,11 @@
 #include "hunav/planners/recovery.hpp"
 
-#include "hunav/planners/params.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
+
+#include "hunav/planners/params.hpp"
 
 namespace hunav::planners {
 

@@ -1,10 +1,10 @@
 #include "hunav/planners/scl_planner.hpp"
 
-#include "hunav/planners/params.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "hunav/planners/params.hpp"
 
 namespace hunav::planners {
 
@@ -28,11 +28,12 @@ double socialExponent(const SclParams& params, const Vec2& center, double radius
   const double dist = rel.norm();
   const double gap = dist - radius;
   if (gap <= 0.0 || dist < 1e-9) return 0.0;
-  const double along = rel.dot(heading) / dist;                                    // cos of the angle to the heading
+  const double along = rel.dot(heading) / dist;                                   // cos of the angle to the heading
   const double lateral = (rel.x() * heading.y() - rel.y() * heading.x()) / dist;  // its sin
   const double s_along = along > 0.0 ? params.sigma_front + params.speed_factor * speed : params.sigma_rear;
   // Elliptical spread in the direction of p: 1/s^2 = cos^2/s_along^2 + sin^2/s_side^2.
-  const double inv_s2 = along * along / (s_along * s_along) + lateral * lateral / (params.sigma_side * params.sigma_side);
+  const double inv_s2 =
+      along * along / (s_along * s_along) + lateral * lateral / (params.sigma_side * params.sigma_side);
   return 0.5 * gap * gap * inv_s2;
 }
 }  // namespace
@@ -61,9 +62,12 @@ bool eggRowSpan(double hx, double hy, double front, double rear, double side, do
     double x1 = (-qb - root) / (2.0 * qa), x2 = (-qb + root) / (2.0 * qa);
     // This half only: s (hx rx + hy ry) >= 0.
     const double shx = s * hx, shy = s * hy;
-    if (shx > 0.0) x1 = std::max(x1, -shy * ry / shx);
-    else if (shx < 0.0) x2 = std::min(x2, -shy * ry / shx);
-    else if (shy * ry < 0.0) continue;
+    if (shx > 0.0)
+      x1 = std::max(x1, -shy * ry / shx);
+    else if (shx < 0.0)
+      x2 = std::min(x2, -shy * ry / shx);
+    else if (shy * ry < 0.0)
+      continue;
     if (x1 > x2) continue;
     lo = any ? std::min(lo, x1) : x1;
     hi = any ? std::max(hi, x2) : x2;
@@ -93,7 +97,8 @@ SclPlanner::SclPlanner(const Scenario& scenario, const DwbParams& dwb, const Scl
   cost_threshold_.assign(static_cast<std::size_t>(top) + 1, 0.0);
   for (int c = 1; c <= top; ++c) cost_threshold_[static_cast<std::size_t>(c)] = std::log(scl_.amplitude / c);
   bin_cost_.resize(kBins + 1);
-  for (std::size_t i = 0; i <= kBins; ++i) bin_cost_[i] = exponentCost(static_cast<double>(i) / bins_per_exponent_, top);
+  for (std::size_t i = 0; i <= kBins; ++i)
+    bin_cost_[i] = exponentCost(static_cast<double>(i) / bins_per_exponent_, top);
 }
 
 std::uint8_t SclPlanner::exponentCost(double e, int top) const {
@@ -108,7 +113,7 @@ std::unique_ptr<Planner> SclPlanner::create(const Scenario& scenario, const Yaml
   dwb.evade_people = true;  // this planner's default (see config/scl.yaml)
   dwb.costmap = readCostmapParams(config);
   GlobalPlannerParams global;
-  global.cost_weight = kSclCostWeight;  // this planner's defaults: the path keeps off the social costs,
+  global.cost_weight = kSclCostWeight;            // this planner's defaults: the path keeps off the social costs,
   global.heuristic_weight = kSclHeuristicWeight;  // and the search stays cheap on the costlier map
   dwb.global_planner = readGlobalPlannerParams(config, global);
   dwb.readDwbSection(config);
@@ -128,9 +133,8 @@ void SclPlanner::updateLayers(const robot_observation_t& obs, Costmap& costmap) 
   for (const detected_person_t& person : obs.people) {
     const Vec2 center(person.x, person.y), velocity(person.vx, person.vy);
     const double speed = velocity.norm();
-    const Vec2 heading = speed >= scl_.moving_speed && speed > 0.0
-                             ? Vec2(velocity / speed)
-                             : Vec2(std::cos(person.yaw), std::sin(person.yaw));
+    const Vec2 heading = speed >= scl_.moving_speed && speed > 0.0 ? Vec2(velocity / speed)
+                                                                   : Vec2(std::cos(person.yaw), std::sin(person.yaw));
     const double moving = speed >= scl_.moving_speed ? speed : 0.0;
     const double sigma_front = scl_.sigma_front + scl_.speed_factor * moving;
     const double front = person.radius + k * sigma_front;
@@ -170,7 +174,8 @@ void SclPlanner::updateLayers(const robot_observation_t& obs, Costmap& costmap) 
           const double along = rx * hx + ry * hy, lateral = rx * hy - ry * hx;  // times the distance
           const double gap = std::sqrt(dist2) - person.radius;
           const double e_dist2 =
-              0.5 * gap * gap * (along * along * (along > 0.0 ? inv_front2 : inv_rear2) + lateral * lateral * inv_side2);
+              0.5 * gap * gap *
+              (along * along * (along > 0.0 ? inv_front2 : inv_rear2) + lateral * lateral * inv_side2);
           if (e_dist2 > max_exponent_ * dist2) continue;  // below the cutoff (tested before dividing)
           e = e_dist2 / dist2;
         }

@@ -1,10 +1,10 @@
 #include "hunav/planners/sfw_planner.hpp"
 
-#include "hunav/planners/params.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "hunav/planners/params.hpp"
 
 namespace hunav::planners {
 
@@ -77,7 +77,8 @@ double SocialWorkCritic::score(const Trajectory& trajectory, const PlanningConte
         const Vec2 on_robot = socialForceFrom(robot, person, p);
         step_work += params_.people_forces * (on_person.norm() + on_robot.norm());
         // Advance the person: walk on, pushed by the robot.
-        const Vec2 force = desiredForce(person, &people_goals_[i], 0.0, people_speed_[i], p) + params_.people_react * on_person;
+        const Vec2 force =
+            desiredForce(person, &people_goals_[i], 0.0, people_speed_[i], p) + params_.people_react * on_person;
         if (people_speed_[i] > 0.0) {
           const SfmMotion m = integrate(person.position, person.velocity, 0.0, force, people_speed_[i], dt);
           person.position = m.position;

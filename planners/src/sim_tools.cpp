@@ -1,9 +1,9 @@
 #include "hunav/planners/sim_tools.hpp"
 
-#include "hunav/planners/trajectory.hpp"
-
 #include <algorithm>
 #include <cmath>
+
+#include "hunav/planners/trajectory.hpp"
 
 namespace hunav::planners {
 
@@ -154,7 +154,7 @@ void MiniWorld::step(double v, double w, double dt) {
     Person& p = people_[i];
     const Vec2 to_goal = person_goals_[i] - p.position;
     p.velocity = to_goal.norm() > person_goal_radius_[i] ? Vec2(normalizedOrZero(to_goal) * person_speed_[i])
-                                                          : Vec2(Vec2::Zero());
+                                                         : Vec2(Vec2::Zero());
     p.position += p.velocity * dt;
   }
   time_ += dt;

@@ -453,8 +453,8 @@ class VectorSimulation {
                    std::optional<std::string> planner, std::optional<int> threads, std::optional<int> max_people,
                    std::optional<double> duration, std::optional<double> sample_rate, const std::string& planner_config,
                    const std::string& profile, std::optional<std::string> experiment_tag,
-                   const std::string& metrics_file, const std::string& format, bool evaluator_thread,
-                   bool states_csv, bool per_tick_files) {
+                   const std::string& metrics_file, const std::string& format, bool evaluator_thread, bool states_csv,
+                   bool per_tick_files) {
     if (n < 1) throw std::invalid_argument("n must be >= 1");
     if (seeds && seeds->size() != static_cast<std::size_t>(n))
       throw std::invalid_argument("seeds has " + std::to_string(seeds->size()) + " values for " + std::to_string(n) +

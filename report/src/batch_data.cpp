@@ -1,13 +1,13 @@
 #include "hunav/report/batch_data.hpp"
 
-#include "hunav/config_error.hpp"
-#include "hunav/report/csv_table.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
 #include <limits>
+
+#include "hunav/config_error.hpp"
+#include "hunav/report/csv_table.hpp"
 
 namespace hunav::report {
 
@@ -48,17 +48,24 @@ void readSummary(BatchData& data) {
     for (std::size_t c = fixed.size(); c < t.header().size(); ++c) {
       const std::string& s = t.text(r, static_cast<int>(c));
       const std::string l = lower(s);
-      if (l == "true") run.metrics.push_back(1.0);
-      else if (l == "false") run.metrics.push_back(0.0);
-      else run.metrics.push_back(optionalNumber(t, r, static_cast<int>(c)));
+      if (l == "true")
+        run.metrics.push_back(1.0);
+      else if (l == "false")
+        run.metrics.push_back(0.0);
+      else
+        run.metrics.push_back(optionalNumber(t, r, static_cast<int>(c)));
     }
     if (!run.run_dir_text.empty()) {
       const fs::path p(run.run_dir_text);
       std::error_code ec;
-      if (p.is_absolute()) run.run_dir = p;
-      else if (fs::is_directory(data.dir / p, ec)) run.run_dir = data.dir / p;
-      else if (fs::is_directory(p, ec)) run.run_dir = fs::absolute(p, ec);
-      else run.run_dir = data.dir / p;
+      if (p.is_absolute())
+        run.run_dir = p;
+      else if (fs::is_directory(data.dir / p, ec))
+        run.run_dir = data.dir / p;
+      else if (fs::is_directory(p, ec))
+        run.run_dir = fs::absolute(p, ec);
+      else
+        run.run_dir = data.dir / p;
     }
     data.runs.push_back(std::move(run));
   }
@@ -106,9 +113,12 @@ void readPaired(BatchData& data) {
     p.ci_low = optionalNumber(t, r, 6);
     p.ci_high = optionalNumber(t, r, 7);
     const std::string sig = lower(t.text(r, 8));
-    if (sig == "true" || sig == "yes" || sig == "1") p.significant = true;
-    else if (sig == "false" || sig == "no" || sig == "0" || sig.empty()) p.significant = false;
-    else t.fail(r, "significant", "expected true or false, got '" + t.text(r, 8) + "'");
+    if (sig == "true" || sig == "yes" || sig == "1")
+      p.significant = true;
+    else if (sig == "false" || sig == "no" || sig == "0" || sig.empty())
+      p.significant = false;
+    else
+      t.fail(r, "significant", "expected true or false, got '" + t.text(r, 8) + "'");
     data.paired.push_back(std::move(p));
   }
 }

@@ -1,13 +1,13 @@
 #include "hunav/report/csv_table.hpp"
 
-#include "hunav/config_error.hpp"
-
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "hunav/config_error.hpp"
 
 namespace hunav::report {
 
@@ -42,7 +42,7 @@ CsvTable CsvTable::read(const fs::path& file) {
   // One pass over the characters: a record ends at a line break outside quotes.
   std::vector<std::string> record;
   std::string field;
-  bool quoted = false;       // inside a quoted field
+  bool quoted = false;  // inside a quoted field
   bool field_started = false;
   int line = 1, record_line = 1;
   auto end_record = [&] {
@@ -131,9 +131,9 @@ void CsvTable::requireLeadingColumns(const std::vector<std::string>& names) cons
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (i >= header_.size()) throw ConfigError(file_, 1, names[i], "missing column");
     if (header_[i] != names[i])
-      throw ConfigError(file_, 1, names[i],
-                        "expected column " + std::to_string(i + 1) + " to be '" + names[i] + "', got '" + header_[i] +
-                            "'");
+      throw ConfigError(
+          file_, 1, names[i],
+          "expected column " + std::to_string(i + 1) + " to be '" + names[i] + "', got '" + header_[i] + "'");
   }
 }
 

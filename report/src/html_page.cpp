@@ -1,14 +1,14 @@
 #include "hunav/report/html_page.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
+
 #include "hunav/episode_status.hpp"
 #include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/report/assets.hpp"
 #include "hunav/report/json_writer.hpp"
-
-#include <fmt/format.h>
-
-#include <cmath>
 
 namespace hunav::report {
 
@@ -16,18 +16,27 @@ namespace {
 
 constexpr int kPositionDecimals = 2;  // cm: finer than anything the map can show
 constexpr int kAngleDecimals = 2;
-constexpr int kTimeDecimals = 3;      // ms: finer than the smallest dt (0.001 s)
+constexpr int kTimeDecimals = 3;  // ms: finer than the smallest dt (0.001 s)
 constexpr int kValueDigits = 5;
 
 std::string htmlEscape(const std::string& s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -57,7 +66,9 @@ window.addEventListener('error', function (e) { window.hunavRecordError(e.messag
 </script>
 )";
   html += "<style>\n" + assets::css() + "</style>\n</head>\n<body>\n";
-  html += "<noscript><p class=\"note\">This report draws its figures with JavaScript: enable it to see them.</p></noscript>\n";
+  html +=
+      "<noscript><p class=\"note\">This report draws its figures with JavaScript: enable it to see "
+      "them.</p></noscript>\n";
   html += "<div id=\"js-errors\" class=\"js-errors\" hidden></div>\n<main id=\"app\"></main>\n";
   html += "<script id=\"hunav-data\" type=\"application/json\">" + json + "</script>\n";
   html += "<script>\n" + assets::commonJs() + "</script>\n";
@@ -340,7 +351,8 @@ std::string batchPageJson(const BatchData& d) {
 }
 
 std::string renderRunPage(const RunData& d, const ReportLimits& limits, const std::string& batch_link) {
-  const std::string title = fmt::format("{} · {} · seed {} — HuNav-LCM run report", d.info.scenario, d.info.planner, d.info.seed);
+  const std::string title =
+      fmt::format("{} · {} · seed {} — HuNav-LCM run report", d.info.scenario, d.info.planner, d.info.seed);
   return page(title, runPageJson(d, limits, batch_link), assets::runJs());
 }
 

@@ -1,5 +1,8 @@
 #include "hunav/report/log_recorder.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cerrno>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/live_metrics_t.hpp>
 #include <hunav/nav_goal_t.hpp>
@@ -8,10 +11,6 @@
 #include <hunav/step_reply_t.hpp>
 #include <hunav/step_request_t.hpp>
 #include <hunav/world_state_t.hpp>
-
-#include <algorithm>
-#include <cerrno>
-#include <array>
 #include <stdexcept>
 #include <vector>
 
@@ -77,7 +76,8 @@ LogRecorder::LogRecorder(const std::vector<lcm::LCM*>& instances, const std::str
 }
 
 LogRecorder::~LogRecorder() {
-  for (std::size_t i = 0; i < subscriptions_.size(); ++i) lcm_unsubscribe(instances_[i]->getUnderlyingLCM(), subscriptions_[i]);
+  for (std::size_t i = 0; i < subscriptions_.size(); ++i)
+    lcm_unsubscribe(instances_[i]->getUnderlyingLCM(), subscriptions_[i]);
 }
 
 bool LogRecorder::handle(std::chrono::milliseconds timeout) {

@@ -1,11 +1,11 @@
 #include "hunav/report/report.hpp"
 
+#include <fstream>
+#include <stdexcept>
+
 #include "hunav/config_error.hpp"
 #include "hunav/report/batch_data.hpp"
 #include "hunav/report/html_page.hpp"
-
-#include <fstream>
-#include <stdexcept>
 
 namespace hunav::report {
 
@@ -39,11 +39,20 @@ std::string linkFrom(const fs::path& from_page, const fs::path& to) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case ' ': out += "%20"; break;
-      case '#': out += "%23"; break;
-      case '?': out += "%3F"; break;
-      case '%': out += "%25"; break;
-      default: out += c;
+      case ' ':
+        out += "%20";
+        break;
+      case '#':
+        out += "%23";
+        break;
+      case '?':
+        out += "%3F";
+        break;
+      case '%':
+        out += "%25";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -54,11 +63,11 @@ std::string linkFrom(const fs::path& from_page, const fs::path& to) {
 FolderKind detectFolderKind(const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) throw ConfigError(dir.string(), 0, "", "no such folder");
-  if (!fs::is_directory(dir, ec)) throw ConfigError(dir.string(), 0, "", "not a folder (give a run folder or a batch folder)");
+  if (!fs::is_directory(dir, ec))
+    throw ConfigError(dir.string(), 0, "", "not a folder (give a run folder or a batch folder)");
   if (fs::exists(dir / "states.csv", ec)) return FolderKind::Run;
   if (fs::exists(dir / "summary.csv", ec)) return FolderKind::Batch;
-  throw ConfigError(dir.string(), 0, "",
-                    "neither a run folder (no states.csv) nor a batch folder (no summary.csv)");
+  throw ConfigError(dir.string(), 0, "", "neither a run folder (no states.csv) nor a batch folder (no summary.csv)");
 }
 
 ReportResult writeRunReport(const fs::path& dir, const ReportOptions& options, const std::string& batch_link) {
@@ -76,7 +85,8 @@ ReportResult writeBatchReport(const fs::path& dir, const ReportOptions& options)
   std::error_code ec;
   for (auto& run : data.runs) {
     if (!options.run_pages) {
-      if (fs::is_regular_file(run.run_dir / "report.html", ec)) run.page_link = linkFrom(result.page, run.run_dir / "report.html");
+      if (fs::is_regular_file(run.run_dir / "report.html", ec))
+        run.page_link = linkFrom(result.page, run.run_dir / "report.html");
       continue;
     }
     if (run.run_dir.empty()) {

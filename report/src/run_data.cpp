@@ -1,13 +1,5 @@
 #include "hunav/report/run_data.hpp"
 
-#include "hunav/config_error.hpp"
-#include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-#include "hunav/report/csv_table.hpp"
-#include "hunav/scenario.hpp"
-#include "hunav/yaml_reader.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -17,6 +9,14 @@
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
+
+#include "hunav/config_error.hpp"
+#include "hunav/evaluator/counterfactual.hpp"
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/report/csv_table.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/yaml_reader.hpp"
 
 namespace hunav::report {
 
@@ -65,7 +65,8 @@ std::vector<MetricEntry> readRunJsonMetrics(const fs::path& file, const std::str
     e.value = kv.second.Scalar();
     if (e.value != "true" && e.value != "false") {
       double v = 0.0;
-      if (!parseNumber(e.value, v)) reader.fail(kv.second, "metrics." + name, "expected a number or true/false, got '" + e.value + "'");
+      if (!parseNumber(e.value, v))
+        reader.fail(kv.second, "metrics." + name, "expected a number or true/false, got '" + e.value + "'");
     }
     const auto u = units.find(name);
     if (u != units.end()) e.unit = u->second;
@@ -87,12 +88,13 @@ void readBehaviorMetrics(RunData& data) {
     for (std::size_t r = 0; r < table.rows(); ++r)
       if (table.text(r, run_id) == data.info.run_id) found = r;
     if (found == table.rows()) {
-      data.notes.push_back(fmt::format("{} has no row of run {}: its behavior metrics are not shown", file.string(),
-                                       data.info.run_id));
+      data.notes.push_back(
+          fmt::format("{} has no row of run {}: its behavior metrics are not shown", file.string(), data.info.run_id));
       continue;
     }
     auto& values = data.behavior_metrics[b];
-    for (std::size_t c = 6; c < table.header().size(); ++c) values[table.header()[c]] = table.text(found, static_cast<int>(c));
+    for (std::size_t c = 6; c < table.header().size(); ++c)
+      values[table.header()[c]] = table.text(found, static_cast<int>(c));
   }
 }
 
@@ -179,7 +181,8 @@ void loadMap(RunData& data, const Recording& rec, const RunDataOptions& options)
   data.map_source = "obstacle points recorded in states.csv (" + why + ")";
   data.notes.push_back(why + ": the map shows the obstacle points the people and the robot sensed instead");
   if (truncated)
-    data.notes.push_back(fmt::format("only the first {} obstacle points are drawn", options.limits.max_obstacle_points));
+    data.notes.push_back(
+        fmt::format("only the first {} obstacle points are drawn", options.limits.max_obstacle_points));
 }
 
 void addGoal(Track& t, const evaluator::EntityState& e, std::size_t max_goals) {
@@ -305,8 +308,10 @@ void extractSeries(RunData& data, const Recording& rec) {
     for (std::size_t r = 0; r < table.rows(); ++r) {
       const double t = table.number(r, t_col);
       if (std::abs(t - rec[r].t) > 1e-6 * std::max(1.0, std::abs(t)))
-        table.fail(r, "t", fmt::format("{} differs from the time of sample {} of states.csv ({}): the files are not of the same run",
-                                       table.text(r, t_col), r + 1, rec[r].t));
+        table.fail(
+            r, "t",
+            fmt::format("{} differs from the time of sample {} of states.csv ({}): the files are not of the same run",
+                        table.text(r, t_col), r + 1, rec[r].t));
     }
     if (missing.empty()) {
       for (const auto& name : needed) {
@@ -380,7 +385,8 @@ std::size_t frameStride(std::size_t samples, std::size_t entities, const ReportL
   auto ceilDiv = [](std::size_t a, std::size_t b) { return b == 0 ? a : (a + b - 1) / b; };
   std::size_t stride = 1;
   stride = std::max(stride, ceilDiv(samples, std::max<std::size_t>(1, limits.max_frames)));
-  stride = std::max(stride, ceilDiv(samples * std::max<std::size_t>(1, entities), std::max<std::size_t>(1, limits.max_positions)));
+  stride = std::max(
+      stride, ceilDiv(samples * std::max<std::size_t>(1, entities), std::max<std::size_t>(1, limits.max_positions)));
   return stride;
 }
 

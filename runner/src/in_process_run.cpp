@@ -1,13 +1,13 @@
 #include "hunav/runner/in_process_run.hpp"
 
+#include <memory>
+
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/runner/log_writer.hpp"
 #include "run_components.hpp"
-
-#include <memory>
 
 namespace hunav::runner {
 

@@ -14,7 +14,6 @@
 
 namespace hunav::runner {
 
-
 evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector<double>& sample_times) {
   evaluator::Recording rec;
   if (sample_times.empty()) return rec;

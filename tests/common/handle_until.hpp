@@ -1,10 +1,10 @@
 #pragma once
 // Shared by the tests that exchange datagrams over udpm in a private network namespace.
-#include "hunav/transport.hpp"
-
 #include <chrono>
 #include <functional>
 #include <vector>
+
+#include "hunav/transport.hpp"
 
 namespace hunav::test {
 

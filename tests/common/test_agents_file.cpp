@@ -1,15 +1,14 @@
 // The seeded people generator (`people: {generate: ...}`) and the shipped scenario files.
-#include "hunav/agents_file.hpp"
-#include "hunav/config_error.hpp"
-#include "hunav/scenario.hpp"
-
-#include <unistd.h>
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "hunav/agents_file.hpp"
+#include "hunav/config_error.hpp"
+#include "hunav/scenario.hpp"
 
 using namespace hunav;
 
@@ -168,7 +167,8 @@ TEST(PeopleGenerator, RoutesArePickedPerPerson) {
   routes:
     - [{x: 20, y: 0}, {x: -20, y: 0}]
     - [{x: 0, y: 20}]
-)", 9);
+)",
+                            9);
   int east_west = 0, north = 0;
   for (const AgentConfig& p : people) {
     if (p.goals.size() == 2) {
@@ -191,14 +191,18 @@ TEST(PeopleGenerator, MistakesNameLineAndKey) {
   expectError("generate:\n  count: 10\n  region: {x: [0, 1], y: [0, 1]}\n  radius: 0.5\n", 3, "generate.region",
               "no free start");
   expectError("generate:\n  region: {x: [0, 1], y: [0, 1]}\n", 2, "generate.count", "missing key");
-  expectError("generate:\n  count: 1\n  region: {x: [2, 1], y: [0, 1]}\n", 3, "generate.region.x", "low must be <= high");
-  expectError("generate:\n  count: 1\n  region: {x: [0, 1], y: [0, 1]}\n  goals: [{x: 1, y: 1}]\n  routes: [[{x: 1, y: 1}]]\n",
-              5, "generate.routes", "either goals or routes");
-  expectError("generate:\n  - count: 1\n    region: {x: 0, y: 0}\n  - count: 1\n    first_id: 1\n    region: {x: 5, y: 5}\n", 4,
-              "generate[1].first_id", "used by another agent");
+  expectError("generate:\n  count: 1\n  region: {x: [2, 1], y: [0, 1]}\n", 3, "generate.region.x",
+              "low must be <= high");
+  expectError(
+      "generate:\n  count: 1\n  region: {x: [0, 1], y: [0, 1]}\n  goals: [{x: 1, y: 1}]\n  routes: [[{x: 1, y: 1}]]\n",
+      5, "generate.routes", "either goals or routes");
+  expectError(
+      "generate:\n  - count: 1\n    region: {x: 0, y: 0}\n  - count: 1\n    first_id: 1\n    region: {x: 5, y: 5}\n", 4,
+      "generate[1].first_id", "used by another agent");
   expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  behavior: {type: dancing}\n", 4,
               "generate.behavior.type", "behavior must be");
-  expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  max_vel: [-1, 1]\n", 4, "generate.max_vel", "in [0, 10] m/s");
+  expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  max_vel: [-1, 1]\n", 4, "generate.max_vel",
+              "in [0, 10] m/s");
   expectError("generate:\n  count: 1\n  region: {x: [0, 1e300], y: 0}\n", 3, "generate.region", "within +-1e5 m");
   expectError("generate:\n  count: 1\n  region: {x: 0, y: 0}\n  radius: 1e9\n", 4, "generate.radius", "[1e-3, 10]");
   expectError("nobody: 1\n", 1, "hunav_loader", "missing key");
@@ -220,9 +224,9 @@ people: gen_agents.yaml
 // ---------------------------------------------------------------------------------------------------
 
 TEST(ShippedScenarios, EveryScenarioLoadsWithItsPeople) {
-  const std::pair<const char*, std::size_t> expected[] = {
-      {"passing", 2}, {"crossing", 4}, {"combined", 3}, {"cafe", 6}, {"warehouse", 6},
-      {"house", 6},   {"crowd", 300},  {"crowd_1000", 1000}};
+  const std::pair<const char*, std::size_t> expected[] = {{"passing", 2}, {"crossing", 4},     {"combined", 3},
+                                                          {"cafe", 6},    {"warehouse", 6},    {"house", 6},
+                                                          {"crowd", 300}, {"crowd_1000", 1000}};
   for (const auto& [name, count] : expected) {
     const Scenario s = loadScenario(source(std::string("scenarios/") + name + ".yaml"));
     EXPECT_EQ(s.name, name);
@@ -327,7 +331,8 @@ TEST(HunavAgentsFiles, Version2LayoutLoads) {
   // Mistakes name file, line and key.
   std::string bad = v2;
   bad.replace(bad.find("goals: [2]"), 10, "goals: [9]");
-  expectError(bad, 18, "hunav_loader.ros__parameters.blocker.goals", "neither a key of blocker nor an id of global_goals");
+  expectError(bad, 18, "hunav_loader.ros__parameters.blocker.goals",
+              "neither a key of blocker nor an id of global_goals");
   bad = v2;
   bad.replace(bad.find("front_dist"), 10, "stop_dist");
   expectError(bad, 16, "hunav_loader.ros__parameters.blocker.behavior.stop_dist", "belongs to the curious behavior");
@@ -338,9 +343,10 @@ TEST(HunavAgentsFiles, Version2LayoutLoads) {
 
 // A bad tree file is reported at the behavior_tree key's line, not at the agent's first key.
 TEST(HunavAgentsFiles, BehaviorTreeLineIsRecorded) {
-  const auto agents = parse("hunav_loader:\n  ros__parameters:\n    agents: [a]\n    a:\n      id: 1\n"
-                            "      init_pose: {x: 0.0, y: 0.0}\n      behavior_tree: trees/t.xml\n",
-                            1);
+  const auto agents = parse(
+      "hunav_loader:\n  ros__parameters:\n    agents: [a]\n    a:\n      id: 1\n"
+      "      init_pose: {x: 0.0, y: 0.0}\n      behavior_tree: trees/t.xml\n",
+      1);
   ASSERT_EQ(agents.size(), 1u);
   EXPECT_EQ(agents[0].source_line, 5);
   EXPECT_EQ(agents[0].behavior_tree_line, 7);

@@ -1,6 +1,6 @@
-#include "hunav/geometry.hpp"
-
 #include <gtest/gtest.h>
+
+#include "hunav/geometry.hpp"
 
 using namespace hunav;
 

@@ -1,14 +1,13 @@
-#include "hunav/lcm_log_reader.hpp"
-
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
-
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
+
+#include "hunav/lcm_log_reader.hpp"
 
 namespace fs = std::filesystem;
 using hunav::LcmLogReader;

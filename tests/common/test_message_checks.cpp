@@ -1,6 +1,5 @@
 // The checks every receiver applies to agent lists, and the run fingerprint's definition.
 #include <gtest/gtest.h>
-
 #include <xxhash.h>
 
 #include <cmath>
@@ -26,8 +25,8 @@ std::vector<agent_state_t> withIds(std::initializer_list<int> ids) {
 }  // namespace
 
 TEST(MessageChecks, DuplicateIdsAreRejectedInAnyOrder) {
-  EXPECT_NO_THROW(checkAgentStates(withIds({1, 2, 5}), 3, "test"));  // increasing: one pass
-  EXPECT_NO_THROW(checkAgentStates(withIds({5, 1, 2}), 3, "test"));  // unordered, distinct: sorted copy
+  EXPECT_NO_THROW(checkAgentStates(withIds({1, 2, 5}), 3, "test"));           // increasing: one pass
+  EXPECT_NO_THROW(checkAgentStates(withIds({5, 1, 2}), 3, "test"));           // unordered, distinct: sorted copy
   EXPECT_THROW(checkAgentStates(withIds({1, 2, 2}), 3, "test"), BadMessage);  // adjacent duplicate
   EXPECT_THROW(checkAgentStates(withIds({3, 1, 3}), 3, "test"), BadMessage);  // apart, unordered
   EXPECT_THROW(checkAgentStates(withIds({1, 2}), 3, "test"), BadMessage);     // count lies
@@ -38,7 +37,7 @@ TEST(MessageChecks, DuplicateIdsAreRejectedInAnyOrder) {
   far[0].goals.push_back(point2d_t{1.0, HUGE_VAL});
   far[0].num_goals = 1;
   EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);  // an infinite goal
-  far[0].goals[0].y = 1e6;                                    // at the bound: fine
+  far[0].goals[0].y = 1e6;                                     // at the bound: fine
   EXPECT_NO_THROW(checkAgentStates(far, 1, "test"));
   far[0].desired_speed = -0.5;
   EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);
@@ -77,10 +76,26 @@ TEST(MessageChecks, EveryNumberAndPointIsChecked) {
   // Each of the 18 numbers, a goal and an obstacle point, in turn NaN, then infinite: always rejected.
   const auto fields = [](agent_state_t& a) {
     behavior_params_t& bp = a.behavior_params;
-    return std::vector<double*>{&a.x, &a.y, &a.yaw, &a.vx, &a.vy, &a.vyaw, &a.linear_vel, &a.angular_vel,
-                                &a.radius, &a.desired_speed, &a.goal_radius, &bp.duration, &bp.vel, &bp.dist,
-                                &bp.goal_force_factor, &bp.obstacle_force_factor, &bp.social_force_factor,
-                                &bp.other_force_factor, &a.goals[0].x, &a.obstacles[1].y};
+    return std::vector<double*>{&a.x,
+                                &a.y,
+                                &a.yaw,
+                                &a.vx,
+                                &a.vy,
+                                &a.vyaw,
+                                &a.linear_vel,
+                                &a.angular_vel,
+                                &a.radius,
+                                &a.desired_speed,
+                                &a.goal_radius,
+                                &bp.duration,
+                                &bp.vel,
+                                &bp.dist,
+                                &bp.goal_force_factor,
+                                &bp.obstacle_force_factor,
+                                &bp.social_force_factor,
+                                &bp.other_force_factor,
+                                &a.goals[0].x,
+                                &a.obstacles[1].y};
   };
   auto base = withIds({1});
   base[0].goals = {point2d_t{1.0, 2.0}};

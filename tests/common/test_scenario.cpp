@@ -1,14 +1,12 @@
-#include "hunav/config_error.hpp"
-#include "hunav/scenario.hpp"
-
+#include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <gtest/gtest.h>
-
 #include <cmath>
-
 #include <filesystem>
 #include <fstream>
+
+#include "hunav/config_error.hpp"
+#include "hunav/scenario.hpp"
 
 using namespace hunav;
 
@@ -78,8 +76,7 @@ TEST(Scenario, MalformedFilesNameFileLineAndKey) {
   expectError("bad_yaml.yaml", "name: x\nrobot: [unclosed\n", 3, "");
   expectError("no_robot.yaml", "name: x\ndt: 0.01\n", 1, "robot");
   expectError("bad_type.yaml", std::string(kMinimal) + "time_limit: soon\n", 10, "time_limit");
-  expectError("bad_radius.yaml",
-              "robot:\n  radius: -0.3\n  start: {x: 0, y: 0}\n", 2, "robot.radius");
+  expectError("bad_radius.yaml", "robot:\n  radius: -0.3\n  start: {x: 0, y: 0}\n", 2, "robot.radius");
   expectError("goal_in_wall.yaml",
               "map:\n  boxes: [{x: 3, y: 0, width: 1, height: 1}]\nrobot:\n  start: {x: 0, y: 0}\n"
               "  goal: {x: 3, y: 0}\n",
@@ -227,8 +224,7 @@ TEST(Scenario, BoundsThatKeepBox2DAndTheClockSafe) {
   expectError("far_wall.yaml", "map:\n  walls:\n    - [[-1e30, 0], [5, 0]]\nrobot:\n" + start, 3, "map.walls");
   expectError("tiny_obstacle.yaml", "map:\n  boxes: [{x: 9, y: 9, width: 1e-4, height: 1}]\nrobot:\n" + start, 2,
               "map.boxes.width");
-  expectError("far_circle.yaml", "map:\n  circles: [{x: 99999, y: 9, radius: 2}]\nrobot:\n" + start, 2,
-              "map.circles");
+  expectError("far_circle.yaml", "map:\n  circles: [{x: 99999, y: 9, radius: 2}]\nrobot:\n" + start, 2, "map.circles");
   expectError("long_laser.yaml", "robot:\n" + start + "  laser: {range_max: 1e39}\n", 3, "robot.laser.range_max");
   expectError("far_perception.yaml", "robot:\n" + start + "  perception_range: 1e39\n", 3, "robot.perception_range");
   expectError("fast_robot.yaml", "robot:\n" + start + "  limits: {max_v: 1e300}\n", 3, "robot.limits.max_v");
@@ -244,9 +240,10 @@ TEST(Scenario, BoundsThatKeepBox2DAndTheClockSafe) {
   // 9.3e12 s is where llround(time_limit * 1e6) overflows int64 and the episode ended at t = 0.
   expectError("long_episode.yaml", std::string(kMinimal) + "time_limit: 1e13\n", 10, "time_limit");
   // The bounds themselves are accepted.
-  const Scenario edge = loadScenario(writeFile("edge.yaml", "time_limit: 1e7\nrobot:\n  radius: 1e-3\n"
-                                                            "  start: {x: 1e5, y: -1e5, yaw: 1e3}\n"
-                                                            "  laser: {range_max: 1e3}\n"));
+  const Scenario edge = loadScenario(writeFile("edge.yaml",
+                                               "time_limit: 1e7\nrobot:\n  radius: 1e-3\n"
+                                               "  start: {x: 1e5, y: -1e5, yaw: 1e3}\n"
+                                               "  laser: {range_max: 1e3}\n"));
   EXPECT_EQ(edge.time_limit, 1e7);
   EXPECT_EQ(edge.robot.start.x(), 1e5);
   EXPECT_EQ(edge.robot.radius, 1e-3);
@@ -254,20 +251,20 @@ TEST(Scenario, BoundsThatKeepBox2DAndTheClockSafe) {
 
 TEST(Scenario, PeopleBounds) {
   auto agent = [](const std::string& fields) {
-    return std::string(kMinimal) + "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1]\n"
-                                   "      a1:\n        id: 1\n" + fields;
+    return std::string(kMinimal) +
+           "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1]\n"
+           "      a1:\n        id: 1\n" +
+           fields;
   };
   // kMinimal has 9 lines; a1's first field after id is line 16.
   const std::string a1 = "people.hunav_loader.ros__parameters.a1";
   expectError("agent_far.yaml", agent("        init_pose: {x: 1e39, y: 1}\n"), 16, a1 + ".init_pose");
   expectError("agent_yaw.yaml", agent("        init_pose: {x: 1, y: 1, h: 1e39}\n"), 16, a1 + ".init_pose.h");
-  expectError("agent_tiny.yaml", agent("        radius: 1e-30\n        init_pose: {x: 1, y: 1}\n"), 16,
-              a1 + ".radius");
+  expectError("agent_tiny.yaml", agent("        radius: 1e-30\n        init_pose: {x: 1, y: 1}\n"), 16, a1 + ".radius");
   expectError("agent_fast.yaml", agent("        max_vel: 1e300\n        init_pose: {x: 1, y: 1}\n"), 16,
               a1 + ".max_vel");
   expectError("agent_far_goal.yaml",
-              agent("        init_pose: {x: 1, y: 1}\n        goals: [g]\n        g: {x: 2e5, y: 0}\n"), 18,
-              a1 + ".g");
+              agent("        init_pose: {x: 1, y: 1}\n        goals: [g]\n        g: {x: 2e5, y: 0}\n"), 18, a1 + ".g");
   expectError("agent_wide_goal.yaml", agent("        goal_radius: 1e300\n        init_pose: {x: 1, y: 1}\n"), 16,
               a1 + ".goal_radius");
   auto generator = [](const std::string& fields) {
@@ -284,9 +281,9 @@ TEST(Scenario, PeopleBounds) {
   expectError("crowd_tiny.yaml", generator("    region: {x: [10, 40], y: [10, 40]}\n    radius: 1e-4\n"), 14,
               "people.generate.radius");
   // The largest ids that fit are accepted.
-  const Scenario last_ids = loadScenario(
-      writeFile("ids_last.yaml", std::string(kMinimal) + "people:\n  generate:\n    count: 2\n    first_id: 2147483646\n"
-                                                         "    region: {x: [10, 40], y: [10, 40]}\n"));
+  const Scenario last_ids = loadScenario(writeFile(
+      "ids_last.yaml", std::string(kMinimal) + "people:\n  generate:\n    count: 2\n    first_id: 2147483646\n"
+                                               "    region: {x: [10, 40], y: [10, 40]}\n"));
   ASSERT_EQ(last_ids.agents.size(), 2u);
   EXPECT_EQ(last_ids.agents[1].id, 2147483647);
 }
@@ -309,8 +306,9 @@ TEST(Scenario, DuplicateKeysAreRejected) {
   // yaml-cpp keeps both pairs and the first one won, silently.
   expectError("dup_top.yaml", std::string(kMinimal) + "dt: 0.02\n", 10, "dt");
   expectError("dup_nested.yaml", "robot:\n  start: {x: 0, y: 0, x: 1}\n", 2, "robot.start.x");
-  expectError("dup_in_list.yaml", "map:\n  boxes:\n    - {x: 1, y: 1, width: 1, width: 2, height: 1}\nrobot:\n"
-                                  "  start: {x: 5, y: 5}\n",
+  expectError("dup_in_list.yaml",
+              "map:\n  boxes:\n    - {x: 1, y: 1, width: 1, width: 2, height: 1}\nrobot:\n"
+              "  start: {x: 5, y: 5}\n",
               3, "map.boxes[0].width");
   // The same key in different mappings, and an alias used twice, are fine.
   const Scenario ok = loadScenario(writeFile("no_dup.yaml", "robot:\n  start: &p {x: 0, y: 0}\n  goal: *p\n"));
@@ -340,13 +338,14 @@ TEST(Scenario, PeopleModelKeys) {
   EXPECT_DOUBLE_EQ(d.people_model.route_resolution, 0.1);
   EXPECT_EQ(d.stuck_timeout, 0.0);
   EXPECT_EQ(d.stuck_distance, 0.5);
-  const hunav::Scenario m = loadScenario(
-      writeFile("people_mean.yaml", people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n"));
+  const hunav::Scenario m = loadScenario(writeFile(
+      "people_mean.yaml", people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n"));
   EXPECT_EQ(m.people_model.obstacle_points, hunav::ObstaclePoints::Mean);
   EXPECT_EQ(m.people_model.navigation, hunav::PeopleNavigation::Direct);
   EXPECT_DOUBLE_EQ(m.people_model.route_resolution, 0.05);
-  EXPECT_EQ(loadScenario(writeFile("people_each.yaml", people + "  obstacle_points: each\n")).people_model.obstacle_points,
-            hunav::ObstaclePoints::Each);
+  EXPECT_EQ(
+      loadScenario(writeFile("people_each.yaml", people + "  obstacle_points: each\n")).people_model.obstacle_points,
+      hunav::ObstaclePoints::Each);
   // kMinimal has 9 lines, the people block 5: the keys below it are on line 15.
   expectError("people_points.yaml", people + "  obstacle_points: all\n", 15, "people.obstacle_points");
   expectError("people_nav.yaml", people + "  navigation: astar\n", 15, "people.navigation");

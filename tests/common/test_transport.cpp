@@ -1,7 +1,8 @@
-#include "hunav/transport.hpp"
-
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/laser_scan_t.hpp>
 #include <hunav/live_metrics_t.hpp>
@@ -12,15 +13,12 @@
 #include <hunav/step_request_t.hpp>
 #include <hunav/wire_checks.hpp>
 #include <hunav/world_state_t.hpp>
-
-#include <sys/resource.h>
-
-#include <algorithm>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
+
+#include "hunav/transport.hpp"
 
 using hunav::Bus;
 
@@ -77,7 +75,7 @@ TEST(Transport, BadMessagesAreDroppedAndCounted) {
   });
   const char garbage[] = "not an lcm message";
   bus.publishRaw("GOAL", garbage, sizeof garbage);  // fails to decode (wrong fingerprint)
-  bus.publish("GOAL", goal(-1));                     // rejected by the handler
+  bus.publish("GOAL", goal(-1));                    // rejected by the handler
   bus.publish("GOAL", goal(1));
   bus.handleAvailable();
   EXPECT_EQ(n, 1);
@@ -225,7 +223,7 @@ TEST(Transport, MutatedBytesAreDecodedOrDroppedNeverFatal) {
   }
   EXPECT_EQ(delivered + bus.droppedMessages(), static_cast<std::size_t>(kMessages));
   EXPECT_GT(bus.droppedMessages(), 0u);
-  EXPECT_GT(delivered, 0u);  // edits of plain numbers decode
+  EXPECT_GT(delivered, 0u);               // edits of plain numbers decode
   EXPECT_LE(largest, good.size() / 100);  // an agent state takes well over 100 bytes
 }
 
@@ -470,10 +468,13 @@ TEST(Transport, ChannelPortsUrlGivesTheStepProtocolPortsOfTheirOwn) {
   EXPECT_EQ(hunav::lcmUrlForChannel("udpm://?channel_ports=1", "STEP_REPLY"), "udpm://239.255.76.67:7669");
   EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.1?channel_ports=1", "STEP_REQUEST"), "udpm://239.255.76.1:7668");
   // Without the option, or on another provider, the URL is used as it is.
-  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.67:7667?ttl=0", "STEP_REQUEST"), "udpm://239.255.76.67:7667?ttl=0");
+  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.67:7667?ttl=0", "STEP_REQUEST"),
+            "udpm://239.255.76.67:7667?ttl=0");
   EXPECT_EQ(hunav::lcmUrlForChannel("memq://", "STEP_REQUEST"), "memq://");
-  EXPECT_THROW(hunav::lcmUrlForChannel("udpm://239.255.76.67:76x7?channel_ports=1", "STEP_REPLY"), std::invalid_argument);
-  EXPECT_THROW(hunav::lcmUrlForChannel("udpm://239.255.76.67:65535?channel_ports=1", "STEP_REPLY"), std::invalid_argument);
+  EXPECT_THROW(hunav::lcmUrlForChannel("udpm://239.255.76.67:76x7?channel_ports=1", "STEP_REPLY"),
+               std::invalid_argument);
+  EXPECT_THROW(hunav::lcmUrlForChannel("udpm://239.255.76.67:65535?channel_ports=1", "STEP_REPLY"),
+               std::invalid_argument);
 }
 
 TEST(Transport, BusOpensItsOwnLcmFromAUrl) {
@@ -492,11 +493,12 @@ TEST(Transport, SubscriptionsCountTheirOwnDropsWithTheLastReason) {
   for (const bool in_process : {true, false}) {
     lcm::LCM lcm("memq://");
     std::unique_ptr<Bus> bus = in_process ? std::make_unique<Bus>(Bus::InProcess{}) : std::make_unique<Bus>(lcm);
-    const hunav::SubscriptionDrops& commands = bus->subscribe<hunav::robot_command_t>(
-        "ROBOT_COMMAND", [](const hunav::robot_command_t& c) {
+    const hunav::SubscriptionDrops& commands =
+        bus->subscribe<hunav::robot_command_t>("ROBOT_COMMAND", [](const hunav::robot_command_t& c) {
           if (c.v > 1.0) throw hunav::BadMessage("robot command: v too large");
         });
-    const hunav::SubscriptionDrops& goals = bus->subscribe<hunav::nav_goal_t>("NAV_GOAL", [](const hunav::nav_goal_t&) {});
+    const hunav::SubscriptionDrops& goals =
+        bus->subscribe<hunav::nav_goal_t>("NAV_GOAL", [](const hunav::nav_goal_t&) {});
     hunav::robot_command_t c{};
     c.v = 2.0;
     bus->publish("ROBOT_COMMAND", c);

@@ -1,16 +1,15 @@
 // The Bus over udpm with channel ports, as separate processes use it: run inside a private network
 // namespace with a multicast route on loopback (tests/common/in_netns.sh does it for ctest).
-#include "hunav/channels.hpp"
-#include "hunav/transport.hpp"
-#include "handle_until.hpp"
-
 #include <gtest/gtest.h>
-
-#include <hunav/episode_event_t.hpp>
-#include <hunav/nav_goal_t.hpp>
 
 #include <chrono>
 #include <functional>
+#include <hunav/episode_event_t.hpp>
+#include <hunav/nav_goal_t.hpp>
+
+#include "handle_until.hpp"
+#include "hunav/channels.hpp"
+#include "hunav/transport.hpp"
 
 using hunav::Bus;
 namespace ch = hunav::channels;
@@ -39,7 +38,8 @@ TEST(TransportUdpm, StepProtocolRoundTripOverChannelPorts) {
     ++requests;
     manager.publish(ch::kStepReply, goal(g.x + 1));
   });
-  manager.subscribe<hunav::episode_event_t>(ch::kEpisodeEvent, [&](const hunav::episode_event_t&) { ++manager_events; });
+  manager.subscribe<hunav::episode_event_t>(ch::kEpisodeEvent,
+                                            [&](const hunav::episode_event_t&) { ++manager_events; });
   double answer = 0;
   world.subscribe<hunav::nav_goal_t>(ch::kStepReply, [&](const hunav::nav_goal_t& g) {
     ++replies;

@@ -1,5 +1,3 @@
-#include "hunav/fingerprint.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +6,8 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include "hunav/fingerprint.hpp"
 
 using namespace hunav;
 

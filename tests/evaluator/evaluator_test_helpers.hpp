@@ -1,19 +1,18 @@
 #pragma once
 // Small builders shared by the evaluator tests.
-#include "hunav/evaluator/recording.hpp"
-
 #include <gtest/gtest.h>
-
-#include <hunav/agent_state_t.hpp>
-#include <hunav/episode_event_t.hpp>
-#include <hunav/world_state_t.hpp>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <hunav/agent_state_t.hpp>
+#include <hunav/episode_event_t.hpp>
+#include <hunav/world_state_t.hpp>
 #include <string>
 #include <vector>
+
+#include "hunav/evaluator/recording.hpp"
 
 namespace evaluator_test {
 

@@ -1,11 +1,4 @@
 // The hunav_evaluator binary: help, offline recomputation, bad input (exit 2), "ready" and signals.
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/channels.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-#include "hunav/transport.hpp"
-
 #include <fcntl.h>
 #include <poll.h>
 #include <sched.h>
@@ -17,6 +10,12 @@
 #include <cstdio>
 #include <fstream>
 #include <thread>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/transport.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -127,8 +126,8 @@ TEST(EvaluatorCli, HelpDocumentsEveryOption) {
   const auto dir = freshDir();
   ASSERT_EQ(run(kBinary + " --help > '" + (dir / "help.txt").string() + "'"), 0);
   const std::string help = readFile(dir / "help.txt");
-  for (const char* opt : {"--out", "--profile", "--experiment-tag", "--episodes", "--lcm-url", "--states", "--log", "--metrics",
-                          "--format", "--no-live-metrics"})
+  for (const char* opt : {"--out", "--profile", "--experiment-tag", "--episodes", "--lcm-url", "--states", "--log",
+                          "--metrics", "--format", "--no-live-metrics"})
     EXPECT_NE(help.find(opt), std::string::npos) << opt;
 }
 
@@ -142,8 +141,8 @@ TEST(EvaluatorCli, OfflineRecomputesFromStatesAndRunJson) {
   const auto src = freshDir();
   writeSmallRun(src);
   const auto out = src / "recomputed";
-  ASSERT_EQ(run(kBinary + " --states '" + (src / "states.csv").string() + "' --out '" + out.string() +
-                "' > '" + (src / "table.txt").string() + "' 2>/dev/null"),
+  ASSERT_EQ(run(kBinary + " --states '" + (src / "states.csv").string() + "' --out '" + out.string() + "' > '" +
+                (src / "table.txt").string() + "' 2>/dev/null"),
             0);
   const auto rows = readLines(out / "metrics.csv");
   ASSERT_EQ(rows.size(), 2u);
@@ -171,7 +170,8 @@ TEST(EvaluatorCli, MalformedStatesFileNamesLineAndKeyAndExitsWithTwo) {
   EXPECT_EQ(run(kBinary + " --states '" + (dir / "states.csv").string() + "' --out '" + (dir / "out").string() +
                 "' >/dev/null 2>'" + err.string() + "'"),
             2);
-  EXPECT_EQ(readFile(err), (dir / "states.csv").string() + ":3: x: expected a finite number within +-1e9, got 'zero'\n");
+  EXPECT_EQ(readFile(err),
+            (dir / "states.csv").string() + ":3: x: expected a finite number within +-1e9, got 'zero'\n");
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "metrics.csv"));
 
   // A malformed run.json beside the states file is bad input too.
@@ -265,10 +265,10 @@ TEST(EvaluatorCli, ReplaysAnLcmLogWithProfileSelectionAndTxtFormat) {
   }
   writeFile(dir / "sel.yaml", "metrics:\n  social_work: false\n");
   const auto out = dir / "out";
-  ASSERT_EQ(run(kBinary + " --log '" + (dir / "run.lcmlog").string() + "' --out '" + out.string() +
-                "' --profile hunav_v1 --format hunav_txt --metrics '" + (dir / "sel.yaml").string() +
-                "' >/dev/null 2>&1"),
-            0);
+  ASSERT_EQ(
+      run(kBinary + " --log '" + (dir / "run.lcmlog").string() + "' --out '" + out.string() +
+          "' --profile hunav_v1 --format hunav_txt --metrics '" + (dir / "sel.yaml").string() + "' >/dev/null 2>&1"),
+      0);
   const auto rows = readLines(out / "metrics.csv");
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].find("social_work"), std::string::npos);

@@ -1,16 +1,15 @@
 // The evaluator node on a memq:// LCM, in one thread, as the in-process runner uses it; and the
 // offline recomputation of its results.
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/channels.hpp"
-#include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/offline.hpp"
-#include "hunav/fingerprint.hpp"
-
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <sstream>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/evaluator/offline.hpp"
+#include "hunav/fingerprint.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -49,7 +48,8 @@ class EvaluatorNodeTest : public ::testing::Test {
   hunav::world_state_t state(std::int64_t episode, std::int64_t tick, bool with_goal = true, int people = 2) const {
     const double t = static_cast<double>(tick) * 0.01;
     const double v = 0.5 * (1.0 - std::exp(-t));
-    const hunav::agent_state_t robot = robotMsg(v * t, 0.1 * std::sin(t), 0.1 * std::cos(t) / 3.0, v, 0.1 / 3.0, with_goal);
+    const hunav::agent_state_t robot =
+        robotMsg(v * t, 0.1 * std::sin(t), 0.1 * std::cos(t) / 3.0, v, 0.1 / 3.0, with_goal);
     std::vector<hunav::agent_state_t> agents;
     for (int j = 0; j < people; ++j) {
       hunav::agent_state_t a = personMsg(j + 1, 3.0 - 0.7 * t + j / 7.0, 0.6 * (j + 1) - 0.9, 0.7 + j * 0.01);
@@ -89,7 +89,8 @@ TEST_F(EvaluatorNodeTest, WritesFilesThatPassTheChecker) {
   EXPECT_EQ(split(states[1])[1], "robot");
   EXPECT_EQ(split(states[1])[0], "0.02");  // t = utime 20000 us / 1e6
   EXPECT_EQ(split(states[2])[1], "agent");
-  EXPECT_EQ(split(states[2])[18], "3:0.7;2.5:-1.55");  // obs of agent 1 at (3, 0.6 - 0.9): (x, y + 1), (x - 0.5, y - 1.25)
+  EXPECT_EQ(split(states[2])[18],
+            "3:0.7;2.5:-1.55");  // obs of agent 1 at (3, 0.6 - 0.9): (x, y + 1), (x - 0.5, y - 1.25)
 
   const RunInfo info = readRunJson(dir / "run.json");
   EXPECT_EQ(info.run_id, "run-a");
@@ -215,23 +216,23 @@ TEST_F(EvaluatorNodeTest, BadWorldStatesAreDroppedAndCounted) {
   publish(state(1, 0));
   auto nan_state = state(1, 1);
   nan_state.robot.x = std::numeric_limits<double>::quiet_NaN();
-  publish(nan_state);                          // dropped (tick 1 seen, not lost)
+  publish(nan_state);  // dropped (tick 1 seen, not lost)
   publish(state(1, 2));
-  publish(state(1, 2));                        // repeated tick: dropped
-  publish(state(1, 1));                        // backwards: dropped
+  publish(state(1, 2));  // repeated tick: dropped
+  publish(state(1, 1));  // backwards: dropped
   auto inf_agent = state(1, 3);
   inf_agent.agents[1].obstacles[0].y = std::numeric_limits<double>::infinity();
-  publish(inf_agent);                          // dropped
-  publish(state(2, 4));                        // another episode: dropped
-  publish(state(1, 6));                        // ticks 4 and 5 lost
+  publish(inf_agent);    // dropped
+  publish(state(2, 4));  // another episode: dropped
+  publish(state(1, 6));  // ticks 4 and 5 lost
   world.publish(hunav::channels::kEpisodeEvent, endEvent(1, 9, 0.1, "0123456789abcdef", "time_limit"));
-  bus.handleAvailable();                       // ticks 7 and 8 never arrived: lost
+  bus.handleAvailable();  // ticks 7 and 8 never arrived: lost
 
   ASSERT_TRUE(node.finished());
   const RunInfo info = readRunJson(dir / "run.json");
   EXPECT_EQ(info.recorded_ticks, 3);  // 0, 2, 6
   EXPECT_EQ(info.dropped_messages, 6);
-  EXPECT_EQ(info.lost_ticks, 4);      // 4, 5, 7, 8
+  EXPECT_EQ(info.lost_ticks, 4);  // 4, 5, 7, 8
   EXPECT_EQ(info.ticks, 9);
   EXPECT_EQ(info.status, "time_limit");
   EXPECT_EQ(bus.droppedMessages(), 6u);
@@ -382,7 +383,7 @@ TEST_F(EvaluatorNodeTest, EndWithoutStartIsDroppedAndLaterMessagesIgnored) {
   EXPECT_EQ(node.episodesEnded(), 0);
   runEpisode(1, "run-a", 3);
   EXPECT_EQ(readRunJson(dir / "run.json").dropped_messages, 1);  // counted in the episode it preceded
-  runEpisode(2, "run-b", 3);  // one episode was asked for: ignored
+  runEpisode(2, "run-b", 3);                                     // one episode was asked for: ignored
   EXPECT_EQ(node.episodesEnded(), 1);
   EXPECT_FALSE(std::filesystem::exists(dir / "run-b"));
 }

@@ -1,21 +1,19 @@
 // The result files of run_outputs.hpp: per-tick and per-behavior files, HuNavSim's txt layout,
 // metric selection, LIVE_METRICS, and the proof that the live evaluator, the replay of an LCM log
 // and the recomputation from states.csv write the same files.
-#include "evaluator_test_helpers.hpp"
+#include <algorithm>
+#include <cmath>
+#include <hunav/live_metrics_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <sstream>
 
+#include "evaluator_test_helpers.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/fingerprint.hpp"
-
-#include <hunav/live_metrics_t.hpp>
-#include <lcm/lcm-cpp.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <sstream>
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -116,9 +114,14 @@ TEST_P(OutputsTest, LiveLogReplayAndStatesRecomputationAgreeExactly) {
   playEpisode(o, dir / "run.lcmlog");
 
   // The files of one run: per tick, per behavior (1 and 4 are present; 4 only in some ticks).
-  const std::vector<std::string> expected{"metrics.csv",         "metrics_beh_1.csv",         "metrics_beh_1_steps.csv",
-                                          "metrics_beh_4.csv",   "metrics_beh_4_steps.csv",   "metrics_steps.csv",
-                                          "run.json",            "states.csv"};
+  const std::vector<std::string> expected{"metrics.csv",
+                                          "metrics_beh_1.csv",
+                                          "metrics_beh_1_steps.csv",
+                                          "metrics_beh_4.csv",
+                                          "metrics_beh_4_steps.csv",
+                                          "metrics_steps.csv",
+                                          "run.json",
+                                          "states.csv"};
   EXPECT_EQ(resultFiles(dir / "live"), expected);
   EXPECT_EQ(checkOutputs(dir / "live"), 0);
 

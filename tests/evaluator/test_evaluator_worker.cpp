@@ -2,20 +2,18 @@
 // every way of ending (END, finishIncomplete, destruction) first finishes the samples received.
 // Also the people-id lookup of the surprise costs (a table for ids in [0, 2^20), a search for
 // others) gives the same values for any ids.
-#include "evaluator_test_helpers.hpp"
+#include <algorithm>
+#include <cmath>
+#include <hunav/live_metrics_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <sstream>
 
+#include "evaluator_test_helpers.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/transport.hpp"
-
-#include <hunav/live_metrics_t.hpp>
-#include <lcm/lcm-cpp.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <sstream>
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -325,7 +323,8 @@ TEST(Worker, ALargeCrowdFillingTheRingWritesTheSameBytes) {
       const double t = 0.01 * k;
       std::vector<hunav::agent_state_t> people;
       for (int j = 0; j < kCrowd; ++j) {
-        hunav::agent_state_t p = personMsg(1000 + j, 0.5 * (j % 40) + 0.8 * t, 0.5 * (j / 40) - 0.1 * t, 0.8, 1 + j % 6);
+        hunav::agent_state_t p =
+            personMsg(1000 + j, 0.5 * (j % 40) + 0.8 * t, 0.5 * (j / 40) - 0.1 * t, 0.8, 1 + j % 6);
         p.vx = 0.8;
         p.vy = -0.1;
         people.push_back(p);

@@ -7,8 +7,14 @@
 //    for a message whose arrays do not match their counts or whose string holds a NUL, a copy of the
 //    message: either way its files are those of the synchronous mode;
 //  - NumberText's cache gives fmt's text for NaN, infinities, signed zeros and subnormals too.
-#include "evaluator_test_helpers.hpp"
+#include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "evaluator_test_helpers.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/metrics.hpp"
@@ -16,13 +22,6 @@
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/transport.hpp"
-
-#include <fmt/format.h>
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <sstream>
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -174,7 +173,7 @@ TEST(WorkerHandOver, EncodedOrCopiedTheFilesAreThoseOfTheSynchronousMode) {
     robot.num_obstacles = 2;
     // Messages the encoding cannot stand for, which take the copy: arrays longer or shorter than
     // their counts (an in-process publisher may send those), a name holding a NUL.
-    if (k % 7 == 3) people[0].num_goals = 0;  // a goal in the array, count 0
+    if (k % 7 == 3) people[0].num_goals = 0;                                     // a goal in the array, count 0
     if (k % 11 == 5) people[1].obstacles.push_back(hunav::point2d_t{9.0, 9.0});  // a point beyond the count
     if (k % 13 == 6) people[1].name = std::string("bad\0name", 8);
     states.push_back(worldState(1, k, 20000 + 10000 * k, robot, people));
@@ -222,9 +221,20 @@ TEST(NumberText, NonFiniteSignedZeroAndSubnormalTextsComeFromTheCacheUnchanged) 
   const double inf = std::numeric_limits<double>::infinity();
   const double min_normal = std::numeric_limits<double>::min();
   const double min_sub = std::numeric_limits<double>::denorm_min();
-  const std::vector<double> values{nan,     -nan,    inf,          -inf,         0.0,  -0.0, min_sub, -min_sub,
-                                   min_normal - min_sub, -(min_normal - min_sub), min_normal, 3 * min_sub,
-                                   std::nextafter(0.0, 1.0) * 12345, 1e-310};
+  const std::vector<double> values{nan,
+                                   -nan,
+                                   inf,
+                                   -inf,
+                                   0.0,
+                                   -0.0,
+                                   min_sub,
+                                   -min_sub,
+                                   min_normal - min_sub,
+                                   -(min_normal - min_sub),
+                                   min_normal,
+                                   3 * min_sub,
+                                   std::nextafter(0.0, 1.0) * 12345,
+                                   1e-310};
   NumberText text;
   fmt::memory_buffer out;
   for (int pass = 0; pass < 3; ++pass)  // passes after the first come from the cache

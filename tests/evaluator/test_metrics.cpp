@@ -1,10 +1,9 @@
 // Every metric of the default profile on a hand-built trajectory; the expected values are worked
 // out by hand in the comments.
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/evaluator/metrics.hpp"
-
 #include <cmath>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/evaluator/metrics.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -43,17 +42,40 @@ TEST(MetricRegistry, NegativeZeroIsWrittenAsZero) {
 }
 
 TEST(MetricRegistry, DefaultProfileFollowsHuNavSimOrder) {
-  const std::vector<std::string> expected{
-      "time_to_reach_goal", "path_length", "cumulative_heading_changes", "avg_distance_to_closest_person",
-      "minimum_distance_to_people", "maximum_distance_to_people", "intimate_space_intrusions",
-      "personal_space_intrusions", "social_space_intrusions", "group_intimate_space_intrusions",
-      "group_personal_space_intrusions", "group_social_space_intrusions", "completed", "minimum_distance_to_target",
-      "final_distance_to_target", "robot_on_person_collision", "person_on_robot_collision", "time_not_moving",
-      "avg_robot_linear_speed", "avg_robot_angular_speed", "avg_acceleration", "avg_overacceleration",
-      "avg_pedestrian_velocity", "avg_closest_pedestrian_velocity", "social_force_on_agents",
-      "social_force_on_robot", "social_work", "obstacle_force_on_robot", "obstacle_force_on_agents",
-      "danger_fear_cost", "danger_panic_cost", "surprise_visibility_cost", "surprise_shock_cost",
-      "surprise_react_cost"};
+  const std::vector<std::string> expected{"time_to_reach_goal",
+                                          "path_length",
+                                          "cumulative_heading_changes",
+                                          "avg_distance_to_closest_person",
+                                          "minimum_distance_to_people",
+                                          "maximum_distance_to_people",
+                                          "intimate_space_intrusions",
+                                          "personal_space_intrusions",
+                                          "social_space_intrusions",
+                                          "group_intimate_space_intrusions",
+                                          "group_personal_space_intrusions",
+                                          "group_social_space_intrusions",
+                                          "completed",
+                                          "minimum_distance_to_target",
+                                          "final_distance_to_target",
+                                          "robot_on_person_collision",
+                                          "person_on_robot_collision",
+                                          "time_not_moving",
+                                          "avg_robot_linear_speed",
+                                          "avg_robot_angular_speed",
+                                          "avg_acceleration",
+                                          "avg_overacceleration",
+                                          "avg_pedestrian_velocity",
+                                          "avg_closest_pedestrian_velocity",
+                                          "social_force_on_agents",
+                                          "social_force_on_robot",
+                                          "social_work",
+                                          "obstacle_force_on_robot",
+                                          "obstacle_force_on_agents",
+                                          "danger_fear_cost",
+                                          "danger_panic_cost",
+                                          "surprise_visibility_cost",
+                                          "surprise_shock_cost",
+                                          "surprise_react_cost"};
   // The 29 metrics of HuNavSim v1 and the 5 of v2, in both profiles, same columns.
   EXPECT_EQ(expected.size(), 34u);
   EXPECT_EQ(metricsForProfile("default").names(), expected);
@@ -284,14 +306,20 @@ TEST(Metrics, TimeNotMoving) {
 
 TEST(Metrics, AvgRobotLinearSpeed) {
   RecordingBuilder b;
-  b.sample(0, robotMoving(0.5, 0)).sample(1, robotMoving(1.0, 0)).sample(2, robotMoving(0.25, 0)).sample(3, robotMoving(0.75, 0));
+  b.sample(0, robotMoving(0.5, 0))
+      .sample(1, robotMoving(1.0, 0))
+      .sample(2, robotMoving(0.25, 0))
+      .sample(3, robotMoving(0.75, 0));
   // (0.5 + 1.0 + 0.25 + 0.75) / 4 = 2.5 / 4 = 0.625
   EXPECT_NEAR(metrics::avgRobotLinearSpeed(b.get()), 0.625, kTol);
 }
 
 TEST(Metrics, AvgRobotAngularSpeed) {
   RecordingBuilder b;
-  b.sample(0, robotMoving(0, 0.2)).sample(1, robotMoving(0, -0.6)).sample(2, robotMoving(0, 0)).sample(3, robotMoving(0, -0.4));
+  b.sample(0, robotMoving(0, 0.2))
+      .sample(1, robotMoving(0, -0.6))
+      .sample(2, robotMoving(0, 0))
+      .sample(3, robotMoving(0, -0.4));
   // (|0.2| + |-0.6| + 0 + |-0.4|) / 4 = 1.2 / 4 = 0.3
   EXPECT_NEAR(metrics::avgRobotAngularSpeed(b.get()), 0.3, kTol);
 }
@@ -301,7 +329,10 @@ namespace {
 //  a1 = 0.5/0.5 = 1, a2 = -0.25/0.5 = -0.5, a3 = 1.0/1 = 1
 Recording accelerations() {
   RecordingBuilder b;
-  b.sample(0, robotMoving(0, 0)).sample(0.5, robotMoving(0.5, 0)).sample(1.0, robotMoving(0.25, 0)).sample(2.0, robotMoving(1.25, 0));
+  b.sample(0, robotMoving(0, 0))
+      .sample(0.5, robotMoving(0.5, 0))
+      .sample(1.0, robotMoving(0.25, 0))
+      .sample(2.0, robotMoving(1.25, 0));
   return b.get();
 }
 }  // namespace

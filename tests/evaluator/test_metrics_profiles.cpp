@@ -1,12 +1,11 @@
 // Metrics 16-17 (collisions), 25-29 (forces), 30-34 (v2 costs), and the hunav_v1 profile, on small
 // hand-built trajectories. Every expected value is worked out by hand in the comments, for both
 // profiles: "default" (docs/metrics.md) and "hunav_v1" (HuNavSim v1's evaluator).
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/evaluator/metrics.hpp"
-
 #include <cmath>
 #include <map>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/evaluator/metrics.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -68,7 +67,10 @@ TEST(MetricsGolden, ContactCollisions) {
 TEST(MetricsGolden, StopAndTurn) {
   // (t, v, w): (0, 0, 0), (1, 0, -0.5) turning clockwise in place, (2, 0.5, 0), (4, 0, 0).
   RecordingBuilder b;
-  b.sample(0, robotMoving(0, 0)).sample(1, robotMoving(0, -0.5)).sample(2, robotMoving(0.5, 0)).sample(4, robotMoving(0, 0));
+  b.sample(0, robotMoving(0, 0))
+      .sample(1, robotMoving(0, -0.5))
+      .sample(2, robotMoving(0.5, 0))
+      .sample(4, robotMoving(0, 0));
   const auto d = evaluate("default", b.get());
   const auto v = evaluate("hunav_v1", b.get());
   // time_not_moving. default: intervals starting at a still sample (|v| < 0.01, |w| < 0.02): only
@@ -132,8 +134,9 @@ TEST(MetricsGolden, SocialAndObstacleForces) {
   // person pi - atan2(-1, 0) = 3pi/2 -> wrapped -pi/2). f_v = -exp(-40/7 - (3*0.35*pi/2)^2),
   // f_theta = +exp(-40/7 - (2*0.35*pi/2)^2), orthogonal: |F| = 2.1 exp(-40/7) sqrt(f_v'^2 + f_t'^2).
   // Summed over the 3 samples.
-  const double s1 = 2.1 * std::exp(-40.0 / 7.0) *
-                    std::sqrt(std::exp(-2.0 * std::pow(1.05 * kPi / 2, 2)) + std::exp(-2.0 * std::pow(0.7 * kPi / 2, 2)));
+  const double s1 =
+      2.1 * std::exp(-40.0 / 7.0) *
+      std::sqrt(std::exp(-2.0 * std::pow(1.05 * kPi / 2, 2)) + std::exp(-2.0 * std::pow(0.7 * kPi / 2, 2)));
   EXPECT_NEAR(v.at("social_force_on_agents"), 3 * s1, kTol);
   EXPECT_NEAR(v.at("social_force_on_robot"), 3 * s1, kTol);
   // Obstacle force of a point at 1 m on a body of radius 0.3: 10 exp(-0.7/0.2) = 10 exp(-3.5).
@@ -153,7 +156,8 @@ TEST(MetricsGolden, SocialAndObstacleForces) {
 TEST(MetricsGolden, SocialForceV1AngleDiffersFromTheModel) {
   // The swapped atan2 only: with e = t = (0, 1), angle(e) = pi/2, atan2(t_x, t_y) = atan2(0, 1) = 0
   // -> theta = pi/2 (the correct angle is 0).
-  const hunav::Vec2 f = metrics_v1::socialForceV1(hunav::Vec2(0, 0), hunav::Vec2(0, 0), hunav::Vec2(0, 2), hunav::Vec2(0, 0));
+  const hunav::Vec2 f =
+      metrics_v1::socialForceV1(hunav::Vec2(0, 0), hunav::Vec2(0, 0), hunav::Vec2(0, 2), hunav::Vec2(0, 0));
   // f_v = -exp(-40/7 - (1.05 pi/2)^2) along t = (0,1); f_theta = -exp(-40/7 - (0.7 pi/2)^2) along
   // the left normal (-1, 0) -> x = +2.1 exp(...), y = -2.1 exp(...).
   EXPECT_NEAR(f.x(), 2.1 * std::exp(-40.0 / 7.0 - std::pow(0.7 * kPi / 2, 2)), kTol);

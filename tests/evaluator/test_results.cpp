@@ -1,9 +1,8 @@
 // Result files: metrics.csv rows, run.json, the git commit, the text table.
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/evaluator/results.hpp"
-
 #include <cstdlib>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/evaluator/results.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -80,7 +79,10 @@ TEST(Results, RunJsonReadsBackAndEscapesStrings) {
   EXPECT_NE(json.find("\"completed\": true"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir / "run.json.tmp"));
   // Python's json module must accept it too.
-  EXPECT_EQ(std::system(("python3 -c 'import json,sys; json.load(open(sys.argv[1]))' '" + (dir / "run.json").string() + "'").c_str()), 0);
+  EXPECT_EQ(
+      std::system(
+          ("python3 -c 'import json,sys; json.load(open(sys.argv[1]))' '" + (dir / "run.json").string() + "'").c_str()),
+      0);
 }
 
 TEST(Results, TableListsNameValueAndUnit) {

@@ -1,11 +1,10 @@
 // states.csv: exact layout, exact round trip of the doubles, and file:line: key errors.
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/config_error.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-
 #include <cmath>
 #include <cstring>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/config_error.hpp"
+#include "hunav/evaluator/states_csv.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -21,9 +20,18 @@ void expectSameEntity(const Recording& ra, const EntityState& a, const Recording
   EXPECT_EQ(a.behavior, b.behavior);
   EXPECT_EQ(a.behavior_state, b.behavior_state);
   EXPECT_EQ(a.has_goal, b.has_goal);
-  for (auto [x, y] : {std::pair{a.x, b.x}, {a.y, b.y}, {a.yaw, b.yaw}, {a.vx, b.vx}, {a.vy, b.vy}, {a.vyaw, b.vyaw},
-                      {a.linear_vel, b.linear_vel}, {a.angular_vel, b.angular_vel}, {a.radius, b.radius},
-                      {a.goal_x, b.goal_x}, {a.goal_y, b.goal_y}, {a.goal_radius, b.goal_radius}})
+  for (auto [x, y] : {std::pair{a.x, b.x},
+                      {a.y, b.y},
+                      {a.yaw, b.yaw},
+                      {a.vx, b.vx},
+                      {a.vy, b.vy},
+                      {a.vyaw, b.vyaw},
+                      {a.linear_vel, b.linear_vel},
+                      {a.angular_vel, b.angular_vel},
+                      {a.radius, b.radius},
+                      {a.goal_x, b.goal_x},
+                      {a.goal_y, b.goal_y},
+                      {a.goal_radius, b.goal_radius}})
     EXPECT_TRUE(sameBits(x, y)) << x << " vs " << y;
   const auto oa = ra.obstacles(a);
   const auto ob = rb.obstacles(b);
@@ -174,7 +182,7 @@ TEST(StatesCsv, RowsFollowEveryChangeOfTheColumnsThatRarelyChange) {
   for (int k = 0; k < 12; ++k) {
     const double t = 0.01 * (k + 1);
     EntityState r = k % 4 == 3 ? robot(0.5, 0.25) : robotWithGoal(0.5, 0.25, 4.0 + (k / 5), 0.0, 0.3);
-    r.id = k < 6 ? 100 : 101;  // the robot's id may change
+    r.id = k < 6 ? 100 : 101;        // the robot's id may change
     r.radius = k == 2 ? -0.0 : 0.3;  // -0 and 0.3 differ from 0 in bits
     std::vector<EntityState> agents;
     for (const int id : {3, -2, 70000}) {
@@ -186,9 +194,9 @@ TEST(StatesCsv, RowsFollowEveryChangeOfTheColumnsThatRarelyChange) {
     rec.addSample(t, r, agents);
     // The rows as fmt writes them, column by column.
     const auto row = [&](const char* kind, const EntityState& e) {
-      std::string text = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},", t, kind, e.id, e.x, e.y, e.yaw,
-                                     e.vx, e.vy, e.vyaw, e.linear_vel, e.angular_vel, e.radius, e.behavior,
-                                     e.behavior_state, e.group);
+      std::string text =
+          fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},", t, kind, e.id, e.x, e.y, e.yaw, e.vx, e.vy,
+                      e.vyaw, e.linear_vel, e.angular_vel, e.radius, e.behavior, e.behavior_state, e.group);
       text += e.has_goal ? fmt::format("{},{},{},", e.goal_x, e.goal_y, e.goal_radius) : std::string(",,,");
       return text;
     };

@@ -2,17 +2,6 @@
 // offline), the offline run folder (states.csv written, nothing left behind on bad input), the
 // states.csv reader's edge cases, the buffered writers, number formatting, and a metric added as an
 // accumulator.
-#include "evaluator_test_helpers.hpp"
-
-#include "hunav/channels.hpp"
-#include "hunav/config_error.hpp"
-#include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/number_text.hpp"
-#include "hunav/evaluator/offline.hpp"
-#include "hunav/evaluator/sample_rate.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-#include "hunav/fingerprint.hpp"
-
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -21,6 +10,16 @@
 #include <limits>
 #include <map>
 #include <random>
+
+#include "evaluator_test_helpers.hpp"
+#include "hunav/channels.hpp"
+#include "hunav/config_error.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/evaluator/number_text.hpp"
+#include "hunav/evaluator/offline.hpp"
+#include "hunav/evaluator/sample_rate.hpp"
+#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/fingerprint.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -147,8 +146,7 @@ TEST(SampleRate, TheLiveEvaluatorKeepsTheSameSamplesAsTheOfflineOne) {
   for (int k = 0; k < 100; ++k) {
     if (!zigZagTick(k)) continue;
     const EntityState r = zigZagRobot(k);
-    auto ws = worldState(1, k, k * 10000, robotMsg(r.x, r.y, 0.0, r.linear_vel, 0.0, false),
-                         {personMsg(1, 5, 5)});
+    auto ws = worldState(1, k, k * 10000, robotMsg(r.x, r.y, 0.0, r.linear_vel, 0.0, false), {personMsg(1, 5, 5)});
     const auto& bytes = world.encode(ws);
     fp.add(bytes.data(), bytes.size());
     world.publishRaw(hunav::channels::kWorldState, bytes.data(), bytes.size());
@@ -159,7 +157,7 @@ TEST(SampleRate, TheLiveEvaluatorKeepsTheSameSamplesAsTheOfflineOne) {
   const RunInfo info = readRunJson(dir / "live" / "run.json");
   EXPECT_EQ(info.recorded_ticks, 10);
   EXPECT_EQ(info.sample_rate, 10.0);
-  EXPECT_EQ(info.lost_ticks, 1);                    // tick 30
+  EXPECT_EQ(info.lost_ticks, 1);                   // tick 30
   EXPECT_EQ(info.recorded_fingerprint, fp.hex());  // over every world state heard
   EXPECT_EQ(readLines(dir / "live" / "states.csv").size(), 1u + 10u * 2u);
   const auto live = byName(node.lastResult()->metrics);
@@ -197,8 +195,8 @@ TEST(SampleRate, CommandLine) {
                 "' --sample-rate 10 >/dev/null 2>&1"),
             0);
   EXPECT_EQ(readRunJson(dir / "out" / "run.json").recorded_ticks, 10);
-  EXPECT_EQ(run("python3 /work/shared/tools/check_outputs.py '" + (dir / "out").string() + "' --all-metrics >/dev/null"),
-            0);
+  EXPECT_EQ(
+      run("python3 /work/shared/tools/check_outputs.py '" + (dir / "out").string() + "' --all-metrics >/dev/null"), 0);
   EXPECT_EQ(run(bin + " --states '" + (dir / "states.csv").string() + "' --out '" + (dir / "bad").string() +
                 "' --sample-rate -1 >/dev/null 2>&1"),
             2);
@@ -224,15 +222,14 @@ TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
   const RunResult r = recomputeFromStates(o);
   EXPECT_EQ(r.info.recorded_ticks, 2);
   // The copy has the layout of evaluator/README.md: '\n' line ends, no blank line.
-  EXPECT_EQ(readFile(dir / "out" / "states.csv"),
-            std::string(kStatesCsvHeader) +
-                "\n0,robot,1,0,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,\n"
-                "0,agent,7,1,1,0,0,0,0,0,0,0.3,3,1,-1,,,,1:2;3:4\n"
-                "0.5,robot,1,0.25,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,\n");
+  EXPECT_EQ(readFile(dir / "out" / "states.csv"), std::string(kStatesCsvHeader) +
+                                                      "\n0,robot,1,0,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,\n"
+                                                      "0,agent,7,1,1,0,0,0,0,0,0,0.3,3,1,-1,,,,1:2;3:4\n"
+                                                      "0.5,robot,1,0.25,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,\n");
   EXPECT_EQ(checkOutputs(dir / "out"), 0);
   EXPECT_EQ(filesIn(dir / "out"),
-            (std::vector<std::string>{"metrics.csv", "metrics_beh_3.csv", "metrics_beh_3_steps.csv", "metrics_steps.csv",
-                                      "run.json", "states.csv"}));
+            (std::vector<std::string>{"metrics.csv", "metrics_beh_3.csv", "metrics_beh_3_steps.csv",
+                                      "metrics_steps.csv", "run.json", "states.csv"}));
 
   // Recomputed into its own folder: states.csv is the source, left as it is.
   o.states_file = dir / "out" / "states.csv";
@@ -346,9 +343,28 @@ TEST(StatesCsvWriter, TheNodeNeverHoldsBackAHundredSamples) {
 
 TEST(NumberText, WritesWhatFmtWrites) {
   NumberText text;
-  std::vector<double> values{0.0,    -0.0,   1.0,   -3.0,   0.5,     10000.0, 1e15,   1e15 - 1, 1e16,
-                             -1e16,  1e21,   1e-5,  1e-4,   0.1,     1.0 / 3, 2.0 / 3, 1e-300, 5e-324,
-                             1.7976931348623157e308, 123456789012345.0, 9007199254740993.0, -0.35};
+  std::vector<double> values{0.0,
+                             -0.0,
+                             1.0,
+                             -3.0,
+                             0.5,
+                             10000.0,
+                             1e15,
+                             1e15 - 1,
+                             1e16,
+                             -1e16,
+                             1e21,
+                             1e-5,
+                             1e-4,
+                             0.1,
+                             1.0 / 3,
+                             2.0 / 3,
+                             1e-300,
+                             5e-324,
+                             1.7976931348623157e308,
+                             123456789012345.0,
+                             9007199254740993.0,
+                             -0.35};
   std::mt19937_64 random(7);
   for (int i = 0; i < 200000; ++i) {
     const std::uint64_t bits = random();

@@ -1,16 +1,16 @@
 // The batch folder layout: run folders written with the evaluator's own writers, aggregated into
 // summary.csv, summary_stats.csv, paired.csv and summary.md, checked against hand-computed values.
-#include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/experiments/batch.hpp"
-#include "hunav/experiments/summary.hpp"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include "hunav/evaluator/counterfactual.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/experiments/batch.hpp"
+#include "hunav/experiments/summary.hpp"
 
 using namespace hunav;
 using namespace hunav::experiments;
@@ -66,7 +66,8 @@ void makeRun(const fs::path& batch, const std::string& scenario, const std::stri
   info.complete = true;
   evaluator::appendMetricsRow(dir / "metrics.csv", info, values(time, min_dist, completed));
   for (const auto& [code, d] : behaviors)
-    evaluator::appendMetricsRow(dir / ("metrics_beh_" + std::to_string(code) + ".csv"), info, values(time, d, completed));
+    evaluator::appendMetricsRow(dir / ("metrics_beh_" + std::to_string(code) + ".csv"), info,
+                                values(time, d, completed));
   evaluator::writeRunJson(dir / "run.json", info, values(time, min_dist, completed));
 }
 
@@ -85,7 +86,8 @@ TEST(BatchLayout, RunFolderNames) {
 }
 
 TEST(BatchLayout, CsvFieldsAndNumbers) {
-  EXPECT_EQ(splitCsvLine("a,\"b,c\",\"say \"\"hi\"\"\",,x\r"), (std::vector<std::string>{"a", "b,c", "say \"hi\"", "", "x"}));
+  EXPECT_EQ(splitCsvLine("a,\"b,c\",\"say \"\"hi\"\"\",,x\r"),
+            (std::vector<std::string>{"a", "b,c", "say \"hi\"", "", "x"}));
   EXPECT_EQ(metricNumber("true"), 1.0);
   EXPECT_EQ(metricNumber("false"), 0.0);
   EXPECT_EQ(metricNumber("0.25"), 0.25);
@@ -104,8 +106,8 @@ TEST(BatchSummary, WritesTheFourFilesWithHandComputedStatistics) {
   makeRun(dir, "s", "b", 1, 11, 0.9, true, {{1, 0.9}});
   makeRun(dir, "s", "b", 2, 12, 1.0, true, {{1, 1.0}});
   makeRun(dir, "s", "b", 3, 16, 1.1, true, {{1, 1.1}});
-  fs::create_directories(dir / "runs" / "s__b__seed4");   // a run that never ended: no files
-  fs::create_directories(dir / "runs" / "not_a_run");     // skipped with a warning
+  fs::create_directories(dir / "runs" / "s__b__seed4");  // a run that never ended: no files
+  fs::create_directories(dir / "runs" / "not_a_run");    // skipped with a warning
   std::ofstream(dir / "matrix.tsv") << "0\t/x/s.yaml\ts\ta\t1\n";
 
   const Batch batch = writeBatchSummary(dir);
@@ -117,7 +119,8 @@ TEST(BatchSummary, WritesTheFourFilesWithHandComputedStatistics) {
   const auto summary = lines(readFile(dir / "summary.csv"));
   ASSERT_EQ(summary.size(), 8u);
   EXPECT_EQ(summary[0],
-            "scenario,planner,seed,status,sim_time,wall_time,run_dir,time_to_reach_goal,minimum_distance_to_people,completed");
+            "scenario,planner,seed,status,sim_time,wall_time,run_dir,time_to_reach_goal,minimum_distance_to_people,"
+            "completed");
   EXPECT_EQ(summary[1], "s,a,1,goal_reached,10,0.5,runs/s__a__seed1,10,0.5,true");
   EXPECT_EQ(summary[3], "s,a,3,time_limit,14,0.5,runs/s__a__seed3,14,0.6,false");
   EXPECT_EQ(summary[7], "s,b,4,failed,,,runs/s__b__seed4,,,");
@@ -156,7 +159,8 @@ TEST(BatchSummary, WritesTheFourFilesWithHandComputedStatistics) {
   ASSERT_EQ(paired.size(), 4u);
   EXPECT_EQ(paired[0], "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant");
   const auto pt = splitCsvLine(paired[1]);
-  EXPECT_EQ((std::vector<std::string>(pt.begin(), pt.begin() + 5)), (std::vector<std::string>{"s", "a", "b", "time_to_reach_goal", "3"}));
+  EXPECT_EQ((std::vector<std::string>(pt.begin(), pt.begin() + 5)),
+            (std::vector<std::string>{"s", "a", "b", "time_to_reach_goal", "3"}));
   EXPECT_DOUBLE_EQ(std::stod(pt[5]), -1.0);
   EXPECT_NEAR(std::stod(pt[6]), -1.0 - 2.4841377, 1e-6);
   EXPECT_NEAR(std::stod(pt[7]), -1.0 + 2.4841377, 1e-6);
@@ -224,7 +228,8 @@ TEST(BatchSummary, EmptyAndMissingFolders) {
   const fs::path dir = freshDir("empty");
   writeBatchSummary(dir);
   EXPECT_EQ(readFile(dir / "summary.csv"), "scenario,planner,seed,status,sim_time,wall_time,run_dir\n");
-  EXPECT_EQ(readFile(dir / "paired.csv"), "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant\n");
+  EXPECT_EQ(readFile(dir / "paired.csv"),
+            "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant\n");
   EXPECT_THROW(loadBatch(dir / "nowhere"), std::runtime_error);
 }
 
@@ -245,8 +250,9 @@ TEST(BatchSummary, ADuplicateMetricColumnIsAWarningNotASilentPick) {
   makeRun(dir, "passing", "dwb", 1, 10, 0.5, true);
   const fs::path metrics = dir / "runs" / runFolderName({"passing", "dwb", 1}) / "metrics.csv";
   // The same metric twice, with different values: which one is meant cannot be told.
-  std::ofstream(metrics) << "experiment_tag,run_id,scenario,planner,seed,profile,time_to_reach_goal,time_to_reach_goal\n"
-                            "exp,passing_dwb_s1,passing,dwb,1,default,10,12\n";
+  std::ofstream(metrics)
+      << "experiment_tag,run_id,scenario,planner,seed,profile,time_to_reach_goal,time_to_reach_goal\n"
+         "exp,passing_dwb_s1,passing,dwb,1,default,10,12\n";
   const Batch batch = loadBatch(dir);
   ASSERT_EQ(batch.warnings.size(), 1u);
   EXPECT_NE(batch.warnings[0].find(metrics.string() + ":1: time_to_reach_goal: duplicate column"), std::string::npos)

@@ -1,11 +1,11 @@
 // Batch statistics against values computed by hand (the arithmetic is in the comments).
-#include "hunav/experiments/statistics.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
+
+#include "hunav/experiments/statistics.hpp"
 
 using namespace hunav::experiments;
 
@@ -33,7 +33,8 @@ TEST(StudentT, TwoSidedPValueMatchesTheClosedFormForThreeDof) {
   // CDF with 3 dof: F(t) = 1/2 + (1/pi) (t / (sqrt3 (1 + t^2/3)) + atan(t / sqrt3)),
   // so p = 2 (1 - F(|t|)) = 1 - (2/pi) (t / (sqrt3 (1 + t^2/3)) + atan(t / sqrt3)).
   for (const double t : {0.5, 2.0, 3.182446305}) {
-    const double expected = 1.0 - (2.0 / kPi) * (t / (std::sqrt(3.0) * (1.0 + t * t / 3.0)) + std::atan(t / std::sqrt(3.0)));
+    const double expected =
+        1.0 - (2.0 / kPi) * (t / (std::sqrt(3.0) * (1.0 + t * t / 3.0)) + std::atan(t / std::sqrt(3.0)));
     EXPECT_NEAR(studentTwoSidedP(t, 3), expected, 1e-12) << t;
     EXPECT_NEAR(studentTwoSidedP(-t, 3), expected, 1e-12) << t;
   }

@@ -2,17 +2,17 @@
 // (BusOptions::direct_on_every_port): every world state of an episode is recorded, big crowds'
 // fragmented states included, and a world state that never came is counted in lost_ticks. Runs inside
 // a private network namespace with a multicast route on loopback (tests/common/in_netns.sh).
-#include "hunav/channels.hpp"
-#include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/fingerprint.hpp"
-#include "hunav/transport.hpp"
-#include "../common/handle_until.hpp"
-#include "../evaluator/evaluator_test_helpers.hpp"
-
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <vector>
+
+#include "../common/handle_until.hpp"
+#include "../evaluator/evaluator_test_helpers.hpp"
+#include "hunav/channels.hpp"
+#include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/fingerprint.hpp"
+#include "hunav/transport.hpp"
 
 namespace {
 
@@ -66,7 +66,7 @@ TEST(DirectEvaluator, RecordsEveryWorldStateAndCountsTheOneThatNeverCame) {
 
   const hunav::evaluator::RunInfo& info = node.lastResult()->info;
   EXPECT_EQ(info.recorded_ticks, kTicks - 1);
-  EXPECT_EQ(info.lost_ticks, 1);  // tick 17
+  EXPECT_EQ(info.lost_ticks, 1);                            // tick 17
   EXPECT_EQ(info.recorded_fingerprint, fingerprint.hex());  // every byte of every state received, in order
   EXPECT_FALSE(bus.receiveLosses().any());
   EXPECT_EQ(bus.droppedMessages(), 0u);

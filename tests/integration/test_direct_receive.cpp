@@ -2,25 +2,23 @@
 // LCM itself: plain LCM publishers on those ports (short messages and fragmented ones over 64 KB),
 // several receivers on one port, and datagrams that are not LCM's. Runs inside a private network
 // namespace with a multicast route on loopback (tests/common/in_netns.sh does it for ctest).
-#include "hunav/channels.hpp"
-#include "hunav/transport.hpp"
-#include "../common/handle_until.hpp"
-
-#include <gtest/gtest.h>
-
 #include <arpa/inet.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <hunav/laser_scan_t.hpp>
-#include <hunav/nav_goal_t.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <hunav/laser_scan_t.hpp>
+#include <hunav/nav_goal_t.hpp>
 #include <string>
 #include <vector>
+
+#include "../common/handle_until.hpp"
+#include "hunav/channels.hpp"
+#include "hunav/transport.hpp"
 
 using hunav::Bus;
 namespace ch = hunav::channels;
@@ -94,8 +92,7 @@ TEST(DirectReceive, ShortAndFragmentedMessagesFromAnLcmPublisher) {
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kStepRequest));
   ASSERT_TRUE(publisher.good());
   // 10 beams: one datagram (LC02). 40000 beams: 160 KB, three fragments (LC03) of at most 64 KB.
-  const std::vector<hunav::laser_scan_t> sent = {scan(10, 1.0f), scan(40000, 2.0f), scan(3, 3.0f),
-                                                 scan(20000, 4.0f)};
+  const std::vector<hunav::laser_scan_t> sent = {scan(10, 1.0f), scan(40000, 2.0f), scan(3, 3.0f), scan(20000, 4.0f)};
   for (const auto& s : sent) {
     publisher.publish(ch::kStepRequest, &s);
     ASSERT_TRUE(handleUntil({&bus}, [&] { return got.size() == static_cast<std::size_t>(&s - sent.data()) + 1; }))
@@ -140,8 +137,8 @@ TEST(DirectReceive, DatagramsNotInLcmFormatAreDroppedAndCounted) {
       {'x', 'y'},                                       // too short for a header
       {'L', 'C', '0', '2', 0, 0, 0, 1, 'A', 'B'},       // a channel name without its NUL
       {'L', 'C', '0', '9', 0, 0, 0, 1, 'A', 0, 1},      // an unknown magic
-      {'L', 'C', '0', '3', 0, 0, 0, 2, 0, 0, 0, 1,      // a lone fragment whose 2 bytes run past the
-       0, 0, 0, 0, 0, 0, 0, 1, 'S', 0, 1, 2}};          // message size of 1
+      {'L', 'C', '0', '3', 0, 0, 0, 2, 0,   0, 0, 1,    // a lone fragment whose 2 bytes run past the
+       0,   0,   0,   0,   0, 0, 0, 1, 'S', 0, 1, 2}};  // message size of 1
   const std::size_t sizes[] = {2, 10, 11, 24};
   for (std::size_t i = 0; i < 4; ++i)
     ASSERT_EQ(::sendto(fd, junk[i], sizes[i], 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
@@ -172,7 +169,7 @@ TEST(DirectReceive, OnEveryPortTheUrlsOwnPortIsReadToo) {
     planner.publish(ch::kRobotCommand, &command);
   }
   const hunav::laser_scan_t big = scan(30000, 1.0f);  // fragmented on the URL's port as well
-  planner.publish(ch::kRobotCommand, &big);            // not a nav_goal_t: dropped and counted
+  planner.publish(ch::kRobotCommand, &big);           // not a nav_goal_t: dropped and counted
   ASSERT_TRUE(handleUntil({&world}, [&] { return commands.size() == 3 && world.droppedMessages() == 1; }))
       << commands.size() << " commands, " << world.droppedMessages() << " dropped";
   EXPECT_EQ(commands, (std::vector<double>{0, 1, 2}));
@@ -203,7 +200,8 @@ TEST(DirectReceive, LostFragmentsAreCountedAndTheNextMessageStillArrives) {
   ASSERT_TRUE(sender.send(fragment(7, size, 8, 2, 3, channel, tail)));
   // Message 8 whole: it arrives after all that.
   ASSERT_TRUE(sender.send(fragment(8, size, 0, 0, 2, channel, head)));
-  ASSERT_TRUE(sender.send(fragment(8, size, 4, 1, 2, channel, std::vector<std::uint8_t>(bytes.begin() + 4, bytes.end()))));
+  ASSERT_TRUE(
+      sender.send(fragment(8, size, 4, 1, 2, channel, std::vector<std::uint8_t>(bytes.begin() + 4, bytes.end()))));
   ASSERT_TRUE(handleUntil({&bus}, [&] { return got.size() == 2; })) << got.size() << " messages put together";
   for (const auto& s : got) EXPECT_EQ(s.ranges, sent.ranges);
   EXPECT_EQ(bus.receiveLosses().incomplete_messages, 2u);  // messages 5 and 7
@@ -234,9 +232,9 @@ TEST(DirectReceive, DatagramsDroppedByAFullSocketBufferAreCounted) {
   hunav::nav_goal_t goal{};
   constexpr int kSent = 500;  // far more than the buffer holds, sent before the bus reads any
   for (int i = 0; i < kSent; ++i) ASSERT_EQ(publisher.publish(ch::kWorldState, &goal), 0);
-  ASSERT_TRUE(handleUntil({&bus}, [&] {
-    return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == kSent;
-  })) << got << " received, " << bus.receiveLosses().overflowed_datagrams << " counted as lost of " << kSent;
+  ASSERT_TRUE(
+      handleUntil({&bus}, [&] { return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == kSent; }))
+      << got << " received, " << bus.receiveLosses().overflowed_datagrams << " counted as lost of " << kSent;
   EXPECT_GT(bus.receiveLosses().overflowed_datagrams, 0u);
   EXPECT_GT(got, 0);
 }
@@ -258,7 +256,8 @@ TEST(DirectReceive, ABacklogIsReadOnBeforeTheSocketBufferFills) {
   });
   // How many of these datagrams the socket holds: fill it while nobody reads.
   for (int i = 0; i < 300; ++i) publisher.publish(ch::kWorldState, &goal);
-  ASSERT_TRUE(handleUntil({&bus}, [&] { return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == 300; }));
+  ASSERT_TRUE(
+      handleUntil({&bus}, [&] { return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == 300; }));
   const int capacity = got;
   const std::uint64_t lost_before = bus.receiveLosses().overflowed_datagrams;
   ASSERT_GE(capacity, 3 * Bus::kBacklogDrainMessages) << "the socket buffer is too small for this test";
@@ -281,7 +280,8 @@ TEST(DirectReceive, ASocketFilterKeepsOtherChannelsInTheKernel) {
   std::vector<hunav::laser_scan_t> scans;
   for (const char* name : {"AB", "ABCD", "ABCDEF", "EPISODE_EVENT"})
     planner.subscribe<hunav::nav_goal_t>(name, [&got, name](const hunav::nav_goal_t&) { got.emplace_back(name); });
-  planner.subscribe<hunav::laser_scan_t>(ch::kRobotObservation, [&](const hunav::laser_scan_t& s) { scans.push_back(s); });
+  planner.subscribe<hunav::laser_scan_t>(ch::kRobotObservation,
+                                         [&](const hunav::laser_scan_t& s) { scans.push_back(s); });
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
   ASSERT_TRUE(publisher.good());
   hunav::nav_goal_t goal{};

@@ -1,15 +1,14 @@
 // Golden determinism test (in the spirit of Box2D's): the passing scenario with the dwb planner must
 // keep producing the same world-state stream. When a change alters the simulation on purpose,
 // regenerate the golden value with HUNAV_UPDATE_GOLDEN=1 and say why in the commit.
-#include "hunav/runner/in_process_run.hpp"
-
 #include <gtest/gtest.h>
-
-#include <hunav/world_state_t.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <hunav/world_state_t.hpp>
+
+#include "hunav/runner/in_process_run.hpp"
 
 namespace fs = std::filesystem;
 

@@ -5,16 +5,15 @@
 // 1-5 in one process; a change to the people, the planners or the scenarios that breaks an ordering
 // fails here. (Crossing's dwb is not the fastest in ours, unlike the paper: scl slips through the
 // group as quickly; summary.md's "vs the paper" table marks it.)
-#include "hunav/runner/in_process_run.hpp"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <map>
 #include <random>
 #include <string>
 
-#include <unistd.h>
+#include "hunav/runner/in_process_run.hpp"
 
 namespace fs = std::filesystem;
 
@@ -25,8 +24,8 @@ const char* const kPlanners[] = {"dwb", "scl", "sfw"};
 
 // Per planner, the mean over seeds 1-5 of each metric; every run must reach its goal.
 std::map<std::string, std::map<std::string, double>> meansOf(const std::string& scenario) {
-  const fs::path out = fs::temp_directory_path() / ("hunav_orderings_" + std::to_string(::getpid()) + "_" +
-                                                    std::to_string(std::random_device{}()));
+  const fs::path out = fs::temp_directory_path() /
+                       ("hunav_orderings_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
   std::map<std::string, std::map<std::string, double>> means;
   for (const char* planner : kPlanners) {
     for (int seed = 1; seed <= kSeeds; ++seed) {

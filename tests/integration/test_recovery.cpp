@@ -2,9 +2,8 @@
 // (data/dead_end/). Each planner must recover (its spin shows in the trajectory: the robot turns on
 // the spot while the person blocks it) and reach its goal once the person leaves after 20 s; with a
 // person who never leaves, the episode ends `stuck` instead of running to its time limit.
-#include "hunav/runner/in_process_run.hpp"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -15,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
+#include "hunav/runner/in_process_run.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,13 +1,12 @@
-#include "hunav/channels.hpp"
-#include "hunav/manager/manager_node.hpp"
-
-#include "people_fixtures.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <thread>
 #include <vector>
+
+#include "hunav/channels.hpp"
+#include "hunav/manager/manager_node.hpp"
+#include "people_fixtures.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -28,7 +27,6 @@ step_request_t request(std::vector<agent_state_t> agents, agent_state_t robot, i
   r.robot = robot;
   return r;
 }
-
 
 // Step `seq` of one person at the origin walking to (3, 0), the robot at (-5, 0).
 step_request_t onePersonWalkingToX3(int64_t seq) {
@@ -140,7 +138,7 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   bus.publish(channels::kStepRequest, req);
   req.seq = 9;
   req.agents[0].vx = 0;
-  req.num_agents = 5;  // lies about the array size: LCM cannot even encode it consistently
+  req.num_agents = 5;                     // lies about the array size: LCM cannot even encode it consistently
   req.agents.push_back(person(1, 1, 1));  // duplicate id
   req.num_agents = 2;
   sendStep(bus, req);

@@ -1,12 +1,12 @@
 // The behavior-tree engine: XML loading and its errors, control nodes, decorators, and each node of
 // the library, driven through AgentManager on one agent.
-#include "people_fixtures.hpp"
-#include "hunav/manager/agent_manager.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
+
+#include "hunav/manager/agent_manager.hpp"
+#include "people_fixtures.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -225,7 +225,8 @@ TEST(BehaviorTreeEngine, FallbackDecoratorsAndRepeat) {
   EXPECT_EQ(run("<Fallback><Script/><Record/></Fallback>", {Status::Success}, 1), 0);
   // Fallback remembers its running child; ReactiveFallback re-ticks the first child.
   EXPECT_EQ(run("<Fallback><Script/><Sequence><Record/><Script/></Sequence></Fallback>",
-                {Status::Failure, Status::Running, Status::Success}, 2), 1);
+                {Status::Failure, Status::Running, Status::Success}, 2),
+            1);
   EXPECT_EQ(run("<ReactiveFallback><Script/><Record/></ReactiveFallback>", {Status::Failure, Status::Failure}, 2), 2);
   EXPECT_EQ(run("<Sequence><Inverter><Script/></Inverter><Record/></Sequence>", {Status::Failure}, 1), 1);
   EXPECT_EQ(run("<Sequence><Inverter><Script/></Inverter><Record/></Sequence>", {Status::Success}, 1), 0);
@@ -233,9 +234,11 @@ TEST(BehaviorTreeEngine, FallbackDecoratorsAndRepeat) {
   EXPECT_EQ(run("<Fallback><ForceFailure><Script/></ForceFailure><Record/></Fallback>", {Status::Success}, 1), 1);
   // Repeat(3): one execution per tick, SUCCESS after the third -> the Sequence reaches Record on tick 3.
   EXPECT_EQ(run("<Sequence><Repeat num_cycles=\"3\"><Script/></Repeat><Record/></Sequence>",
-                {Status::Success, Status::Success, Status::Success}, 3), 1);
+                {Status::Success, Status::Success, Status::Success}, 3),
+            1);
   EXPECT_EQ(run("<Sequence><Repeat num_cycles=\"3\"><Script/></Repeat><Record/></Sequence>",
-                {Status::Success, Status::Failure}, 3), 0);
+                {Status::Success, Status::Failure}, 3),
+            0);
 }
 
 TEST(BehaviorTreeEngine, SubTreeSharesTheBlackboardAndNodesKeepMemoryPerAgentAndEpisode) {
@@ -264,8 +267,12 @@ TEST(BtNodes, IsRobotVisibleDistanceFieldOfViewAndLineOfSight) {
   EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a, robotAt(2.9, 0)), 1);
   EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a, robotAt(3.1, 0)), 0);
   // Field of view +-(pi/2 + 0.17): slightly behind the side is still seen, straight behind is not.
-  EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a, robotAt(2 * std::cos(kPi / 2 + 0.16), 2 * std::sin(kPi / 2 + 0.16))), 1);
-  EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a, robotAt(2 * std::cos(kPi / 2 + 0.18), 2 * std::sin(kPi / 2 + 0.18))), 0);
+  EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a,
+                         robotAt(2 * std::cos(kPi / 2 + 0.16), 2 * std::sin(kPi / 2 + 0.16))),
+            1);
+  EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a,
+                         robotAt(2 * std::cos(kPi / 2 + 0.18), 2 * std::sin(kPi / 2 + 0.18))),
+            0);
   EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a, robotAt(-1, 0)), 0);
   a.robot_in_sight = false;  // behind a wall
   EXPECT_EQ(countSuccess("<IsRobotVisible distance=\"3\"/>", a, robotAt(1, 0)), 0);

@@ -1,10 +1,10 @@
 // The six HuNavSim behaviors on small scripted worlds (manager/README.md, "Behavior trees", with our
 // fixes), driven through the manager library: each reply becomes the next request.
-#include "hunav/manager/agent_manager.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "hunav/manager/agent_manager.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -92,8 +92,8 @@ TEST(Behaviors, RegularFeelsTheRobotAsAPersonImpassiveOnlyAsAnObstacle) {
     const SfmBody me{1, -1, Vec2(0, 0), Vec2(0, 0), 0.35};
     const SfmBody robot{0, -1, Vec2(1.0, 0.2), Vec2(0, 0), 0.35};
     SfmParams p;
-    const Vec2 f = beh == agent_state_t::BEH_REGULAR ? socialForceFrom(me, robot, p)
-                                                     : obstacleForceFrom(me, robot.position, p);
+    const Vec2 f =
+        beh == agent_state_t::BEH_REGULAR ? socialForceFrom(me, robot, p) : obstacleForceFrom(me, robot.position, p);
     EXPECT_NEAR(w.agents[0].vx, f.x() * 0.01, 1e-15) << beh;
     EXPECT_NEAR(w.agents[0].vy, f.y() * 0.01, 1e-15) << beh;
     EXPECT_LT(w.agents[0].vx, 0.0);
@@ -129,9 +129,9 @@ TEST(Behaviors, SurprisedStopsFacesTheRobotThenWalksOnAndOnlyOnce) {
     }
   }
   ASSERT_GE(first, 0);
-  EXPECT_EQ(reactions, 1);                      // once = true: never again
-  EXPECT_NEAR(last_active - first, 200, 2);     // duration 2 s of visibility
-  EXPECT_GT(w.agents[0].x, 10.0);               // then walked on
+  EXPECT_EQ(reactions, 1);                   // once = true: never again
+  EXPECT_NEAR(last_active - first, 200, 2);  // duration 2 s of visibility
+  EXPECT_GT(w.agents[0].x, 10.0);            // then walked on
 }
 
 TEST(Behaviors, RobotBehindAWallTriggersNothing) {
@@ -165,7 +165,7 @@ TEST(Behaviors, CuriousApproachesStopsFacesThenLosesInterest) {
   w.setRobot(5.0, 1.0, kPi);
   const int active = agent_state_t::STATE_ACTIVE_1;
   double min_d = 1e9;
-  for (int k = 0; k < 700; ++k) {  // 7 s: approach and stand
+  for (int k = 0; k < 700; ++k) {       // 7 s: approach and stand
     const double d = w.distToRobot(0);  // the approach speed is set from the distance at t
     w.step();
     ASSERT_EQ(w.agents[0].behavior_state, active) << k;

@@ -1,10 +1,10 @@
 // Every force term of the social force model against values computed by hand.
-#include "hunav/social_force.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+
+#include "hunav/social_force.hpp"
 
 using namespace hunav;
 
@@ -137,7 +137,7 @@ TEST(SocialForce, NonFiniteComponentsAreZeroed) {
 }
 
 TEST(SocialForce, FarForceThatCannotChangeTheSumIsRecognised) {
-  SfmParams p;  // omega_s 5 (2^2 <= 5 < 2^3), lambda 2, gamma 0.35, n 2, n' 3
+  SfmParams p;                // omega_s 5 (2^2 <= 5 < 2^3), lambda 2, gamma 0.35, n 2, n' 3
   const Vec2 sum(1.0, -1.5);  // both components have binary exponent 0
   // The other 30 m ahead, both at rest: D = e, |D| = 1, B = 0.35, theta = 0, so d/B = 85.7. The skip
   // needs more than (2 + 56 - 0) ln 2 + 1 = 41.2; the force itself is 5 exp(-85.7) = 9e-37.

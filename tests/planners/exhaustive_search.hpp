@@ -1,10 +1,10 @@
 #pragma once
 // Test helper: the sample an exhaustive search of the dynamic window would pick, to check the
 // planners' branch and bound against.
+#include <gtest/gtest.h>
+
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/sim_tools.hpp"
-
-#include <gtest/gtest.h>
 
 namespace hunav::planners {
 

@@ -1,7 +1,3 @@
-#include "hunav/planners/costmap.hpp"
-
-#include "hunav/config_error.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +7,9 @@
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "hunav/config_error.hpp"
+#include "hunav/planners/costmap.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -235,7 +234,8 @@ TEST(Costmap, MarkingWindowLimitsTheMarksButKeepsTheInflationReachingIn) {
   for (int cy = 0; cy < full.height(); ++cy)
     for (int cx = 0; cx < full.width(); ++cx) {
       const bool inside = cx >= lo_x && cx <= hi_x && cy >= lo_y && cy <= hi_y;
-      EXPECT_EQ(windowed.transientCost(cx, cy), inside ? full.transientCost(cx, cy) : Costmap::kFree) << cx << " " << cy;
+      EXPECT_EQ(windowed.transientCost(cx, cy), inside ? full.transientCost(cx, cy) : Costmap::kFree)
+          << cx << " " << cy;
       inside_marked += inside && windowed.transientCost(cx, cy) != Costmap::kFree;
     }
   EXPECT_GT(inside_marked, 0);
@@ -260,8 +260,10 @@ TEST(Costmap, MarkingEveryDirectionAndPlaceGivesEveryCellItsExactCost) {
     const double radius = 0.25 + 0.05 * (k % 5);
     for (const bool walking : {false, true}) {
       map.clearTransient();
-      if (walking) map.markWalkingCircle(from, to, radius);
-      else map.markCapsule(from, to, radius);
+      if (walking)
+        map.markWalkingCircle(from, to, radius);
+      else
+        map.markCapsule(from, to, radius);
       for (int cy = 0; cy < map.height(); ++cy)
         for (int cx = 0; cx < map.width(); ++cx) {
           const Vec2 c = map.cellCenter(cx, cy);
@@ -270,8 +272,8 @@ TEST(Costmap, MarkingEveryDirectionAndPlaceGivesEveryCellItsExactCost) {
             expected = std::max(map.costFromDistance(std::max(0.0, (c - from).norm() - radius)),
                                 std::min(expected, Costmap::kMaxInflated));
           if (map.transientCost(cx, cy) != expected && differing < 5)
-            ADD_FAILURE() << "capsule " << k << (walking ? " (walking)" : "") << ", cell " << cx << " " << cy << ": cost "
-                          << int(map.transientCost(cx, cy)) << ", expected " << int(expected);
+            ADD_FAILURE() << "capsule " << k << (walking ? " (walking)" : "") << ", cell " << cx << " " << cy
+                          << ": cost " << int(map.transientCost(cx, cy)) << ", expected " << int(expected);
           differing += map.transientCost(cx, cy) != expected;
           marked += expected != Costmap::kFree;
         }
@@ -365,7 +367,8 @@ TEST(Costmap, RowSquaredDistancesAreThePerCellArithmeticBitForBit) {
       const double expected = qx * qx + qy * qy;
       const double expected_from = px * px + y * y;
       EXPECT_TRUE(same(to_segment[static_cast<std::size_t>(k)], expected))
-          << "trial " << trial << " cell " << k << ": " << to_segment[static_cast<std::size_t>(k)] << " vs " << expected;
+          << "trial " << trial << " cell " << k << ": " << to_segment[static_cast<std::size_t>(k)] << " vs "
+          << expected;
       EXPECT_TRUE(same(from_origin[static_cast<std::size_t>(k)], expected_from)) << "trial " << trial << " cell " << k;
       ++compared;
     }

@@ -1,11 +1,11 @@
-#include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
-#include "exhaustive_search.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+
+#include "exhaustive_search.hpp"
+#include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -380,8 +380,8 @@ TEST(Critics, LowerBoundsFromTheEndNeverExceedTheScore) {
     for (double v = 0.0; v <= 0.6; v += 0.15)
       for (double w = -1.2; w <= 1.2; w += 0.3) {
         rollout(ctx.robot, yaw, v, w, 1.7, 0.05, t);
-        for (const TrajectoryCritic* critic : {static_cast<const TrajectoryCritic*>(&obstacle),
-                                               static_cast<const TrajectoryCritic*>(&people)}) {
+        for (const TrajectoryCritic* critic :
+             {static_cast<const TrajectoryCritic*>(&obstacle), static_cast<const TrajectoryCritic*>(&people)}) {
           const double score = critic->score(t, ctx);
           if (score == TrajectoryCritic::kReject) continue;
           EXPECT_LE(critic->lowerBound(t, ctx), score) << critic->name() << " yaw " << yaw << " v " << v << " w " << w;

@@ -1,16 +1,14 @@
 // The minimal external planner (planners/examples) drives a whole episode of the passing scenario
 // in one process: world and manager over memq://, the example talking raw LCM on the same instance.
-#include "example_planner.hpp"
+#include <gtest/gtest.h>
 
+#include "example_planner.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/transport.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
-#include <gtest/gtest.h>
-
 TEST(ExamplePlanner, ReachesTheGoalInThePassingScenario) {
-  const hunav::Scenario scenario =
-      hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
+  const hunav::Scenario scenario = hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
   lcm::LCM lcm("memq://");
   ASSERT_TRUE(lcm.good());
   hunav::Bus bus(lcm);

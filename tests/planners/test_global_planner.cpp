@@ -1,5 +1,3 @@
-#include "hunav/planners/global_planner.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +8,8 @@
 #include <queue>
 #include <utility>
 #include <vector>
+
+#include "hunav/planners/global_planner.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -256,8 +256,11 @@ TEST(GlobalPath, NearestIsThePlainScanOnRandomPaths) {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
     return state >> 33;
   };
-  const auto uniform = [&next](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next()) / 2147483648.0; };
-  const auto plain = [](const std::vector<Vec2>& points, const Vec2& p, std::size_t first, std::size_t last, double& d) {
+  const auto uniform = [&next](double lo, double hi) {
+    return lo + (hi - lo) * static_cast<double>(next()) / 2147483648.0;
+  };
+  const auto plain = [](const std::vector<Vec2>& points, const Vec2& p, std::size_t first, std::size_t last,
+                        double& d) {
     std::size_t best = first;
     double best_d2 = std::numeric_limits<double>::infinity();
     for (std::size_t i = first; i < last; ++i)
@@ -286,10 +289,18 @@ TEST(GlobalPath, NearestIsThePlainScanOnRandomPaths) {
     for (int q = 0; q < 20; ++q) {
       Vec2 p;
       switch (q % 4) {
-        case 0: p = points[next() % n]; break;  // on a point (a tie when repeated)
-        case 1: p = points[next() % n] + Vec2(uniform(-0.3, 0.3), uniform(-0.3, 0.3)); break;
-        case 2: p = Vec2(uniform(-30.0, 30.0), uniform(-30.0, 30.0)); break;
-        default: p = points[0] + Vec2(uniform(-0.1, 0.1), uniform(-0.1, 0.1)); break;  // near the start, as the robot
+        case 0:
+          p = points[next() % n];
+          break;  // on a point (a tie when repeated)
+        case 1:
+          p = points[next() % n] + Vec2(uniform(-0.3, 0.3), uniform(-0.3, 0.3));
+          break;
+        case 2:
+          p = Vec2(uniform(-30.0, 30.0), uniform(-30.0, 30.0));
+          break;
+        default:
+          p = points[0] + Vec2(uniform(-0.1, 0.1), uniform(-0.1, 0.1));
+          break;  // near the start, as the robot
       }
       std::size_t first = 0, last = n;
       if (q % 3 == 1) {
@@ -354,7 +365,8 @@ ReferenceSearch referenceAStar(const Costmap& map, const Vec2& start, const Vec2
     closed[static_cast<std::size_t>(cell)] = true;
     ++result.expansions;
     const int cx = cell % width, cy = cell / width;
-    if ((cx == gx && cy == gy) || (!goal_cell_free && (map.cellCenter(cx, cy) - goal).squaredNorm() <= tolerance * tolerance)) {
+    if ((cx == gx && cy == gy) ||
+        (!goal_cell_free && (map.cellCenter(cx, cy) - goal).squaredNorm() <= tolerance * tolerance)) {
       reached = cell;
       break;
     }
@@ -365,12 +377,14 @@ ReferenceSearch referenceAStar(const Costmap& map, const Vec2& start, const Vec2
       if (closed[static_cast<std::size_t>(next)]) continue;
       const std::uint8_t c = map.cost(next);
       double factor;
-      if (!Costmap::isLethal(c)) factor = 1.0 + params.cost_weight * c / Costmap::kMaxInflated;
+      if (!Costmap::isLethal(c))
+        factor = 1.0 + params.cost_weight * c / Costmap::kMaxInflated;
       else if (start_trapped && c == Costmap::kInscribed && (map.cellCenter(nx, ny) - start).squaredNorm() <= escape2)
         factor = 1.0 + params.cost_weight + 10.0;
       else
         continue;
-      const auto g_next = static_cast<float>(g[static_cast<std::size_t>(cell)] + (k < 4 ? res : res * 1.41421356237309515) * factor);
+      const auto g_next =
+          static_cast<float>(g[static_cast<std::size_t>(cell)] + (k < 4 ? res : res * 1.41421356237309515) * factor);
       if (g[static_cast<std::size_t>(next)] <= g_next) continue;
       g[static_cast<std::size_t>(next)] = g_next;
       parent[static_cast<std::size_t>(next)] = cell;
@@ -382,8 +396,10 @@ ReferenceSearch referenceAStar(const Costmap& map, const Vec2& start, const Vec2
     result.points.push_back(map.cellCenter(cell % width, cell / width));
   std::reverse(result.points.begin(), result.points.end());
   result.points.front() = start;
-  if (result.points.size() == 1) result.points.push_back(goal_cell_free ? goal : result.points.front());
-  else if (goal_cell_free) result.points.back() = goal;
+  if (result.points.size() == 1)
+    result.points.push_back(goal_cell_free ? goal : result.points.front());
+  else if (goal_cell_free)
+    result.points.back() = goal;
   return result;
 }
 }  // namespace

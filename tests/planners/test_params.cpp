@@ -1,12 +1,12 @@
-#include "hunav/config_error.hpp"
-#include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/planner.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+
+#include "hunav/config_error.hpp"
+#include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/planner.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -53,14 +53,25 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   EXPECT_EQ(file.costmap.margin, d.costmap.margin);
   EXPECT_EQ(file.global_planner.cost_weight, d.global_planner.cost_weight);
   EXPECT_EQ(file.global_planner.heuristic_weight, d.global_planner.heuristic_weight);
-  const double DwbParams::*doubles[] = {
-      &DwbParams::sim_time, &DwbParams::sim_step, &DwbParams::obstacle_weight, &DwbParams::people_weight,
-      &DwbParams::path_distance_weight, &DwbParams::path_align_weight, &DwbParams::goal_distance_weight,
-      &DwbParams::oscillation_weight, &DwbParams::forward_point_distance, &DwbParams::people_safety_margin,
-      &DwbParams::people_sigma, &DwbParams::oscillation_reset_distance, &DwbParams::oscillation_reset_angle,
-      &DwbParams::lookahead_distance,
-      &DwbParams::rotate_in_place_angle, &DwbParams::stopped_rotate_angle, &DwbParams::rotate_gain,
-      &DwbParams::replan_period, &DwbParams::people_prediction_time};
+  const double DwbParams::*doubles[] = {&DwbParams::sim_time,
+                                        &DwbParams::sim_step,
+                                        &DwbParams::obstacle_weight,
+                                        &DwbParams::people_weight,
+                                        &DwbParams::path_distance_weight,
+                                        &DwbParams::path_align_weight,
+                                        &DwbParams::goal_distance_weight,
+                                        &DwbParams::oscillation_weight,
+                                        &DwbParams::forward_point_distance,
+                                        &DwbParams::people_safety_margin,
+                                        &DwbParams::people_sigma,
+                                        &DwbParams::oscillation_reset_distance,
+                                        &DwbParams::oscillation_reset_angle,
+                                        &DwbParams::lookahead_distance,
+                                        &DwbParams::rotate_in_place_angle,
+                                        &DwbParams::stopped_rotate_angle,
+                                        &DwbParams::rotate_gain,
+                                        &DwbParams::replan_period,
+                                        &DwbParams::people_prediction_time};
   for (auto member : doubles) EXPECT_EQ(file.*member, d.*member);
   EXPECT_EQ(file.v_samples, d.v_samples);
   EXPECT_EQ(file.w_samples, d.w_samples);
@@ -112,7 +123,8 @@ TEST(DwbParams, BadValuesNameFileLineAndKey) {
       << configError("dwb:\n  sim_time: 0.01\n");
   EXPECT_NE(configError("dwb:\n  v_samples: many\n").find("bad.yaml:2: dwb.v_samples: expected an integer"),
             std::string::npos);
-  EXPECT_NE(configError("dwb:\n  sim_tme: 1.0\n").find("bad.yaml:2: dwb.sim_tme: unknown parameter"), std::string::npos);
+  EXPECT_NE(configError("dwb:\n  sim_tme: 1.0\n").find("bad.yaml:2: dwb.sim_tme: unknown parameter"),
+            std::string::npos);
   EXPECT_NE(configError("costmap:\n  resolution: .nan\n").find("costmap.resolution: expected a finite number"),
             std::string::npos);
   EXPECT_NE(configError("dwbb:\n  sim_time: 1.0\n").find("bad.yaml:1: dwbb: unknown section"), std::string::npos);

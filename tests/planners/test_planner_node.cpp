@@ -1,14 +1,14 @@
-#include "hunav/channels.hpp"
-#include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/planner_node.hpp"
-#include "hunav/planners/sim_tools.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
+
+#include "hunav/channels.hpp"
+#include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/planner_node.hpp"
+#include "hunav/planners/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;

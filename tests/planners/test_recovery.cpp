@@ -1,17 +1,17 @@
 // Recovery behaviours (planners/include/hunav/planners/recovery.hpp): the sequence, its timing, what
 // counts as progress, the safety of each motion, and the root causes of the planners' freezes.
-#include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/planner.hpp"
-#include "hunav/planners/recovery.hpp"
-#include "hunav/planners/sfw_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/recovery.hpp"
+#include "hunav/planners/sfw_planner.hpp"
+#include "hunav/planners/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;

@@ -1,17 +1,17 @@
 // The social planners: scl (social costmap layer) and sfw (social work critic), their parameters,
 // and closed loops in MiniWorld.
-#include "hunav/config_error.hpp"
-#include "hunav/planners/planner.hpp"
-#include "hunav/planners/scl_planner.hpp"
-#include "hunav/planners/sfw_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
-#include "exhaustive_search.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+
+#include "exhaustive_search.hpp"
+#include "hunav/config_error.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/scl_planner.hpp"
+#include "hunav/planners/sfw_planner.hpp"
+#include "hunav/planners/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
@@ -181,8 +181,8 @@ TEST(SocialPlanners, ShippedConfigFilesListEveryDefault) {
     auto planner = createPlanner("scl", passing(), &config);
     const SclParams& file = dynamic_cast<SclPlanner&>(*planner).sclParams();
     const SclParams d;
-    const double SclParams::*doubles[] = {&SclParams::amplitude,    &SclParams::sigma_front, &SclParams::sigma_rear,
-                                          &SclParams::sigma_side,   &SclParams::speed_factor, &SclParams::cutoff,
+    const double SclParams::*doubles[] = {&SclParams::amplitude,   &SclParams::sigma_front,  &SclParams::sigma_rear,
+                                          &SclParams::sigma_side,  &SclParams::speed_factor, &SclParams::cutoff,
                                           &SclParams::moving_speed};
     for (auto m : doubles) EXPECT_EQ(file.*m, d.*m);
     expectDefaultRecovery(dynamic_cast<DwbPlanner&>(*planner).params().recovery);
@@ -199,9 +199,15 @@ TEST(SocialPlanners, ShippedConfigFilesListEveryDefault) {
                                           &SfwParams::people_forces, &SfwParams::obstacle_forces,
                                           &SfwParams::people_react};
     for (auto m : doubles) EXPECT_EQ(file.*m, d.*m);
-    const double SfmParams::*sfm[] = {&SfmParams::goal_weight, &SfmParams::obstacle_weight, &SfmParams::obstacle_sigma,
-                                      &SfmParams::social_weight, &SfmParams::lambda, &SfmParams::gamma,
-                                      &SfmParams::n, &SfmParams::n_prime, &SfmParams::relaxation_time};
+    const double SfmParams::*sfm[] = {&SfmParams::goal_weight,
+                                      &SfmParams::obstacle_weight,
+                                      &SfmParams::obstacle_sigma,
+                                      &SfmParams::social_weight,
+                                      &SfmParams::lambda,
+                                      &SfmParams::gamma,
+                                      &SfmParams::n,
+                                      &SfmParams::n_prime,
+                                      &SfmParams::relaxation_time};
     for (auto m : sfm) EXPECT_EQ(file.sfm.*m, d.sfm.*m);
     expectDefaultRecovery(dynamic_cast<DwbPlanner&>(*planner).params().recovery);
     std::size_t keys = 0;
@@ -276,7 +282,8 @@ TEST(Scl, TheSocialLayerIsTheSocialCostInEveryCell) {
         const double speed = velocity.norm();
         const bool moving = speed >= scl.moving_speed;
         const Vec2 heading = moving ? Vec2(velocity / speed) : Vec2(std::cos(p.yaw), std::sin(p.yaw));
-        const double c = socialCost(scl, Vec2(p.x, p.y), p.radius, heading, moving ? speed : 0.0, map.cellCenter(cx, cy));
+        const double c =
+            socialCost(scl, Vec2(p.x, p.y), p.radius, heading, moving ? speed : 0.0, map.cellCenter(cx, cy));
         if (c >= scl.cutoff) expected = std::max(expected, static_cast<std::uint8_t>(std::min(c, 252.0)));
       }
       differing += map.transientCost(cx, cy) != expected;

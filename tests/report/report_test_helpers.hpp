@@ -16,8 +16,8 @@ inline fs::path freshDir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   // Under the working directory (ctest's: the build tree), not /tmp: builds of the same tree tested
   // at the same time would otherwise remove each other's files.
-  const fs::path dir = fs::current_path() / "hunav_report_test" /
-                       (std::string(info->test_suite_name()) + "." + info->name()) / name;
+  const fs::path dir =
+      fs::current_path() / "hunav_report_test" / (std::string(info->test_suite_name()) + "." + info->name()) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -67,7 +67,9 @@ inline const char* kTinyScenario =
 
 inline std::string runJson(const std::string& scenario_file) {
   return "{\n  \"run_id\": \"tiny_dwb_s3\",\n  \"experiment_tag\": \"exp\",\n  \"profile\": \"default\",\n"
-         "  \"scenario\": \"tiny\",\n  \"scenario_file\": \"" + scenario_file + "\",\n  \"planner\": \"dwb\",\n"
+         "  \"scenario\": \"tiny\",\n  \"scenario_file\": \"" +
+         scenario_file +
+         "\",\n  \"planner\": \"dwb\",\n"
          "  \"seed\": 3,\n  \"mode\": \"inprocess\",\n  \"status\": \"time_limit\",\n  \"reason\": \"r\",\n"
          "  \"sim_time\": 0.3,\n  \"wall_time\": 0.01,\n  \"ticks\": 4,\n  \"recorded_ticks\": 4,\n"
          "  \"fingerprint\": \"0123\",\n  \"git_commit\": \"abc\",\n  \"complete\": true,\n"

@@ -1,16 +1,15 @@
 // The batch folder reader, the pages written, and the hunav_report binary (exit codes, messages).
-#include "report_test_helpers.hpp"
-
-#include "hunav/config_error.hpp"
-#include "hunav/report/batch_data.hpp"
-#include "hunav/report/html_page.hpp"
-#include "hunav/report/report.hpp"
-
 #include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
 #include <regex>
+
+#include "hunav/config_error.hpp"
+#include "hunav/report/batch_data.hpp"
+#include "hunav/report/html_page.hpp"
+#include "hunav/report/report.hpp"
+#include "report_test_helpers.hpp"
 
 using namespace hunav::report;
 using namespace report_test;
@@ -66,9 +65,9 @@ TEST(BatchData, ReadsTheThreeTables) {
   ASSERT_EQ(d.runs.size(), 2u);
   EXPECT_EQ(d.runs[0].planner, "dwb");
   EXPECT_DOUBLE_EQ(d.runs[0].metrics[0], 0.3);
-  EXPECT_DOUBLE_EQ(d.runs[0].metrics[1], 0.0);  // false
+  EXPECT_DOUBLE_EQ(d.runs[0].metrics[1], 0.0);    // false
   EXPECT_TRUE(std::isnan(d.runs[1].metrics[0]));  // empty: the run has no value
-  EXPECT_DOUBLE_EQ(d.runs[1].metrics[1], 1.0);  // true
+  EXPECT_DOUBLE_EQ(d.runs[1].metrics[1], 1.0);    // true
   EXPECT_TRUE(std::isnan(d.runs[1].sim_time));
   EXPECT_EQ(d.runs[0].run_dir, d.dir / "runs" / "tiny__dwb__seed1");
   ASSERT_EQ(d.stats.size(), 3u);
@@ -305,7 +304,8 @@ TEST(Cli, BadInputExits2WithTheFileNamed) {
   EXPECT_NE(r.output.find("missing: no such folder"), std::string::npos) << r.output;
   r = runBinary(quoted(dir));
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.output.find("neither a run folder (no states.csv) nor a batch folder (no summary.csv)"), std::string::npos)
+  EXPECT_NE(r.output.find("neither a run folder (no states.csv) nor a batch folder (no summary.csv)"),
+            std::string::npos)
       << r.output;
   writeTinyRun(dir / "run");
   fs::remove(dir / "run" / "run.json");

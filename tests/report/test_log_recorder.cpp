@@ -2,14 +2,13 @@
 // instance lands in the one log, each channel in its order, stamped with its simulation time.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <hunav/step_reply_t.hpp>
 #include <hunav/step_request_t.hpp>
 #include <hunav/world_state_t.hpp>
 #include <lcm/lcm-cpp.hpp>
-
-#include <chrono>
-#include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>

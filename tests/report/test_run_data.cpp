@@ -1,12 +1,11 @@
 // Data extraction of the run page: hand-computed values on the tiny run of report_test_helpers.hpp.
-#include "report_test_helpers.hpp"
+#include <cmath>
 
 #include "hunav/config_error.hpp"
 #include "hunav/report/csv_table.hpp"
 #include "hunav/report/json_writer.hpp"
 #include "hunav/report/run_data.hpp"
-
-#include <cmath>
+#include "report_test_helpers.hpp"
 
 using namespace hunav::report;
 using namespace report_test;
@@ -104,9 +103,11 @@ TEST(RunData, MetricsStepsOfAnotherRunIsAnError) {
   writeFile(dir / "metrics_steps.csv",
             header + "0,1,0,0,1,0.25,7\n0.1,2,1,0,0,0.5,8\n0.25,3,1,0,0,0.75,9\n0.3,3,0,1,0,1,10\n");
   EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("metrics_steps.csv:4: t: 0.25 differs"), std::string::npos);
-  writeFile(dir / "metrics_steps.csv", header + "0,1,0,0,1,0.25,7\n0.1,x,1,0,0,0.5,8\n0.2,3,1,0,0,0.75,9\n0.3,3,0,1,0,1,10\n");
-  EXPECT_NE(errorOf([&] { loadRunData(dir); })
-                .find("metrics_steps.csv:3: avg_distance_to_closest_person: expected a number, got 'x'"),
+  writeFile(dir / "metrics_steps.csv",
+            header + "0,1,0,0,1,0.25,7\n0.1,x,1,0,0,0.5,8\n0.2,3,1,0,0,0.75,9\n0.3,3,0,1,0,1,10\n");
+  EXPECT_NE(errorOf([&] {
+              loadRunData(dir);
+            }).find("metrics_steps.csv:3: avg_distance_to_closest_person: expected a number, got 'x'"),
             std::string::npos);
 }
 
@@ -212,8 +213,9 @@ TEST(RunData, MissingOrMalformedInputsNameTheFile) {
   EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("run.json: missing file"), std::string::npos);
   writeTinyRun(dir);
   writeFile(dir / "states.csv", std::string(kStatesHeader) + "0,robot,0,zero,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
-  EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv:2: x: expected a finite number within +-1e9, got 'zero'"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([&] { loadRunData(dir); }).find("states.csv:2: x: expected a finite number within +-1e9, got 'zero'"),
+      std::string::npos);
   writeFile(dir / "states.csv", kStatesHeader);
   EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("states.csv: no samples"), std::string::npos);
   writeTinyRun(dir);
@@ -241,9 +243,9 @@ TEST(Decimation, KeepsTheExtremesOfEachBucketAndTheGaps) {
 TEST(Decimation, CumulativePercentAndFrameStride) {
   const auto c = cumulativePercent({0, 1, 1, 0});
   EXPECT_DOUBLE_EQ(c[0], 0.0);
-  EXPECT_DOUBLE_EQ(c[1], 50.0);          // 1 of 2
-  EXPECT_DOUBLE_EQ(c[2], 200.0 / 3.0);   // 2 of 3
-  EXPECT_DOUBLE_EQ(c[3], 50.0);          // 2 of 4
+  EXPECT_DOUBLE_EQ(c[1], 50.0);         // 1 of 2
+  EXPECT_DOUBLE_EQ(c[2], 200.0 / 3.0);  // 2 of 3
+  EXPECT_DOUBLE_EQ(c[3], 50.0);         // 2 of 4
   ReportLimits limits;
   limits.max_frames = 1500;
   limits.max_positions = 250000;
@@ -280,6 +282,13 @@ TEST(Json, EscapesAndNumbers) {
   EXPECT_EQ(formatFixed(-0.001, 2), "0");
   EXPECT_EQ(formatFixed(std::nan(""), 2), "null");
   JsonWriter j;
-  j.beginObject().key("a").fixedArray({1.5, std::nan("")}, 1).key("b").number(123456.789, 4).key("c").value(true).endObject();
+  j.beginObject()
+      .key("a")
+      .fixedArray({1.5, std::nan("")}, 1)
+      .key("b")
+      .number(123456.789, 4)
+      .key("c")
+      .value(true)
+      .endObject();
   EXPECT_EQ(j.str(), "{\"a\":[1.5,null],\"b\":1.235e+05,\"c\":true}");
 }

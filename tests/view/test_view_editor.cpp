@@ -226,7 +226,7 @@ TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   EXPECT_DOUBLE_EQ(after.agents[0].position.x(), 2.0);
   EXPECT_DOUBLE_EQ(after.agents[0].position.y(), 7.5);
   EXPECT_EQ(after.agents[1].behavior, 2);
-  EXPECT_NE(before.agents[1].behavior, 2);  // HuNavSim's agent2 is not scared: the edit shows
+  EXPECT_NE(before.agents[1].behavior, 2);                 // HuNavSim's agent2 is not scared: the edit shows
   for (std::size_t i = 2; i < after.agents.size(); ++i) {  // the others as they were
     EXPECT_EQ(after.agents[i].id, before.agents[i].id);
     EXPECT_DOUBLE_EQ(after.agents[i].position.x(), before.agents[i].position.x());

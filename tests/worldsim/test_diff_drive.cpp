@@ -1,8 +1,8 @@
-#include "hunav/worldsim/diff_drive.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "hunav/worldsim/diff_drive.hpp"
 
 using hunav::kPi;
 using hunav::worldsim::applyHolonomicLimits;
@@ -82,9 +82,9 @@ TEST(HolonomicDrive, ForwardOnlyIsTheDiffDriveArc) {
 }
 
 TEST(HolonomicDrive, ManySmallStepsStayOnTheCircle) {
-  // (vx, vy) = (0.3, 0.4), w = 0.25 for 1000 x 0.01 s = 10 s. In closed form, x(t) = (vx sin(wt) + vy (cos(wt) - 1)) / w and
-  // y(t) = (vx (1 - cos(wt)) + vy sin(wt)) / w with wt = 2.5:
-  // x = (0.3 sin 2.5 + 0.4 (cos 2.5 - 1)) / 0.25, y = (0.3 (1 - cos 2.5) + 0.4 sin 2.5) / 0.25.
+  // (vx, vy) = (0.3, 0.4), w = 0.25 for 1000 x 0.01 s = 10 s. In closed form, x(t) = (vx sin(wt) + vy (cos(wt) - 1)) /
+  // w and y(t) = (vx (1 - cos(wt)) + vy sin(wt)) / w with wt = 2.5: x = (0.3 sin 2.5 + 0.4 (cos 2.5 - 1)) / 0.25, y =
+  // (0.3 (1 - cos 2.5) + 0.4 sin 2.5) / 0.25.
   Pose2 p{0, 0, 0};
   for (int i = 0; i < 1000; ++i) p = driveHolonomic(p, 0.3, 0.4, 0.25, 0.01);
   EXPECT_NEAR(p.x, (0.3 * std::sin(2.5) + 0.4 * (std::cos(2.5) - 1)) / 0.25, 1e-9);

@@ -1,9 +1,7 @@
 // ROS map_server maps: occupied cells merged into rectangles, as static fixtures of the world.
-#include "hunav/config_error.hpp"
-#include "hunav/scenario.hpp"
-#include "hunav/worldsim/physics_world.hpp"
-
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -11,8 +9,9 @@
 #include <functional>
 #include <sstream>
 
-#include <sys/wait.h>
-#include <unistd.h>
+#include "hunav/config_error.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/worldsim/physics_world.hpp"
 
 using namespace hunav;
 namespace fs = std::filesystem;
@@ -59,7 +58,8 @@ std::vector<int> picture() {
 }
 
 void writeP5(const fs::path& p, const std::vector<int>& pixels, bool negate) {
-  std::string data = "P5\n# made by test_occupancy_map\n" + std::to_string(kWidth) + " " + std::to_string(kHeight) + "\n255\n";
+  std::string data =
+      "P5\n# made by test_occupancy_map\n" + std::to_string(kWidth) + " " + std::to_string(kHeight) + "\n255\n";
   for (int v : pixels) data.push_back(static_cast<char>(negate ? 255 - v : v));
   write(p, data);
 }
@@ -100,7 +100,8 @@ Box boxOf(const Shape& s) {
 //   D: col 5, rows 2-4        -> x [1.5, 2],    y [3, 4.5]
 //   E: cols 1-4, row 4        -> x [-0.5, 1.5], y [4, 4.5]
 void expectTheTestRectangles(const std::vector<Shape>& shapes) {
-  const Box expected[] = {{-1, 0, 2, 2.5}, {-1, -0.5, 2.5, 4.5}, {0, 1, 2.5, 3.5}, {1.5, 2, 3, 4.5}, {-0.5, 1.5, 4, 4.5}};
+  const Box expected[] = {
+      {-1, 0, 2, 2.5}, {-1, -0.5, 2.5, 4.5}, {0, 1, 2.5, 3.5}, {1.5, 2, 3, 4.5}, {-0.5, 1.5, 4, 4.5}};
   ASSERT_EQ(shapes.size(), 5u);
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     SCOPED_TRACE("rectangle " + std::to_string(i));

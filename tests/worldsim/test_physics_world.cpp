@@ -1,8 +1,8 @@
-#include "hunav/worldsim/physics_world.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
+
+#include "hunav/worldsim/physics_world.hpp"
 
 using namespace hunav;
 using hunav::worldsim::PhysicsWorld;
@@ -186,7 +186,8 @@ TEST(PhysicsWorld, RayFanEqualsSingleRaysBitForBit) {
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     Scenario s = clutter(seed, 25);
     std::mt19937_64 rng(seed + 100);
-    s.robot.start = Vec2(std::uniform_real_distribution<double>(-4.5, 4.5)(rng), std::uniform_real_distribution<double>(-1.7, 1.7)(rng));
+    s.robot.start = Vec2(std::uniform_real_distribution<double>(-4.5, 4.5)(rng),
+                         std::uniform_real_distribution<double>(-1.7, 1.7)(rng));
     PhysicsWorld w(s);
     const Vec2 p = toVec(w.robot().GetPosition());
     const double first = std::uniform_real_distribution<double>(-kPi, kPi)(rng);
@@ -213,7 +214,9 @@ TEST(PhysicsWorld, RepeatedRayFansEqualSingleRaysBitForBit) {
     Vec2 from;
     double first;
   };
-  const Fan fans[] = {{Vec2(0.3, 0.4), -kPi + 0.1}, {Vec2(-1.2, 0.9), -kPi + 0.1}, {Vec2(-1.2, 0.9), -kPi + 0.2},
+  const Fan fans[] = {{Vec2(0.3, 0.4), -kPi + 0.1},
+                      {Vec2(-1.2, 0.9), -kPi + 0.1},
+                      {Vec2(-1.2, 0.9), -kPi + 0.2},
                       {Vec2(2.0, -1.0), -kPi + 0.1}};
   std::vector<double> fan;
   for (const Fan& f : fans) {
@@ -236,8 +239,8 @@ TEST(PhysicsWorld, LinesOfSightToOnePointEqualSingleLinesBitForBit) {
     PhysicsWorld w(s);
     std::vector<Vec2> from;
     for (std::size_t i = 0; i < w.personCount(); ++i) from.push_back(toVec(w.person(i).GetPosition()));
-    from.push_back(Vec2(-2.0, 0.0));   // on the inner wall
-    from.push_back(Vec2(0.0, 0.0));    // the target itself
+    from.push_back(Vec2(-2.0, 0.0));  // on the inner wall
+    from.push_back(Vec2(0.0, 0.0));   // the target itself
     std::vector<char> visible;
     const Vec2 target = toVec(w.robot().GetPosition());
     w.linesOfSightTo(target, from, visible);
@@ -259,7 +262,7 @@ TEST(PhysicsWorld, ObstaclePointsFromTheGridEqualEveryShapeChecked) {
   std::uniform_real_distribution<double> x(-9.0, 9.0), y(-6.0, 6.0);
   std::vector<Vec2> got;
   for (int k = 0; k < 5000; ++k) {
-    const Vec2 p(x(rng), y(rng));  // inside and well outside the room
+    const Vec2 p(x(rng), y(rng));                  // inside and well outside the room
     for (const double radius : {3.0, 1.0, 5.0}) {  // 5 m exceeds the grid's radius: the tree answers
       std::vector<Vec2> expected;
       for (const Shape& sh : s.shapes) {

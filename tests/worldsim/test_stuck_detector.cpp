@@ -1,12 +1,12 @@
 // The stuck rule alone (scenario keys stuck_timeout, stuck_distance): positions fed tick by tick,
 // with exact times; test_world_sim.cpp runs it inside the world.
-#include "hunav/worldsim/stuck_detector.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
 #include <optional>
+
+#include "hunav/worldsim/stuck_detector.hpp"
 
 using hunav::Vec2;
 using hunav::worldsim::StuckDetector;

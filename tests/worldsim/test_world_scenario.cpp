@@ -1,14 +1,13 @@
 // Scenario keys of the world: robot shape, drive and perception.
-#include "hunav/config_error.hpp"
-#include "hunav/scenario.hpp"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
-#include <unistd.h>
+#include "hunav/config_error.hpp"
+#include "hunav/scenario.hpp"
 
 using namespace hunav;
 namespace fs = std::filesystem;
@@ -78,8 +77,9 @@ TEST(WorldScenario, LateralLimitsDefaultToTheForwardOnes) {
 
 TEST(WorldScenario, BadRobotKeysNameLineAndKey) {
   expectError("shape.yaml", "robot:\n  shape: triangle\n  start: {x: 0, y: 0}\n", 2, "robot.shape");
-  expectError("box_radius.yaml", "robot:\n  shape: box\n  length: 1\n  width: 1\n  radius: 0.3\n  start: {x: 0, y: 0}\n",
-              5, "robot.radius");
+  expectError("box_radius.yaml",
+              "robot:\n  shape: box\n  length: 1\n  width: 1\n  radius: 0.3\n  start: {x: 0, y: 0}\n", 5,
+              "robot.radius");
   expectError("box_size.yaml", "robot:\n  shape: box\n  length: 1\n  start: {x: 0, y: 0}\n", 2, "robot.width");
   expectError("box_neg.yaml", "robot:\n  shape: box\n  length: -1\n  width: 1\n  start: {x: 0, y: 0}\n", 3,
               "robot.length");

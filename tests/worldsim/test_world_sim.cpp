@@ -1,27 +1,24 @@
 // The world and the manager in one process on memq://, driven through the step protocol.
-#include "hunav/channels.hpp"
-#include "hunav/manager/manager_node.hpp"
-#include "hunav/planners/planner.hpp"
-#include "hunav/planners/planner_node.hpp"
-#include "hunav/worldsim/world_sim.hpp"
-
 #include <gtest/gtest.h>
-
-#include <hunav/robot_command_t.hpp>
-#include <hunav/robot_observation_t.hpp>
-#include <hunav/world_state_t.hpp>
-
-#include <hunav/step_reply_t.hpp>
-#include <hunav/step_request_t.hpp>
+#include <unistd.h>
 
 #include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <hunav/robot_command_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
+#include <hunav/world_state_t.hpp>
 #include <map>
 #include <set>
 
-#include <unistd.h>
+#include "hunav/channels.hpp"
+#include "hunav/manager/manager_node.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/planners/planner_node.hpp"
+#include "hunav/worldsim/world_sim.hpp"
 
 using namespace hunav;
 using hunav::worldsim::WorldOptions;
@@ -394,11 +391,11 @@ TEST(WorldSim, PeopleBehindWallsOrOutsideTheFieldOfViewAreNotDetected) {
   FixedVelocityManager manager(bus);
   FixedCommand planner(bus, 0.0, 0.0, 0.0);
   Scenario s = passing();
-  s.agents = {person(1, Vec2(3, 0)),       // ahead: seen
-              person(2, Vec2(-1.5, 0)),    // behind the robot: outside +-45 deg
-              person(3, Vec2(2, 1.8)),     // 42 deg: inside, seen
-              person(4, Vec2(4, 1.5)),     // 20.6 deg, but the segment to it crosses the wall below
-              person(5, Vec2(9.5, -0.5))}; // 9.5 m: beyond the range
+  s.agents = {person(1, Vec2(3, 0)),        // ahead: seen
+              person(2, Vec2(-1.5, 0)),     // behind the robot: outside +-45 deg
+              person(3, Vec2(2, 1.8)),      // 42 deg: inside, seen
+              person(4, Vec2(4, 1.5)),      // 20.6 deg, but the segment to it crosses the wall below
+              person(5, Vec2(9.5, -0.5))};  // 9.5 m: beyond the range
   Shape wall;  // x = 3, y 0.8..1.6: the line from (0, 0) to (4, 1.5) crosses it at y = 1.125
   wall.kind = Shape::Kind::Polyline;
   wall.points = {Vec2(3, 0.8), Vec2(3, 1.6)};
@@ -484,7 +481,8 @@ namespace {
 fs::path seededPassing() {
   std::ifstream in(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (std::size_t at; (at = text.find("configuration: 0")) != std::string::npos;) text.replace(at, 16, "configuration: 3");
+  for (std::size_t at; (at = text.find("configuration: 0")) != std::string::npos;)
+    text.replace(at, 16, "configuration: 3");
   const fs::path p = fs::temp_directory_path() / ("hunav_seeded_passing_" + std::to_string(getpid()) + ".yaml");
   std::ofstream(p) << text;
   return p;
@@ -499,7 +497,8 @@ Scenario seededPassing(long long seed) {
 }
 
 // The encoded world states of one episode with the episode counter blanked.
-std::vector<std::vector<std::uint8_t>> streamOf(Bus& bus, const std::vector<world_state_t>& states, std::int64_t episode) {
+std::vector<std::vector<std::uint8_t>> streamOf(Bus& bus, const std::vector<world_state_t>& states,
+                                                std::int64_t episode) {
   std::vector<std::vector<std::uint8_t>> out;
   for (world_state_t w : states) {
     if (w.episode != episode) continue;

@@ -279,7 +279,8 @@ Json Editor::validate(const std::string& relative, const Json& doc, const Json& 
   std::string people_yaml;
   if (!people_doc.is_null()) {
     const auto agents = agentsFileOf(relative, doc);
-    if (!agents) throw std::invalid_argument("an agents file document was sent, but the scenario's people: is no file name");
+    if (!agents)
+      throw std::invalid_argument("an agents file document was sent, but the scenario's people: is no file name");
     people_yaml = yamlFromJson(people_doc);
     const fs::path agents_target = resolve(*agents, false);
     const fs::path agents_temp = tempBeside(agents_target);

@@ -50,8 +50,8 @@ Pose2 driveHolonomic(const Pose2& start, double vx, double vy, double w, double 
   return end;
 }
 
-void applyHolonomicLimits(const RobotLimits& limits, double dt, double vx_cmd, double vy_cmd, double w_cmd,
-                          double& vx, double& vy, double& w) {
+void applyHolonomicLimits(const RobotLimits& limits, double dt, double vx_cmd, double vy_cmd, double w_cmd, double& vx,
+                          double& vy, double& w) {
   applyLimits(limits, dt, vx_cmd, w_cmd, vx, w);
   const double vy_target = std::clamp(vy_cmd, -limits.max_vy, limits.max_vy);
   vy = std::clamp(vy_target, vy - limits.max_acc_vy * dt, vy + limits.max_acc_vy * dt);

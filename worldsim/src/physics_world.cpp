@@ -40,9 +40,9 @@ b2Body* makeDisc(b2World& world, const Vec2& position, double yaw, double radius
   return makeBody(world, position, yaw, disc, kPi * radius * radius, mass, tag);
 }
 
-constexpr double kGridCell = 1.0;          // m, cells of the static grid (larger for huge maps)
+constexpr double kGridCell = 1.0;  // m, cells of the static grid (larger for huge maps)
 constexpr std::size_t kMaxGridCells = 1u << 22;
-constexpr double kGridMargin = 1e-3;        // m, bounds grow by this against rounding
+constexpr double kGridMargin = 1e-3;  // m, bounds grow by this against rounding
 
 // Stops at the first static fixture the ray crosses (any hit blocks the line of sight).
 class AnyHit {
@@ -148,7 +148,8 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
   void beginStep(double now) {
     now_ = now;
     began_.clear();
-    for (auto it = parted_.begin(); it != parted_.end();) it = now_ - it->second > kRejoin ? parted_.erase(it) : std::next(it);
+    for (auto it = parted_.begin(); it != parted_.end();)
+      it = now_ - it->second > kRejoin ? parted_.erase(it) : std::next(it);
   }
   void EndContact(b2Contact* contact) override {
     const BodyPair pair = pairOf(contact);
@@ -187,8 +188,8 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
     c.normal_speed = va + vb;
     constexpr float kMoving = 1e-3f;  // m/s
     c.caused_by = (va > kMoving && vb > kMoving) ? collision_t::BY_BOTH
-                  : (vb > va)                   ? collision_t::BY_B
-                                                : collision_t::BY_A;
+                  : (vb > va)                    ? collision_t::BY_B
+                                                 : collision_t::BY_A;
     out_.push_back(c);
     began_.emplace(pair, out_.size() - 1);
   }
@@ -210,8 +211,8 @@ class PhysicsWorld::ContactRecorder : public b2ContactListener {
     return std::less<const b2Body*>()(a, b) ? BodyPair(a, b) : BodyPair(b, a);
   }
   std::vector<collision_t>& out_;
-  std::map<BodyPair, int> touching_;   // fixture contacts touching, per body pair
-  std::map<BodyPair, double> parted_;  // pairs that stopped touching, and when
+  std::map<BodyPair, int> touching_;       // fixture contacts touching, per body pair
+  std::map<BodyPair, double> parted_;      // pairs that stopped touching, and when
   std::map<BodyPair, std::size_t> began_;  // pairs whose event began this step, and its index in out_
   double now_ = 0.0;
 };
@@ -295,7 +296,8 @@ void PhysicsWorld::buildGrid(double radius) {
   if (static_parts_.empty()) return;
   std::vector<b2AABB> boxes(static_parts_.size());
   for (std::size_t i = 0; i < static_parts_.size(); ++i)
-    static_parts_[i].fixture->GetShape()->ComputeAABB(&boxes[i], static_parts_[i].fixture->GetBody()->GetTransform(), 0);
+    static_parts_[i].fixture->GetShape()->ComputeAABB(&boxes[i], static_parts_[i].fixture->GetBody()->GetTransform(),
+                                                      0);
   b2AABB all = boxes.front();
   for (const b2AABB& b : boxes) all.Combine(b);
   // The grid reaches `radius` beyond the geometry, so every point with an obstacle point is inside it.
@@ -482,7 +484,7 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
   constexpr double kBinWidth = 2.0 * kPi / kBins;
   constexpr double kAngleMargin = 1e-4;  // rad
   constexpr double kNear = 0.5;          // m
-  auto binOf = [&](double angle) {  // angle in [-pi, pi]
+  auto binOf = [&](double angle) {       // angle in [-pi, pi]
     return std::clamp(static_cast<int>(std::floor((angle + kPi) / kBinWidth)), 0, kBins - 1);
   };
   sight_entries_.clear();
@@ -494,7 +496,8 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
     }
     const double lo = normalizeAngle(centre - half - kAngleMargin);
     const int first = binOf(lo), count = static_cast<int>(std::ceil((2.0 * (half + kAngleMargin)) / kBinWidth)) + 1;
-    for (int k = 0; k <= count && k < kBins; ++k) sight_entries_.push_back({static_cast<std::uint32_t>((first + k) % kBins), part, d});
+    for (int k = 0; k <= count && k < kBins; ++k)
+      sight_entries_.push_back({static_cast<std::uint32_t>((first + k) % kBins), part, d});
   };
   for (const std::uint32_t part : sight_parts_) {
     const b2Fixture* f = static_parts_[part].fixture;
@@ -515,7 +518,8 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
   // Compressed rows by bin.
   sight_start_.assign(kBins + 1, 0);
   for (const SightEntry& e : sight_entries_) ++sight_start_[e.bin + 1];
-  for (int b = 1; b <= kBins; ++b) sight_start_[static_cast<std::size_t>(b)] += sight_start_[static_cast<std::size_t>(b - 1)];
+  for (int b = 1; b <= kBins; ++b)
+    sight_start_[static_cast<std::size_t>(b)] += sight_start_[static_cast<std::size_t>(b - 1)];
   sight_sorted_.resize(sight_entries_.size());
   {
     std::vector<std::uint32_t>& fill = sight_fill_;
@@ -532,7 +536,8 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
     input.p2 = toB2(target);
     input.maxFraction = 1.0f;
     const int b = binOf(angleOf(v));
-    for (std::uint32_t k = sight_start_[static_cast<std::size_t>(b)]; k < sight_start_[static_cast<std::size_t>(b) + 1]; ++k) {
+    for (std::uint32_t k = sight_start_[static_cast<std::size_t>(b)]; k < sight_start_[static_cast<std::size_t>(b) + 1];
+         ++k) {
       const SightEntry& e = sight_sorted_[k];
       if (e.distance > dist + kGridMargin) continue;
       b2RayCastOutput out;
@@ -549,7 +554,8 @@ void PhysicsWorld::closestObstaclePoints(const Vec2& p, double radius, std::vect
   int ix, iy;
   if (radius <= grid_.radius && grid_.nx > 0 && grid_.cellOf(p, ix, iy)) {
     // The cell lists, in shape order, every shape that can be within the grid's radius of p.
-    const std::size_t c = static_cast<std::size_t>(iy) * static_cast<std::size_t>(grid_.nx) + static_cast<std::size_t>(ix);
+    const std::size_t c =
+        static_cast<std::size_t>(iy) * static_cast<std::size_t>(grid_.nx) + static_cast<std::size_t>(ix);
     for (std::uint32_t k = grid_.shape_start[c]; k < grid_.shape_start[c + 1]; ++k) {
       const Vec2 q = scenario_.shapes[grid_.shapes[k]].closestPoint(p);
       if ((q - p).squaredNorm() <= radius * radius) out.push_back(q);
@@ -587,7 +593,8 @@ bool PhysicsWorld::closestObstaclePoint(const Vec2& p, double radius, Vec2& out)
       }
     return found;
   }
-  const std::size_t c = static_cast<std::size_t>(iy) * static_cast<std::size_t>(grid_.nx) + static_cast<std::size_t>(ix);
+  const std::size_t c =
+      static_cast<std::size_t>(iy) * static_cast<std::size_t>(grid_.nx) + static_cast<std::size_t>(ix);
   bool found = false;
   double best = radius * radius;
   for (std::uint32_t k = grid_.shape_start[c]; k < grid_.shape_start[c + 1]; ++k) {

@@ -1,19 +1,18 @@
 #include "hunav/worldsim/world_sim.hpp"
 
-#include "hunav/channels.hpp"
-#include "hunav/message_checks.hpp"
-#include "hunav/worldsim/diff_drive.hpp"
-#include "hunav/worldsim/sensors.hpp"
-
-#include <hunav/nav_goal_t.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <ctime>
+#include <hunav/nav_goal_t.hpp>
 #include <stdexcept>
 #include <string_view>
 #include <thread>
+
+#include "hunav/channels.hpp"
+#include "hunav/message_checks.hpp"
+#include "hunav/worldsim/diff_drive.hpp"
+#include "hunav/worldsim/sensors.hpp"
 
 namespace hunav::worldsim {
 
@@ -128,8 +127,9 @@ void WorldSim::reset() {
   robot_collisions_ = 0;
   // Without a goal there is no progress to measure: never stuck.
   const RobotConfig& rc = scenario_.robot;
-  const std::int64_t stuck_us =
-      rc.has_goal && !options_.robot_absent ? static_cast<std::int64_t>(std::llround(scenario_.stuck_timeout * 1e6)) : 0;
+  const std::int64_t stuck_us = rc.has_goal && !options_.robot_absent
+                                    ? static_cast<std::int64_t>(std::llround(scenario_.stuck_timeout * 1e6))
+                                    : 0;
   stuck_ = StuckDetector(stuck_us, scenario_.stuck_distance, rc.goal);
   fingerprint_ = Fingerprint();
   robot_state_ = robotState();
@@ -302,9 +302,9 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
     if (options_.stop != nullptr && options_.stop->load()) return false;  // abortWith() labels it
     const Clock::time_point now = Clock::now();
     if (now - start >= limit) {
-      const std::string within =
-          " within " + std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(limit).count()) + " ms (" +
-          std::to_string(sends) + " sends)";
+      const std::string within = " within " +
+                                 std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(limit).count()) +
+                                 " ms (" + std::to_string(sends) + " sends)";
       const std::uint64_t dropped = answers.count - answers_dropped_before;
       if (dropped > 0)
         failure = std::string(who) + "'s answers to seq " + std::to_string(seq) + " were dropped (" +
@@ -449,8 +449,8 @@ void WorldSim::driveRobot() {
     next = driveArc(now, robot_v_, robot_w_, scenario_.dt);
   }
   // Box2D integrates position += v * dt: this velocity lands the body on the exact arc.
-  body.SetLinearVelocity(b2Vec2(static_cast<float>((next.x - now.x) / scenario_.dt),
-                                static_cast<float>((next.y - now.y) / scenario_.dt)));
+  body.SetLinearVelocity(
+      b2Vec2(static_cast<float>((next.x - now.x) / scenario_.dt), static_cast<float>((next.y - now.y) / scenario_.dt)));
   body.SetAngularVelocity(static_cast<float>(robot_w_));
 }
 

@@ -3,10 +3,9 @@
 // XXH3 (libxxhash): h_0 = 0, h_k = XXH3_64bits_withSeed(bytes of message k, its size, h_{k-1}).
 // XXH3 reads 8-byte words in wide vector lanes (~40 us for the world state of 1000 people, where
 // the byte-wise FNV-1a used before took ~0.25 ms), and the chain keeps the order of messages.
-#include <hunav/world_state_t.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <hunav/world_state_t.hpp>
 #include <string>
 #include <vector>
 

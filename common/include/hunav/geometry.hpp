@@ -1,7 +1,6 @@
 #pragma once
 // Planar geometry shared by the world, the manager, the planners and the evaluator.
 #include <Eigen/Core>
-
 #include <cmath>
 #include <vector>
 
@@ -35,7 +34,7 @@ Vec2 closestPointOnSegment(const Vec2& p, const Vec2& a, const Vec2& b);
 struct Shape {
   enum class Kind { Polygon, Polyline, Circle };
   Kind kind = Kind::Polyline;
-  std::vector<Vec2> points;  // vertices (Polygon, Polyline)
+  std::vector<Vec2> points;    // vertices (Polygon, Polyline)
   Vec2 center = Vec2::Zero();  // Circle
   double radius = 0.0;         // Circle
 

@@ -1,14 +1,13 @@
 #pragma once
 // Checks every process applies to what it receives: a message that fails is rejected with
 // BadMessage (dropped and counted by the Bus), never allowed to crash or poison a run.
-#include "hunav/bounds.hpp"
-#include "hunav/transport.hpp"
-
-#include <hunav/agent_state_t.hpp>
-
 #include <cmath>
+#include <hunav/agent_state_t.hpp>
 #include <string>
 #include <vector>
+
+#include "hunav/bounds.hpp"
+#include "hunav/transport.hpp"
 
 namespace hunav {
 

@@ -1,14 +1,14 @@
 #pragma once
 // A scenario: static map, robot, people (HuNavSim agents layout), clock. Defined once, in YAML, and
 // shared by runs, tests and benchmarks. scenarios/README.md documents every key.
-#include "hunav/bounds.hpp"  // the bounds the loader enforces (kMaxCoordinate, ...)
-#include "hunav/geometry.hpp"
-
 #include <cstdint>
-#include <optional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "hunav/bounds.hpp"  // the bounds the loader enforces (kMaxCoordinate, ...)
+#include "hunav/geometry.hpp"
 
 namespace hunav {
 
@@ -34,11 +34,11 @@ struct AgentConfig {
   int skin = 0;
   int behavior = 1;
   BehaviorParams params;
-  std::string behavior_tree;  // empty = built-in tree of the behavior; else a path to open
+  std::string behavior_tree;   // empty = built-in tree of the behavior; else a path to open
   int behavior_tree_line = 0;  // of the behavior_tree key, for error messages (0: unknown)
   int group_id = -1;
-  double max_vel = 1.0;       // m/s, desired speed
-  double radius = 0.35;       // m
+  double max_vel = 1.0;  // m/s, desired speed
+  double radius = 0.35;  // m
   Vec2 position = Vec2::Zero();
   double yaw = 0.0;
   double goal_radius = 0.0;
@@ -49,18 +49,18 @@ struct AgentConfig {
 };
 
 struct RobotLimits {
-  double max_v = 0.6;      // m/s, forward (x of the robot frame)
-  double min_v = 0.0;      // m/s (negative allows reversing)
-  double max_w = 1.2;      // rad/s
-  double max_acc_v = 1.0;  // m/s^2
-  double max_acc_w = 2.5;  // rad/s^2
-  double max_vy = 0.6;     // m/s, lateral (y of the robot frame), holonomic drive only: |vy| <= max_vy
-  double max_acc_vy = 1.0; // m/s^2, holonomic drive only
+  double max_v = 0.6;       // m/s, forward (x of the robot frame)
+  double min_v = 0.0;       // m/s (negative allows reversing)
+  double max_w = 1.2;       // rad/s
+  double max_acc_v = 1.0;   // m/s^2
+  double max_acc_w = 2.5;   // rad/s^2
+  double max_vy = 0.6;      // m/s, lateral (y of the robot frame), holonomic drive only: |vy| <= max_vy
+  double max_acc_vy = 1.0;  // m/s^2, holonomic drive only
 };
 
 struct LaserConfig {
   int beams = 180;
-  double fov = 2.0 * kPi;  // rad, centred on the robot heading
+  double fov = 2.0 * kPi;   // rad, centred on the robot heading
   double range_min = 0.05;  // m
   double range_max = 8.0;   // m
   double noise_std = 0.0;   // m, Gaussian, seeded
@@ -122,19 +122,19 @@ struct Expectation {
   };
   std::string metric;  // a metric name of the evaluator (checked where the run is set up), or "status"
   Kind kind = Kind::Equal;
-  bool is_bool = false;  // Equal: written as true/false (value 1/0), for boolean metrics only
-  double value = 0.0;    // Equal
+  bool is_bool = false;            // Equal: written as true/false (value 1/0), for boolean metrics only
+  double value = 0.0;              // Equal
   std::optional<double> min, max;  // Range
-  std::string status;    // Status: goal_reached, time_limit or stuck
-  std::string file;      // where it was written, for file:line: key errors
+  std::string status;              // Status: goal_reached, time_limit or stuck
+  std::string file;                // where it was written, for file:line: key errors
   int line = 0;
 };
 
 struct Scenario {
   std::string name;
-  std::string file;            // path it was loaded from
-  double dt = 0.01;            // s
-  double time_limit = 60.0;    // s of simulation time
+  std::string file;          // path it was loaded from
+  double dt = 0.01;          // s
+  double time_limit = 60.0;  // s of simulation time
   std::uint64_t seed = 1;
   double obstacle_radius = 3.0;  // m, static shapes closer than this feed an agent's obstacle force
   // evaluation.sample_rate: Hz of simulation time at which the evaluator records states.csv and
@@ -143,7 +143,7 @@ struct Scenario {
   // evaluation.metrics: the evaluator's metrics file (its --metrics), resolved against the scenario's
   // folder; empty = every metric. A `--metrics` flag overrides it.
   std::string evaluation_metrics;
-  std::vector<Shape> shapes;   // static geometry (map_server maps become rectangles here)
+  std::vector<Shape> shapes;  // static geometry (map_server maps become rectangles here)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
   // HuNavSim 2's global_goals of the agents layout (id -> point; integer ids only), for the trees'
@@ -153,8 +153,8 @@ struct Scenario {
   // The episode ends with status `stuck` when, for stuck_timeout seconds of simulation time, the
   // robot has neither left a circle of stuck_distance around where it last made progress nor come
   // stuck_distance closer to its goal than ever before. 0 = never.
-  double stuck_timeout = 0.0;   // s
-  double stuck_distance = 0.5;  // m
+  double stuck_timeout = 0.0;             // s
+  double stuck_distance = 0.5;            // m
   std::vector<Expectation> expectations;  // `expect:`, in file order (empty: none)
 
   // Bounds of everything in the scenario, with a margin.

@@ -2,17 +2,17 @@
 // The social force model of lightsfm as HuNavSim uses it (docs/metrics.md and manager/README.md).
 // Forces are accelerations (unit mass). One implementation serves the manager (moving people), the
 // evaluator (social work metrics) and the SFW planner (predicting people).
-#include "hunav/geometry.hpp"
-
 #include <vector>
+
+#include "hunav/geometry.hpp"
 
 namespace hunav {
 
 struct SfmParams {
-  double goal_weight = 2.0;          // omega_d
-  double obstacle_weight = 10.0;     // omega_o, m/s^2
-  double obstacle_sigma = 0.2;       // sigma_o, m
-  double social_weight = 5.0;        // omega_s (HuNavSim's value; lightsfm's own default is 2.1)
+  double goal_weight = 2.0;       // omega_d
+  double obstacle_weight = 10.0;  // omega_o, m/s^2
+  double obstacle_sigma = 0.2;    // sigma_o, m
+  double social_weight = 5.0;     // omega_s (HuNavSim's value; lightsfm's own default is 2.1)
   double group_gaze_weight = 3.0;
   double group_coherence_weight = 2.0;
   double group_repulsion_weight = 1.0;
@@ -20,7 +20,7 @@ struct SfmParams {
   double gamma = 0.35;
   double n = 2.0;
   double n_prime = 3.0;
-  double relaxation_time = 0.5;      // tau, s
+  double relaxation_time = 0.5;  // tau, s
 };
 
 // What the model needs to know about a body (person or robot).
@@ -34,8 +34,8 @@ struct SfmBody {
 
 // Desired force toward `goal` (nullptr = no goal). Inside the goal circle, or without a goal, the
 // agent brakes: -v/tau. `direction` (optional) receives the unit direction to the goal (zero if none).
-Vec2 desiredForce(const SfmBody& me, const Vec2* goal, double goal_radius, double desired_speed,
-                  const SfmParams& p, Vec2* direction = nullptr);
+Vec2 desiredForce(const SfmBody& me, const Vec2* goal, double goal_radius, double desired_speed, const SfmParams& p,
+                  Vec2* direction = nullptr);
 
 // Repulsion of one obstacle point: omega_o * exp(-(|u| - r)/sigma_o) * u/|u|, u = me - point.
 Vec2 obstacleForceFrom(const SfmBody& me, const Vec2& point, const SfmParams& p);
@@ -61,8 +61,8 @@ struct GroupForces {
   Vec2 total() const { return gaze + coherence + repulsion; }
 };
 // Group forces (Moussaid 2010, section 1.6). `mates` are the other members of me's group.
-GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates,
-                        const Vec2& desired_direction, const SfmParams& p);
+GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates, const Vec2& desired_direction,
+                        const SfmParams& p);
 
 struct ForceSet {
   Vec2 desired = Vec2::Zero();
@@ -83,7 +83,7 @@ struct SfmMotion {
 };
 // Explicit Euler with the speed capped at desired_speed (section 1.8). Unlike lightsfm, a body that
 // comes to rest keeps its heading instead of snapping to yaw 0.
-SfmMotion integrate(const Vec2& position, const Vec2& velocity, double yaw, const Vec2& force,
-                    double desired_speed, double dt);
+SfmMotion integrate(const Vec2& position, const Vec2& velocity, double yaw, const Vec2& force, double desired_speed,
+                    double dt);
 
 }  // namespace hunav

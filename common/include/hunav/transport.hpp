@@ -24,9 +24,6 @@
 // context switches per message) but through a socket of our own (DirectReceiver, transport.cpp),
 // read in the calling thread. It speaks LCM's wire format, so LCM publishers, lcm-logger and lcm-spy
 // on those ports interoperate with it.
-#include <hunav/wire_checks.hpp>
-#include <lcm/lcm-cpp.hpp>
-
 #include <poll.h>
 
 #include <chrono>
@@ -34,6 +31,8 @@
 #include <deque>
 #include <exception>
 #include <functional>
+#include <hunav/wire_checks.hpp>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -377,11 +376,11 @@ class Bus {
   std::vector<std::pair<int, std::unique_ptr<DirectReceiver>>> direct_;  // port offset, receiver
   std::deque<Queued> direct_queue_;  // messages read by direct receivers, not yet dispatched
   std::vector<pollfd> poll_fds_;
-  std::size_t next_receiver_ = 0;     // round robin among ready instances
+  std::size_t next_receiver_ = 0;  // round robin among ready instances
   std::vector<std::unique_ptr<Channel>> channels_;
   std::deque<Queued> queue_;
   std::vector<std::vector<std::uint8_t>> spare_buffers_;  // recycled, so queuing does not allocate
-  std::vector<std::uint8_t> convert_buffer_;  // a box encoded for a subscriber of another type
+  std::vector<std::uint8_t> convert_buffer_;              // a box encoded for a subscriber of another type
   Tap tap_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<std::uint8_t> buffer_;

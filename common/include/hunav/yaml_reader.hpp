@@ -1,11 +1,11 @@
 #pragma once
 // Reads a YAML file and turns every problem into a ConfigError that names file, line and key.
-#include "hunav/config_error.hpp"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <string>
+
+#include "hunav/config_error.hpp"
 
 namespace hunav {
 
@@ -55,10 +55,14 @@ class YamlReader {
  private:
   template <class T>
   static const char* typeName() {
-    if constexpr (std::is_same_v<T, bool>) return "true or false";
-    else if constexpr (std::is_integral_v<T>) return "an integer";
-    else if constexpr (std::is_floating_point_v<T>) return "a number";
-    else return "a string";
+    if constexpr (std::is_same_v<T, bool>)
+      return "true or false";
+    else if constexpr (std::is_integral_v<T>)
+      return "an integer";
+    else if constexpr (std::is_floating_point_v<T>)
+      return "a number";
+    else
+      return "a string";
   }
 
   std::string path_;

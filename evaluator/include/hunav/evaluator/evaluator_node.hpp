@@ -13,10 +13,10 @@
 // Nothing of the episode is kept in memory but the metrics' running state: the cost per world
 // state does not grow with the length of the episode.
 // The run dir is out_dir for the first episode the node records and out_dir/<run_id>/ for the
-// following ones (out_dir/<run_id>-<episode>/ when that folder was already used by this node). A world state outside a START/END pair (or of another episode), with a
-// non-finite number, with a tick that does not increase, or with a time that does not increase is
-// dropped (the handler throws hunav::BadMessage) and counted in run.json's dropped_messages; tick
-// numbers that never arrived are counted in lost_ticks.
+// following ones (out_dir/<run_id>-<episode>/ when that folder was already used by this node). A world state outside a
+// START/END pair (or of another episode), with a non-finite number, with a tick that does not increase, or with a time
+// that does not increase is dropped (the handler throws hunav::BadMessage) and counted in run.json's dropped_messages;
+// tick numbers that never arrived are counted in lost_ticks.
 //
 // Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (with
 // worker_thread the node also runs a worker thread of its own; the calls below stay on the caller's):
@@ -25,6 +25,18 @@
 //   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
 //   std::cout << evaluator.lastResult()->formatTable();   // or formatMetricsTable(metrics)
 // On SIGINT or an error, call finishIncomplete() so that nothing recorded is lost.
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <hunav/episode_event_t.hpp>
+#include <hunav/world_state_t.hpp>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
 #include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/recording.hpp"
@@ -34,19 +46,6 @@
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/transport.hpp"
-
-#include <hunav/episode_event_t.hpp>
-#include <hunav/world_state_t.hpp>
-
-#include <chrono>
-#include <cstddef>
-#include <cstdint>
-#include <filesystem>
-#include <memory>
-#include <optional>
-#include <set>
-#include <string>
-#include <vector>
 
 namespace hunav::evaluator {
 
@@ -59,12 +58,12 @@ inline constexpr std::size_t kWorkerMinPeople = 0;
 EntityState entityOf(const agent_state_t& a);
 
 struct EvaluatorOptions {
-  std::filesystem::path out_dir;     // created when missing
-  std::string profile = "default";   // metric profile (knownProfiles())
+  std::filesystem::path out_dir;    // created when missing
+  std::string profile = "default";  // metric profile (knownProfiles())
   std::string experiment_tag = "exp";
-  int episodes = 1;                  // episodes to record; 0 = no limit
-  std::string metrics_file;          // metric selection YAML (metrics.hpp); empty = every metric
-  bool hunav_txt = false;            // also write HuNavSim v1's tab-separated files (run_outputs.hpp)
+  int episodes = 1;          // episodes to record; 0 = no limit
+  std::string metrics_file;  // metric selection YAML (metrics.hpp); empty = every metric
+  bool hunav_txt = false;    // also write HuNavSim v1's tab-separated files (run_outputs.hpp)
   // Publish the running metric values on LIVE_METRICS (live_metrics_t) once per second of
   // simulation time (the running values: cheap; on in the hunav_evaluator binary).
   bool live_metrics = false;
@@ -94,7 +93,6 @@ struct EvaluatorOptions {
 
 class EvaluatorNode {
  public:
-
   // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus`. hunav::Bus cannot drop
   // one subscriber's subscriptions, so the bus must not dispatch after the node is gone: give each
   // node its own Bus (several Buses may share one lcm::LCM) and destroy it before or with the node.
@@ -180,8 +178,8 @@ class EvaluatorNode {
   std::vector<EntityState> agents_scratch_;
   std::vector<Vec2> points_scratch_;
   std::chrono::steady_clock::time_point last_flush_request_;  // worker_thread: flushIfDue()'s last request
-  std::set<std::string> used_run_dirs_;  // folders of episodes 2, 3, ...
-  std::unique_ptr<Worker> worker_;       // with worker_thread; declared last: stopped first
+  std::set<std::string> used_run_dirs_;                       // folders of episodes 2, 3, ...
+  std::unique_ptr<Worker> worker_;                            // with worker_thread; declared last: stopped first
 };
 
 }  // namespace hunav::evaluator

@@ -19,15 +19,15 @@
 // (no sample, no people, no goal, one sample), is documented beside its accumulator and in
 // docs/metrics.md. A metric may also be a plain function of the whole recording (MetricFunction);
 // the evaluation then keeps a copy of every sample for it (simple, but memory grows with the run).
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/sample_view.hpp"
-
 #include <memory>
 #include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/sample_view.hpp"
 
 namespace hunav::evaluator {
 
@@ -70,8 +70,8 @@ class AccumulatorOf final : public MetricAccumulator {
 using MetricFunction = double (*)(const Recording&);
 
 struct MetricDefinition {
-  std::string name;         // HuNavSim key, the metrics.csv column
-  std::string unit;         // "s", "m", "%", "bool", ...
+  std::string name;  // HuNavSim key, the metrics.csv column
+  std::string unit;  // "s", "m", "%", "bool", ...
   MetricKind kind = MetricKind::Real;
   Column column = Column::None;
   std::shared_ptr<const MetricAccumulator> prototype;  // cloned for every evaluation
@@ -99,8 +99,7 @@ class MetricRegistry {
   // A streaming metric whose accumulator is `State` (see the top of this file), starting from
   // `initial`. Throws std::invalid_argument on a duplicate name.
   template <class State>
-  void add(std::string name, std::string unit, MetricKind kind, Column column = Column::None,
-           State initial = State()) {
+  void add(std::string name, std::string unit, MetricKind kind, Column column = Column::None, State initial = State()) {
     add(std::move(name), std::move(unit), kind, std::make_unique<AccumulatorOf<State>>(std::move(initial)), column);
   }
   void add(std::string name, std::string unit, MetricKind kind, std::unique_ptr<MetricAccumulator> prototype,
@@ -186,23 +185,23 @@ void applyMetricsFile(const std::string& file, const std::string& profile, bool 
 MetricRegistry metricsFor(const std::string& profile, const std::string& selection_file);
 
 // Constants shared by the definitions (HuNavSim values).
-inline constexpr double kNoneDistance = 10000.0;     // m, "nothing to measure to" (no person, no goal)
-inline constexpr double kIntimateLimit = 0.45;       // m, proxemic bands on surface distance:
-inline constexpr double kPersonalLimit = 1.2;        //    intimate [0, 0.45), personal [0.45, 1.2),
-inline constexpr double kSocialLimit = 3.6;          //    social [1.2, 3.6)
-inline constexpr double kGroupCentreAhead = 1.5;     // m, o-space proxy ahead of each group member
-inline constexpr double kStillLinearSpeed = 0.01;    // m/s, "not moving" below this speed...
-inline constexpr double kStillAngularSpeed = 0.02;   // rad/s ...and below this yaw rate
-inline constexpr double kContactDistance = 0.01;     // m, default: robot and person in contact when
-                                                     //    their surface distance is <= this
-inline constexpr double kV1ContactDistance = 0.02;   // m, hunav_v1: surface distance < this
-inline constexpr double kV1GoalRadius = 0.2;         // m, hunav_v1: the goal radius it forces
-inline constexpr double kV1SocialWeight = 2.1;       // omega_s of HuNavSim's evaluator sfm.py
+inline constexpr double kNoneDistance = 10000.0;            // m, "nothing to measure to" (no person, no goal)
+inline constexpr double kIntimateLimit = 0.45;              // m, proxemic bands on surface distance:
+inline constexpr double kPersonalLimit = 1.2;               //    intimate [0, 0.45), personal [0.45, 1.2),
+inline constexpr double kSocialLimit = 3.6;                 //    social [1.2, 3.6)
+inline constexpr double kGroupCentreAhead = 1.5;            // m, o-space proxy ahead of each group member
+inline constexpr double kStillLinearSpeed = 0.01;           // m/s, "not moving" below this speed...
+inline constexpr double kStillAngularSpeed = 0.02;          // rad/s ...and below this yaw rate
+inline constexpr double kContactDistance = 0.01;            // m, default: robot and person in contact when
+                                                            //    their surface distance is <= this
+inline constexpr double kV1ContactDistance = 0.02;          // m, hunav_v1: surface distance < this
+inline constexpr double kV1GoalRadius = 0.2;                // m, hunav_v1: the goal radius it forces
+inline constexpr double kV1SocialWeight = 2.1;              // omega_s of HuNavSim's evaluator sfm.py
 inline constexpr double kSurpriseFov = 2.0943951023931957;  // rad, 120 degrees (v2 surprise costs)
 inline constexpr double kSurpriseAlpha = 0.45 / (3.14159265358979323846 / 3.0);  // visibility weight
-inline constexpr double kReactTime = 0.6;            // s, t_react of the shock/react costs
-inline constexpr double kShockGamma = 4.0;           // t_react / t_recognise = 0.6 / 0.15
-inline constexpr double kShockDistance = 0.45;       // m, numerator of the shock/react costs
+inline constexpr double kReactTime = 0.6;                                        // s, t_react of the shock/react costs
+inline constexpr double kShockGamma = 4.0;                                       // t_react / t_recognise = 0.6 / 0.15
+inline constexpr double kShockDistance = 0.45;  // m, numerator of the shock/react costs
 
 // Each metric of the default profile over a whole recording (its accumulator fed every sample), for
 // tests and tools.

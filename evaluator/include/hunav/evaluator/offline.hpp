@@ -1,23 +1,23 @@
 #pragma once
 // Offline evaluation: the results of a run recomputed from its states.csv, with the same code and
 // the same doubles as the live evaluator, hence the same metric values.
-#include "hunav/evaluator/results.hpp"
-
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "hunav/evaluator/results.hpp"
+
 namespace hunav::evaluator {
 
 struct OfflineOptions {
   std::filesystem::path states_file;
-  std::filesystem::path out_dir;                // created when missing
+  std::filesystem::path out_dir;  // created when missing
   std::string profile = "default";
-  std::optional<std::string> experiment_tag;    // unset: the source run.json's, else "exp"
-  std::string metrics_file;                     // metric selection YAML; empty = every metric
-  bool hunav_txt = false;                       // also HuNavSim v1's tab-separated files
-  double sample_rate = 0.0;                     // Hz (sample_rate.hpp); 0 = every sample of the file
+  std::optional<std::string> experiment_tag;  // unset: the source run.json's, else "exp"
+  std::string metrics_file;                   // metric selection YAML; empty = every metric
+  bool hunav_txt = false;                     // also HuNavSim v1's tab-separated files
+  double sample_rate = 0.0;                   // Hz (sample_rate.hpp); 0 = every sample of the file
 };
 
 // Reads `states_file` and, when present, the run.json beside it (scenario, planner, seed, mode,
@@ -37,13 +37,13 @@ struct OfflineOptions {
 RunResult recomputeFromStates(const OfflineOptions& options);
 
 struct LogReplayOptions {
-  std::filesystem::path log_file;               // an LCM log (lcm-logger, or the in-process runner's)
+  std::filesystem::path log_file;  // an LCM log (lcm-logger, or the in-process runner's)
   std::filesystem::path out_dir;
   std::string profile = "default";
   std::string experiment_tag = "exp";
   std::string metrics_file;
   bool hunav_txt = false;
-  double sample_rate = 0.0;                     // Hz; 0 = every world state of the log
+  double sample_rate = 0.0;  // Hz; 0 = every world state of the log
 };
 
 // Replays the EPISODE_EVENT and WORLD_STATE events of an LCM log, in file order, through an

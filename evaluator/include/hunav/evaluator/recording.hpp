@@ -6,11 +6,11 @@
 //
 // Layout: agents and obstacle points of every sample live in two flat pools; a sample refers to its
 // slice by offset and count. This keeps one allocation per pool instead of one per tick and entity.
-#include "hunav/geometry.hpp"
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "hunav/geometry.hpp"
 
 namespace hunav::evaluator {
 
@@ -33,10 +33,10 @@ class Slice {
 // One row of states.csv: the robot or a person at one tick. World frame, SI units.
 struct EntityState {
   std::int32_t id = 0;
-  std::int32_t group = -1;         // -1 = no group
-  std::int8_t behavior = 0;        // HuNavSim code 1..6, 0 for the robot
+  std::int32_t group = -1;   // -1 = no group
+  std::int8_t behavior = 0;  // HuNavSim code 1..6, 0 for the robot
   std::int8_t behavior_state = 0;
-  bool has_goal = false;           // goal_x/goal_y/goal_radius are meaningful only when true
+  bool has_goal = false;  // goal_x/goal_y/goal_radius are meaningful only when true
   double x = 0.0;
   double y = 0.0;
   double yaw = 0.0;

@@ -1,12 +1,12 @@
 #pragma once
 // Result files of a run (evaluator/README.md, "Files"): the metrics.csv row, run.json, and the text table
 // the in-process runner prints.
-#include "hunav/evaluator/metrics.hpp"
-
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "hunav/evaluator/metrics.hpp"
 
 namespace hunav::evaluator {
 
@@ -19,15 +19,15 @@ struct RunInfo {
   std::string scenario_file;
   std::string planner;
   std::int64_t seed = 0;
-  std::string mode;             // inprocess, lockstep, realtime
+  std::string mode;  // inprocess, lockstep, realtime
   std::int64_t episode = 0;
-  std::string status;           // goal_reached, time_limit, stuck, aborted (END, as is), or incomplete
+  std::string status;  // goal_reached, time_limit, stuck, aborted (END, as is), or incomplete
   std::string reason;
-  double sim_time = 0.0;        // s
-  double wall_time = 0.0;       // s
-  std::int64_t ticks = 0;       // world states published (END), or seen (incomplete run)
+  double sim_time = 0.0;   // s
+  double wall_time = 0.0;  // s
+  std::int64_t ticks = 0;  // world states published (END), or seen (incomplete run)
   std::int64_t recorded_ticks = 0;
-  double sample_rate = 0.0;     // Hz the samples were taken at (sample_rate.hpp); 0 = every world state
+  double sample_rate = 0.0;  // Hz the samples were taken at (sample_rate.hpp); 0 = every world state
   std::int64_t lost_ticks = 0;
   std::int64_t dropped_messages = 0;        // by the evaluator: rejected or undecodable, this episode
   std::int64_t world_dropped_messages = 0;  // by the world, this episode (its END event's count)
@@ -38,8 +38,8 @@ struct RunInfo {
   std::string fingerprint;           // the world's (END); the recorded one for an incomplete run
   std::string recorded_fingerprint;  // FNV-1a 64 of the encoded world states the evaluator recorded
   std::string git_commit;
-  bool complete = false;             // an END closed the recording
-  std::string states_file;           // states.csv the metrics were computed from
+  bool complete = false;    // an END closed the recording
+  std::string states_file;  // states.csv the metrics were computed from
 };
 
 struct RunResult {
@@ -70,8 +70,7 @@ std::filesystem::path appendMetricsRow(const std::filesystem::path& file, const 
 
 // Writes run.json atomically (temporary file + rename): every RunInfo field plus a "metrics"
 // object (name -> value). Throws std::runtime_error on I/O errors.
-void writeRunJson(const std::filesystem::path& file, const RunInfo& info,
-                  const std::vector<MetricValue>& metrics);
+void writeRunJson(const std::filesystem::path& file, const RunInfo& info, const std::vector<MetricValue>& metrics);
 
 // Reads the provenance fields of a run.json (scenario, planner, seed, mode, status, ...): missing
 // keys keep their RunInfo defaults. Throws ConfigError (file:line: key: what) on a malformed file.

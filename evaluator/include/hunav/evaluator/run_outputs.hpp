@@ -14,13 +14,13 @@
 // (MetricSet) and appends a row to each per-tick file; nothing grows with the length of the run
 // except, until all six behaviors have appeared, the robot's own trajectory (a behavior that
 // appears late gets the rows of the samples before it, where it had nobody, replayed from that).
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/results.hpp"
-
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "hunav/evaluator/metrics.hpp"
+#include "hunav/evaluator/results.hpp"
 
 namespace hunav::evaluator {
 

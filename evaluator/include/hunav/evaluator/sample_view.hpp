@@ -8,11 +8,11 @@
 // use and cached in a SampleCache for the whole sample, so every metric and every view reuses them.
 // Each cached value is computed by exactly the expression a metric would use, so caching never
 // changes a result.
-#include "hunav/evaluator/recording.hpp"
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "hunav/evaluator/recording.hpp"
 
 namespace hunav::evaluator {
 
@@ -29,14 +29,14 @@ class SampleCache {
  private:
   friend class SampleView;
   struct Person {
-    std::uint32_t have = 0;    // bit set of the fields below that are filled
-    double surface = 0.0;      // surface distance to the robot
+    std::uint32_t have = 0;                // bit set of the fields below that are filled
+    double surface = 0.0;                  // surface distance to the robot
     Vec2 social_on_person = Vec2::Zero();  // F_soc(robot -> person), the simulator's model
     Vec2 social_on_robot = Vec2::Zero();   // F_soc(person -> robot)
     Vec2 v1_on_person = Vec2::Zero();      // the same with HuNavSim v1's force (metrics_v1)
     Vec2 v1_on_robot = Vec2::Zero();
-    Vec2 obstacle = Vec2::Zero();          // sum over the person's obstacle points
-    Vec2 ahead = Vec2::Zero();             // the point 1.5 m ahead (group o-space proxy)
+    Vec2 obstacle = Vec2::Zero();  // sum over the person's obstacle points
+    Vec2 ahead = Vec2::Zero();     // the point 1.5 m ahead (group o-space proxy)
     double fear = 0.0;
     double panic = 0.0;
     double theta = 0.0;  // visibility of the robot to the person

@@ -4,10 +4,6 @@
 //   goal_x,goal_y,goal_radius,obs
 // Numbers are written with the shortest representation that reads back as the same double, so
 // reading the file rebuilds the samples the live evaluator had, bit for bit.
-#include "hunav/evaluator/number_text.hpp"
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/sample_rate.hpp"
-
 #include <fmt/format.h>
 
 #include <cstdint>
@@ -15,6 +11,10 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "hunav/evaluator/number_text.hpp"
+#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/sample_rate.hpp"
 
 namespace hunav::evaluator {
 
@@ -56,7 +56,7 @@ class StatesCsvWriter {
     std::int32_t group = 0;
     std::int8_t behavior = 0, behavior_state = 0;
     bool has_goal = false;
-    std::string tail;   // "radius,...,goal_radius,"
+    std::string tail;  // "radius,...,goal_radius,"
   };
   // Agents with ids in [0, kCachedIds) have a RowCache; others are formatted in full.
   static constexpr std::int32_t kCachedIds = 1 << 16;

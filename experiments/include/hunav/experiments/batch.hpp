@@ -2,13 +2,13 @@
 // A batch folder (launch_scripts/run_batch.sh, slurm_batch.sh): one run folder per
 // (scenario, planner, seed) under DIR/runs/, each the output folder of run_experiment.sh. This file
 // reads it; summary.hpp writes the aggregated files.
-#include "hunav/episode_status.hpp"
-
 #include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "hunav/episode_status.hpp"
 
 namespace hunav::experiments {
 

@@ -13,12 +13,12 @@
 //   expectations.csv   the verdicts of the scenarios' `expect:` conditions, when some run has an
 //                      expect.json (expectations_summary.hpp); summary.md then has their section
 // Undefined numbers (a standard deviation of one value, ...) are empty fields.
-#include "hunav/experiments/batch.hpp"
-#include "hunav/experiments/statistics.hpp"
-
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "hunav/experiments/batch.hpp"
+#include "hunav/experiments/statistics.hpp"
 
 namespace hunav::experiments {
 

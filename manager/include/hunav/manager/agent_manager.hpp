@@ -4,26 +4,25 @@
 // An agent's goal queue and parameters travel in its agent_state_t; the behavior-tree memory
 // (timers, once flags, running nodes) lives here, keyed by (episode, agent id), and evolves with
 // each computed step. A new episode number resets it.
-#include "hunav/geometry.hpp"
-#include "hunav/manager/behavior_tree.hpp"
-#include "hunav/scenario.hpp"
-#include "hunav/social_force.hpp"
-
-#include <hunav/agent_state_t.hpp>
-#include <hunav/people_social_t.hpp>
-#include <hunav/step_reply_t.hpp>
-#include <hunav/step_request_t.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <hunav/agent_state_t.hpp>
+#include <hunav/people_social_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
 #include <map>
 #include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include "hunav/geometry.hpp"
+#include "hunav/manager/behavior_tree.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/social_force.hpp"
 
 namespace hunav::manager {
 
@@ -74,9 +73,9 @@ class NeighborGrid {
   double cell_ = 1.0;
   Vec2 origin_ = Vec2::Zero();
   int nx_ = 0, ny_ = 0;
-  std::vector<int> start_;    // nx*ny+1 offsets into items_
-  std::vector<int> items_;    // body indices, cell by cell
-  std::vector<int> fill_;     // build scratch
+  std::vector<int> start_;  // nx*ny+1 offsets into items_
+  std::vector<int> items_;  // body indices, cell by cell
+  std::vector<int> fill_;   // build scratch
   // The bodies in items_ order, structure of arrays (the pair kernel streams through them).
   std::vector<double> x_, y_, vx_, vy_;
   const std::vector<SfmBody>* bodies_ = nullptr;
@@ -86,9 +85,9 @@ class NeighborGrid {
 // order agents are processed in.
 struct StepSnapshot {
   const step_request_t* request = nullptr;
-  std::vector<SfmBody> agents;   // same order as request->agents
+  std::vector<SfmBody> agents;  // same order as request->agents
   SfmBody robot;
-  std::vector<int> by_id;        // agent indices sorted by id (all-pairs order)
+  std::vector<int> by_id;  // agent indices sorted by id (all-pairs order)
   // Groups: member indices sorted by (group id, agent id); group_members[group_start[g] ..
   // group_start[g + 1]) are the members of group g, and group_of[i] is agent i's g (-1: none).
   std::vector<int> group_members;
@@ -155,20 +154,20 @@ ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_
 // Per-agent memory of the manager (besides the tree's own node memory).
 struct AgentMemory {
   int id = 0;
-  std::string tree_source;        // file path, or "builtin:<code>"
-  int behavior = -1;              // what the tree was chosen from
+  std::string tree_source;  // file path, or "builtin:<code>"
+  int behavior = -1;        // what the tree was chosen from
   std::string tree_file;
   BtTree tree;
-  bool stopped = false;           // StopMovement / ResumeMovement
-  bool social_tree = false;       // the tree uses a node of the social state
-  PersonSocial social;            // this step's social state (written by the nodes)
-  int group_override = -2;        // SetGroupId / SetGroupWalk: the group from the next step on (-2: none)
+  bool stopped = false;                       // StopMovement / ResumeMovement
+  bool social_tree = false;                   // the tree uses a node of the social state
+  PersonSocial social;                        // this step's social state (written by the nodes)
+  int group_override = -2;                    // SetGroupId / SetGroupWalk: the group from the next step on (-2: none)
   std::array<double, kOutputKeys> outputs{};  // output entries of the blackboard (-1 until written)
-  bool moved = false;             // a motion action already ran this tick
+  bool moved = false;                         // a motion action already ran this tick
   // Route following (people.navigation: path): the waypoint chosen for route_target, kept until
   // route_until_utime unless the target moves or the waypoint is reached.
   bool has_route = false;
-  bool route_direct = false;      // the target was in sight: head straight for it
+  bool route_direct = false;  // the target was in sight: head straight for it
   Vec2 route_target = Vec2::Zero();
   Vec2 route_waypoint = Vec2::Zero();
   std::int64_t route_until_utime = 0;
@@ -177,9 +176,9 @@ struct AgentMemory {
 // What a node sees while ticking one agent.
 struct TickContext {
   const StepSnapshot& snap;
-  std::size_t index;            // of the agent in the snapshot
-  const agent_state_t& in;      // state at t
-  agent_state_t& out;           // state at t + dt, pre-filled with `in`
+  std::size_t index;        // of the agent in the snapshot
+  const agent_state_t& in;  // state at t
+  agent_state_t& out;       // state at t + dt, pre-filled with `in`
   double dt;
   std::int64_t episode;
   std::int64_t seq;
@@ -189,8 +188,8 @@ struct TickContext {
 
 // Moves the agent with the social force model toward the front goal of out.goals (or `goal` when
 // given) at `speed`, adding `extra` to the force. Shared by RegularNav and the reactions.
-void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal = nullptr,
-             const Vec2& extra = Vec2::Zero(), double goal_radius = -1.0);
+void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal = nullptr, const Vec2& extra = Vec2::Zero(),
+             double goal_radius = -1.0);
 // Turns out.yaw toward `target` by at most kTurnRate*dt (stops exactly on it, no dithering).
 void turnToward(TickContext& c, const Vec2& target, double max_step);
 
@@ -252,8 +251,8 @@ class AgentManager {
   std::map<int, std::string> builtin_override_;
   bool have_episode_ = false;
   std::int64_t episode_ = 0;
-  std::unordered_map<int, AgentMemory> memory_;   // node pointers stay valid while it grows
-  std::vector<AgentMemory*> memory_at_;             // per request index: the memory found last step
+  std::unordered_map<int, AgentMemory> memory_;  // node pointers stay valid while it grows
+  std::vector<AgentMemory*> memory_at_;          // per request index: the memory found last step
   NeighborGrid grid_;
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;

@@ -7,8 +7,6 @@
 // SetBlackboard; leaf nodes from a NodeLibrary. Input ports are attributes; a value "{key}" reads the
 // blackboard. Every error (unknown node, missing or unknown port, bad value, unknown blackboard entry,
 // cycles of subtrees or includes) throws hunav::ConfigError "file:line: what" at load time.
-#include "hunav/config_error.hpp"
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -19,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "hunav/config_error.hpp"
+
 namespace hunav::manager {
 
 enum class Status { Success, Failure, Running };
@@ -27,8 +27,22 @@ enum class Status { Success, Failure, Running };
 // entries output ports write (FindNearestAgent, IsAnyoneSpeaking, IsAnyoneLookingAtMe): those keep
 // their value from tick to tick in the agent's memory, -1 until written.
 enum class BbKey : int {
-  Id, Dt, Time, Dist, Duration, Once, Vel, GoalForceFactor, ObstacleForceFactor, SocialForceFactor,
-  OtherForceFactor, MaxVel, TargetAgentId, SpeakerId, ObserverId, Count
+  Id,
+  Dt,
+  Time,
+  Dist,
+  Duration,
+  Once,
+  Vel,
+  GoalForceFactor,
+  ObstacleForceFactor,
+  SocialForceFactor,
+  OtherForceFactor,
+  MaxVel,
+  TargetAgentId,
+  SpeakerId,
+  ObserverId,
+  Count
 };
 inline constexpr int kFirstOutputKey = static_cast<int>(BbKey::TargetAgentId);
 inline constexpr int kOutputKeys = static_cast<int>(BbKey::Count) - kFirstOutputKey;

@@ -1,12 +1,11 @@
 #pragma once
 // The manager process logic: answers STEP_REQUEST with STEP_REPLY. Each reply carries the
 // messages the node dropped so far (the world puts the episode's share into its END event).
-#include "hunav/manager/agent_manager.hpp"
-#include "hunav/transport.hpp"
-
+#include <cstdint>
 #include <hunav/episode_event_t.hpp>
 
-#include <cstdint>
+#include "hunav/manager/agent_manager.hpp"
+#include "hunav/transport.hpp"
 
 namespace hunav::manager {
 
@@ -37,9 +36,9 @@ class ManagerNode {
   bool have_answered_ = false;  // answered_seq_ and answered_episode_ are set
   std::int64_t answered_seq_ = 0;
   std::int64_t answered_episode_ = 0;
-  bool have_last_ = false;      // last_reply_ holds the answer to answered_seq_ (for resends)
+  bool have_last_ = false;  // last_reply_ holds the answer to answered_seq_ (for resends)
   step_reply_t last_reply_;
-  people_social_t social_;      // PEOPLE_SOCIAL, reused
+  people_social_t social_;  // PEOPLE_SOCIAL, reused
   std::uint64_t steps_computed_ = 0;
   std::uint64_t replies_resent_ = 0;
   std::uint64_t episodes_ended_ = 0;

@@ -9,16 +9,15 @@
 //  - both inflated: lethal where the robot centre would make the robot touch an obstacle
 //    (distance <= robot radius), then a cost decaying exponentially up to the inflation radius.
 // The cost of a cell is the maximum of the two layers. Cells outside the grid count as lethal.
-#include "hunav/geometry.hpp"
-#include "hunav/scenario.hpp"
-
-#include <hunav/laser_scan_t.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <hunav/laser_scan_t.hpp>
 #include <string>
 #include <vector>
+
+#include "hunav/geometry.hpp"
+#include "hunav/scenario.hpp"
 
 namespace hunav::planners {
 
@@ -122,7 +121,7 @@ class Costmap {
   // Transient layer: cleared each cycle, then marked.
   void clearTransient();
   bool transientEmpty() const { return touched_count_ == 0; }  // nothing marked since the last clear
-  void markPoint(const Vec2& p);                        // an obstacle point (a laser hit)
+  void markPoint(const Vec2& p);                               // an obstacle point (a laser hit)
   // A round obstacle (a detected person). With max_cost below kInscribed the circle only discourages
   // (a place a person is predicted to be) and never blocks.
   void markCircle(const Vec2& center, double radius, std::uint8_t max_cost = kLethal);
@@ -146,7 +145,9 @@ class Costmap {
   // window still land on the cells inside it that their inflation reaches.
   void setMarkingWindow(const Vec2& lo, const Vec2& hi);
   void clearMarkingWindow();  // the whole grid (the default)
-  bool markingWholeGrid() const { return win_x0_ == 0 && win_y0_ == 0 && win_x1_ == width_ - 1 && win_y1_ == height_ - 1; }
+  bool markingWholeGrid() const {
+    return win_x0_ == 0 && win_y0_ == 0 && win_x1_ == width_ - 1 && win_y1_ == height_ - 1;
+  }
   // Clips the cell box [x0, x1] x [y0, y1] to the marking window; false when nothing is left.
   bool clipToMarkingWindow(int& x0, int& y0, int& x1, int& y1) const;
 
@@ -156,8 +157,8 @@ class Costmap {
   // is narrower than the gap between two cost steps, so it holds at most one step, at `boundary`.
   struct SquaredDistanceCosts {
     double radius = -1.0;
-    double reach2 = 0.0;      // from this x on the cost is kFree
-    double bins_per_x = 0.0;  // 0: no table (it would be too large), computed per call
+    double reach2 = 0.0;           // from this x on the cost is kFree
+    double bins_per_x = 0.0;       // 0: no table (it would be too large), computed per call
     std::vector<double> boundary;  // where the cost drops within the bin (infinity: it does not)
     // Per bin, the cost before the boundary then the one from it on: costs[2 bin + !(x < boundary)]
     // picks one without a branch.
@@ -214,7 +215,7 @@ class Costmap {
     std::uint8_t* transient_;
     int* touched_;
     mutable std::size_t touched_count_;  // written back to the map's when the loop ends
-    const double* column_x_;  // the x of the columns' centres minus a.x()
+    const double* column_x_;             // the x of the columns' centres minus a.x()
     double* row_segment_;
     double* row_from_a_;
     const int x0_;
@@ -241,7 +242,7 @@ class Costmap {
   CostmapParams params_;
   std::vector<Shape> shapes_;
   double robot_radius_;
-  double inflation_ = 0.0;  // effective inflation radius (at least one cell past the robot radius)
+  double inflation_ = 0.0;        // effective inflation radius (at least one cell past the robot radius)
   double lethal_distance_ = 0.0;  // half a cell diagonal: a surface this close to a centre crosses the cell
   Vec2 origin_;
   double inv_resolution_ = 0.0;  // cells per metre (a product is cheaper than a division)
@@ -261,8 +262,8 @@ class Costmap {
   std::vector<double> row_segment_;  // and its row's squared distances (to the segment, to a)
   std::vector<double> row_from_a_;
   int win_x0_ = 0, win_y0_ = 0, win_x1_ = -1, win_y1_ = -1;  // marking window, inclusive cell box
-  std::vector<SquaredDistanceCosts> distance_costs_;  // a few radii, most recent last
-  std::vector<std::uint8_t> decay_;  // cost beyond the robot radius, sampled every decay_step_
+  std::vector<SquaredDistanceCosts> distance_costs_;         // a few radii, most recent last
+  std::vector<std::uint8_t> decay_;                          // cost beyond the robot radius, sampled every decay_step_
   double decay_step_ = 0.0;
   double inv_decay_step_ = 0.0;
 };

@@ -2,16 +2,15 @@
 // Trajectory critics in the style of nav2's DWB: each scores a rolled-out trajectory (lower is
 // better) or rejects it. A local planner sums weight * score over its critics and takes the
 // cheapest admissible trajectory. New planners add their own critics (the social work of `sfw`).
+#include <hunav/robot_observation_t.hpp>
+#include <limits>
+#include <string>
+#include <vector>
+
 #include "hunav/geometry.hpp"
 #include "hunav/planners/costmap.hpp"
 #include "hunav/planners/global_planner.hpp"
 #include "hunav/planners/trajectory.hpp"
-
-#include <hunav/robot_observation_t.hpp>
-
-#include <limits>
-#include <string>
-#include <vector>
 
 namespace hunav::planners {
 

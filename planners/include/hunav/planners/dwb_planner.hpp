@@ -21,17 +21,17 @@
 //     accelerates when a sample beyond the dynamic window costs less (accelerateIfCheaper()).
 // Planners built on the same machinery (`scl`, `sfw`) derive from it, add costmap layers in
 // updateLayers() and critics with addCritic().
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
 #include "hunav/planners/costmap.hpp"
 #include "hunav/planners/critics.hpp"
 #include "hunav/planners/global_planner.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/recovery.hpp"
 #include "hunav/planners/trajectory.hpp"
-
-#include <cstdint>
-#include <memory>
-#include <optional>
-#include <vector>
 
 namespace hunav::planners {
 
@@ -44,8 +44,8 @@ struct DwbParams {
   // The window spans one control period of acceleration (+-0.1 m/s, +-0.25 rad/s with the scenario
   // limits): 0.05 m/s and 0.05 rad/s between samples; neighbouring yaw rates end a horizon less
   // than a costmap cell apart at full speed. The window is sampled again 0.1 s later.
-  int v_samples = 5;       // forward speeds sampled across the window (ends included)
-  int w_samples = 11;      // yaw rates sampled across the window (ends included)
+  int v_samples = 5;   // forward speeds sampled across the window (ends included)
+  int w_samples = 11;  // yaw rates sampled across the window (ends included)
 
   // Critic weights: total cost = sum of weight * critic score (scores documented in critics.hpp).
   double obstacle_weight = 0.5;       // costmap cost in [0, 1]
@@ -63,10 +63,10 @@ struct DwbParams {
   double oscillation_reset_angle = 0.2;     // rad it may turn instead (nav2's default)
 
   // Behaviour around the samples.
-  double lookahead_distance = 0.6;      // m along the path to the point the heading error is measured to
-  double rotate_in_place_angle = 1.0;   // rad, heading error beyond which the robot turns on the spot
-  double stopped_rotate_angle = 0.1;    // rad, heading error worth turning for while nothing is admissible
-  double rotate_gain = 1.5;             // 1/s, yaw rate per rad of heading error when turning on the spot
+  double lookahead_distance = 0.6;     // m along the path to the point the heading error is measured to
+  double rotate_in_place_angle = 1.0;  // rad, heading error beyond which the robot turns on the spot
+  double stopped_rotate_angle = 0.1;   // rad, heading error worth turning for while nothing is admissible
+  double rotate_gain = 1.5;            // 1/s, yaw rate per rad of heading error when turning on the spot
   // s of simulation time between A* replans (nav2's default rate); 0 = every cycle. A periodic
   // replan is skipped when nothing transient is marked now nor was when the path was planned (the
   // same map: the same path). In between, the path is replanned early when it is blocked, when the
@@ -82,17 +82,18 @@ struct DwbParams {
   // When no sample is admissible, instead of braking take the sample (clear of obstacles) whose
   // closest approach to the predicted people is largest: a robot standing in a person's way steps
   // aside. Turning on the spot is then also checked with the critics first (a person walking into
-  // the turning robot makes it sample instead). Off for dwb (its recorded behaviour); the scl and sfw planners switch it on.
+  // the turning robot makes it sample instead). Off for dwb (its recorded behaviour); the scl and sfw planners switch
+  // it on.
   bool evade_people = false;
-  bool mark_scan = true;                // laser hits go into the transient costmap layer
-  bool mark_people = true;              // detected people go into the transient costmap layer
+  bool mark_scan = true;    // laser hits go into the transient costmap layer
+  bool mark_people = true;  // detected people go into the transient costmap layer
   // s: where a moving person will be over this time is marked too, with costs capped below lethal,
   // so the global path steps aside early instead of brushing past the person's current place.
   double people_prediction_time = 1.5;
 
-  CostmapParams costmap;                // section `costmap:`
-  GlobalPlannerParams global_planner;   // section `global_planner:`
-  RecoveryParams recovery;              // section `recovery:`
+  CostmapParams costmap;               // section `costmap:`
+  GlobalPlannerParams global_planner;  // section `global_planner:`
+  RecoveryParams recovery;             // section `recovery:`
 
   // Reads sections costmap, global_planner, dwb and recovery of the --config file (null: defaults).
   static DwbParams fromConfig(const YamlReader* config);
@@ -190,13 +191,13 @@ class DwbPlanner : public Planner {
   Costmap costmap_;
   AStarPlanner astar_;
   GlobalPath path_;
-  std::int64_t path_utime_ = 0;       // when path_ was last planned (or found impossible)
-  std::optional<Vec2> path_goal_;     // the goal it was planned for; none before the first plan
-  bool path_map_static_ = false;      // it was planned with nothing in the transient layer
+  std::int64_t path_utime_ = 0;           // when path_ was last planned (or found impossible)
+  std::optional<Vec2> path_goal_;         // the goal it was planned for; none before the first plan
+  bool path_map_static_ = false;          // it was planned with nothing in the transient layer
   std::vector<std::uint8_t> path_costs_;  // the cost of each path point when it was planned
   std::vector<std::unique_ptr<TrajectoryCritic>> critics_;
   TrajectoryCritic* goal_critic_ = nullptr;  // among critics_: recovery's impatience reweighs it
-  std::vector<Circle> people_marked_;  // this cycle's people in the costmap
+  std::vector<Circle> people_marked_;        // this cycle's people in the costmap
   PlanningContext ctx_;
   struct Candidate {
     double bound;     // lower bound of its total cost
@@ -206,8 +207,8 @@ class DwbPlanner : public Planner {
   };
   std::vector<Candidate> candidates_;  // sampleBest's buffer, reused
   std::optional<Vec2> last_command_;   // (v, w) sent last (sampleBest starts its search there)
-  RolloutStart start_;     // this cycle's robot pose
-  Trajectory trajectory_;  // rollout buffer, reused
+  RolloutStart start_;                 // this cycle's robot pose
+  Trajectory trajectory_;              // rollout buffer, reused
   Decision last_decision_ = Decision::Idle;
   std::size_t last_admissible_ = 0;
   double last_best_cost_ = 0.0;  // the total of the sample sampleBest() chose

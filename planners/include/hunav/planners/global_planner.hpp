@@ -1,12 +1,12 @@
 #pragma once
 // The global path: an 8-connected, cost-aware A* over the costmap from the robot to the goal.
-#include "hunav/geometry.hpp"
-#include "hunav/planners/costmap.hpp"
-
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
+
+#include "hunav/geometry.hpp"
+#include "hunav/planners/costmap.hpp"
 
 namespace hunav::planners {
 

@@ -3,11 +3,11 @@
 // (`costmap:`, `global_planner:`, `dwb:`, ...); every value is optional and keeps its documented
 // default when absent. Unknown keys and sections are errors: a typo must not be silently ignored.
 // Every problem is a ConfigError naming file, line and dotted key.
-#include "hunav/yaml_reader.hpp"
-
 #include <initializer_list>
 #include <set>
 #include <string>
+
+#include "hunav/yaml_reader.hpp"
 
 namespace hunav::planners {
 
@@ -29,7 +29,7 @@ class ParamSection {
 
   const YamlReader* config_;
   std::string section_;
-  YAML::Node map_;      // the section's mapping, when has_map_
+  YAML::Node map_;  // the section's mapping, when has_map_
   bool has_map_ = false;
   std::set<std::string> known_;
 };

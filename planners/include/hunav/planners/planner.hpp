@@ -1,16 +1,15 @@
 #pragma once
 // The planner interface and the registry the hunav_planner process picks planners from by name
 // (Menge style). A planner turns one observation into one velocity command.
-#include "hunav/scenario.hpp"
-#include "hunav/yaml_reader.hpp"
-
+#include <functional>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
-
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "hunav/scenario.hpp"
+#include "hunav/yaml_reader.hpp"
 
 namespace hunav::planners {
 

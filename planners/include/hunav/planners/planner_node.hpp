@@ -11,19 +11,18 @@
 //    whenever its drop count grew; a process repeats announce() as its heartbeat (planners/main.cpp).
 //  - With each command of a planner that keeps a global path (dwb, scl, sfw), the path goes out on
 //    ROBOT_PATH (planned_path_t) for monitors such as hunav_view; nobody in the step protocol reads it.
-#include "hunav/planners/planner.hpp"
-#include "hunav/transport.hpp"
-
+#include <cstdint>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/planned_path_t.hpp>
 #include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
-
-#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+
+#include "hunav/planners/planner.hpp"
+#include "hunav/transport.hpp"
 
 namespace hunav::planners {
 
@@ -46,9 +45,9 @@ class PlannerNode {
 
   std::int64_t episodesEnded() const { return episodes_ended_; }
   std::uint64_t plansComputed() const { return plans_computed_; }
-  std::uint64_t commandsSent() const { return commands_sent_; }      // resends included
-  std::uint64_t repliesResent() const { return replies_resent_; }    // cached answers to resent observations
-  std::uint64_t staleIgnored() const { return stale_ignored_; }      // observations older than the last answered
+  std::uint64_t commandsSent() const { return commands_sent_; }    // resends included
+  std::uint64_t repliesResent() const { return replies_resent_; }  // cached answers to resent observations
+  std::uint64_t staleIgnored() const { return stale_ignored_; }    // observations older than the last answered
   Planner& planner() { return *planner_; }
 
   // Throws BadMessage when the observation cannot be planned on.

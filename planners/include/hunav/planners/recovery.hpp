@@ -14,15 +14,14 @@
 // safety check along the motion). Progress: the robot gets progress_distance away from where it
 // last progressed and from every place a recovery started or ended since (backing up and driving
 // back is no progress); it restarts the sequence. All timing comes from the observations' utime.
+#include <cstdint>
+#include <functional>
+#include <hunav/robot_observation_t.hpp>
+#include <vector>
+
 #include "hunav/geometry.hpp"
 #include "hunav/planners/trajectory.hpp"
 #include "hunav/yaml_reader.hpp"
-
-#include <hunav/robot_observation_t.hpp>
-
-#include <cstdint>
-#include <functional>
-#include <vector>
 
 namespace hunav::planners {
 

@@ -15,13 +15,13 @@ constexpr double kSclHeuristicWeight = 1.5;  // global_planner.heuristic_weight 
 
 // Section `scl:` of --config (planners/config/scl.yaml lists every key with its default).
 struct SclParams {
-  double amplitude = 252.0;      // cost (0..252) at the person's surface
-  double sigma_front = 1.0;      // m, Gaussian spread in front of a standing person
-  double sigma_rear = 0.5;       // m, spread behind
-  double sigma_side = 0.8;       // m, spread to either side
-  double speed_factor = 1.0;     // s: the front spread grows by speed * speed_factor (m/s * s = m)
-  double cutoff = 10.0;          // cost below which cells are left alone (bounds the marked area)
-  double moving_speed = 0.05;    // m/s below which the person's yaw (not its velocity) gives the front
+  double amplitude = 252.0;    // cost (0..252) at the person's surface
+  double sigma_front = 1.0;    // m, Gaussian spread in front of a standing person
+  double sigma_rear = 0.5;     // m, spread behind
+  double sigma_side = 0.8;     // m, spread to either side
+  double speed_factor = 1.0;   // s: the front spread grows by speed * speed_factor (m/s * s = m)
+  double cutoff = 10.0;        // cost below which cells are left alone (bounds the marked area)
+  double moving_speed = 0.05;  // m/s below which the person's yaw (not its velocity) gives the front
 
   void readSection(const YamlReader* config);
 };
@@ -47,10 +47,10 @@ class SclPlanner : public DwbPlanner {
   std::uint8_t exponentCost(double e, int top) const;
 
   SclParams scl_;
-  double max_exponent_ = 0.0;              // log(amplitude / cutoff): beyond it the cost is below the cutoff
+  double max_exponent_ = 0.0;  // log(amplitude / cutoff): beyond it the cost is below the cutoff
   double bins_per_exponent_ = 0.0;
-  std::vector<double> cost_threshold_;     // [c]: the largest exponent whose cost is still >= c
-  std::vector<std::uint8_t> bin_cost_;     // the cost at the start of each bin of exponents
+  std::vector<double> cost_threshold_;  // [c]: the largest exponent whose cost is still >= c
+  std::vector<std::uint8_t> bin_cost_;  // the cost at the start of each bin of exponents
 };
 
 }  // namespace hunav::planners

@@ -17,17 +17,17 @@ struct SfwParams {
   // the ratio of social_weight to distance_weight in the original planner
   // (robotics-upo/social_force_window_planner, config/local_planner.yaml).
   double social_work_weight = 3.0;
-  double prediction_step = 0.1;     // s between the predicted poses (a multiple of dwb.sim_step is best)
-  double people_forces = 1.0;       // factor on the forces of and on people in the work
+  double prediction_step = 0.1;  // s between the predicted poses (a multiple of dwb.sim_step is best)
+  double people_forces = 1.0;    // factor on the forces of and on people in the work
   // Factor on the obstacle force on the robot in the work. 0: static clearance is left to the
   // obstacle critic (bounded, on the costmap). Counted in the work (0.2 before), a wall 0.5 m away
   // cost 3 * 0.2 * 10 e^-1 * 1.7 s = 3.8 per horizon against 1.0 for a horizon of progress, while
   // standing beyond the inflation radius cost nothing: the robot parked at the mouth of every
   // aisle and doorway, and could not leave a cluttered start.
   double obstacle_forces = 0.0;
-  double people_react = 1.0;        // factor on the robot's push in the people's predicted motion
-  SfmParams sfm;                    // social_weight, lambda, gamma, n, n_prime, obstacle_weight,
-                                    // obstacle_sigma, relaxation_time, goal_weight (as the manager)
+  double people_react = 1.0;  // factor on the robot's push in the people's predicted motion
+  SfmParams sfm;              // social_weight, lambda, gamma, n, n_prime, obstacle_weight,
+                              // obstacle_sigma, relaxation_time, goal_weight (as the manager)
 
   void readSection(const YamlReader* config);
 };

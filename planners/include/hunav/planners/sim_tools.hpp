@@ -2,15 +2,14 @@
 // A minimal stand-in for the world, for planner tests, benchmarks and experiments without the
 // simulator: observations built from a scenario, and laser scans ray-cast against its shapes and
 // round bodies (people). Not used by the planner process itself.
+#include <cstdint>
+#include <hunav/laser_scan_t.hpp>
+#include <hunav/robot_observation_t.hpp>
+#include <vector>
+
 #include "hunav/geometry.hpp"
 #include "hunav/planners/costmap.hpp"
 #include "hunav/scenario.hpp"
-
-#include <hunav/laser_scan_t.hpp>
-#include <hunav/robot_observation_t.hpp>
-
-#include <cstdint>
-#include <vector>
 
 namespace hunav::planners {
 
@@ -60,8 +59,8 @@ class MiniWorld {
   double time_ = 0.0;
   std::int64_t seq_ = 0;
   std::vector<Person> people_;
-  std::vector<Vec2> person_goals_;   // per person: where it walks to
-  std::vector<double> person_speed_; // per person, m/s (0 when standing)
+  std::vector<Vec2> person_goals_;    // per person: where it walks to
+  std::vector<double> person_speed_;  // per person, m/s (0 when standing)
   std::vector<double> person_goal_radius_;
 };
 

@@ -1,10 +1,9 @@
 #pragma once
 // Differential-drive motion: the dynamic window of reachable (v, w) and constant-velocity rollouts.
-#include "hunav/geometry.hpp"
-
 #include <hunav/robot_observation_t.hpp>
-
 #include <vector>
+
+#include "hunav/geometry.hpp"
 
 namespace hunav::planners {
 

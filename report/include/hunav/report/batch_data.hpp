@@ -3,7 +3,7 @@
 //   summary.csv        scenario,planner,seed,status,sim_time,wall_time,run_dir,<metric columns>
 //   summary_stats.csv  scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high
 //   paired.csv         scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant
-//   paper_comparison.csv  scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci
+//   paper_comparison.csv scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci
 //   paper_orderings.csv   scenario,behavior,metric,planner_a,planner_b,paper,ours,verdict,significant
 //   expectations.csv      scenario,planner,seed,metric,condition,value,pass (the verdicts of the
 //                         scenarios' expect: conditions; only in batches with such scenarios)
@@ -19,13 +19,13 @@ struct BatchRun {
   std::string planner;
   long long seed = 0;
   std::string status;
-  double sim_time = 0.0;              // s; NaN when empty
-  double wall_time = 0.0;             // s; NaN when empty
-  std::string run_dir_text;           // as summary.csv holds it
-  std::filesystem::path run_dir;      // resolved (absolute, or relative to the batch folder)
-  std::vector<double> metrics;        // one per BatchData::metric_names; NaN when empty; true/false = 1/0
-  std::string page_link;              // link from the batch page to the run's report.html; empty when none
-  std::string page_note;              // why there is no run page
+  double sim_time = 0.0;          // s; NaN when empty
+  double wall_time = 0.0;         // s; NaN when empty
+  std::string run_dir_text;       // as summary.csv holds it
+  std::filesystem::path run_dir;  // resolved (absolute, or relative to the batch folder)
+  std::vector<double> metrics;    // one per BatchData::metric_names; NaN when empty; true/false = 1/0
+  std::string page_link;          // link from the batch page to the run's report.html; empty when none
+  std::string page_note;          // why there is no run page
 };
 
 struct StatRow {
@@ -73,9 +73,9 @@ struct BatchData {
   std::vector<StatRow> stats;
   std::vector<PairedRow> paired;
   bool has_paired = false;
-  std::vector<PaperRow> paper;               // empty without paper_comparison.csv
+  std::vector<PaperRow> paper;  // empty without paper_comparison.csv
   std::vector<PaperOrdering> paper_orderings;
-  std::vector<ExpectRow> expectations;       // empty without expectations.csv
+  std::vector<ExpectRow> expectations;  // empty without expectations.csv
   bool has_summary_md = false;
   std::vector<std::string> notes;
 };

@@ -1,10 +1,10 @@
 #pragma once
 // The self-contained HTML pages: one file each, with the data as JSON and the stylesheet and scripts
 // inline (no server, no network, nothing external).
+#include <string>
+
 #include "hunav/report/batch_data.hpp"
 #include "hunav/report/run_data.hpp"
-
-#include <string>
 
 namespace hunav::report {
 

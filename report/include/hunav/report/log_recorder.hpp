@@ -16,12 +16,11 @@
 // Several ports: with channel_ports=1 (hunav/transport.hpp) the step protocol's channels travel on
 // ports of their own, each an LCM instance; the recorder listens on all of them and writes every
 // message into the one log, in the order it handles them (each channel's messages in their order).
-#include <lcm/lcm-cpp.hpp>
-
 #include <poll.h>
 
 #include <chrono>
 #include <cstdint>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <string>
 #include <vector>
@@ -61,8 +60,8 @@ class LogRecorder {
 
   std::vector<lcm::LCM*> instances_;
   std::vector<lcm_subscription_t*> subscriptions_;  // one per instance
-  std::vector<pollfd> poll_fds_;                   // one per instance
-  std::size_t next_ = 0;                           // round robin among ready instances
+  std::vector<pollfd> poll_fds_;                    // one per instance
+  std::size_t next_ = 0;                            // round robin among ready instances
   lcm::LogFile log_;
   std::int64_t events_ = 0;
   std::int64_t last_stamp_ = 0;

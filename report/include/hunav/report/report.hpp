@@ -1,11 +1,11 @@
 #pragma once
 // hunav_report's work: a run folder or a batch folder in, report.html written beside its data.
-#include "hunav/report/run_data.hpp"
-
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "hunav/report/run_data.hpp"
 
 namespace hunav::report {
 
@@ -24,8 +24,8 @@ struct ReportOptions {
 struct ReportResult {
   std::filesystem::path page;
   std::uintmax_t bytes = 0;
-  std::size_t run_pages = 0;           // batch: run pages written
-  std::vector<std::string> warnings;   // batch: runs without a page, and why
+  std::size_t run_pages = 0;          // batch: run pages written
+  std::vector<std::string> warnings;  // batch: runs without a page, and why
 };
 
 // Writes the run page of `dir` (atomically: a temporary file, then rename). `batch_link`: link back

@@ -2,23 +2,23 @@
 // What a run page shows, extracted from one run folder (evaluator/README.md, "Files"): run.json, states.csv,
 // metrics_steps.csv (or the same per-tick columns recomputed from states.csv), metrics_beh_<b>.csv,
 // and the map of the scenario named in run.json (or the obstacle points states.csv recorded).
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/geometry.hpp"
-
 #include <cstddef>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/results.hpp"
+#include "hunav/geometry.hpp"
+
 namespace hunav::report {
 
 // Size budget of a run page: long runs and big crowds are downsampled to stay within it.
 struct ReportLimits {
-  std::size_t max_frames = 1500;          // replay frames
-  std::size_t max_positions = 250000;     // replay frames x entities (about 9 bytes each in the page)
-  std::size_t max_plot_points = 1000;     // buckets per time series (up to 2 points kept per bucket)
+  std::size_t max_frames = 1500;       // replay frames
+  std::size_t max_positions = 250000;  // replay frames x entities (about 9 bytes each in the page)
+  std::size_t max_plot_points = 1000;  // buckets per time series (up to 2 points kept per bucket)
   std::size_t max_obstacle_points = 20000;
   std::size_t max_active_spans = 5000;
   std::size_t max_goals_per_track = 50;
@@ -71,15 +71,15 @@ struct RunData {
   std::vector<Vec2> obstacle_points;  // when the scenario could not be loaded: obstacle points recorded
   std::string map_source;             // where the map comes from, for the page
 
-  std::size_t samples = 0;            // samples in states.csv
-  std::size_t frame_stride = 1;       // a frame every this many samples (and the last sample)
-  std::vector<double> frame_t;        // s
-  std::vector<Track> tracks;          // the robot first, then people in order of first appearance
+  std::size_t samples = 0;       // samples in states.csv
+  std::size_t frame_stride = 1;  // a frame every this many samples (and the last sample)
+  std::vector<double> frame_t;   // s
+  std::vector<Track> tracks;     // the robot first, then people in order of first appearance
   std::vector<ActiveSpan> active;
-  std::vector<TimeSeries> series;     // closest_distance, robot_speed, social_work, *_intrusions_cum
+  std::vector<TimeSeries> series;  // closest_distance, robot_speed, social_work, *_intrusions_cum
   std::string series_source;
   Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();  // bounds of everything drawn on the map
-  std::vector<std::string> notes;     // what the page should warn about (downsampling, missing files)
+  std::vector<std::string> notes;             // what the page should warn about (downsampling, missing files)
 };
 
 struct RunDataOptions {

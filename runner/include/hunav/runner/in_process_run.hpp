@@ -2,31 +2,31 @@
 // One episode with every component (world, manager, planner, evaluator) in this process, on one
 // in-process bus (or LCM's memq://): the same code and the same messages as separate processes in
 // lockstep, so the same fingerprint, without a network.
-#include "hunav/evaluator/results.hpp"
-#include "hunav/scenario.hpp"
-#include "hunav/worldsim/world_sim.hpp"
-
 #include <atomic>
 #include <optional>
 #include <string>
 
+#include "hunav/evaluator/results.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/worldsim/world_sim.hpp"
+
 namespace hunav::runner {
 
 struct RunOptions {
-  std::string planner = "dwb";   // a registered planner name, or "none" (the robot stands still)
-  std::string planner_config;    // YAML parameters of the planner (empty: defaults)
-  std::string out_dir;           // result files
+  std::string planner = "dwb";  // a registered planner name, or "none" (the robot stands still)
+  std::string planner_config;   // YAML parameters of the planner (empty: defaults)
+  std::string out_dir;          // result files
   std::string profile = "default";
   // The evaluator's metrics file (--metrics); empty: the scenario's evaluation.metrics, else every
   // metric. Only its selection is used here: hunav_run's main applies its frequency and
   // experiment_tag (evaluator::applyMetricsFile) before the run.
   std::string metrics_file;
-  bool hunav_txt = false;        // also HuNavSim v1's tab-separated result files (--format hunav_txt)
+  bool hunav_txt = false;  // also HuNavSim v1's tab-separated result files (--format hunav_txt)
   std::string experiment_tag = "exp";
-  std::string run_id;            // default <scenario>_<planner>_s<seed>
-  std::string record_file;       // LCM log of every message (empty: none)
-  bool use_memq = false;         // run on LCM's memq:// instead of the Bus's own in-process queue
-                                 // (same messages and results; memq costs a pipe round trip each)
+  std::string run_id;       // default <scenario>_<planner>_s<seed>
+  std::string record_file;  // LCM log of every message (empty: none)
+  bool use_memq = false;    // run on LCM's memq:// instead of the Bus's own in-process queue
+                            // (same messages and results; memq costs a pipe round trip each)
   const std::atomic<bool>* stop = nullptr;
   // The evaluator's worker thread takes over from this many people (EvaluatorOptions::
   // worker_min_people); -1: the evaluator's default.

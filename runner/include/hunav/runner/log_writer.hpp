@@ -1,12 +1,11 @@
 #pragma once
 // Writes every message published through a Bus to an LCM log file (the format of lcm-logger, readable
 // by lcm-logplayer and the evaluator). In-process runs have no network for lcm-logger to listen on.
-#include "hunav/transport.hpp"
-
-#include <lcm/lcm-cpp.hpp>
-
 #include <cstdint>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
+
+#include "hunav/transport.hpp"
 
 namespace hunav::runner {
 

@@ -26,7 +26,7 @@ Pose2 driveHolonomic(const Pose2& start, double vx, double vy, double w, double 
 
 // applyLimits for a holonomic base: vx in [min_v, max_v] changing at most max_acc_v * dt, vy in
 // [-max_vy, max_vy] changing at most max_acc_vy * dt, w as in applyLimits.
-void applyHolonomicLimits(const RobotLimits& limits, double dt, double vx_cmd, double vy_cmd, double w_cmd,
-                          double& vx, double& vy, double& w);
+void applyHolonomicLimits(const RobotLimits& limits, double dt, double vx_cmd, double vy_cmd, double w_cmd, double& vx,
+                          double& vy, double& w);
 
 }  // namespace hunav::worldsim

@@ -1,19 +1,18 @@
 #pragma once
 // The Box2D world: static geometry, a dynamic body per person and for the robot, contacts, and the
 // sensing that reads it (ray casts, closest obstacle points, line of sight).
-#include "hunav/scenario.hpp"
-
-#include <hunav/collision_t.hpp>
-
 #include <box2d/box2d.h>
 
+#include <array>
 #include <cstdint>
+#include <hunav/collision_t.hpp>
 #include <limits>
 #include <map>
 #include <memory>
 #include <utility>
-#include <array>
 #include <vector>
+
+#include "hunav/scenario.hpp"
 
 namespace hunav::worldsim {
 

@@ -1,11 +1,10 @@
 #pragma once
 // The robot's laser, by ray casts in the physics world (static geometry and people).
+#include <hunav/laser_scan_t.hpp>
+#include <random>
+
 #include "hunav/scenario.hpp"
 #include "hunav/worldsim/physics_world.hpp"
-
-#include <hunav/laser_scan_t.hpp>
-
-#include <random>
 
 namespace hunav::worldsim {
 

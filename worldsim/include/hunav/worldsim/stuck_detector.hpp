@@ -2,11 +2,11 @@
 // Tells when the robot has stopped making progress (the scenario's stuck_timeout, stuck_distance;
 // docs/world.md, "Stuck robots"), so that the world can end such an episode with status `stuck`
 // instead of simulating a robot pinned in a corner until the time limit.
-#include "hunav/geometry.hpp"
-
 #include <cstdint>
 #include <limits>
 #include <string>
+
+#include "hunav/geometry.hpp"
 
 namespace hunav::worldsim {
 

@@ -1,13 +1,9 @@
 #pragma once
-// The world process logic: owns the clock, runs episodes over the step protocol (lcmtypes/README.md, "One tick in lockstep")
-// and publishes what is true at every tick.
-#include "hunav/episode_status.hpp"
-#include "hunav/fingerprint.hpp"
-#include "hunav/scenario.hpp"
-#include "hunav/transport.hpp"
-#include "hunav/worldsim/physics_world.hpp"
-#include "hunav/worldsim/stuck_detector.hpp"
-
+// The world process logic: owns the clock, runs episodes over the step protocol (lcmtypes/README.md, "One tick in
+// lockstep") and publishes what is true at every tick.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
@@ -15,26 +11,29 @@
 #include <hunav/step_reply_t.hpp>
 #include <hunav/step_request_t.hpp>
 #include <hunav/world_state_t.hpp>
-
-#include <atomic>
-#include <chrono>
-#include <cstdint>
 #include <memory>
 #include <optional>
 #include <random>
 #include <string>
 
+#include "hunav/episode_status.hpp"
+#include "hunav/fingerprint.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/transport.hpp"
+#include "hunav/worldsim/physics_world.hpp"
+#include "hunav/worldsim/stuck_detector.hpp"
+
 namespace hunav::worldsim {
 
 struct WorldOptions {
-  std::string planner = "dwb";     // reported in events; "none" runs without a planner (robot stands)
-  std::string mode = "lockstep";   // inprocess | lockstep | realtime (realtime: wall-clock paced,
-                                   // the robot uses the latest command instead of waiting for it)
-  std::string run_id;              // default: <scenario>_<planner>_s<seed>
-  std::chrono::milliseconds resend_after{100};    // resend a request unanswered this long
-  std::chrono::milliseconds silence_limit{1000};  // abort after this long without an answer
-  std::chrono::milliseconds startup_limit{10000}; // same, for a component's first answer of an episode
-  const std::atomic<bool>* stop = nullptr;        // set (e.g. by SIGINT) to end the episode early
+  std::string planner = "dwb";                     // reported in events; "none" runs without a planner (robot stands)
+  std::string mode = "lockstep";                   // inprocess | lockstep | realtime (realtime: wall-clock paced,
+                                                   // the robot uses the latest command instead of waiting for it)
+  std::string run_id;                              // default: <scenario>_<planner>_s<seed>
+  std::chrono::milliseconds resend_after{100};     // resend a request unanswered this long
+  std::chrono::milliseconds silence_limit{1000};   // abort after this long without an answer
+  std::chrono::milliseconds startup_limit{10000};  // same, for a component's first answer of an episode
+  const std::atomic<bool>* stop = nullptr;         // set (e.g. by SIGINT) to end the episode early
   // The caller of tick() drives the robot (command()), not a planner on the bus: a control tick stops
   // before the planner exchange with the observation pending (the Python module's step()).
   bool external_control = false;
@@ -52,12 +51,12 @@ struct WorldOptions {
 struct EpisodeResult {
   std::string status;  // goal_reached | time_limit | stuck | aborted (episode_status.hpp)
   std::string reason;
-  std::int64_t ticks = 0;  // world states published, tick 0 included
-  double sim_time = 0.0;   // s
-  double wall_time = 0.0;  // s
+  std::int64_t ticks = 0;        // world states published, tick 0 included
+  double sim_time = 0.0;         // s
+  double wall_time = 0.0;        // s
   double thread_cpu_time = 0.0;  // s of CPU time of the thread that ran the episode loop (START to END)
   std::string fingerprint;
-  std::uint64_t collisions = 0;  // contact events of the episode (the sum over its world states)
+  std::uint64_t collisions = 0;        // contact events of the episode (the sum over its world states)
   std::uint64_t dropped_messages = 0;  // the world dropped in the episode (its END event's count)
   // What the manager and the planner dropped in the episode, as their step replies and PLANNER_READY
   // announcements told; -1 when the world heard no count (no people, no planner, a silent one).
@@ -133,8 +132,8 @@ class WorldSim {
   bool awaitPlannerReady(std::string& failure);
   // Ends the episode after a failed exchange: interrupted (or the supervisor's reason) when stopped.
   void abortWith(EpisodeResult& result, const std::string& failure) const;
-  bool awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
-                  std::int64_t seq, std::string& failure);
+  bool awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who, std::int64_t seq,
+                  std::string& failure);
   robot_observation_t observation();
   // Moves the people's bodies with the motion of the last step reply.
   void applyReply();
@@ -162,7 +161,7 @@ class WorldSim {
   // Reused every tick so that steady-state ticks do not allocate.
   step_request_t request_;
   world_state_t world_state_;
-  std::vector<std::uint8_t> encoded_;  // of the last world state
+  std::vector<std::uint8_t> encoded_;                      // of the last world state
   double robot_v_ = 0.0, robot_vy_ = 0.0, robot_w_ = 0.0;  // velocities the base is driving at (robot frame)
   double cmd_v_ = 0.0, cmd_vy_ = 0.0, cmd_w_ = 0.0;        // last command
   std::vector<Vec2> robot_obstacles_;
