@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "hunav/config_error.hpp"
+#include "hunav/evaluator/json_text.hpp"
 #include "hunav/yaml_reader.hpp"
 #include "hunav_git_commit.hpp"  // HUNAV_GIT_COMMIT_DEFAULT, generated at build time
 
@@ -119,8 +120,11 @@ bool appendLocked(const fs::path& file, const std::string& header, const std::st
   return true;
 }
 
-std::string jsonString(const std::string& s) {
+}  // namespace
+
+std::string jsonString(std::string_view s, bool html_safe) {
   std::string out = "\"";
+  out.reserve(s.size() + 2);
   for (const char c : s) {
     switch (c) {
       case '"':
@@ -138,6 +142,15 @@ std::string jsonString(const std::string& s) {
       case '\t':
         out += "\\t";
         break;
+      case '<':
+      case '>':
+      case '&':
+        if (html_safe) {
+          out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
+          break;
+        }
+        out += c;
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20)
           out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
@@ -147,6 +160,8 @@ std::string jsonString(const std::string& s) {
   }
   return out + "\"";
 }
+
+namespace {
 
 // JSON has no NaN or infinity: a non-finite double (which RunInfo never holds by construction) is
 // written as 0 rather than producing an unreadable file.

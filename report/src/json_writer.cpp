@@ -4,46 +4,11 @@
 
 #include <cmath>
 
+#include "hunav/evaluator/json_text.hpp"
+
 namespace hunav::report {
 
-std::string jsonQuote(std::string_view s) {
-  std::string out = "\"";
-  out.reserve(s.size() + 2);
-  for (const char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '<':
-        out += "\\u003c";
-        break;  // no "</script>" or "<!--" inside a script element
-      case '>':
-        out += "\\u003e";
-        break;
-      case '&':
-        out += "\\u0026";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        else
-          out += c;
-    }
-  }
-  return out + "\"";
-}
+std::string jsonQuote(std::string_view s) { return evaluator::jsonString(s, /*html_safe=*/true); }
 
 std::string formatFixed(double v, int decimals) {
   if (!std::isfinite(v)) return "null";

@@ -18,6 +18,7 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/worldsim/world_sim.hpp"
+#include "test_planners.hpp"
 
 using namespace hunav;
 using hunav::worldsim::WorldOptions;
@@ -38,19 +39,9 @@ WorldOptions fastOptions() {
 }
 
 // Answers every observation with (v, w) = (value, value).
-class HugeCommand {
+class HugeCommand : public worldsim_test::FixedCommand {
  public:
-  HugeCommand(Bus& bus, double value) {
-    bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&bus, value](const robot_observation_t& o) {
-      robot_command_t c{};
-      c.utime = o.utime;
-      c.seq = o.seq;
-      c.episode = o.episode;
-      c.v = value;
-      c.w = value;
-      bus.publish(channels::kRobotCommand, c);
-    });
-  }
+  HugeCommand(Bus& bus, double value) : FixedCommand(bus, value, 0.0, value) {}
 };
 
 // Answers every step request with the people as they were (an echo), changed by `tweak`.

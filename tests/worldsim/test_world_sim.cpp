@@ -19,6 +19,7 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/worldsim/world_sim.hpp"
+#include "test_planners.hpp"
 
 using namespace hunav;
 using hunav::worldsim::WorldOptions;
@@ -320,27 +321,7 @@ class FixedVelocityManager {
   Vec2 velocity_;
 };
 
-// A test-only planner that sends one fixed command and keeps the observations it answered.
-class FixedCommand {
- public:
-  FixedCommand(Bus& bus, double v, double vy, double w) : bus_(bus) {
-    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, v, vy, w](const robot_observation_t& o) {
-      observations.push_back(o);
-      robot_command_t c{};
-      c.utime = o.utime;
-      c.seq = o.seq;
-      c.episode = o.episode;
-      c.v = v;
-      c.vy = vy;
-      c.w = w;
-      bus_.publish(channels::kRobotCommand, c);
-    });
-  }
-  std::vector<robot_observation_t> observations;
-
- private:
-  Bus& bus_;
-};
+using worldsim_test::FixedCommand;
 
 AgentConfig person(int id, const Vec2& at) {
   AgentConfig a;
