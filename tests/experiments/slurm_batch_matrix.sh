@@ -88,6 +88,14 @@ SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" "$SLURM" "${matrix[@]}" --d
   >"$WORK/submit_tens.log"
 [[ $(sed -n 1p "$WORK/sbatch.log") == *"--array=0-1 "* ]] || fail "default runs per task: $(sed -n 1p "$WORK/sbatch.log")"
 grep -q "18 runs in 2 tasks of up to 10" "$WORK/submit_tens.log" || fail "$(cat "$WORK/submit_tens.log")"
+# A bad number of runs per task is a usage error (exit 2) naming the option, before anything is written.
+for bad in 0 -3 x; do
+  rc=0
+  "$SLURM" "${matrix[@]}" --runs-per-task "$bad" --out "$WORK/bad_$bad" >"$WORK/bad.log" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] || fail "--runs-per-task $bad exited $rc, expected 2"
+  grep -q -- "--runs-per-task must be an integer >= 1" "$WORK/bad.log" || fail "--runs-per-task $bad: $(cat "$WORK/bad.log")"
+  [ ! -e "$WORK/bad_$bad" ] || fail "--runs-per-task $bad created the batch folder"
+done
 # 4 per task: 5 tasks; task 3 holds rows 12-15 = crossing scl seeds 3, 4, 9 and crossing sfw seed 3:
 # two hunav_run --seeds processes.
 chunked="$WORK/chunked"
@@ -116,4 +124,10 @@ before=$(stat -c '%Y' "$json")
 SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" >"$WORK/task3_again.log"
 [ "$(grep -c 'skipped (finished before)' "$WORK/task3_again.log")" -eq 4 ] || fail "again: $(cat "$WORK/task3_again.log")"
 [ "$before" = "$(stat -c '%Y' "$json")" ] || fail "a finished run of a chunk ran again"
+# A damaged slurm_runs_per_task: the task stops with exit 2 naming the file, and runs nothing.
+echo "four" >"$chunked/slurm_runs_per_task"
+rc=0
+SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" >"$WORK/damaged.log" 2>&1 || rc=$?
+[ "$rc" -eq 2 ] || fail "a damaged slurm_runs_per_task exited $rc, expected 2"
+grep -q "$chunked/slurm_runs_per_task:1: not a number of runs: 'four'" "$WORK/damaged.log" || fail "$(cat "$WORK/damaged.log")"
 echo "PASS slurm_batch_matrix"
