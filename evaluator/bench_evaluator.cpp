@@ -37,6 +37,7 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/evaluator/states_csv.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_log_reader.hpp"
 
 using namespace hunav::evaluator;
@@ -103,7 +104,7 @@ int replay(const std::string& log_file, int repeat, const std::string& dir, cons
     const double t0 = threadCpuSeconds();
     const auto w0 = std::chrono::steady_clock::now();
     {
-      hunav::Bus bus{hunav::Bus::InProcess{}};
+      hunav::InProcessBus bus;
       EvaluatorOptions o;
       o.out_dir = dir;
       o.profile = profile;
@@ -270,11 +271,10 @@ int main(int argc, char** argv) {
   // 2. Offline evaluation.
   const auto t0 = std::chrono::steady_clock::now();
   const CpuTimes c0 = cpuTimes();
-  OfflineOptions o;
-  o.states_file = states;
+  EvaluatorOptions o;
   o.out_dir = fs::path(dir) / "out";
   o.profile = profile;
-  const RunResult result = recomputeFromStates(o);
+  const RunResult result = recomputeFromStates(states, o);
   const double offline_s = seconds(t0, std::chrono::steady_clock::now());
   const CpuTimes c1 = cpuTimes();
   std::printf(

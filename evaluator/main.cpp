@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <system_error>
 
 #include "hunav/cli.hpp"
@@ -10,10 +11,10 @@
 #include "hunav/episode_status.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
+#include "hunav/open_bus.hpp"
 #include "hunav/runner/robot_free_run.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
-#include "hunav/transport.hpp"
 
 namespace {
 
@@ -36,21 +37,31 @@ void reportReceiveLosses(const hunav::Bus& bus) {
             << " fragmented messages\n";
 }
 
-int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string& lcm_url) {
+// Everything the command line says.
+struct Options {
+  hunav::evaluator::EvaluatorOptions evaluator;  // what is written, by every mode
+  std::string lcm_url;                           // live
+  std::string scenario_file;                     // live: its sample rate and metrics
+  std::string states_file;                       // offline: --states
+  std::string log_file;                          // offline: --log
+  std::string format = "csv";
+  bool no_live_metrics = false;
+  bool counterfactual = false;
+  bool tag_given = false;  // --experiment-tag, or the metrics file's tag (offline: else the source's)
+};
+
+int runLive(const Options& o) {
   using namespace std::chrono_literals;
   const std::atomic<bool>& stop = hunav::installStopSignals();
-  // On udpm, our direct receiver reads the bus in this thread (no LCM reader thread and pipe: about
-  // two thirds of this process's CPU per lockstep tick). It drains every datagram waiting into the
-  // bus's queue at each wake-up and during a backlog, and counts what the socket still loses
-  // (BusOptions); the node counts world states that never arrived in lost_ticks. No channel filter:
-  // it would hide the socket's overflow count. Nobody waits for the evaluator: it wakes at most once
-  // per millisecond and reads what arrived meanwhile in one batch (a tenth of a wake-up per tick at
-  // 100x real time; 4 MB of socket buffer hold far more than a millisecond of any crowd).
-  hunav::BusOptions bus_options;
-  bus_options.direct_on_every_port = true;
-  bus_options.min_wake_interval = std::chrono::milliseconds(1);
-  hunav::Bus bus(hunav::resolveLcmUrl(lcm_url), bus_options);
-  hunav::evaluator::EvaluatorNode node(bus, options);
+  // No channel filter: it would hide the socket's overflow count (UdpmBus::receiveLosses), and the
+  // node counts world states that never arrived in lost_ticks. Nobody waits for the evaluator: it
+  // wakes at most once per millisecond and reads what arrived meanwhile in one batch (4 MB of
+  // socket buffer hold far more than a millisecond of any crowd).
+  hunav::ReceiveOptions receive;
+  receive.min_wake_interval = std::chrono::milliseconds(1);
+  const std::unique_ptr<hunav::Bus> bus_storage = hunav::openBus(hunav::resolveLcmUrl(o.lcm_url), receive);
+  hunav::Bus& bus = *bus_storage;
+  hunav::evaluator::EvaluatorNode node(bus, o.evaluator);
   std::cout << "ready" << std::endl;
 
   int reported = 0;
@@ -89,17 +100,17 @@ int runLive(const hunav::evaluator::EvaluatorOptions& options, const std::string
   return 0;
 }
 
-int runLog(const hunav::evaluator::LogReplayOptions& options) {
+int runLog(const Options& o) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(options.log_file, ec)) {
-    std::cerr << "hunav_evaluator: --log " << options.log_file.string() << ": not a readable file\n";
+  if (!std::filesystem::is_regular_file(o.log_file, ec)) {
+    std::cerr << "hunav_evaluator: --log " << o.log_file << ": not a readable file\n";
     return hunav::kExitBadInput;
   }
   std::string log_problem;
-  const auto results = hunav::evaluator::replayLog(options, &log_problem);
+  const auto results = hunav::evaluator::replayLog(o.log_file, o.evaluator, &log_problem);
   if (!log_problem.empty()) std::cerr << "hunav_evaluator: warning: " << log_problem << "\n";
   if (results.empty()) {
-    std::cerr << "hunav_evaluator: " << options.log_file.string() << " holds no episode\n";
+    std::cerr << "hunav_evaluator: " << o.log_file << " holds no episode\n";
     return hunav::kExitBadInput;
   }
   for (const auto& r : results) {
@@ -109,11 +120,42 @@ int runLog(const hunav::evaluator::LogReplayOptions& options) {
   return 0;
 }
 
-int runOffline(const hunav::evaluator::OfflineOptions& options) {
-  const auto result = hunav::evaluator::recomputeFromStates(options);
+int runOffline(const Options& o) {
+  const auto result = hunav::evaluator::recomputeFromStates(o.states_file, o.evaluator, !o.tag_given);
   std::cout << result.formatTable();
   report(result);
   return 0;
+}
+
+// What the options leave to files: the scenario's evaluation.sample_rate and evaluation.metrics,
+// then the metrics file's frequency and experiment_tag (HuNavSim's file), each unless given on the
+// command line; the robot-free run of --counterfactual. Returns an exit code when the input is bad.
+std::optional<int> completeFromFiles(Options& o, bool rate_given, bool tag_given) {
+  hunav::evaluator::EvaluatorOptions& e = o.evaluator;
+  if (!o.scenario_file.empty()) {
+    const hunav::Scenario scenario = hunav::loadScenario(o.scenario_file);
+    if (!rate_given) e.sample_rate = scenario.evaluation_sample_rate;
+    if (e.metrics_file.empty()) e.metrics_file = scenario.evaluation_metrics;
+  }
+  const std::string tag_before = e.experiment_tag;
+  hunav::evaluator::applyMetricsFile(e.metrics_file, e.profile, rate_given, e.sample_rate, tag_given, e.experiment_tag);
+  o.tag_given = tag_given || e.experiment_tag != tag_before;
+  try {
+    hunav::evaluator::SampleRate{e.sample_rate};
+  } catch (const std::invalid_argument& err) {
+    std::cerr << "--sample-rate: " << err.what() << "\n";
+    return hunav::kExitBadInput;
+  }
+  e.hunav_txt = o.format == "hunav_txt";
+  e.live_metrics = !o.no_live_metrics;
+  if (o.counterfactual) {
+    if (o.scenario_file.empty()) {
+      std::cerr << "--counterfactual needs --scenario\n";
+      return hunav::kExitBadInput;
+    }
+    e.robot_free_run = hunav::runner::robotFreeRunOfFile(o.scenario_file);
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -131,141 +173,64 @@ int main(int argc, char** argv) {
       "writes what the live evaluator\n"
       "wrote. --sample-rate HZ records and evaluates at most HZ samples per second of simulation time.\n"
       "Metric definitions: docs/metrics.md. Exit codes: 0 done, 1 error, 2 bad command line or input file."};
-  std::string out_dir;
-  std::string profile = "default";
-  std::string experiment_tag = "exp";
-  int episodes = 1;
-  std::string lcm_url;
-  std::string states_file;
-  std::string log_file;
-  std::string metrics_file;
-  std::string format = "csv";
-  bool no_live = false;
-  double sample_rate = 0.0;
-  std::string scenario_file;
-
-  app.add_option("--out", out_dir,
+  Options o;
+  hunav::evaluator::EvaluatorOptions& e = o.evaluator;
+  app.add_option("--out", e.out_dir,
                  "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
       ->required();
-  app.add_option("--profile", profile,
+  app.add_option("--profile", e.profile,
                  "metric profile: 'default' = HuNavSim's metrics with its bugs fixed, 'hunav_v1' = HuNavSim v1's "
                  "numbers (docs/metrics.md)")
       ->check(CLI::IsMember(hunav::evaluator::knownProfiles()))
       ->capture_default_str();
-  auto* tag_opt = app.add_option("--experiment-tag", experiment_tag,
+  auto* tag_opt = app.add_option("--experiment-tag", e.experiment_tag,
                                  "experiment_tag column of metrics.csv (offline: default the source run.json's)")
                       ->capture_default_str();
-  auto* episodes_opt = app.add_option("--episodes", episodes, "episodes to record before exiting; 0 = until a signal")
+  auto* episodes_opt = app.add_option("--episodes", e.episodes, "episodes to record before exiting; 0 = until a signal")
                            ->check(hunav::cli::nonNegativeInteger())
                            ->capture_default_str();
   auto* url_opt = app.add_option(
-      "--lcm-url", lcm_url, "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
-  auto* states_opt = app.add_option("--states", states_file,
+      "--lcm-url", o.lcm_url, "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
+  auto* states_opt = app.add_option("--states", o.states_file,
                                     "offline: recompute metrics.csv and run.json of this states.csv into --out");
-  auto* log_opt = app.add_option("--log", log_file,
+  auto* log_opt = app.add_option("--log", o.log_file,
                                  "offline: replay the EPISODE_EVENT and WORLD_STATE events of this LCM log into --out");
   states_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(log_opt);
   log_opt->excludes(episodes_opt)->excludes(url_opt);
   app.add_option(
-         "--metrics", metrics_file,
+         "--metrics", e.metrics_file,
          "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
          "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics, "
          "else every metric")
       ->check(CLI::ExistingFile);
-  app.add_option("--format", format,
+  app.add_option("--format", o.format,
                  "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's tab-separated .txt files")
       ->check(CLI::IsMember({"csv", "hunav_txt"}))
       ->capture_default_str();
-  app.add_flag("--no-live-metrics", no_live, "live: do not publish LIVE_METRICS (1 Hz of simulation time)");
+  app.add_flag("--no-live-metrics", o.no_live_metrics, "live: do not publish LIVE_METRICS (1 Hz of simulation time)");
   auto* rate_opt =
-      app.add_option("--sample-rate", sample_rate,
+      app.add_option("--sample-rate", e.sample_rate,
                      "record and evaluate one sample per 1/HZ s of simulation time (the first world state at or after "
                      "each step of a grid from the first sample; docs/metrics.md); 0 = every world state or row")
           ->check(CLI::Range(0.0, 1e6))
           ->capture_default_str();
-  app.add_option("--scenario", scenario_file,
+  app.add_option("--scenario", o.scenario_file,
                  "live: the scenario of the run; its evaluation.sample_rate (scenarios/README.md) is the sample rate "
                  "unless --sample-rate is given")
       ->check(CLI::ExistingFile)
       ->excludes(states_opt)
       ->excludes(log_opt);
-  bool counterfactual = false;
-  app.add_flag("--counterfactual", counterfactual,
+  app.add_flag("--counterfactual", o.counterfactual,
                "live, with --scenario: at the end of each episode also run it with its seed without the robot, write "
                "counterfactual.csv and add the counterfactual_* metrics to its row (docs/metrics.md)")
       ->excludes(states_opt)
       ->excludes(log_opt);
-
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
 
-  // The scenario's evaluation.sample_rate and evaluation.metrics, then the metrics file's frequency
-  // and experiment_tag (HuNavSim's file), each unless given on the command line.
-  const std::string default_tag = experiment_tag;
-  try {
-    if (!scenario_file.empty()) {
-      const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
-      if (rate_opt->count() == 0) sample_rate = scenario.evaluation_sample_rate;
-      if (metrics_file.empty()) metrics_file = scenario.evaluation_metrics;
-    }
-    hunav::evaluator::applyMetricsFile(metrics_file, profile, rate_opt->count() > 0, sample_rate, tag_opt->count() > 0,
-                                       experiment_tag);
-  } catch (const hunav::ConfigError& e) {
-    std::cerr << e.what() << "\n";
-    return hunav::kExitBadInput;
-  }
-  const bool tag_set = tag_opt->count() > 0 || experiment_tag != default_tag;
-  try {
-    hunav::evaluator::SampleRate{sample_rate};
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "--sample-rate: " << e.what() << "\n";
-    return hunav::kExitBadInput;
-  }
-
-  try {
-    if (!states_file.empty()) {
-      hunav::evaluator::OfflineOptions options;
-      options.states_file = states_file;
-      options.out_dir = out_dir;
-      options.profile = profile;
-      if (tag_set) options.experiment_tag = experiment_tag;
-      options.metrics_file = metrics_file;
-      options.hunav_txt = format == "hunav_txt";
-      options.sample_rate = sample_rate;
-      return runOffline(options);
-    }
-    if (!log_file.empty()) {
-      hunav::evaluator::LogReplayOptions options;
-      options.log_file = log_file;
-      options.out_dir = out_dir;
-      options.profile = profile;
-      options.experiment_tag = experiment_tag;
-      options.metrics_file = metrics_file;
-      options.hunav_txt = format == "hunav_txt";
-      options.sample_rate = sample_rate;
-      return runLog(options);
-    }
-    hunav::evaluator::EvaluatorOptions options;
-    options.out_dir = out_dir;
-    options.profile = profile;
-    options.experiment_tag = experiment_tag;
-    options.episodes = episodes;
-    options.metrics_file = metrics_file;
-    options.hunav_txt = format == "hunav_txt";
-    options.live_metrics = !no_live;
-    options.sample_rate = sample_rate;
-    if (counterfactual) {
-      if (scenario_file.empty()) {
-        std::cerr << "--counterfactual needs --scenario\n";
-        return hunav::kExitBadInput;
-      }
-      options.robot_free_run = hunav::runner::robotFreeRunOfFile(scenario_file);
-    }
-    return runLive(options, lcm_url);
-  } catch (const hunav::ConfigError& e) {
-    std::cerr << e.what() << "\n";
-    return hunav::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "hunav_evaluator: " << e.what() << "\n";
-    return 1;
-  }
+  return hunav::cli::run("hunav_evaluator", [&] {
+    if (auto code = completeFromFiles(o, rate_opt->count() > 0, tag_opt->count() > 0)) return *code;
+    if (!o.states_file.empty()) return runOffline(o);
+    if (!o.log_file.empty()) return runLog(o);
+    return runLive(o);
+  });
 }

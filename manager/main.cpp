@@ -5,6 +5,7 @@
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/manager/manager_node.hpp"
+#include "hunav/open_bus.hpp"
 #include "hunav/signals.hpp"
 
 int main(int argc, char** argv) {
@@ -34,7 +35,12 @@ int main(int argc, char** argv) {
   return hunav::cli::run("hunav_manager", [&] {
     std::optional<hunav::Scenario> scenario;
     if (!scenario_file.empty()) scenario = hunav::loadScenario(scenario_file);
-    hunav::Bus bus(hunav::resolveLcmUrl(url));  // its own LCM instances: one per port with channel_ports=1
+    // With --episodes it hears EPISODE_EVENT on the URL's port: the kernel keeps the world states
+    // sent there every tick from waking it.
+    hunav::ReceiveOptions receive;
+    receive.filter_unsubscribed_channels = true;
+    const std::unique_ptr<hunav::Bus> bus_storage = hunav::openBus(hunav::resolveLcmUrl(url), receive);
+    hunav::Bus& bus = *bus_storage;
     hunav::manager::ManagerNode node(bus, episodes > 0);
     // The scenario's human model (obstacle points, routes); a bad tree file: exit 2 before "ready".
     if (scenario) node.manager().useScenario(*scenario);

@@ -9,11 +9,11 @@
 #include "hunav/channels.hpp"
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/open_bus.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
-#include "hunav/transport.hpp"
 
 namespace {
 
@@ -62,14 +62,13 @@ int main(int argc, char** argv) {
     if (!config_file.empty()) config.emplace(config_file);
     auto planner = hp::createPlanner(planner_name, scenario, config ? &*config : nullptr);
 
-    // On udpm our direct receiver reads ROBOT_OBSERVATION and EPISODE_EVENT in this thread (no LCM
-    // reader thread and pipe), and a socket filter keeps the rest of the URL's port (a WORLD_STATE
-    // every tick) in the kernel, so this process wakes only for its own messages. A lost
-    // observation is the lockstep protocol's business (the world resends it).
-    hunav::BusOptions bus_options;
-    bus_options.direct_on_every_port = true;
-    bus_options.filter_unsubscribed_channels = true;
-    hunav::Bus bus(hunav::resolveLcmUrl(lcm_url), bus_options);
+    // The kernel keeps the rest of the URL's port (a WORLD_STATE every tick) from waking this
+    // process: it wakes only for its own messages. A lost observation is the lockstep protocol's
+    // business (the world resends it).
+    hunav::ReceiveOptions receive;
+    receive.filter_unsubscribed_channels = true;
+    const std::unique_ptr<hunav::Bus> bus_storage = hunav::openBus(hunav::resolveLcmUrl(lcm_url), receive);
+    hunav::Bus& bus = *bus_storage;
     hp::PlannerNode node(bus, std::move(planner), planner_name);
     // The readiness handshake (docs/planner_contract.md, "Readiness"): subscribed now, so announce it,
     // and keep announcing it (a world started later waits for one before its first episode).

@@ -14,9 +14,9 @@
 #include "hunav/channels.hpp"
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/open_bus.hpp"
 #include "hunav/report/log_recorder.hpp"
 #include "hunav/signals.hpp"
-#include "hunav/transport.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

@@ -6,6 +6,7 @@
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/open_bus.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/view/live_feed.hpp"
 #include "hunav/view/netns.hpp"
@@ -88,13 +89,12 @@ int main(int argc, char** argv) {
         while (!multicastRouted() && std::chrono::steady_clock::now() < deadline && !stop.load())
           std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
-      hunav::BusOptions bus_options;
-      bus_options.direct_on_every_port = true;          // no LCM reader thread: read in batches here
-      bus_options.filter_unsubscribed_channels = true;  // the kernel drops what the view ignores
-      bus_options.min_wake_interval = std::chrono::milliseconds(2);
+      hunav::ReceiveOptions receive;
+      receive.filter_unsubscribed_channels = true;  // the kernel drops what the view ignores
+      receive.min_wake_interval = std::chrono::milliseconds(2);
       for (;;) {
         try {
-          bus = std::make_unique<hunav::Bus>(hunav::resolveLcmUrl(url), bus_options);
+          bus = hunav::openBus(hunav::resolveLcmUrl(url), receive);
           break;
         } catch (const std::exception& e) {
           // In a run's namespace the multicast route comes a moment after the namespace.

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "hunav/cli.hpp"
+#include "hunav/open_bus.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
@@ -57,10 +58,8 @@ int main(int argc, char** argv) {
     options.startup_limit = std::chrono::milliseconds(static_cast<long>(startup_limit * 1000));
     options.planner_ready_timeout = std::chrono::milliseconds(static_cast<long>(ready_timeout * 1000));
     options.stop = &hunav::installStopSignals();
-    // Its own LCM instances (one per port with channel_ports=1) to publish; it reads every port itself
-    // (Bus: direct_on_every_port), as it hears its own world state each tick where it listens for commands.
-    hunav::Bus bus(hunav::resolveLcmUrl(url), /*direct_on_every_port=*/true);
-    hunav::worldsim::WorldSim world(bus, scenarios.front(), options);
+    const std::unique_ptr<hunav::Bus> bus = hunav::openBus(hunav::resolveLcmUrl(url));
+    hunav::worldsim::WorldSim world(*bus, scenarios.front(), options);
     int code = 0;  // of the first episode that did not run to an end
     for (int i = 0; i < episodes && !options.stop->load(); ++i) {
       const std::string id = run_id.empty() || episodes == 1 ? run_id : run_id + "_e" + std::to_string(i + 1);

@@ -391,15 +391,15 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
   if (options_.robot_free_run && !options_.states_csv)
     throw std::invalid_argument("the counterfactual reads states.csv back: it needs states_csv");
-  event_drops_ =
-      &bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
-  state_drops_ =
-      &bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); });
+  event_sub_ =
+      bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
+  state_sub_ =
+      bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); });
 }
 
 std::uint64_t EvaluatorNode::droppedMessages() const {
   // The bus's malformed datagrams are the evaluator's own: in process the bus has no socket.
-  return event_drops_->count + state_drops_->count + bus_.malformedDatagrams();
+  return event_sub_.drops().count + state_sub_.drops().count + bus_.malformedDatagrams();
 }
 
 // The worker finishes what was received (errors ignored, as an unfinished episode's are) before the

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
-#include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <thread>
 
@@ -12,6 +11,7 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/evaluator/states_csv.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_log_reader.hpp"
 
 namespace hunav::evaluator {
@@ -98,15 +98,15 @@ bool sameFile(const fs::path& a, const fs::path& b) {
 }
 
 // One pass over the file into out_dir: parsing on a second thread, evaluating and writing here.
-RunResult evaluateInto(const OfflineOptions& options, StatesCsvReader& reader, const MetricRegistry& registry,
-                       RunInfo info, bool have_source_json) {
+RunResult evaluateInto(const fs::path& states_file, const EvaluatorOptions& options, StatesCsvReader& reader,
+                       const MetricRegistry& registry, RunInfo info, bool have_source_json) {
   std::unique_ptr<StatesCopy> copy;
-  if (!sameFile(options.out_dir / "states.csv", options.states_file)) {
+  if (!sameFile(options.out_dir / "states.csv", states_file)) {
     copy = std::make_unique<StatesCopy>(options.out_dir / "states.csv");
     reader.copyKeptRowsTo(copy->file());
   }
   RunEvaluation evaluation(registry, info.profile, info.experiment_tag,
-                           OutputOptions{options.out_dir, options.out_dir, options.hunav_txt, true});
+                           OutputOptions{options.out_dir, options.out_dir, options.hunav_txt, options.per_tick_files});
 
   // Reading and parsing on one thread, evaluating and writing on this one.
   ChunkQueue free_chunks;
@@ -153,11 +153,11 @@ RunResult evaluateInto(const OfflineOptions& options, StatesCsvReader& reader, c
 
 }  // namespace
 
-RunResult recomputeFromStates(const OfflineOptions& options) {
+RunResult recomputeFromStates(const fs::path& states_file, const EvaluatorOptions& options, bool tag_from_source) {
   const MetricRegistry registry = metricsFor(options.profile, options.metrics_file);
-  StatesCsvReader reader(options.states_file, SampleRate(options.sample_rate));
+  StatesCsvReader reader(states_file, SampleRate(options.sample_rate));
 
-  const fs::path source_json = options.states_file.parent_path() / "run.json";
+  const fs::path source_json = states_file.parent_path() / "run.json";
   const bool have_source_json = fs::is_regular_file(source_json);
   RunInfo info;
   if (have_source_json) {
@@ -171,17 +171,17 @@ RunResult recomputeFromStates(const OfflineOptions& options) {
   // The commit the trajectories came from; when the source does not know it, this evaluator's.
   if (info.git_commit.empty() || info.git_commit == "unknown") info.git_commit = gitCommit();
   info.profile = options.profile;
-  if (options.experiment_tag) info.experiment_tag = *options.experiment_tag;
+  if (!tag_from_source) info.experiment_tag = options.experiment_tag;
   if (info.experiment_tag.empty()) info.experiment_tag = "exp";
   if (options.sample_rate > 0.0) info.sample_rate = options.sample_rate;
-  info.states_file = options.states_file.string();
+  info.states_file = states_file.string();
 
   // A folder this call creates is removed again when the evaluation fails (it is then empty).
   std::error_code exists_error;
   const bool created_out_dir = !fs::exists(options.out_dir, exists_error);
   fs::create_directories(options.out_dir);
   try {
-    return evaluateInto(options, reader, registry, std::move(info), have_source_json);
+    return evaluateInto(states_file, options, reader, registry, std::move(info), have_source_json);
   } catch (...) {
     std::error_code ec;
     if (created_out_dir) fs::remove(options.out_dir, ec);
@@ -189,21 +189,17 @@ RunResult recomputeFromStates(const OfflineOptions& options) {
   }
 }
 
-std::vector<RunResult> replayLog(const LogReplayOptions& options, std::string* log_problem) {
-  LcmLogReader log(options.log_file);
-  lcm::LCM lcm("memq://");
-  if (!lcm.good()) throw std::runtime_error("cannot create a memq:// LCM instance");
+std::vector<RunResult> replayLog(const fs::path& log_file, const EvaluatorOptions& options, std::string* log_problem) {
+  LcmLogReader log(log_file);
   std::vector<RunResult> results;
   {
-    Bus bus(lcm);
-    EvaluatorOptions eo;
-    eo.out_dir = options.out_dir;
-    eo.profile = options.profile;
-    eo.experiment_tag = options.experiment_tag;
+    // The bytes of the log, decoded as the live evaluator decodes them; every episode of the log.
+    InProcessBus bus;
+    EvaluatorOptions eo = options;
     eo.episodes = 0;
-    eo.metrics_file = options.metrics_file;
-    eo.hunav_txt = options.hunav_txt;
-    eo.sample_rate = options.sample_rate;
+    eo.live_metrics = false;
+    eo.worker_thread = false;
+    eo.robot_free_run = {};
     EvaluatorNode node(bus, eo);
     int ended = 0;
     while (const LcmLogReader::Event* ev = log.next()) {

@@ -7,7 +7,7 @@
 #include <system_error>
 
 #include "bt_social.hpp"
-#include "hunav/transport.hpp"  // BadMessage
+#include "hunav/bus.hpp"  // BadMessage
 #include "people_routes.hpp"
 
 namespace hunav::manager {

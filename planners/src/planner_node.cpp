@@ -19,14 +19,14 @@ void require(bool condition, const char* what) {
 
 PlannerNode::PlannerNode(Bus& bus, std::unique_ptr<Planner> planner, std::string name)
     : bus_(bus), planner_(std::move(planner)), name_(std::move(name)) {
-  observation_drops_ = &bus_.subscribe<robot_observation_t>(
+  observation_sub_ = bus_.subscribe<robot_observation_t>(
       channels::kRobotObservation, [this](const robot_observation_t& obs) { onObservation(obs); });
-  event_drops_ = &bus_.subscribe<episode_event_t>(channels::kEpisodeEvent,
-                                                  [this](const episode_event_t& e) { onEpisodeEvent(e); });
+  event_sub_ =
+      bus_.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { onEpisodeEvent(e); });
 }
 
 std::uint64_t PlannerNode::droppedMessages() const {
-  return observation_drops_->count + event_drops_->count + bus_.malformedDatagrams();
+  return observation_sub_.drops().count + event_sub_.drops().count + bus_.malformedDatagrams();
 }
 
 void PlannerNode::announce() {

@@ -3,6 +3,8 @@
 #include <memory>
 
 #include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/in_process_bus.hpp"
+#include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
@@ -15,17 +17,15 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts
   const std::unique_ptr<YamlReader> planner_config = plannerConfig(options);
 
-  std::unique_ptr<lcm::LCM> memq;
   std::unique_ptr<Bus> bus_storage;
-  if (options.use_memq) {
-    memq = std::make_unique<lcm::LCM>("memq://");
-    bus_storage = std::make_unique<Bus>(*memq);
-  } else {
-    bus_storage = std::make_unique<Bus>(Bus::InProcess{});
-  }
-  Bus& bus = *bus_storage;
+  if (options.use_memq)
+    bus_storage = std::make_unique<LcmBus>("memq://");
+  else
+    bus_storage = std::make_unique<InProcessBus>();
+  // Recording: every component publishes through the log writer, which passes it on.
   std::unique_ptr<LogWriter> log;
-  if (!options.record_file.empty()) log = std::make_unique<LogWriter>(bus, options.record_file);
+  if (!options.record_file.empty()) log = std::make_unique<LogWriter>(*bus_storage, options.record_file);
+  Bus& bus = log ? static_cast<Bus&>(*log) : *bus_storage;
 
   evaluator::EvaluatorNode evaluator(bus, evaluatorOptions(scenario, options));
   manager::ManagerNode manager(bus);

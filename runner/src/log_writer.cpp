@@ -5,14 +5,26 @@
 
 namespace hunav::runner {
 
-LogWriter::LogWriter(Bus& bus, const std::string& path) : bus_(bus), log_(path, "w") {
+LogWriter::LogWriter(Bus& inner, const std::string& path) : ForwardingBus(inner), log_(path, "w") {
   if (!log_.good()) throw std::runtime_error("cannot write the LCM log " + path);
-  bus_.setTap([this](const std::string& channel, const void* data, std::size_t size) { write(channel, data, size); });
 }
 
-LogWriter::~LogWriter() { bus_.setTap(nullptr); }
+void LogWriter::publishMessage(std::string_view channel, const OutgoingMessage& msg) {
+  if (msg.encoded != nullptr) {
+    write(channel, msg.encoded, msg.encoded_size);
+  } else {
+    msg.type->encode(msg.message, buffer_);
+    write(channel, buffer_.data(), buffer_.size());
+  }
+  ForwardingBus::publishMessage(channel, msg);
+}
 
-void LogWriter::write(const std::string& channel, const void* data, std::size_t size) {
+void LogWriter::publishRaw(std::string_view channel, const void* data, std::size_t size) {
+  write(channel, data, size);
+  ForwardingBus::publishRaw(channel, data, size);
+}
+
+void LogWriter::write(std::string_view channel, const void* data, std::size_t size) {
   // Every hunav message starts with its 8-byte type hash and then `int64_t utime` (big-endian):
   // stamp events with that simulation time, so lcm-logplayer replays the run at its real pace.
   std::int64_t stamp = last_timestamp_;
@@ -26,7 +38,7 @@ void LogWriter::write(const std::string& channel, const void* data, std::size_t 
   lcm::LogEvent ev{};
   ev.eventnum = events_++;
   ev.timestamp = stamp;
-  ev.channel = channel;
+  ev.channel = std::string(channel);
   ev.datalen = static_cast<int32_t>(size);
   ev.data = const_cast<void*>(data);  // LogFile only reads it
   log_.writeEvent(&ev);

@@ -8,8 +8,8 @@
 #include "hunav/cli.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/results.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
-#include "hunav/transport.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
 namespace hunav::runner {
@@ -22,7 +22,7 @@ evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector
   scenario.time_limit = std::max(scenario.time_limit, sample_times.back() + 1.0);
 
   // Built in the order runInProcess() builds a run (manager, then world) on a bus of its own.
-  Bus bus(Bus::InProcess{});
+  InProcessBus bus;
   manager::ManagerNode manager(bus);
   manager.manager().useScenario(scenario);
   manager.manager().setRobotAbsent(true);

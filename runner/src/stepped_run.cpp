@@ -7,6 +7,7 @@
 
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
@@ -43,7 +44,7 @@ SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool
   const std::unique_ptr<YamlReader> planner_config = plannerConfig(options_);
 
   // Built as runInProcess() builds them (the same subscriptions in the same order): the same results.
-  bus_ = std::make_unique<Bus>(Bus::InProcess{});
+  bus_ = std::make_unique<InProcessBus>();
   evaluator::EvaluatorOptions eval_options = evaluatorOptions(scenario, options_);
   eval_options.live_metrics = true;  // metrics() while the episode runs
   evaluator_ = std::make_unique<evaluator::EvaluatorNode>(*bus_, eval_options);
@@ -52,11 +53,11 @@ SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool
   if (options_.planner != "none" && !external_)
     planner_ = std::make_unique<planners::PlannerNode>(
         *bus_, planners::createPlanner(options_.planner, scenario, planner_config.get()));
-  bus_->subscribe<live_metrics_t>(channels::kLiveMetrics, [this](const live_metrics_t& m) { live_ = m; });
+  live_sub_ = bus_->subscribe<live_metrics_t>(channels::kLiveMetrics, [this](const live_metrics_t& m) { live_ = m; });
   // After the planner's own subscription: it answers first, as in runInProcess().
   if (planner_)
-    bus_->subscribe<robot_observation_t>(channels::kRobotObservation,
-                                         [this](const robot_observation_t& o) { planner_observation_ = o; });
+    observation_sub_ = bus_->subscribe<robot_observation_t>(
+        channels::kRobotObservation, [this](const robot_observation_t& o) { planner_observation_ = o; });
 
   worldsim::WorldOptions world_options = worldOptions(options_);
   world_options.external_control = external_;

@@ -4,7 +4,7 @@
 #include <functional>
 #include <vector>
 
-#include "hunav/transport.hpp"
+#include "hunav/bus.hpp"
 
 namespace hunav::test {
 

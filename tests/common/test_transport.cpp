@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <functional>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/laser_scan_t.hpp>
 #include <hunav/live_metrics_t.hpp>
@@ -18,9 +19,15 @@
 #include <type_traits>
 #include <vector>
 
-#include "hunav/transport.hpp"
+#include "hunav/bus.hpp"
+#include "hunav/in_process_bus.hpp"
+#include "hunav/lcm_bus.hpp"
+#include "hunav/open_bus.hpp"
+#include "hunav/testing/lossy_bus.hpp"
 
 using hunav::Bus;
+using hunav::InProcessBus;
+using hunav::LcmBus;
 
 namespace {
 hunav::nav_goal_t goal(double x) {
@@ -34,9 +41,10 @@ hunav::nav_goal_t goal(double x) {
 
 TEST(Transport, LambdaSubscriptionReceivesTypedMessages) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   std::vector<double> xs;
-  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { xs.push_back(g.x); });
+  const hunav::Subscription sub1 =
+      bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { xs.push_back(g.x); });
   bus.publish("GOAL", goal(1.5));
   bus.publish("OTHER", goal(9.0));
   EXPECT_TRUE(bus.handleFor(std::chrono::milliseconds(100)));
@@ -49,9 +57,9 @@ TEST(Transport, LambdaSubscriptionReceivesTypedMessages) {
 TEST(Transport, UnboundedQueueKeepsEveryMessage) {
   // LCM's default capacity of 30 would drop all but 30 of these.
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   int n = 0;
-  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++n; });
+  const hunav::Subscription sub2 = bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++n; });
   for (int i = 0; i < 500; ++i) bus.publish("GOAL", goal(i));
   bus.handleAvailable();
   EXPECT_EQ(n, 500);
@@ -59,17 +67,18 @@ TEST(Transport, UnboundedQueueKeepsEveryMessage) {
 
 TEST(Transport, HandlerExceptionsReachTheCaller) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
-  bus.subscribe<hunav::nav_goal_t>("GOAL", [](const hunav::nav_goal_t&) { throw std::logic_error("boom"); });
+  LcmBus bus(lcm);
+  const hunav::Subscription sub3 =
+      bus.subscribe<hunav::nav_goal_t>("GOAL", [](const hunav::nav_goal_t&) { throw std::logic_error("boom"); });
   bus.publish("GOAL", goal(1));
   EXPECT_THROW(bus.handleAvailable(), std::logic_error);
 }
 
 TEST(Transport, BadMessagesAreDroppedAndCounted) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   int n = 0;
-  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) {
+  const hunav::Subscription sub4 = bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) {
     if (g.x < 0) throw hunav::BadMessage("negative");
     ++n;
   });
@@ -84,9 +93,9 @@ TEST(Transport, BadMessagesAreDroppedAndCounted) {
 
 TEST(Transport, AbsurdArrayCountsAreDroppedNotFatal) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   int n = 0;
-  bus.subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t&) { ++n; });
+  const hunav::Subscription sub5 = bus.subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t&) { ++n; });
   hunav::laser_scan_t scan{};
   scan.num_ranges = 2;
   scan.ranges = {1.0f, 2.0f};
@@ -147,9 +156,9 @@ std::size_t stringLengthOffset(const std::vector<std::uint8_t>& bytes, const std
 TEST(Transport, StringLengthsThatDoNotFitAreDroppedNotFatal) {
   // LCM 1.3.1's generated decoder turns a length of INT32_MIN into a 2 GB copy (a crash).
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   int n = 0;
-  bus.subscribe<hunav::world_state_t>("WS", [&](const hunav::world_state_t&) { ++n; });
+  const hunav::Subscription sub6 = bus.subscribe<hunav::world_state_t>("WS", [&](const hunav::world_state_t&) { ++n; });
   const std::vector<std::uint8_t> good = bus.encode(richWorldState());
   const std::size_t at = stringLengthOffset(good, "agent2");
   ASSERT_EQ(good[at + 3], 7);  // "agent2" and its NUL
@@ -169,9 +178,10 @@ TEST(Transport, StructArrayCountsBeyondTheBytesAreDroppedBeforeAllocating) {
   // num_agents = 5,000,000 in a message of a few hundred bytes: LCM's decoder would resize the
   // vector of agent states to it (gigabytes) before finding the bytes missing.
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   int n = 0;
-  bus.subscribe<hunav::step_request_t>("REQ", [&](const hunav::step_request_t&) { ++n; });
+  const hunav::Subscription sub7 =
+      bus.subscribe<hunav::step_request_t>("REQ", [&](const hunav::step_request_t&) { ++n; });
   hunav::step_request_t req{};
   req.num_agents = 1;
   req.agents.resize(1);
@@ -195,10 +205,10 @@ TEST(Transport, MutatedBytesAreDecodedOrDroppedNeverFatal) {
   // delivered or dropped, none crashes, and whatever is delivered holds no more elements than the
   // bytes could (the wire check bounds every count by the bytes left).
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   std::size_t delivered = 0;
   std::size_t largest = 0;
-  bus.subscribe<hunav::world_state_t>("WS", [&](const hunav::world_state_t& ws) {
+  const hunav::Subscription sub8 = bus.subscribe<hunav::world_state_t>("WS", [&](const hunav::world_state_t& ws) {
     ++delivered;
     largest = std::max(largest, ws.agents.size());
   });
@@ -229,7 +239,7 @@ TEST(Transport, MutatedBytesAreDecodedOrDroppedNeverFatal) {
 
 TEST(Transport, WellFormedEncodingsOfEveryTypePassTheWireCheck) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   const hunav::world_state_t ws = richWorldState();
   const auto check = [&bus](const auto& msg) {
     using Msg = std::decay_t<decltype(msg)>;
@@ -280,14 +290,14 @@ TEST(Transport, UrlPrecedenceFlagThenEnvironmentThenDefault) {
 TEST(Transport, SeededLossIsReproducible) {
   auto lost = [](std::uint64_t seed) {
     lcm::LCM lcm("memq://");
-    Bus bus(lcm);
-    bus.setOutgoingLossForTesting(0.1, seed);
+    LcmBus memq(lcm);
+    hunav::testing::LossyBus bus(memq, 0.1, seed);
     int n = 0;
-    bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++n; });
+    const hunav::Subscription sub9 = bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++n; });
     for (int i = 0; i < 1000; ++i) bus.publish("GOAL", goal(i));
     bus.handleAvailable();
-    EXPECT_EQ(static_cast<std::uint64_t>(n) + bus.lostForTesting(), 1000u);
-    return bus.lostForTesting();
+    EXPECT_EQ(static_cast<std::uint64_t>(n) + bus.lost(), 1000u);
+    return bus.lost();
   };
   const auto a = lost(3);
   EXPECT_EQ(a, lost(3));
@@ -299,11 +309,11 @@ TEST(Transport, InProcessBusBehavesLikeMemq) {
   // The same traffic through memq:// and through the in-process queue: same order, same drops.
   auto run = [](Bus& bus) {
     std::vector<double> seen;
-    bus.subscribe<hunav::nav_goal_t>("A", [&](const hunav::nav_goal_t& g) {
+    const hunav::Subscription sub10 = bus.subscribe<hunav::nav_goal_t>("A", [&](const hunav::nav_goal_t& g) {
       seen.push_back(g.x);
       if (g.x == 1) bus.publish("B", goal(10));  // published while dispatching: delivered after "A" 2
     });
-    bus.subscribe<hunav::nav_goal_t>("B", [&](const hunav::nav_goal_t& g) {
+    const hunav::Subscription sub11 = bus.subscribe<hunav::nav_goal_t>("B", [&](const hunav::nav_goal_t& g) {
       if (g.x < 0) throw hunav::BadMessage("negative");
       seen.push_back(g.x);
     });
@@ -316,19 +326,44 @@ TEST(Transport, InProcessBusBehavesLikeMemq) {
     return seen;
   };
   lcm::LCM lcm("memq://");
-  Bus memq(lcm);
-  Bus direct{Bus::InProcess{}};
+  LcmBus memq(lcm);
+  InProcessBus direct;
   const auto a = run(memq);
   EXPECT_EQ(a, run(direct));
   EXPECT_EQ(a, (std::vector<double>{1, 2, 10}));
-  EXPECT_TRUE(direct.inProcess());
   EXPECT_FALSE(direct.handleFor(std::chrono::milliseconds(0)));
 }
 
+namespace {
+// A decorator shown every message published through it, encoded (as runner::LogWriter records a log).
+class TapBus final : public hunav::ForwardingBus {
+ public:
+  using Tap = std::function<void(const std::string& channel, const void* data, std::size_t size)>;
+  TapBus(Bus& inner, Tap tap) : ForwardingBus(inner), tap_(std::move(tap)) {}
+  void publishMessage(std::string_view channel, const hunav::OutgoingMessage& msg) override {
+    if (msg.encoded != nullptr) {
+      tap_(std::string(channel), msg.encoded, msg.encoded_size);
+    } else {
+      msg.type->encode(msg.message, buffer_);
+      tap_(std::string(channel), buffer_.data(), buffer_.size());
+    }
+    ForwardingBus::publishMessage(channel, msg);
+  }
+  void publishRaw(std::string_view channel, const void* data, std::size_t size) override {
+    tap_(std::string(channel), data, size);
+    ForwardingBus::publishRaw(channel, data, size);
+  }
+
+ private:
+  Tap tap_;
+  std::vector<std::uint8_t> buffer_;
+};
+}  // namespace
+
 TEST(Transport, TapSeesEveryPublishedMessage) {
-  Bus bus{Bus::InProcess{}};
+  InProcessBus inner;
   std::vector<std::string> channels;
-  bus.setTap([&](const std::string& channel, const void*, std::size_t size) {
+  TapBus bus(inner, [&](const std::string& channel, const void*, std::size_t size) {
     EXPECT_GT(size, 8u);
     channels.push_back(channel);
   });
@@ -358,7 +393,8 @@ TEST(Transport, InProcessTypedDeliveryEqualsDecodedBytes) {
   // decoded bytes. Both must encode to the very bytes published (what fingerprints hash).
   auto received = [](Bus& bus) {
     std::vector<std::vector<std::uint8_t>> seen;
-    bus.subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t& s) { seen.push_back(encoded(s)); });
+    const hunav::Subscription sub12 =
+        bus.subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t& s) { seen.push_back(encoded(s)); });
     bus.publish("SCAN", scan({1.0f, 2.5f, 8.0f}));
     bus.publish("SCAN", scan({}));
     bus.publish("SCAN", scan({3.0f}));
@@ -366,8 +402,8 @@ TEST(Transport, InProcessTypedDeliveryEqualsDecodedBytes) {
     return seen;
   };
   lcm::LCM lcm("memq://");
-  Bus memq(lcm);
-  Bus direct{Bus::InProcess{}};
+  LcmBus memq(lcm);
+  InProcessBus direct;
   const auto via_memq = received(memq);
   ASSERT_EQ(via_memq.size(), 3u);
   EXPECT_EQ(via_memq[0], encoded(scan({1.0f, 2.5f, 8.0f})));
@@ -380,13 +416,14 @@ TEST(Transport, ConsecutiveMessagesDoNotShareArrays) {
   // bus recycles the objects it queues: a shorter array after a longer one must arrive whole, as
   // bytes and as typed messages, on both backends.
   lcm::LCM lcm("memq://");
-  Bus memq(lcm);
-  Bus direct{Bus::InProcess{}};
-  for (Bus* bus : {&memq, &direct}) {
+  LcmBus memq(lcm);
+  InProcessBus direct;
+  for (Bus* bus : {static_cast<Bus*>(&memq), static_cast<Bus*>(&direct)}) {
     for (const bool typed : {false, true}) {
       const std::string channel = typed ? "TYPED" : "RAW";
       std::vector<std::vector<float>> seen;
-      bus->subscribe<hunav::laser_scan_t>(channel, [&](const hunav::laser_scan_t& s) { seen.push_back(s.ranges); });
+      const hunav::Subscription sub13 =
+          bus->subscribe<hunav::laser_scan_t>(channel, [&](const hunav::laser_scan_t& s) { seen.push_back(s.ranges); });
       for (const auto& ranges : {std::vector<float>{1, 2, 3}, std::vector<float>{4}, std::vector<float>{}}) {
         if (typed) {
           bus->publish(channel, scan(ranges));
@@ -404,10 +441,11 @@ TEST(Transport, ConsecutiveMessagesDoNotShareArrays) {
 TEST(Transport, InProcessSubscriberOfAnotherTypeGetsBytesAndDropsThem) {
   // One type per channel; a subscriber that expects another type gets what LCM would give it: bytes
   // with the wrong fingerprint, dropped and counted. Subscribers of the right type are unaffected.
-  Bus bus{Bus::InProcess{}};
+  InProcessBus bus;
   int scans = 0, goals = 0;
-  bus.subscribe<hunav::laser_scan_t>("X", [&](const hunav::laser_scan_t&) { ++scans; });
-  bus.subscribe<hunav::nav_goal_t>("X", [&](const hunav::nav_goal_t&) { ++goals; });
+  const hunav::Subscription sub14 =
+      bus.subscribe<hunav::laser_scan_t>("X", [&](const hunav::laser_scan_t&) { ++scans; });
+  const hunav::Subscription sub15 = bus.subscribe<hunav::nav_goal_t>("X", [&](const hunav::nav_goal_t&) { ++goals; });
   bus.publish("X", goal(1));
   bus.handleAvailable();
   EXPECT_EQ(goals, 1);
@@ -420,16 +458,18 @@ TEST(Transport, PublishEncodedSendsTheCallersBytes) {
   const hunav::laser_scan_t s = scan({1.0f, 2.0f});
   const std::vector<std::uint8_t> bytes = encoded(s);
   lcm::LCM lcm("memq://");
-  Bus memq(lcm);
-  Bus direct{Bus::InProcess{}};
-  for (Bus* bus : {&memq, &direct}) {
+  LcmBus memq(lcm);
+  InProcessBus direct;
+  for (Bus* inner : {static_cast<Bus*>(&memq), static_cast<Bus*>(&direct)}) {
     std::vector<std::uint8_t> tapped;
-    bus->setTap([&](const std::string&, const void* data, std::size_t size) {
+    TapBus tap_bus(*inner, [&](const std::string&, const void* data, std::size_t size) {
       const auto* b = static_cast<const std::uint8_t*>(data);
       tapped.assign(b, b + size);
     });
+    Bus* bus = &tap_bus;
     std::vector<std::vector<std::uint8_t>> seen;
-    bus->subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t& m) { seen.push_back(encoded(m)); });
+    const hunav::Subscription sub16 =
+        bus->subscribe<hunav::laser_scan_t>("SCAN", [&](const hunav::laser_scan_t& m) { seen.push_back(encoded(m)); });
     bus->publishEncoded("SCAN", s, bytes.data(), bytes.size());
     bus->handleAvailable();
     EXPECT_EQ(tapped, bytes);
@@ -438,14 +478,15 @@ TEST(Transport, PublishEncodedSendsTheCallersBytes) {
 }
 
 TEST(Transport, InProcessTapSeesTheEncodingOfTypedMessages) {
-  Bus bus{Bus::InProcess{}};
+  InProcessBus inner;
   std::vector<std::uint8_t> tapped;
-  bus.setTap([&](const std::string&, const void* data, std::size_t size) {
+  TapBus bus(inner, [&](const std::string&, const void* data, std::size_t size) {
     const auto* b = static_cast<const std::uint8_t*>(data);
     tapped.assign(b, b + size);
   });
   double x = 0;
-  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { x = g.x; });
+  const hunav::Subscription sub17 =
+      bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { x = g.x; });
   bus.publish("GOAL", goal(4.25));
   bus.handleAvailable();
   EXPECT_EQ(x, 4.25);
@@ -478,10 +519,10 @@ TEST(Transport, ChannelPortsUrlGivesTheStepProtocolPortsOfTheirOwn) {
 }
 
 TEST(Transport, BusOpensItsOwnLcmFromAUrl) {
-  Bus bus(std::string("memq://"));
-  EXPECT_FALSE(bus.inProcess());
+  LcmBus bus(std::string("memq://"));
   double x = 0;
-  bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { x = g.x; });
+  const hunav::Subscription sub18 =
+      bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t& g) { x = g.x; });
   bus.publish("GOAL", goal(2.5));
   EXPECT_TRUE(bus.handleFor(std::chrono::milliseconds(100)));
   EXPECT_EQ(x, 2.5);
@@ -492,13 +533,18 @@ TEST(Transport, BusOpensItsOwnLcmFromAUrl) {
 TEST(Transport, SubscriptionsCountTheirOwnDropsWithTheLastReason) {
   for (const bool in_process : {true, false}) {
     lcm::LCM lcm("memq://");
-    std::unique_ptr<Bus> bus = in_process ? std::make_unique<Bus>(Bus::InProcess{}) : std::make_unique<Bus>(lcm);
-    const hunav::SubscriptionDrops& commands =
+    std::unique_ptr<Bus> bus;
+    if (in_process)
+      bus = std::make_unique<InProcessBus>();
+    else
+      bus = std::make_unique<LcmBus>(lcm);
+    const hunav::Subscription command_sub =
         bus->subscribe<hunav::robot_command_t>("ROBOT_COMMAND", [](const hunav::robot_command_t& c) {
           if (c.v > 1.0) throw hunav::BadMessage("robot command: v too large");
         });
-    const hunav::SubscriptionDrops& goals =
-        bus->subscribe<hunav::nav_goal_t>("NAV_GOAL", [](const hunav::nav_goal_t&) {});
+    const hunav::Subscription goal_sub = bus->subscribe<hunav::nav_goal_t>("NAV_GOAL", [](const hunav::nav_goal_t&) {});
+    const hunav::SubscriptionDrops& commands = command_sub.drops();
+    const hunav::SubscriptionDrops& goals = goal_sub.drops();
     hunav::robot_command_t c{};
     c.v = 2.0;
     bus->publish("ROBOT_COMMAND", c);
@@ -518,4 +564,89 @@ TEST(Transport, SubscriptionsCountTheirOwnDropsWithTheLastReason) {
     EXPECT_EQ(bus->droppedMessages(), 2u);
     EXPECT_EQ(bus->malformedDatagrams(), 0u);
   }
+}
+
+// Every backend over memq or in process, for the tests of what all of them must do alike.
+namespace {
+std::vector<std::unique_ptr<Bus>> everyLocalBackend() {
+  std::vector<std::unique_ptr<Bus>> buses;
+  buses.push_back(std::make_unique<InProcessBus>());
+  buses.push_back(std::make_unique<LcmBus>("memq://"));
+  return buses;
+}
+}  // namespace
+
+TEST(Transport, ADestroyedSubscriptionGetsNothingMoreNotEvenWhatIsQueued) {
+  for (auto& bus : everyLocalBackend()) {
+    int kept = 0, ended = 0;
+    const hunav::Subscription keep =
+        bus->subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++kept; });
+    {
+      hunav::Subscription end = bus->subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++ended; });
+      bus->publish("GOAL", goal(1));
+      bus->handleAvailable();
+      bus->publish("GOAL", goal(2));  // queued while `end` still lives
+      EXPECT_TRUE(end.active());
+    }
+    bus->publish("GOAL", goal(3));
+    bus->handleAvailable();
+    EXPECT_EQ(kept, 3);
+    EXPECT_EQ(ended, 1);
+  }
+}
+
+TEST(Transport, AHandlerMayEndItsOwnSubscription) {
+  for (auto& bus : everyLocalBackend()) {
+    int calls = 0;
+    hunav::Subscription once;
+    once = bus->subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) {
+      ++calls;
+      once.reset();  // the handler being run is kept alive until it returns
+    });
+    for (int i = 0; i < 3; ++i) bus->publish("GOAL", goal(i));
+    bus->handleAvailable();
+    EXPECT_EQ(calls, 1);
+    EXPECT_FALSE(once.active());
+  }
+}
+
+TEST(Transport, ASubscriptionMayOutliveItsBus) {
+  hunav::Subscription survivor;
+  {
+    InProcessBus bus;
+    survivor = bus.subscribe<hunav::nav_goal_t>("GOAL", [](const hunav::nav_goal_t& g) {
+      if (g.x < 0) throw hunav::BadMessage("negative");
+    });
+    bus.publish("GOAL", goal(-1));
+    bus.handleAvailable();
+    EXPECT_TRUE(survivor.active());
+  }
+  EXPECT_FALSE(survivor.active());
+  EXPECT_EQ(survivor.drops().count, 1u);  // what it counted stays readable
+  survivor.reset();                       // and ending it does nothing
+  EXPECT_EQ(survivor.drops().count, 0u);
+}
+
+TEST(Transport, MovingASubscriptionKeepsItAndAssigningEndsTheOldOne) {
+  InProcessBus bus;
+  int a = 0, b = 0;
+  hunav::Subscription first = bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++a; });
+  hunav::Subscription moved = std::move(first);
+  bus.publish("GOAL", goal(1));
+  bus.handleAvailable();
+  moved = bus.subscribe<hunav::nav_goal_t>("GOAL", [&](const hunav::nav_goal_t&) { ++b; });  // ends the first
+  bus.publish("GOAL", goal(2));
+  bus.handleAvailable();
+  EXPECT_EQ(a, 1);
+  EXPECT_EQ(b, 1);
+}
+
+TEST(Transport, OpenBusPicksTheBackendForTheUrl) {
+  EXPECT_NE(dynamic_cast<LcmBus*>(hunav::openBus("memq://").get()), nullptr);
+  // Our own option is taken out before LCM sees the URL (LCM would refuse a URL it cannot parse).
+  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.67:7667?ttl=0&receive=lcm", "WORLD_STATE"),
+            "udpm://239.255.76.67:7667?ttl=0");
+  EXPECT_EQ(hunav::lcmUrlForChannel("udpm://239.255.76.67:7667?receive=lcm&channel_ports=1&ttl=0", "STEP_REPLY"),
+            "udpm://239.255.76.67:7669?ttl=0");
+  EXPECT_THROW(hunav::openBus("nonsense://"), std::runtime_error);
 }

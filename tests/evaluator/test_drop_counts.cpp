@@ -7,6 +7,7 @@
 #include "evaluator_test_helpers.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
+#include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -14,8 +15,8 @@ using namespace evaluator_test;
 TEST(DropCounts, UndecodableAndRejectedMessagesAndTheWorldsCountGoIntoRunJson) {
   const auto dir = freshDir("drop-counts");
   lcm::LCM lcm{"memq://"};
-  hunav::Bus bus{lcm};    // the evaluator's
-  hunav::Bus world{lcm};  // plays the world
+  hunav::LcmBus bus{lcm};    // the evaluator's
+  hunav::LcmBus world{lcm};  // plays the world
   EvaluatorOptions o;
   o.out_dir = dir;
   o.episodes = 1;

@@ -12,10 +12,11 @@
 #include <thread>
 
 #include "evaluator_test_helpers.hpp"
+#include "hunav/bus.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/results.hpp"
 #include "hunav/evaluator/states_csv.hpp"
-#include "hunav/transport.hpp"
+#include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -206,7 +207,7 @@ TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
     Child c = Child::spawn({"--out", dir.string(), "--lcm-url", url});
     if (c.readLine(std::chrono::seconds(10)) != "ready") _exit(10);
     lcm::LCM lcm(url);
-    hunav::Bus world(lcm);
+    hunav::LcmBus world(lcm);
     world.publish(hunav::channels::kEpisodeEvent, startEvent(1, "udp-run"));
     for (int k = 0; k < 5; ++k)
       world.publish(hunav::channels::kWorldState,
@@ -242,7 +243,7 @@ TEST(EvaluatorCli, ReplaysAnLcmLogWithProfileSelectionAndTxtFormat) {
   const auto dir = freshDir();
   {
     lcm::LCM lcm("memq://");
-    hunav::Bus enc(lcm);
+    hunav::LcmBus enc(lcm);
     lcm::LogFile log((dir / "run.lcmlog").string(), "w");
     std::int64_t n = 0;
     auto write = [&](const std::string& channel, const std::vector<std::uint8_t>& bytes, std::int64_t utime) {
@@ -305,7 +306,7 @@ TEST(EvaluatorCli, ACorruptLogKeepsTheEpisodeUpToTheCorruptEvent) {
   std::vector<std::uint64_t> event_starts;
   {
     lcm::LCM lcm("memq://");
-    hunav::Bus enc(lcm);
+    hunav::LcmBus enc(lcm);
     lcm::LogFile log(log_file.string(), "w");
     std::int64_t n = 0;
     auto write = [&](const std::string& channel, const std::vector<std::uint8_t>& bytes) {

@@ -10,6 +10,7 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/fingerprint.hpp"
+#include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -70,8 +71,8 @@ class EvaluatorNodeTest : public ::testing::Test {
 
   std::filesystem::path dir = freshDir();
   lcm::LCM lcm{"memq://"};
-  hunav::Bus bus{lcm};    // the evaluator's
-  hunav::Bus world{lcm};  // plays the world
+  hunav::LcmBus bus{lcm};    // the evaluator's
+  hunav::LcmBus world{lcm};  // plays the world
   hunav::Fingerprint fingerprint;
 };
 
@@ -135,13 +136,13 @@ TEST_F(EvaluatorNodeTest, SecondRunAppendsARowWithoutASecondHeader) {
   // Two evaluators one after the other, each on its own Bus (a Bus keeps its subscriptions, and so
   // its handlers, until it is destroyed).
   {
-    hunav::Bus first_bus(lcm);
+    hunav::LcmBus first_bus(lcm);
     EvaluatorNode node(first_bus, options());
     runEpisode(1, "run-a", 10);
     ASSERT_TRUE(node.finished());
   }
   {
-    hunav::Bus second_bus(lcm);
+    hunav::LcmBus second_bus(lcm);
     EvaluatorNode node(second_bus, options());
     runEpisode(2, "run-b", 12);
     ASSERT_TRUE(node.finished());
@@ -184,10 +185,9 @@ TEST_F(EvaluatorNodeTest, OfflineRecomputationGivesIdenticalMetrics) {
   runEpisode(1, "run-a", 120);
   const auto live = node.lastResult()->metrics;
 
-  OfflineOptions off;
-  off.states_file = dir / "states.csv";
+  EvaluatorOptions off;
   off.out_dir = dir / "offline";
-  const RunResult again = recomputeFromStates(off);
+  const RunResult again = recomputeFromStates(dir / "states.csv", off);
   ASSERT_EQ(again.metrics.size(), live.size());
   for (std::size_t i = 0; i < live.size(); ++i) {
     EXPECT_EQ(again.metrics[i].name, live[i].name);
@@ -202,7 +202,7 @@ TEST_F(EvaluatorNodeTest, OfflineRecomputationGivesIdenticalMetrics) {
 
   // Recomputed into the run's own folder, the new metrics.csv row equals the live one.
   off.out_dir = dir;
-  recomputeFromStates(off);
+  recomputeFromStates(dir / "states.csv", off);
   const auto rows = readLines(dir / "metrics.csv");
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[1], rows[2]);
@@ -404,7 +404,7 @@ TEST_F(EvaluatorNodeTest, MetricsTableIsReadable) {
 
 TEST(EvaluatorNode, RejectsUnknownProfileAndBadOptions) {
   lcm::LCM lcm("memq://");
-  hunav::Bus bus(lcm);
+  hunav::LcmBus bus(lcm);
   EvaluatorOptions o;
   o.out_dir = freshDir("RejectsUnknownProfile");
   o.profile = "hunav_v0";

@@ -14,6 +14,7 @@
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/fingerprint.hpp"
+#include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -51,11 +52,11 @@ constexpr int kTicks = 250;
 // an LCM log at `log_file`. Returns the LIVE_METRICS messages heard.
 std::vector<hunav::live_metrics_t> playEpisode(const EvaluatorOptions& options, const fs::path& log_file) {
   lcm::LCM lcm("memq://");
-  hunav::Bus bus(lcm);
-  hunav::Bus world(lcm);
+  hunav::LcmBus bus(lcm);
+  hunav::LcmBus world(lcm);
   std::vector<hunav::live_metrics_t> live;
-  world.subscribe<hunav::live_metrics_t>(hunav::channels::kLiveMetrics,
-                                         [&](const hunav::live_metrics_t& m) { live.push_back(m); });
+  const hunav::Subscription sub1 = world.subscribe<hunav::live_metrics_t>(
+      hunav::channels::kLiveMetrics, [&](const hunav::live_metrics_t& m) { live.push_back(m); });
   EvaluatorNode node(bus, options);
   lcm::LogFile log(log_file.string(), "w");
   std::int64_t event_number = 0;
@@ -126,11 +127,10 @@ TEST_P(OutputsTest, LiveLogReplayAndStatesRecomputationAgreeExactly) {
   EXPECT_EQ(checkOutputs(dir / "live"), 0);
 
   // Replay of the log.
-  LogReplayOptions lo;
-  lo.log_file = dir / "run.lcmlog";
+  EvaluatorOptions lo;
   lo.out_dir = dir / "log";
   lo.profile = profile;
-  const auto results = replayLog(lo);
+  const auto results = replayLog(dir / "run.lcmlog", lo);
   ASSERT_EQ(results.size(), 1u);
   EXPECT_TRUE(results[0].info.complete);
   EXPECT_EQ(resultFiles(dir / "log"), expected);
@@ -149,11 +149,10 @@ TEST_P(OutputsTest, LiveLogReplayAndStatesRecomputationAgreeExactly) {
   }
 
   // Recomputation from states.csv: same metric values and same per-tick files.
-  OfflineOptions so;
-  so.states_file = dir / "live" / "states.csv";
+  EvaluatorOptions so;
   so.out_dir = dir / "states";
   so.profile = profile;
-  const RunResult r = recomputeFromStates(so);
+  const RunResult r = recomputeFromStates(dir / "live" / "states.csv", so);
   for (const char* f : {"metrics_steps.csv", "metrics_beh_1_steps.csv", "metrics_beh_4_steps.csv"})
     EXPECT_EQ(readFile(dir / "live" / f), readFile(dir / "states" / f)) << f;
   for (const char* f : {"metrics.csv", "metrics_beh_1.csv", "metrics_beh_4.csv"})

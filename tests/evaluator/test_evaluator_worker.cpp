@@ -9,11 +9,13 @@
 #include <sstream>
 
 #include "evaluator_test_helpers.hpp"
+#include "hunav/bus.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/fingerprint.hpp"
-#include "hunav/transport.hpp"
+#include "hunav/in_process_bus.hpp"
+#include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -58,11 +60,11 @@ struct Played {
 // dispatched (the worker has queued samples left then), or not at all when `incomplete` is false.
 Played play(const EvaluatorOptions& options, int ticks, bool end, bool incomplete = true) {
   lcm::LCM lcm("memq://");
-  hunav::Bus bus(lcm);
-  hunav::Bus world(lcm);
+  hunav::LcmBus bus(lcm);
+  hunav::LcmBus world(lcm);
   Played out;
-  world.subscribe<hunav::live_metrics_t>(hunav::channels::kLiveMetrics,
-                                         [&](const hunav::live_metrics_t& m) { out.live.push_back(m); });
+  const hunav::Subscription sub1 = world.subscribe<hunav::live_metrics_t>(
+      hunav::channels::kLiveMetrics, [&](const hunav::live_metrics_t& m) { out.live.push_back(m); });
   EvaluatorNode node(bus, options);
   hunav::Fingerprint fp;
   auto send = [&](const std::string& channel, const std::vector<std::uint8_t>& bytes) {
@@ -238,7 +240,7 @@ TEST(Worker, AWriteErrorReachesTheCaller) {
     fs::create_symlink("/dev/full", out / "metrics_steps.csv");
     EvaluatorOptions o = optionsFor(out, "default", worker);
     o.live_metrics = false;
-    hunav::Bus bus{hunav::Bus::InProcess{}};
+    hunav::InProcessBus bus;
     EvaluatorNode node(bus, o);
     std::vector<std::string> errors;
     auto handle = [&] {
@@ -275,7 +277,7 @@ TEST(Worker, EpisodesSampleRateAndFlushRequestsWriteTheSameBytes) {
     o.episodes = 3;
     o.sample_rate = 30.0;  // 30 of every 100 world states recorded
     o.live_metrics = false;
-    hunav::Bus bus{hunav::Bus::InProcess{}};
+    hunav::InProcessBus bus;
     EvaluatorNode node(bus, o);
     for (std::int64_t episode = 1; episode <= 3; ++episode) {
       bus.publish(hunav::channels::kEpisodeEvent, startEvent(episode, "episodes"));
@@ -315,7 +317,7 @@ TEST(Worker, ALargeCrowdFillingTheRingWritesTheSameBytes) {
   for (const bool worker : {false, true}) {
     EvaluatorOptions o = optionsFor(dir / (worker ? "worker" : "sync"), "default", worker);
     o.live_metrics = false;
-    hunav::Bus bus{hunav::Bus::InProcess{}};
+    hunav::InProcessBus bus;
     EvaluatorNode node(bus, o);
     bus.publish(hunav::channels::kEpisodeEvent, startEvent(1, "crowd"));
     bus.handleAvailable();

@@ -15,13 +15,14 @@
 #include <sstream>
 
 #include "evaluator_test_helpers.hpp"
+#include "hunav/bus.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/number_text.hpp"
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/fingerprint.hpp"
-#include "hunav/transport.hpp"
+#include "hunav/in_process_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -143,7 +144,7 @@ INSTANTIATE_TEST_SUITE_P(Profiles, MirroredTrack, ::testing::Values("default", "
 // Plays START, the world states of `states` and END to a node on an in-process bus (typed messages,
 // as the one-process runner delivers them).
 void playTyped(const EvaluatorOptions& options, const std::vector<hunav::world_state_t>& states) {
-  hunav::Bus bus{hunav::Bus::InProcess{}};
+  hunav::InProcessBus bus;
   EvaluatorNode node(bus, options);
   hunav::Fingerprint fp;
   bus.publish(hunav::channels::kEpisodeEvent, startEvent(1, "typed-run"));

@@ -20,6 +20,7 @@
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/fingerprint.hpp"
+#include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -99,11 +100,10 @@ TEST(SampleRate, MetricsAtTenHertzWorkedOutByHand) {
       w.write(rec, rec.back());
     }
   }
-  OfflineOptions o;
-  o.states_file = dir / "states.csv";
+  EvaluatorOptions o;
   o.out_dir = dir / "ten";
   o.sample_rate = 10.0;
-  const RunResult r = recomputeFromStates(o);
+  const RunResult r = recomputeFromStates(dir / "states.csv", o);
   // Kept (grid 0, 0.1, 0.2, ...): t = 0, 0.1, 0.2, then 0.31 (tick 30 is missing: the first at or
   // after 0.3 is the odd tick 31), then 0.4 (the grid does not move), 0.5, ..., 0.9: 10 samples.
   EXPECT_EQ(r.info.recorded_ticks, 10);
@@ -127,7 +127,7 @@ TEST(SampleRate, MetricsAtTenHertzWorkedOutByHand) {
   // Every sample (100 Hz, 99 ticks): the rate changes these values (0.99 s, 50 still intervals).
   o.out_dir = dir / "all";
   o.sample_rate = 0.0;
-  const auto all = byName(recomputeFromStates(o).metrics);
+  const auto all = byName(recomputeFromStates(dir / "states.csv", o).metrics);
   EXPECT_NEAR(all.at("time_to_reach_goal"), 0.99, kTol);
   EXPECT_NEAR(all.at("avg_robot_linear_speed"), 50.0 / 99.0, kTol);  // odd ticks 1..99 of 99 ticks
 }
@@ -135,8 +135,8 @@ TEST(SampleRate, MetricsAtTenHertzWorkedOutByHand) {
 TEST(SampleRate, TheLiveEvaluatorKeepsTheSameSamplesAsTheOfflineOne) {
   const fs::path dir = freshDir();
   lcm::LCM lcm("memq://");
-  hunav::Bus bus(lcm);
-  hunav::Bus world(lcm);
+  hunav::LcmBus bus(lcm);
+  hunav::LcmBus world(lcm);
   EvaluatorOptions o;
   o.out_dir = dir / "live";
   o.sample_rate = 10.0;
@@ -165,11 +165,10 @@ TEST(SampleRate, TheLiveEvaluatorKeepsTheSameSamplesAsTheOfflineOne) {
   EXPECT_NEAR(live.at("path_length"), 0.7 + std::sqrt(0.0521) + std::sqrt(0.0481), kTol);
 
   // Its states.csv read back at the same rate keeps all 10 samples and gives the same values.
-  OfflineOptions off;
-  off.states_file = dir / "live" / "states.csv";
+  EvaluatorOptions off;
   off.out_dir = dir / "again";
   off.sample_rate = 10.0;
-  const RunResult again = recomputeFromStates(off);
+  const RunResult again = recomputeFromStates(dir / "live" / "states.csv", off);
   EXPECT_EQ(again.info.recorded_ticks, 10);
   ASSERT_EQ(again.metrics.size(), node.lastResult()->metrics.size());
   for (std::size_t i = 0; i < again.metrics.size(); ++i)
@@ -216,10 +215,9 @@ TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
                            "0,agent,7,1,1,0,0,0,0,0,0,0.3,3,1,-1,,,,1:2;3:4\r\n"
                            "0.5,robot,1,0.25,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,";  // no final newline
   writeFile(dir / "states.csv", rows);
-  OfflineOptions o;
-  o.states_file = dir / "states.csv";
+  EvaluatorOptions o;
   o.out_dir = dir / "out";
-  const RunResult r = recomputeFromStates(o);
+  const RunResult r = recomputeFromStates(dir / "states.csv", o);
   EXPECT_EQ(r.info.recorded_ticks, 2);
   // The copy has the layout of evaluator/README.md: '\n' line ends, no blank line.
   EXPECT_EQ(readFile(dir / "out" / "states.csv"), std::string(kStatesCsvHeader) +
@@ -232,19 +230,17 @@ TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
                                       "metrics_steps.csv", "run.json", "states.csv"}));
 
   // Recomputed into its own folder: states.csv is the source, left as it is.
-  o.states_file = dir / "out" / "states.csv";
   o.sample_rate = 1.0;
-  recomputeFromStates(o);
+  recomputeFromStates(dir / "out" / "states.csv", o);
   EXPECT_EQ(readLines(dir / "out" / "states.csv").size(), 4u);
 
   // A malformed row late in the file: an error naming the line; the folder the call created is gone
   // (no states.csv, no per-tick file, no temporary file), and an existing folder keeps its files.
   writeFile(dir / "bad.csv", rows + "\n0.75,robot,1,zero,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
-  o.states_file = dir / "bad.csv";
   o.out_dir = dir / "bad";
   o.sample_rate = 0.0;
   try {
-    recomputeFromStates(o);
+    recomputeFromStates(dir / "bad.csv", o);
     ADD_FAILURE() << "no error";
   } catch (const hunav::ConfigError& e) {
     EXPECT_EQ(e.line(), 6) << e.what();  // header, robot, blank, agent, robot, then the bad row
@@ -254,7 +250,7 @@ TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
   const auto before = filesIn(dir / "out");
   const std::string steps = readFile(dir / "out" / "metrics_steps.csv");
   o.out_dir = dir / "out";
-  EXPECT_THROW(recomputeFromStates(o), hunav::ConfigError);
+  EXPECT_THROW(recomputeFromStates(dir / "bad.csv", o), hunav::ConfigError);
   EXPECT_EQ(filesIn(dir / "out"), before);
   EXPECT_EQ(readFile(dir / "out" / "metrics_steps.csv"), steps);
 }
@@ -313,8 +309,8 @@ TEST(StatesCsvWriter, BuffersRowsUntilFlushAndKeepsThemOnClose) {
 TEST(StatesCsvWriter, TheNodeNeverHoldsBackAHundredSamples) {
   const fs::path dir = freshDir();
   lcm::LCM lcm("memq://");
-  hunav::Bus bus(lcm);
-  hunav::Bus world(lcm);
+  hunav::LcmBus bus(lcm);
+  hunav::LcmBus world(lcm);
   EvaluatorOptions o;
   o.out_dir = dir;
   EvaluatorNode node(bus, o);

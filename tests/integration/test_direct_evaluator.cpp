@@ -1,7 +1,6 @@
-// The evaluator node on the direct receiver, as the hunav_evaluator binary reads the bus
-// (BusOptions::direct_on_every_port): every world state of an episode is recorded, big crowds'
-// fragmented states included, and a world state that never came is counted in lost_ticks. Runs inside
-// a private network namespace with a multicast route on loopback (tests/common/in_netns.sh).
+// The evaluator node on UdpmBus, as the hunav_evaluator binary reads the bus: every world state of an episode is
+// recorded, big crowds' fragmented states included, and a world state that never came is counted in lost_ticks. Runs
+// inside a private network namespace with a multicast route on loopback (tests/common/in_netns.sh).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -12,7 +11,7 @@
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/fingerprint.hpp"
-#include "hunav/transport.hpp"
+#include "hunav/udpm_bus.hpp"
 
 namespace {
 
@@ -34,13 +33,11 @@ hunav::world_state_t crowdState(std::int64_t tick, int people) {
 
 TEST(DirectEvaluator, RecordsEveryWorldStateAndCountsTheOneThatNeverCame) {
   const std::filesystem::path dir = freshDir("direct_evaluator");
-  hunav::BusOptions options;
-  options.direct_on_every_port = true;
-  hunav::Bus bus(kEvaluatorUrl, options);
+  hunav::UdpmBus bus(kEvaluatorUrl);
   hunav::evaluator::EvaluatorOptions eval;
   eval.out_dir = dir;
   hunav::evaluator::EvaluatorNode node(bus, eval);
-  hunav::Bus world(kWorldUrl);
+  hunav::UdpmBus world(kWorldUrl);
 
   // 60 ticks; tick 17 is never published (a world state lost on the way); ticks 30 to 39 carry a
   // crowd whose states are over 64 KB (several LC03 fragments each).

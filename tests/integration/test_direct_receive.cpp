@@ -1,4 +1,4 @@
-// The Bus's own receive socket for the step channels' ports (transport.cpp, DirectReceiver) against
+// UdpmBus's own receive sockets (common/src/direct_receiver.hpp) against
 // LCM itself: plain LCM publishers on those ports (short messages and fragmented ones over 64 KB),
 // several receivers on one port, and datagrams that are not LCM's. Runs inside a private network
 // namespace with a multicast route on loopback (tests/common/in_netns.sh does it for ctest).
@@ -13,14 +13,17 @@
 #include <functional>
 #include <hunav/laser_scan_t.hpp>
 #include <hunav/nav_goal_t.hpp>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
 
 #include "../common/handle_until.hpp"
 #include "hunav/channels.hpp"
-#include "hunav/transport.hpp"
+#include "hunav/open_bus.hpp"
+#include "hunav/udpm_bus.hpp"
 
 using hunav::Bus;
+using hunav::UdpmBus;
 namespace ch = hunav::channels;
 
 namespace {
@@ -85,9 +88,10 @@ hunav::laser_scan_t scan(int beams, float first) {
 }  // namespace
 
 TEST(DirectReceive, ShortAndFragmentedMessagesFromAnLcmPublisher) {
-  Bus bus(kUrl);
+  UdpmBus bus(kUrl);
   std::vector<hunav::laser_scan_t> got;
-  bus.subscribe<hunav::laser_scan_t>(ch::kStepRequest, [&](const hunav::laser_scan_t& s) { got.push_back(s); });
+  const hunav::Subscription sub1 =
+      bus.subscribe<hunav::laser_scan_t>(ch::kStepRequest, [&](const hunav::laser_scan_t& s) { got.push_back(s); });
   // LCM itself on STEP_REQUEST's port (7668), as a planner or tool in another language would publish.
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kStepRequest));
   ASSERT_TRUE(publisher.good());
@@ -106,10 +110,12 @@ TEST(DirectReceive, ShortAndFragmentedMessagesFromAnLcmPublisher) {
 }
 
 TEST(DirectReceive, EveryReceiverOnThePortGetsEachMessageAndOtherChannelsAreIgnored) {
-  Bus first(kUrl), second(kUrl);
+  UdpmBus first(kUrl), second(kUrl);
   int first_count = 0, second_count = 0;
-  first.subscribe<hunav::nav_goal_t>(ch::kStepReply, [&](const hunav::nav_goal_t&) { ++first_count; });
-  second.subscribe<hunav::nav_goal_t>(ch::kStepReply, [&](const hunav::nav_goal_t&) { ++second_count; });
+  const hunav::Subscription sub2 =
+      first.subscribe<hunav::nav_goal_t>(ch::kStepReply, [&](const hunav::nav_goal_t&) { ++first_count; });
+  const hunav::Subscription sub3 =
+      second.subscribe<hunav::nav_goal_t>(ch::kStepReply, [&](const hunav::nav_goal_t&) { ++second_count; });
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kStepReply));
   hunav::nav_goal_t goal{};
   goal.x = 1.5;
@@ -124,9 +130,10 @@ TEST(DirectReceive, EveryReceiverOnThePortGetsEachMessageAndOtherChannelsAreIgno
 }
 
 TEST(DirectReceive, DatagramsNotInLcmFormatAreDroppedAndCounted) {
-  Bus bus(kUrl);
+  UdpmBus bus(kUrl);
   std::vector<double> xs;
-  bus.subscribe<hunav::nav_goal_t>(ch::kStepRequest, [&](const hunav::nav_goal_t& g) { xs.push_back(g.x); });
+  const hunav::Subscription sub4 =
+      bus.subscribe<hunav::nav_goal_t>(ch::kStepRequest, [&](const hunav::nav_goal_t& g) { xs.push_back(g.x); });
   const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
   ASSERT_GE(fd, 0);
   sockaddr_in to{};
@@ -157,9 +164,10 @@ TEST(DirectReceive, DatagramsNotInLcmFormatAreDroppedAndCounted) {
 TEST(DirectReceive, OnEveryPortTheUrlsOwnPortIsReadToo) {
   // As the world reads it: ROBOT_COMMAND from an LCM publisher on the URL's port (a user's planner),
   // while its own publications on that port (WORLD_STATE) are read and passed over.
-  Bus world(kUrl, /*direct_on_every_port=*/true);
+  UdpmBus world(kUrl);
   std::vector<double> commands;
-  world.subscribe<hunav::nav_goal_t>(ch::kRobotCommand, [&](const hunav::nav_goal_t& g) { commands.push_back(g.x); });
+  const hunav::Subscription sub5 = world.subscribe<hunav::nav_goal_t>(
+      ch::kRobotCommand, [&](const hunav::nav_goal_t& g) { commands.push_back(g.x); });
   lcm::LCM planner(hunav::lcmUrlForChannel(kUrl, ch::kRobotCommand));
   ASSERT_TRUE(planner.good());
   hunav::nav_goal_t own{}, command{};
@@ -176,9 +184,10 @@ TEST(DirectReceive, OnEveryPortTheUrlsOwnPortIsReadToo) {
 }
 
 TEST(DirectReceive, LostFragmentsAreCountedAndTheNextMessageStillArrives) {
-  Bus bus(kUrl);
+  UdpmBus bus(kUrl);
   std::vector<hunav::laser_scan_t> got;
-  bus.subscribe<hunav::laser_scan_t>(ch::kStepRequest, [&](const hunav::laser_scan_t& s) { got.push_back(s); });
+  const hunav::Subscription sub6 =
+      bus.subscribe<hunav::laser_scan_t>(ch::kStepRequest, [&](const hunav::laser_scan_t& s) { got.push_back(s); });
   const hunav::laser_scan_t sent = scan(2, 5.0f);
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(sent.getEncodedSize()));
   ASSERT_EQ(sent.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
@@ -214,9 +223,8 @@ namespace {
 // A URL whose receive buffer holds only a few dozen small datagrams.
 const std::string kSmallBufferUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16384&channel_ports=1";
 
-hunav::BusOptions directEverywhere(bool filter = false) {
-  hunav::BusOptions o;
-  o.direct_on_every_port = true;
+hunav::ReceiveOptions filtered(bool filter) {
+  hunav::ReceiveOptions o;
   o.filter_unsubscribed_channels = filter;
   return o;
 }
@@ -224,9 +232,10 @@ hunav::BusOptions directEverywhere(bool filter = false) {
 }  // namespace
 
 TEST(DirectReceive, DatagramsDroppedByAFullSocketBufferAreCounted) {
-  Bus bus(kSmallBufferUrl, directEverywhere());
+  UdpmBus bus(kSmallBufferUrl);
   int got = 0;
-  bus.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) { ++got; });
+  const hunav::Subscription sub7 =
+      bus.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) { ++got; });
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
   ASSERT_TRUE(publisher.good());
   hunav::nav_goal_t goal{};
@@ -245,12 +254,12 @@ TEST(DirectReceive, ABacklogIsReadOnBeforeTheSocketBufferFills) {
   // from its queue and reads the socket again every kBacklogDrainMessages messages, so the socket
   // never holds more than 2 * kBacklogDrainMessages datagrams and none is lost, although the
   // backlog grows far past what the socket buffer holds.
-  Bus bus(kSmallBufferUrl, directEverywhere());
+  UdpmBus bus(kSmallBufferUrl);
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
   ASSERT_TRUE(publisher.good());
   hunav::nav_goal_t goal{};
   int got = 0, sent = 0, budget = 0;
-  bus.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) {
+  const hunav::Subscription sub8 = bus.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) {
     ++got;
     for (int k = 0; k < 2 && sent < budget; ++k, ++sent) publisher.publish(ch::kWorldState, &goal);
   });
@@ -260,7 +269,7 @@ TEST(DirectReceive, ABacklogIsReadOnBeforeTheSocketBufferFills) {
       handleUntil({&bus}, [&] { return got + static_cast<int>(bus.receiveLosses().overflowed_datagrams) == 300; }));
   const int capacity = got;
   const std::uint64_t lost_before = bus.receiveLosses().overflowed_datagrams;
-  ASSERT_GE(capacity, 3 * Bus::kBacklogDrainMessages) << "the socket buffer is too small for this test";
+  ASSERT_GE(capacity, 3 * UdpmBus::kBacklogDrainMessages) << "the socket buffer is too small for this test";
   // A burst of 3/4 of that capacity, then the handler's two per message: without reading the socket
   // during the backlog, 1.5 times the capacity would arrive while the first burst is dispatched.
   got = 0;
@@ -275,13 +284,15 @@ TEST(DirectReceive, ABacklogIsReadOnBeforeTheSocketBufferFills) {
 TEST(DirectReceive, ASocketFilterKeepsOtherChannelsInTheKernel) {
   // As our planner reads the URL's port: only its channels reach the process. Names of every length
   // modulo 4 (the filter compares words), and near misses: a prefix, an extension.
-  Bus planner(kUrl, directEverywhere(/*filter=*/true));
+  UdpmBus planner(kUrl, filtered(true));
   std::vector<std::string> got;
   std::vector<hunav::laser_scan_t> scans;
+  std::vector<hunav::Subscription> subs;
   for (const char* name : {"AB", "ABCD", "ABCDEF", "EPISODE_EVENT"})
-    planner.subscribe<hunav::nav_goal_t>(name, [&got, name](const hunav::nav_goal_t&) { got.emplace_back(name); });
-  planner.subscribe<hunav::laser_scan_t>(ch::kRobotObservation,
-                                         [&](const hunav::laser_scan_t& s) { scans.push_back(s); });
+    subs.push_back(
+        planner.subscribe<hunav::nav_goal_t>(name, [&got, name](const hunav::nav_goal_t&) { got.emplace_back(name); }));
+  const hunav::Subscription sub10 = planner.subscribe<hunav::laser_scan_t>(
+      ch::kRobotObservation, [&](const hunav::laser_scan_t& s) { scans.push_back(s); });
   lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
   ASSERT_TRUE(publisher.good());
   hunav::nav_goal_t goal{};
@@ -297,7 +308,7 @@ TEST(DirectReceive, ASocketFilterKeepsOtherChannelsInTheKernel) {
   // The four short messages subscribed to, the small scan and the big one's fragments: the eight
   // others never left the kernel.
   const std::uint64_t fragments = (static_cast<std::uint64_t>(big.getEncodedSize()) + 65535) / 65536 + 1;
-  EXPECT_GE(planner.directDatagramsRead(), 5u + 2u);
-  EXPECT_LE(planner.directDatagramsRead(), 5u + fragments);
+  EXPECT_GE(planner.datagramsRead(), 5u + 2u);
+  EXPECT_LE(planner.datagramsRead(), 5u + fragments);
   EXPECT_EQ(planner.droppedMessages(), 0u);
 }

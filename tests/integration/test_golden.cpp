@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <hunav/world_state_t.hpp>
+#include <lcm/lcm-cpp.hpp>
 
 #include "hunav/runner/in_process_run.hpp"
 

@@ -5,7 +5,10 @@
 #include <vector>
 
 #include "hunav/channels.hpp"
+#include "hunav/in_process_bus.hpp"
+#include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
+#include "hunav/testing/lossy_bus.hpp"
 #include "people_fixtures.hpp"
 
 using namespace hunav;
@@ -38,9 +41,11 @@ step_request_t onePersonWalkingToX3(int64_t seq) {
 
 // The STEP_REPLY messages a bus delivers, in order.
 struct RepliesOn {
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   std::vector<step_reply_t> got;
   explicit RepliesOn(Bus& bus) {
-    bus.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { got.push_back(r); });
+    subscriptions_.push_back(
+        bus.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { got.push_back(r); }));
   }
 };
 
@@ -115,7 +120,7 @@ TEST(AgentManager, ForcesDoNotDependOnAgentOrder) {
 
 TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   ManagerNode node(bus);
   RepliesOn on(bus);
   std::vector<step_reply_t>& replies = on.got;
@@ -146,11 +151,12 @@ TEST(ManagerNode, AnswersEchoesSeqResendsTheSameReplyAndDropsBadRequests) {
   EXPECT_EQ(bus.droppedMessages(), 2u);
 }
 
-TEST(ManagerNode, InProcessHandsItsReplyOverAndStillAnswersAResendOfALostOne) {
-  // In process the reply object itself goes into the queue (not a copy). A resend of a delivered
-  // reply is counted and not answered again (the queue does not lose it); a reply the loss-test
-  // hook dropped stays with the manager and is what the resend gets.
-  Bus bus(Bus::InProcess{});
+TEST(ManagerNode, AResendGetsTheSameReplyAgainAndALostReplyIsResent) {
+  // The manager keeps its last reply: a resend of the request gets it again (the world ignores a
+  // reply it already has), counted as resent, without stepping again; a reply the bus lost is what
+  // the resend gets.
+  InProcessBus queue;
+  hunav::testing::LossyBus bus(queue, 0.0, 1);
   ManagerNode node(bus);
   RepliesOn on(bus);
   std::vector<step_reply_t>& replies = on.got;
@@ -161,24 +167,26 @@ TEST(ManagerNode, InProcessHandsItsReplyOverAndStillAnswersAResendOfALostOne) {
   ASSERT_EQ(replies[0].agents.size(), 1u);
   EXPECT_GT(replies[0].agents[0].x, 0.0);  // walked toward its goal at (3, 0)
   sendStep(bus, req);
-  EXPECT_EQ(replies.size(), 1u);
+  ASSERT_EQ(replies.size(), 2u);
+  EXPECT_EQ(replies[1].seq, 7);
+  EXPECT_EQ(replies[1].agents[0].x, replies[0].agents[0].x);
   EXPECT_EQ(node.repliesResent(), 1u);
+  EXPECT_EQ(node.stepsComputed(), 1u);
 
-  // Every outgoing message dropped: the request of seq 8 is published with the hook off, the reply
-  // is lost; then the resend (hook off again) gets that same reply.
+  // Every outgoing message lost while the manager answers seq 8; the resend gets that same reply.
   req.seq = 8;
   req.agents[0].x = 1.0;
   bus.publish(channels::kStepRequest, req);
-  bus.setOutgoingLossForTesting(1.0, 1);
+  bus.setLossProbability(1.0);
   bus.handleAvailable();
-  EXPECT_EQ(bus.lostForTesting(), 1u);
-  EXPECT_EQ(replies.size(), 1u);
-  bus.setOutgoingLossForTesting(0.0, 1);
+  EXPECT_EQ(bus.lost(), 1u);
+  EXPECT_EQ(replies.size(), 2u);
+  bus.setLossProbability(0.0);
   sendStep(bus, req);
-  ASSERT_EQ(replies.size(), 2u);
-  EXPECT_EQ(replies[1].seq, 8);
-  ASSERT_EQ(replies[1].agents.size(), 1u);
-  EXPECT_GT(replies[1].agents[0].x, 1.0);  // the step from x = 1
+  ASSERT_EQ(replies.size(), 3u);
+  EXPECT_EQ(replies[2].seq, 8);
+  ASSERT_EQ(replies[2].agents.size(), 1u);
+  EXPECT_GT(replies[2].agents[0].x, 1.0);  // the step from x = 1
   EXPECT_EQ(node.stepsComputed(), 2u);
   EXPECT_EQ(node.repliesResent(), 2u);
 }

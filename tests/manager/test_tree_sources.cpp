@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "hunav/channels.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "people_fixtures.hpp"
 
@@ -61,9 +62,11 @@ step_request_t requestWithTree(const std::string& tree, std::int64_t seq) {
 }
 
 struct Replies {
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   std::vector<step_reply_t> got;
   explicit Replies(Bus& bus) {
-    bus.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { got.push_back(r); });
+    subscriptions_.push_back(
+        bus.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { got.push_back(r); }));
   }
 };
 
@@ -71,7 +74,7 @@ struct Replies {
 
 TEST(TreeSources, BadTreesNamedByStepRequestsAreDroppedAndCountedAndTheManagerGoesOn) {
   TreeFiles files;
-  Bus bus{Bus::InProcess{}};
+  InProcessBus bus;
   ManagerNode node(bus);
   node.manager().setTreeFolder(files.folder.string());
   Replies replies(bus);
@@ -141,7 +144,7 @@ TEST(TreeSources, AScenarioManagerUsesItsScenariosTreesAndRefusesOthers) {
   a.name = "ann";
   a.behavior_tree = (files.folder / "stand.xml").string();
   s.agents = {a};
-  Bus bus{Bus::InProcess{}};
+  InProcessBus bus;
   ManagerNode node(bus);
   node.manager().useScenario(s);
   Replies replies(bus);

@@ -3,15 +3,16 @@
 #include <gtest/gtest.h>
 
 #include "example_planner.hpp"
+#include "hunav/bus.hpp"
+#include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
-#include "hunav/transport.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
 TEST(ExamplePlanner, ReachesTheGoalInThePassingScenario) {
   const hunav::Scenario scenario = hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
   lcm::LCM lcm("memq://");
   ASSERT_TRUE(lcm.good());
-  hunav::Bus bus(lcm);
+  hunav::LcmBus bus(lcm);
   hunav::manager::ManagerNode manager(bus);
   example::GoToGoalPlanner planner(lcm);
   hunav::worldsim::WorldOptions options;

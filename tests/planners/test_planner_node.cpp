@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "hunav/channels.hpp"
+#include "hunav/lcm_bus.hpp"
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/planners/sim_tools.hpp"
@@ -32,13 +33,14 @@ Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scena
 
 class PlannerNodeTest : public ::testing::Test {
  protected:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   PlannerNodeTest() : lcm_("memq://"), bus_(lcm_) {
     auto planner = std::make_unique<CountingPlanner>();
     plans_ = planner->plans;
     resets_ = planner->resets;
     node_ = std::make_unique<PlannerNode>(bus_, std::move(planner));
-    bus_.subscribe<robot_command_t>(channels::kRobotCommand,
-                                    [this](const robot_command_t& cmd) { commands_.push_back(cmd); });
+    subscriptions_.push_back(bus_.subscribe<robot_command_t>(
+        channels::kRobotCommand, [this](const robot_command_t& cmd) { commands_.push_back(cmd); }));
   }
 
   robot_observation_t observation(std::int64_t seq, std::int64_t episode = 1) {
@@ -58,7 +60,7 @@ class PlannerNodeTest : public ::testing::Test {
 
   Scenario scenario_ = passing();
   lcm::LCM lcm_;
-  Bus bus_;
+  LcmBus bus_;
   std::unique_ptr<PlannerNode> node_;
   std::shared_ptr<int> plans_, resets_;
   std::vector<robot_command_t> commands_;
@@ -133,7 +135,8 @@ TEST_F(PlannerNodeTest, InvalidObservationsAreDroppedAndCounted) {
 
 TEST_F(PlannerNodeTest, AnnouncesItsDropCountAtStartAndWhenItGrows) {
   std::vector<planner_ready_t> told;
-  bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [&](const planner_ready_t& r) { told.push_back(r); });
+  const hunav::Subscription sub2 =
+      bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [&](const planner_ready_t& r) { told.push_back(r); });
   sendEvent(episode_event_t::START, 1);
   ASSERT_EQ(told.size(), 1u);  // START: the count so far
   EXPECT_EQ(told[0].dropped_messages, 0);
@@ -209,10 +212,11 @@ TEST_F(PlannerNodeTest, CountsEpisodeEndsOnce) {
 TEST(PlannerNodeDwb, AnswersWithACommandWithinTheLimits) {
   const Scenario s = passing();
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   PlannerNode node(bus, std::make_unique<DwbPlanner>(s));
   std::vector<robot_command_t> commands;
-  bus.subscribe<robot_command_t>(channels::kRobotCommand, [&](const robot_command_t& c) { commands.push_back(c); });
+  const hunav::Subscription sub3 =
+      bus.subscribe<robot_command_t>(channels::kRobotCommand, [&](const robot_command_t& c) { commands.push_back(c); });
   MiniWorld world(s);
   bus.publish(channels::kRobotObservation, world.observe());
   bus.handleAvailable();

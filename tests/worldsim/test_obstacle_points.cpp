@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hunav/channels.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/worldsim/physics_world.hpp"
 #include "hunav/worldsim/world_sim.hpp"
@@ -32,11 +33,12 @@ std::vector<point2d_t> firstObstaclePoints(ObstaclePoints rule) {
   s.people_model.obstacle_points = rule;
   s.people_model.navigation = PeopleNavigation::Direct;
 
-  Bus bus{Bus::InProcess{}};
+  InProcessBus bus;
   manager::ManagerNode manager(bus);
   manager.manager().useScenario(s);
   std::vector<world_state_t> states;
-  bus.subscribe<world_state_t>(channels::kWorldState, [&](const world_state_t& w) { states.push_back(w); });
+  const hunav::Subscription sub1 =
+      bus.subscribe<world_state_t>(channels::kWorldState, [&](const world_state_t& w) { states.push_back(w); });
   worldsim::WorldOptions o;
   o.planner = "none";
   o.mode = "inprocess";

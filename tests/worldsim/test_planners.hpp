@@ -4,27 +4,28 @@
 #include <hunav/robot_observation_t.hpp>
 #include <vector>
 
+#include "hunav/bus.hpp"
 #include "hunav/channels.hpp"
-#include "hunav/transport.hpp"
 
 namespace worldsim_test {
 
 // Sends one fixed command (v, vy, w) for every observation and keeps the observations it answered.
 class FixedCommand {
  public:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   FixedCommand(hunav::Bus& bus, double v, double vy, double w) : bus_(bus) {
-    bus_.subscribe<hunav::robot_observation_t>(hunav::channels::kRobotObservation,
-                                               [this, v, vy, w](const hunav::robot_observation_t& o) {
-                                                 observations.push_back(o);
-                                                 hunav::robot_command_t c{};
-                                                 c.utime = o.utime;
-                                                 c.seq = o.seq;
-                                                 c.episode = o.episode;
-                                                 c.v = v;
-                                                 c.vy = vy;
-                                                 c.w = w;
-                                                 bus_.publish(hunav::channels::kRobotCommand, c);
-                                               });
+    subscriptions_.push_back(bus_.subscribe<hunav::robot_observation_t>(
+        hunav::channels::kRobotObservation, [this, v, vy, w](const hunav::robot_observation_t& o) {
+          observations.push_back(o);
+          hunav::robot_command_t c{};
+          c.utime = o.utime;
+          c.seq = o.seq;
+          c.episode = o.episode;
+          c.v = v;
+          c.vy = vy;
+          c.w = w;
+          bus_.publish(hunav::channels::kRobotCommand, c);
+        }));
   }
   std::vector<hunav::robot_observation_t> observations;
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "hunav/channels.hpp"
+#include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
@@ -47,17 +48,19 @@ class HugeCommand : public worldsim_test::FixedCommand {
 // Answers every step request with the people as they were (an echo), changed by `tweak`.
 class EchoingManager {
  public:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   EchoingManager(Bus& bus, std::function<void(step_reply_t&)> tweak) {
-    bus.subscribe<step_request_t>(channels::kStepRequest, [&bus, tweak](const step_request_t& r) {
-      step_reply_t reply{};
-      reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
-      reply.seq = r.seq;
-      reply.episode = r.episode;
-      reply.agents = r.agents;
-      reply.num_agents = r.num_agents;
-      tweak(reply);
-      bus.publish(channels::kStepReply, reply);
-    });
+    subscriptions_.push_back(
+        bus.subscribe<step_request_t>(channels::kStepRequest, [&bus, tweak](const step_request_t& r) {
+          step_reply_t reply{};
+          reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
+          reply.seq = r.seq;
+          reply.episode = r.episode;
+          reply.agents = r.agents;
+          reply.num_agents = r.num_agents;
+          tweak(reply);
+          bus.publish(channels::kStepReply, reply);
+        }));
   }
 };
 
@@ -71,8 +74,10 @@ class BrokenManager : public EchoingManager {
 };
 
 struct Events {
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   explicit Events(Bus& bus) {
-    bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { all.push_back(e); });
+    subscriptions_.push_back(bus.subscribe<episode_event_t>(channels::kEpisodeEvent,
+                                                            [this](const episode_event_t& e) { all.push_back(e); }));
   }
   std::vector<episode_event_t> all;
 };
@@ -82,7 +87,7 @@ struct Events {
 TEST(WorldDrops, HugeFiniteRobotCommandsAreDroppedAndCountedNotClamped) {
   for (const double huge : {1e308, -1e308, 2e6}) {
     lcm::LCM lcm("memq://");
-    Bus bus(lcm);
+    LcmBus bus(lcm);
     manager::ManagerNode manager(bus);
     HugeCommand planner(bus, huge);
     Events events(bus);
@@ -105,7 +110,7 @@ TEST(WorldDrops, HugeFiniteRobotCommandsAreDroppedAndCountedNotClamped) {
 
 TEST(WorldDrops, TheDirectCommandRejectsHugeNumbersToo) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   Scenario s = passing();
   WorldSim world(bus, s, fastOptions());
   EXPECT_THROW(world.command(1e308, 0.0, 0.0), BadMessage);
@@ -115,7 +120,7 @@ TEST(WorldDrops, TheDirectCommandRejectsHugeNumbersToo) {
 
 TEST(WorldDrops, RejectedManagerAnswersAreNamedAsDroppedNotAsSilence) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   BrokenManager manager(bus);
   Events events(bus);
   WorldSim world(bus, passing(), fastOptions());
@@ -135,7 +140,7 @@ TEST(WorldDrops, RejectedManagerAnswersAreNamedAsDroppedNotAsSilence) {
 
 TEST(WorldDrops, SilenceIsStillSilence) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   WorldSim world(bus, passing(), fastOptions());  // nobody answers step requests
   const auto r = world.runEpisode();
   EXPECT_EQ(r.reason.find("manager did not answer seq 1"), 0u) << r.reason;
@@ -163,7 +168,7 @@ void sendBadObservation(Bus& bus) {
 // previous END), so drops before a START count for the episode it opens.
 TEST(WorldDrops, ManagerAndPlannerCountsReachTheEndEventPerEpisode) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   Events events(bus);
   manager::ManagerNode manager(bus);
   Scenario s = passing();
@@ -208,7 +213,7 @@ TEST(WorldDrops, ManagerAndPlannerCountsReachTheEndEventPerEpisode) {
 // announced itself.
 TEST(WorldDrops, UnheardCountsAreMinusOne) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   HugeCommand planner(bus, 0.5);  // answers, never announces
   Scenario s = passing();
   s.agents.clear();
@@ -223,7 +228,7 @@ TEST(WorldDrops, UnheardCountsAreMinusOne) {
 // A negative count is not a count: the reply is dropped (and named in the abort reason).
 TEST(WorldDrops, ANegativeCountInAStepReplyIsDropped) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   EchoingManager manager(bus, [](step_reply_t& reply) { reply.dropped_messages = -5; });
   WorldSim world(bus, passing(), fastOptions());
   const auto r = world.runEpisode();

@@ -15,9 +15,12 @@
 #include <set>
 
 #include "hunav/channels.hpp"
+#include "hunav/in_process_bus.hpp"
+#include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
+#include "hunav/testing/lossy_bus.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 #include "test_planners.hpp"
 
@@ -33,19 +36,21 @@ Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scena
 // A test-only planner: turn toward the goal, drive when roughly facing it.
 class PointAtGoal {
  public:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   explicit PointAtGoal(Bus& bus) : bus_(bus) {
-    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this](const robot_observation_t& o) {
-      ++observations;
-      const double heading = std::atan2(o.goal.y - o.y, o.goal.x - o.x);
-      const double err = normalizeAngle(heading - o.yaw);
-      robot_command_t c{};
-      c.utime = o.utime;
-      c.seq = o.seq;
-      c.episode = o.episode;
-      c.w = std::clamp(2.0 * err, -o.max_w, o.max_w);
-      c.v = std::abs(err) < 0.3 ? o.max_v : 0.0;
-      bus_.publish(channels::kRobotCommand, c);
-    });
+    subscriptions_.push_back(
+        bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this](const robot_observation_t& o) {
+          ++observations;
+          const double heading = std::atan2(o.goal.y - o.y, o.goal.x - o.x);
+          const double err = normalizeAngle(heading - o.yaw);
+          robot_command_t c{};
+          c.utime = o.utime;
+          c.seq = o.seq;
+          c.episode = o.episode;
+          c.w = std::clamp(2.0 * err, -o.max_w, o.max_w);
+          c.v = std::abs(err) < 0.3 ? o.max_v : 0.0;
+          bus_.publish(channels::kRobotCommand, c);
+        }));
   }
   int observations = 0;
 
@@ -54,9 +59,12 @@ class PointAtGoal {
 };
 
 struct Collector {
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   explicit Collector(Bus& bus) {
-    bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& w) { states.push_back(w); });
-    bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { events.push_back(e); });
+    subscriptions_.push_back(
+        bus.subscribe<world_state_t>(channels::kWorldState, [this](const world_state_t& w) { states.push_back(w); }));
+    subscriptions_.push_back(bus.subscribe<episode_event_t>(channels::kEpisodeEvent,
+                                                            [this](const episode_event_t& e) { events.push_back(e); }));
   }
   std::vector<world_state_t> states;
   std::vector<episode_event_t> events;
@@ -76,7 +84,7 @@ WorldOptions fastOptions(const std::string& planner) {
 
 TEST(WorldSim, PeopleWalkTowardTheirGoalsUntilTheTimeLimit) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   Collector out(bus);
   Scenario s = passing();
@@ -104,7 +112,7 @@ TEST(WorldSim, PeopleWalkTowardTheirGoalsUntilTheTimeLimit) {
 
 TEST(WorldSim, SimTimeIsTheDecimalTimeOfTheTicksAndTheReasonNamesTheLimit) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   Scenario s = passing();
   s.time_limit = 0.07;  // 7 ticks: 70000 us * 1e-6 = 0.07000000000000001, 70000 us / 1e6 = 0.07
@@ -119,7 +127,7 @@ TEST(WorldSim, SimTimeIsTheDecimalTimeOfTheTicksAndTheReasonNamesTheLimit) {
 TEST(WorldSim, SameSeedSameFingerprintDifferentRunDifferentFingerprint) {
   auto run = [](double time_limit) {
     lcm::LCM lcm("memq://");
-    Bus bus(lcm);
+    LcmBus bus(lcm);
     manager::ManagerNode manager(bus);
     PointAtGoal planner(bus);
     Scenario s = passing();
@@ -134,7 +142,7 @@ TEST(WorldSim, SameSeedSameFingerprintDifferentRunDifferentFingerprint) {
 
 TEST(WorldSim, LockstepPlannerDrivesTheRobotToItsGoal) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   PointAtGoal planner(bus);
   Scenario s = passing();
   s.agents.clear();  // an empty corridor
@@ -149,7 +157,7 @@ TEST(WorldSim, LockstepPlannerDrivesTheRobotToItsGoal) {
 
 TEST(WorldSim, SilentManagerAbortsTheEpisodeNamingIt) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   PointAtGoal planner(bus);
   WorldSim world(bus, passing(), fastOptions("test"));  // nobody answers step requests
   const auto start = std::chrono::steady_clock::now();
@@ -162,7 +170,7 @@ TEST(WorldSim, SilentManagerAbortsTheEpisodeNamingIt) {
 
 TEST(WorldSim, SilentPlannerAbortsTheEpisodeNamingIt) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   WorldSim world(bus, passing(), fastOptions("dwb"));  // nobody answers observations
   const auto r = world.runEpisode();
@@ -173,8 +181,8 @@ TEST(WorldSim, SilentPlannerAbortsTheEpisodeNamingIt) {
 TEST(WorldSim, OnePercentMessageLossKeepsTheFingerprint) {
   auto run = [](double loss) {
     lcm::LCM lcm("memq://");
-    Bus bus(lcm);
-    bus.setOutgoingLossForTesting(loss, 42);
+    LcmBus memq(lcm);
+    hunav::testing::LossyBus bus(memq, loss, 42);
     manager::ManagerNode manager(bus);
     PointAtGoal planner(bus);
     Scenario s = passing();
@@ -185,7 +193,7 @@ TEST(WorldSim, OnePercentMessageLossKeepsTheFingerprint) {
     const auto r = world.runEpisode();
     EXPECT_EQ(r.status, "time_limit") << r.reason;
     if (loss > 0) {
-      EXPECT_GT(bus.lostForTesting(), 0u);
+      EXPECT_GT(bus.lost(), 0u);
     }
     return r.fingerprint;
   };
@@ -194,7 +202,7 @@ TEST(WorldSim, OnePercentMessageLossKeepsTheFingerprint) {
 
 TEST(WorldSim, StopFlagEndsTheEpisodeAsInterrupted) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   std::atomic<bool> stop{true};
   WorldOptions o = fastOptions("none");
@@ -214,7 +222,7 @@ TEST(WorldSim, StopWithASupervisorsReasonEndsTheEpisodeAsAbortedWithIt) {
   std::ofstream(file) << "planner was killed by SIGKILL (exit status 137)\n";
   ::setenv(episode_status::kStopReasonFileEnv, file.c_str(), 1);
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   std::atomic<bool> stop{true};
   WorldOptions o = fastOptions("none");
   o.stop = &stop;
@@ -229,20 +237,21 @@ TEST(WorldSim, StopWithASupervisorsReasonEndsTheEpisodeAsAbortedWithIt) {
 
 TEST(WorldSim, RealtimePlannerThatStopsCommandingAbortsTheEpisode) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   // Answers the first 5 observations, then goes silent (a dead or stalled planner).
   int answered = 0;
-  bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&](const robot_observation_t& o) {
-    if (answered >= 5) return;
-    ++answered;
-    robot_command_t c{};
-    c.utime = o.utime;
-    c.seq = o.seq;
-    c.episode = o.episode;
-    c.v = 0.2;
-    bus.publish(channels::kRobotCommand, c);
-  });
+  const hunav::Subscription sub4 =
+      bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&](const robot_observation_t& o) {
+        if (answered >= 5) return;
+        ++answered;
+        robot_command_t c{};
+        c.utime = o.utime;
+        c.seq = o.seq;
+        c.episode = o.episode;
+        c.v = 0.2;
+        bus.publish(channels::kRobotCommand, c);
+      });
   WorldOptions o = fastOptions("test");
   o.mode = "realtime";
   WorldSim world(bus, passing(), o);
@@ -258,7 +267,7 @@ TEST(WorldSim, RealtimePlannerThatStopsCommandingAbortsTheEpisode) {
 
 TEST(WorldSim, WithoutPlannerReadyTheEpisodeEndsAtOnce) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   PointAtGoal planner(bus);  // it would answer, but never announces itself
   WorldOptions o = fastOptions("test");
@@ -275,7 +284,7 @@ TEST(WorldSim, WithoutPlannerReadyTheEpisodeEndsAtOnce) {
 
 TEST(WorldSim, PlannerReadyStartsTheEpisode) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   manager::ManagerNode manager(bus);
   PointAtGoal planner(bus);
   Collector seen(bus);
@@ -299,8 +308,9 @@ namespace {
 // A test-only manager: every person keeps the velocity given here (default: stands still).
 class FixedVelocityManager {
  public:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   explicit FixedVelocityManager(Bus& bus, Vec2 velocity = Vec2::Zero()) : bus_(bus), velocity_(std::move(velocity)) {
-    bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) {
+    subscriptions_.push_back(bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) {
       step_reply_t reply{};
       reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
       reply.seq = r.seq;
@@ -313,7 +323,7 @@ class FixedVelocityManager {
         a.vy = velocity_.y();
       }
       bus_.publish(channels::kStepReply, reply);
-    });
+    }));
   }
 
  private:
@@ -336,7 +346,7 @@ AgentConfig person(int id, const Vec2& at) {
 
 TEST(WorldSim, HolonomicRobotStrafesWithinItsLimits) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   FixedCommand planner(bus, 0.0, 0.3, 0.0);  // sideways to the left at 0.3 m/s
   Collector out(bus);
   Scenario s = passing();
@@ -368,7 +378,7 @@ TEST(WorldSim, HolonomicRobotStrafesWithinItsLimits) {
 
 TEST(WorldSim, PeopleBehindWallsOrOutsideTheFieldOfViewAreNotDetected) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   FixedVelocityManager manager(bus);
   FixedCommand planner(bus, 0.0, 0.0, 0.0);
   Scenario s = passing();
@@ -398,7 +408,7 @@ TEST(WorldSim, PeopleBehindWallsOrOutsideTheFieldOfViewAreNotDetected) {
   // Seeded noise on the detections: the same seed gives the same noise, the truth is off by it.
   auto noisy = [&](std::uint64_t seed) {
     lcm::LCM lcm2("memq://");
-    Bus bus2(lcm2);
+    LcmBus bus2(lcm2);
     FixedVelocityManager manager2(bus2);
     FixedCommand planner2(bus2, 0.0, 0.0, 0.0);
     Scenario n = s;
@@ -418,7 +428,7 @@ TEST(WorldSim, PeopleBehindWallsOrOutsideTheFieldOfViewAreNotDetected) {
 
 TEST(WorldSim, ContactsAreCountedPerEpisode) {
   lcm::LCM lcm("memq://");
-  Bus bus(lcm);
+  LcmBus bus(lcm);
   FixedVelocityManager manager(bus, Vec2(-1.0, 0.0));  // everybody walks -x at 1 m/s
   FixedCommand planner(bus, 0.0, 0.0, 0.0);            // the robot stands
   Collector out(bus);
@@ -496,7 +506,7 @@ TEST(WorldSim, SecondEpisodeOfARunEqualsAFreshEpisodeWithItsSeed) {
   worldsim::EpisodeResult r1, r2, rf;
   {
     lcm::LCM lcm("memq://");
-    Bus bus(lcm);
+    LcmBus bus(lcm);
     manager::ManagerNode manager(bus);
     PointAtGoal planner(bus);
     Collector out(bus);
@@ -508,7 +518,7 @@ TEST(WorldSim, SecondEpisodeOfARunEqualsAFreshEpisodeWithItsSeed) {
   }
   {
     lcm::LCM lcm("memq://");
-    Bus bus(lcm);
+    LcmBus bus(lcm);
     manager::ManagerNode manager(bus);
     PointAtGoal planner(bus);
     Collector out(bus);
@@ -538,7 +548,7 @@ TEST(WorldSim, InProcessSecondEpisodeWithAnotherRobotEqualsAFreshEpisode) {
   std::vector<std::vector<std::uint8_t>> second, fresh;
   worldsim::EpisodeResult r2, rf;
   {
-    Bus bus(Bus::InProcess{});
+    InProcessBus bus;
     manager::ManagerNode manager(bus);
     PointAtGoal planner(bus);
     Collector out(bus);
@@ -553,7 +563,7 @@ TEST(WorldSim, InProcessSecondEpisodeWithAnotherRobotEqualsAFreshEpisode) {
     EXPECT_EQ(out.states.back().robot.goals[0].x, 10.0);
   }
   {
-    Bus bus(Bus::InProcess{});
+    InProcessBus bus;
     manager::ManagerNode manager(bus);
     PointAtGoal planner(bus);
     Collector out(bus);
@@ -573,8 +583,8 @@ TEST(WorldSim, InProcessSecondEpisodeWithAnotherRobotEqualsAFreshEpisode) {
 
 TEST(WorldSim, PassingRunWithDwbKeepsItsFingerprintUnderOnePercentLoss) {
   auto run = [](double loss) {
-    Bus bus(Bus::InProcess{});
-    bus.setOutgoingLossForTesting(loss, 2024);
+    InProcessBus queue;
+    hunav::testing::LossyBus bus(queue, loss, 2024);
     const Scenario s = passing();
     manager::ManagerNode manager(bus);
     planners::PlannerNode planner(bus, planners::createPlanner("dwb", s, nullptr));
@@ -584,7 +594,7 @@ TEST(WorldSim, PassingRunWithDwbKeepsItsFingerprintUnderOnePercentLoss) {
     const auto r = world.runEpisode();
     EXPECT_EQ(r.status, "goal_reached") << r.reason;
     if (loss > 0) {
-      EXPECT_GT(bus.lostForTesting(), 20u);  // about 1% of some 6000 requests and replies
+      EXPECT_GT(bus.lost(), 20u);  // about 1% of some 6000 requests and replies
       EXPECT_GT(world.resends(), 0u);
     }
     return r.fingerprint;
@@ -611,15 +621,17 @@ Scenario walledIn(double stuck_timeout) {
 // A test-only planner: full speed ahead until x >= stop_x, then v = 0.
 class DriveThenStop {
  public:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   DriveThenStop(Bus& bus, double stop_x) : bus_(bus) {
-    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, stop_x](const robot_observation_t& o) {
-      robot_command_t c{};
-      c.utime = o.utime;
-      c.seq = o.seq;
-      c.episode = o.episode;
-      c.v = o.x < stop_x ? o.max_v : 0.0;
-      bus_.publish(channels::kRobotCommand, c);
-    });
+    subscriptions_.push_back(
+        bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, stop_x](const robot_observation_t& o) {
+          robot_command_t c{};
+          c.utime = o.utime;
+          c.seq = o.seq;
+          c.episode = o.episode;
+          c.v = o.x < stop_x ? o.max_v : 0.0;
+          bus_.publish(channels::kRobotCommand, c);
+        }));
   }
 
  private:
@@ -629,15 +641,17 @@ class DriveThenStop {
 // A test-only planner: v = +speed during even seconds of simulation time, -speed during odd ones.
 class BackAndForth {
  public:
+  std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   BackAndForth(Bus& bus, double speed) : bus_(bus) {
-    bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, speed](const robot_observation_t& o) {
-      robot_command_t c{};
-      c.utime = o.utime;
-      c.seq = o.seq;
-      c.episode = o.episode;
-      c.v = (o.utime / 1000000) % 2 == 0 ? speed : -speed;
-      bus_.publish(channels::kRobotCommand, c);
-    });
+    subscriptions_.push_back(
+        bus_.subscribe<robot_observation_t>(channels::kRobotObservation, [this, speed](const robot_observation_t& o) {
+          robot_command_t c{};
+          c.utime = o.utime;
+          c.seq = o.seq;
+          c.episode = o.episode;
+          c.v = (o.utime / 1000000) % 2 == 0 ? speed : -speed;
+          bus_.publish(channels::kRobotCommand, c);
+        }));
   }
 
  private:
@@ -647,7 +661,7 @@ class BackAndForth {
 }  // namespace
 
 TEST(WorldSimStuck, WalledInRobotEndsStuckAtTheTimeout) {
-  Bus bus(Bus::InProcess{});
+  InProcessBus bus;
   FixedCommand planner(bus, 0.6, 0.0, 0.0);  // pushes into the wall ahead
   Collector out(bus);
   WorldSim world(bus, walledIn(5.0), fastOptions("test"));
@@ -674,7 +688,7 @@ TEST(WorldSimStuck, WalledInRobotEndsStuckAtTheTimeout) {
 
 TEST(WorldSimStuck, ZeroTimeoutNoGoalOrTheTimeLimitFirstNeverEndStuck) {
   auto statusOf = [](Scenario s) {
-    Bus bus(Bus::InProcess{});
+    InProcessBus bus;
     FixedCommand planner(bus, 0.6, 0.0, 0.0);
     WorldSim world(bus, std::move(s), fastOptions("test"));
     return world.runEpisode().status;
@@ -693,7 +707,7 @@ TEST(WorldSimStuck, ZeroTimeoutNoGoalOrTheTimeLimitFirstNeverEndStuck) {
 
 TEST(WorldSimStuck, RobotDrivingToItsGoalIsNeverStuck) {
   auto run = [](double stuck_timeout) {
-    Bus bus(Bus::InProcess{});
+    InProcessBus bus;
     PointAtGoal planner(bus);
     Scenario s = passing();
     s.agents.clear();
@@ -710,7 +724,7 @@ TEST(WorldSimStuck, RobotDrivingToItsGoalIsNeverStuck) {
 }
 
 TEST(WorldSimStuck, RobotOscillatingWithinTheCircleIsStuck) {
-  Bus bus(Bus::InProcess{});
+  InProcessBus bus;
   BackAndForth planner(bus, 0.3);
   Scenario s = passing();
   s.agents.clear();
@@ -727,7 +741,7 @@ TEST(WorldSimStuck, RobotOscillatingWithinTheCircleIsStuck) {
 }
 
 TEST(WorldSimStuck, ProgressRestartsTheTimer) {
-  Bus bus(Bus::InProcess{});
+  InProcessBus bus;
   DriveThenStop planner(bus, 1.0);
   Scenario s = passing();
   s.agents.clear();

@@ -86,15 +86,16 @@ LiveFeed::LiveFeed(Bus& bus, FrameHub& hub, SceneStore& scene, LiveOptions optio
       std::chrono::duration<double>(1.0 / std::max(options_.fps, 0.1)));
   // Bounded queues: a monitor may drop what it cannot keep up with (it only samples).
   constexpr int kQueue = 64;
-  bus.subscribe<world_state_t>(
-      channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); }, kQueue);
-  bus.subscribe<robot_observation_t>(
-      channels::kRobotObservation, [this](const robot_observation_t& o) { laser_ = laserJson(o); }, kQueue);
-  bus.subscribe<planned_path_t>(
-      channels::kRobotPath, [this](const planned_path_t& p) { path_ = pathJson(p); }, kQueue);
-  bus.subscribe<live_metrics_t>(
-      channels::kLiveMetrics, [this](const live_metrics_t& m) { metrics_ = metricsJson(m); }, kQueue);
-  bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { onEpisodeEvent(e); });
+  subscriptions_.push_back(bus.subscribe<world_state_t>(
+      channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); }, kQueue));
+  subscriptions_.push_back(bus.subscribe<robot_observation_t>(
+      channels::kRobotObservation, [this](const robot_observation_t& o) { laser_ = laserJson(o); }, kQueue));
+  subscriptions_.push_back(bus.subscribe<planned_path_t>(
+      channels::kRobotPath, [this](const planned_path_t& p) { path_ = pathJson(p); }, kQueue));
+  subscriptions_.push_back(bus.subscribe<live_metrics_t>(
+      channels::kLiveMetrics, [this](const live_metrics_t& m) { metrics_ = metricsJson(m); }, kQueue));
+  subscriptions_.push_back(
+      bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { onEpisodeEvent(e); }));
 }
 
 void LiveFeed::onEpisodeEvent(const episode_event_t& e) {

@@ -75,11 +75,11 @@ WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
   if (options_.robot_absent && options_.planner != "none")
     throw std::invalid_argument("a world without the robot runs with planner none");
   configure(std::move(scenario), options_.run_id);
-  reply_drops_ = &bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
-  command_drops_ =
-      &bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
+  reply_sub_ = bus_.subscribe<step_reply_t>(channels::kStepReply, [this](const step_reply_t& r) { onStepReply(r); });
+  command_sub_ =
+      bus_.subscribe<robot_command_t>(channels::kRobotCommand, [this](const robot_command_t& c) { onCommand(c); });
   if (options_.planner != "none")
-    bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [this](const planner_ready_t& ready) {
+    ready_sub_ = bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [this](const planner_ready_t& ready) {
       planner_drops_.tell(ready.dropped_messages);  // a negative count: dropped, not an announcement
       planner_ready_ = true;
     });
@@ -285,18 +285,17 @@ void WorldSim::onCommand(const robot_command_t& cmd) {
 bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived, bool first, const char* who,
                           std::int64_t seq, std::string& failure) {
   send();
-  // In process the answer is usually queued behind what was sent: handle what waits first, without
-  // reading the clock (several clock reads per exchange otherwise, every tick).
-  if (bus_.inProcess())
-    while (!arrived && bus_.handleFor(std::chrono::milliseconds(0))) {
-    }
+  // In one process the answer is already queued behind what was sent: handle what waits first,
+  // before reading the clock (several clock reads per exchange otherwise, every tick).
+  while (!arrived && bus_.handleFor(std::chrono::milliseconds(0))) {
+  }
   if (arrived) return true;
   const Clock::time_point start = Clock::now();
   Clock::time_point last_send = start;
   const auto limit = first ? options_.startup_limit : options_.silence_limit;
   int sends = 1;
   // Answers that arrived but were dropped (undecodable, or rejected by the checks) are not silence.
-  const SubscriptionDrops& answers = std::string_view(who) == "manager" ? *reply_drops_ : *command_drops_;
+  const SubscriptionDrops& answers = std::string_view(who) == "manager" ? reply_sub_.drops() : command_sub_.drops();
   const std::uint64_t answers_dropped_before = answers.count;
   while (!arrived) {
     if (options_.stop != nullptr && options_.stop->load()) return false;  // abortWith() labels it
@@ -588,7 +587,7 @@ bool WorldSim::tick(EpisodeResult& result) {
 
 std::uint64_t WorldSim::droppedMessages() const {
   // The bus's malformed datagrams are the world's own: in process the bus has no socket.
-  return reply_drops_->count + command_drops_->count + bus_.malformedDatagrams();
+  return reply_sub_.drops().count + command_sub_.drops().count + bus_.malformedDatagrams();
 }
 
 void WorldSim::command(double v, double vy, double w) {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "hunav/bounds.hpp"
-#include "hunav/transport.hpp"
+#include "hunav/bus.hpp"
 
 namespace hunav {
 

@@ -20,7 +20,7 @@
 //
 // Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (with
 // worker_thread the node also runs a worker thread of its own; the calls below stay on the caller's):
-//   hunav::Bus bus(lcm);
+//   std::unique_ptr<hunav::Bus> bus = hunav::openBus(url);   // or an InProcessBus shared with others
 //   EvaluatorNode evaluator(bus, {out_dir, "default", "exp", 1});
 //   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
 //   std::cout << evaluator.lastResult()->formatTable();   // or formatMetricsTable(metrics)
@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "hunav/bus.hpp"
 #include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/recording.hpp"
@@ -45,7 +46,6 @@
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/fingerprint.hpp"
-#include "hunav/transport.hpp"
 
 namespace hunav::evaluator {
 
@@ -93,9 +93,7 @@ struct EvaluatorOptions {
 
 class EvaluatorNode {
  public:
-  // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus`. hunav::Bus cannot drop
-  // one subscriber's subscriptions, so the bus must not dispatch after the node is gone: give each
-  // node its own Bus (several Buses may share one lcm::LCM) and destroy it before or with the node.
+  // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus` until it is destroyed.
   // Throws std::invalid_argument for an unknown profile, a negative episode count or a bad sample
   // rate.
   EvaluatorNode(Bus& bus, EvaluatorOptions options);
@@ -169,8 +167,6 @@ class EvaluatorNode {
   std::unique_ptr<Episode> current_;
   int episodes_started_ = 0;
   int episodes_ended_ = 0;
-  const SubscriptionDrops* event_drops_ = nullptr;  // its subscriptions' drop counts (Bus::subscribe)
-  const SubscriptionDrops* state_drops_ = nullptr;
   std::uint64_t dropped_at_last_end_ = 0;  // drops before a START count for the episode it opens
   std::optional<RunResult> last_result_;
   // process()'s buffers (the worker's once it has taken over).
@@ -179,7 +175,10 @@ class EvaluatorNode {
   std::vector<Vec2> points_scratch_;
   std::chrono::steady_clock::time_point last_flush_request_;  // worker_thread: flushIfDue()'s last request
   std::set<std::string> used_run_dirs_;                       // folders of episodes 2, 3, ...
-  std::unique_ptr<Worker> worker_;                            // with worker_thread; declared last: stopped first
+  std::unique_ptr<Worker> worker_;                            // with worker_thread; stopped before the rest
+  // Last, so that they end first: no message reaches a node being destroyed.
+  Subscription event_sub_;
+  Subscription state_sub_;
 };
 
 }  // namespace hunav::evaluator

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <hunav/episode_event_t.hpp>
 
+#include "hunav/bus.hpp"
 #include "hunav/manager/agent_manager.hpp"
-#include "hunav/transport.hpp"
 
 namespace hunav::manager {
 
@@ -22,7 +22,7 @@ class ManagerNode {
   std::uint64_t episodesEnded() const { return episodes_ended_; }
   // The step requests it dropped (undecodable, or rejected: bad numbers, a behavior tree that is not
   // one of its own) and why the last one was.
-  const SubscriptionDrops& requestDrops() const { return *request_drops_; }
+  const SubscriptionDrops& requestDrops() const { return request_sub_.drops(); }
   // Everything it dropped: step requests, events, and (on a socket bus) malformed datagrams.
   std::uint64_t droppedMessages() const;
 
@@ -30,18 +30,18 @@ class ManagerNode {
   void onRequest(const step_request_t& request);
 
   Bus& bus_;
-  const SubscriptionDrops* request_drops_ = nullptr;
-  const SubscriptionDrops* event_drops_ = nullptr;  // with count_episodes
   AgentManager manager_;
   bool have_answered_ = false;  // answered_seq_ and answered_episode_ are set
   std::int64_t answered_seq_ = 0;
   std::int64_t answered_episode_ = 0;
-  bool have_last_ = false;  // last_reply_ holds the answer to answered_seq_ (for resends)
-  step_reply_t last_reply_;
-  people_social_t social_;  // PEOPLE_SOCIAL, reused
+  step_reply_t last_reply_;  // the answer to answered_seq_, kept for resends
+  people_social_t social_;   // PEOPLE_SOCIAL, reused
   std::uint64_t steps_computed_ = 0;
   std::uint64_t replies_resent_ = 0;
   std::uint64_t episodes_ended_ = 0;
+  // Last, so that they end first (the handlers use the members above).
+  Subscription request_sub_;
+  Subscription event_sub_;  // with count_episodes
 };
 
 }  // namespace hunav::manager

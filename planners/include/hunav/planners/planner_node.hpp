@@ -21,8 +21,8 @@
 #include <optional>
 #include <string>
 
+#include "hunav/bus.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/transport.hpp"
 
 namespace hunav::planners {
 
@@ -65,8 +65,6 @@ class PlannerNode {
   Bus& bus_;
   std::unique_ptr<Planner> planner_;
   std::string name_;
-  const SubscriptionDrops* observation_drops_ = nullptr;
-  const SubscriptionDrops* event_drops_ = nullptr;
   std::uint64_t dropped_announced_ = 0;
   std::optional<std::int64_t> episode_;  // the episode being served
   bool episode_ended_ = false;           // its END event arrived
@@ -77,6 +75,9 @@ class PlannerNode {
   std::uint64_t commands_sent_ = 0;
   std::uint64_t replies_resent_ = 0;
   std::uint64_t stale_ignored_ = 0;
+  // Last, so that they end first (the handlers use the members above).
+  Subscription observation_sub_;
+  Subscription event_sub_;
 };
 
 }  // namespace hunav::planners

@@ -13,7 +13,7 @@
 // simulated pace whatever the mode. Messages of other types (LCM's own LCM_SELF_TEST, programs of
 // the user on a shared bus) keep the previous stamp.
 //
-// Several ports: with channel_ports=1 (hunav/transport.hpp) the step protocol's channels travel on
+// Several ports: with channel_ports=1 (hunav/open_bus.hpp) the step protocol's channels travel on
 // ports of their own, each an LCM instance; the recorder listens on all of them and writes every
 // message into the one log, in the order it handles them (each channel's messages in their order).
 #include <poll.h>

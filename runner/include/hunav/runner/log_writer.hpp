@@ -1,29 +1,31 @@
 #pragma once
-// Writes every message published through a Bus to an LCM log file (the format of lcm-logger, readable
-// by lcm-logplayer and the evaluator). In-process runs have no network for lcm-logger to listen on.
+// A bus that writes every message published through it to an LCM log file (the format of
+// lcm-logger, readable by lcm-logplayer and the evaluator), then passes it on to the bus it wraps.
+// In-process runs have no network for lcm-logger to listen on: their components talk through this.
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
+#include <vector>
 
-#include "hunav/transport.hpp"
+#include "hunav/bus.hpp"
 
 namespace hunav::runner {
 
-class LogWriter {
+class LogWriter final : public ForwardingBus {
  public:
-  // Opens `path` for writing and records every message published through `bus`.
-  LogWriter(Bus& bus, const std::string& path);
-  ~LogWriter();
-  LogWriter(const LogWriter&) = delete;
-  LogWriter& operator=(const LogWriter&) = delete;
+  // Opens `path` for writing (throws when it cannot) and records what is published through this.
+  LogWriter(Bus& inner, const std::string& path);
+
+  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
+  void publishRaw(std::string_view channel, const void* data, std::size_t size) override;
 
   std::int64_t eventsWritten() const { return events_; }
 
  private:
-  void write(const std::string& channel, const void* data, std::size_t size);
+  void write(std::string_view channel, const void* data, std::size_t size);
 
-  Bus& bus_;
   lcm::LogFile log_;
+  std::vector<std::uint8_t> buffer_;
   std::int64_t events_ = 0;
   std::int64_t last_timestamp_ = 0;
 };

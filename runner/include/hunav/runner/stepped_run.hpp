@@ -72,6 +72,8 @@ class SteppedRun {
   std::optional<RunOutcome> outcome_;
   live_metrics_t live_{};
   robot_observation_t planner_observation_{};
+  Subscription live_sub_;  // last, so that they end first
+  Subscription observation_sub_;
 };
 
 }  // namespace hunav::runner

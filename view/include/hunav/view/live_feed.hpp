@@ -16,8 +16,9 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
-#include "hunav/transport.hpp"
+#include "hunav/bus.hpp"
 #include "hunav/view/frames.hpp"
 
 namespace hunav::view {
@@ -91,6 +92,7 @@ class LiveFeed {
   std::uint64_t world_states_ = 0;
   std::uint64_t frames_built_ = 0;
   bool ended_ = false;
+  std::vector<Subscription> subscriptions_;  // last, so that they end first
 };
 
 }  // namespace hunav::view

@@ -16,10 +16,10 @@
 #include <random>
 #include <string>
 
+#include "hunav/bus.hpp"
 #include "hunav/episode_status.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/scenario.hpp"
-#include "hunav/transport.hpp"
 #include "hunav/worldsim/physics_world.hpp"
 #include "hunav/worldsim/stuck_detector.hpp"
 
@@ -200,8 +200,6 @@ class WorldSim {
   std::uint64_t collisions_ = 0;
   std::uint64_t robot_collisions_ = 0;
   std::uint64_t resends_ = 0;
-  const SubscriptionDrops* reply_drops_ = nullptr;  // its subscriptions' drop counts (Bus::subscribe)
-  const SubscriptionDrops* command_drops_ = nullptr;
   std::uint64_t dropped_at_last_end_ = 0;
   // A peer's drop count as it last told it (cumulative since it started), and its value at the last
   // END: the episode's share is the difference.
@@ -216,6 +214,11 @@ class WorldSim {
   PeerDrops planner_drops_;
   StuckDetector stuck_;  // of the current episode (reset())
   Fingerprint fingerprint_;
+  // Last, so that they end first: the handlers use the members above. Their drop counts are this
+  // component's own (a bus in process is shared).
+  Subscription reply_sub_;
+  Subscription command_sub_;
+  Subscription ready_sub_;
 };
 
 }  // namespace hunav::worldsim

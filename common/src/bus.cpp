@@ -1,0 +1,104 @@
+#include "hunav/bus.hpp"
+
+#include <algorithm>
+
+namespace hunav {
+
+namespace {
+constexpr const char* kUndecodable = "a message that does not decode as the channel's type";
+}
+
+Subscription& Subscription::operator=(Subscription&& other) noexcept {
+  if (this != &other) {
+    reset();
+    subscriber_ = std::move(other.subscriber_);
+  }
+  return *this;
+}
+
+void Subscription::reset() {
+  if (subscriber_ && subscriber_->bus != nullptr) subscriber_->bus->end(*subscriber_);
+  subscriber_.reset();
+}
+
+const SubscriptionDrops& Subscription::drops() const {
+  static const SubscriptionDrops kNone;
+  return subscriber_ ? subscriber_->drops : kNone;
+}
+
+Bus::~Bus() {
+  // A backend has ended its subscriptions already; whatever is left only loses its bus.
+  for (auto& sub : subscribers_) sub->bus = nullptr;
+}
+
+Subscription Bus::add(std::shared_ptr<Subscriber> sub, int queue_capacity) {
+  sub->bus = this;
+  attach(*sub, queue_capacity);
+  subscribers_.push_back(sub);
+  return Subscription(std::move(sub));
+}
+
+void Bus::end(Subscriber& sub) {
+  if (sub.bus != this) return;
+  detach(sub);
+  sub.bus = nullptr;
+  const auto it =
+      std::find_if(subscribers_.begin(), subscribers_.end(), [&](const auto& s) { return s.get() == &sub; });
+  if (it != subscribers_.end()) subscribers_.erase(it);
+}
+
+void Bus::endEverySubscription() {
+  for (auto& sub : subscribers_) {
+    detach(*sub);
+    sub->bus = nullptr;
+  }
+  subscribers_.clear();
+}
+
+void Bus::deliver(Subscriber& sub, const void* data, std::size_t size) {
+  if (sub.bus == nullptr) return;
+  // Keeps the subscriber alive through its handler, which may end its own subscription.
+  const std::shared_ptr<Subscriber> keep = sub.shared_from_this();
+  // Nothing may propagate through a backend's dispatch loop (LCM's is C): keep the first error.
+  try {
+    if (!sub.takeBytes(data, size)) throw BadMessage(kUndecodable);
+  } catch (const BadMessage& e) {
+    ++dropped_;
+    ++sub.drops.count;
+    sub.drops.last_reason = e.what();
+  } catch (...) {
+    if (!pending_) pending_ = std::current_exception();
+  }
+}
+
+void Bus::deliver(Subscriber& sub, const MessageBox& box) {
+  if (sub.bus == nullptr) return;
+  const std::shared_ptr<Subscriber> keep = sub.shared_from_this();
+  try {
+    if (sub.takeBox(box)) return;
+    // Another type on this channel: what a subscriber over LCM would get, the bytes (and a drop).
+    box.encodeTo(convert_buffer_);
+    if (!sub.takeBytes(convert_buffer_.data(), convert_buffer_.size())) throw BadMessage(kUndecodable);
+  } catch (const BadMessage& e) {
+    ++dropped_;
+    ++sub.drops.count;
+    sub.drops.last_reason = e.what();
+  } catch (...) {
+    if (!pending_) pending_ = std::current_exception();
+  }
+}
+
+void Bus::rethrowPending() {
+  if (pending_) {
+    auto e = pending_;
+    pending_ = nullptr;
+    std::rethrow_exception(e);
+  }
+}
+
+void Bus::handleAvailable() {
+  while (handleFor(std::chrono::milliseconds(0))) {
+  }
+}
+
+}  // namespace hunav
