@@ -4,9 +4,9 @@
 # aggregates the batch with hunav_summary. See --help.
 set -euo pipefail
 
-script_path=$(readlink -f "${BASH_SOURCE[0]}")
-repo_root=$(cd "$(dirname "$script_path")/.." && pwd)
-bin_dir=${HUNAV_BIN_DIR:-$repo_root/build/bin}
+prog=run_batch
+# shellcheck source=launch_scripts/lib.sh
+source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 
 usage() {
   cat <<'EOF'
@@ -77,14 +77,6 @@ Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_BATCH_TIM
 60: see --timeout), and what run_experiment.sh reads.
 EOF
 }
-
-err() { printf 'run_batch: error: %s\n' "$*" >&2; }
-usage_error() {
-  err "$*"
-  echo "run_batch: see: launch_scripts/run_batch.sh --help" >&2
-  exit 2
-}
-is_positive() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]] && awk -v v="$1" 'BEGIN { exit !(v > 0) }'; }
 
 # finished RUN_DIR: the episode ended on its own (goal reached, time limit or stuck; not aborted by a
 # signal or a silent component) and its results were written. The statuses of episode_status.hpp.
@@ -235,25 +227,22 @@ if [ "${1:-}" = --run-chunk ]; then
   chunk_log="$out/logs/${scenario}__${planner}__seeds${chunk_seeds[0]}-${chunk_seeds[${#chunk_seeds[@]} - 1]}.log"
   reason_file="$chunk_log.stop"
   rm -f "$reason_file"
-  rc=0
-  HUNAV_STOP_REASON_FILE=$reason_file "$bin_dir/hunav_run" --scenario "$file" --planner "$planner" --seeds "$seed_csv" \
-    --folder-label "$scenario" --out "$out/runs" --quiet "${run_args[@]}" >"$chunk_log" 2>&1 </dev/null &
-  run_pid=$!
-  # The watchdog: past the limit, the reason first (the run is then recorded as aborted with it), then SIGTERM.
-  (
-    trap 'kill "$sleeper" 2>/dev/null; exit 0' TERM
-    sleep "$limit" &
-    sleeper=$!
-    wait "$sleeper"
+  # hunav_run stays in this job's process group (lib.sh's start without use_own_sessions), so a
+  # terminal's Ctrl-C reaches it too.
+  start hunav_run "$chunk_log" env HUNAV_STOP_REASON_FILE="$reason_file" "$bin_dir/hunav_run" --scenario "$file" \
+    --planner "$planner" --seeds "$seed_csv" --folder-label "$scenario" --out "$out/runs" --quiet "${run_args[@]}"
+  # Past the limit: the reason first (the run is then recorded as aborted with it), then SIGTERM.
+  # shellcheck disable=SC2317 # run by the watchdog
+  chunk_timed_out() {
     echo "wall-clock timeout: the chunk ran longer than ${limit} s" >"$reason_file"
-    kill -TERM "$run_pid" 2>/dev/null
-  ) &
-  watchdog=$!
+    signal hunav_run TERM
+  }
+  watchdog "$limit" chunk_timed_out
   # Ctrl-C or parallel's SIGTERM: hunav_run ends its episode and writes what it recorded.
-  trap 'kill -TERM "$run_pid" 2>/dev/null' INT TERM
-  while kill -0 "$run_pid" 2>/dev/null; do wait "$run_pid" || rc=$?; done
-  kill -TERM "$watchdog" 2>/dev/null || true
-  wait "$watchdog" 2>/dev/null || true
+  trap 'signal hunav_run TERM' INT TERM
+  collect hunav_run
+  end_watchdog
+  rc=${code_of[hunav_run]}
   # Each run's part of the chunk's console output (up to its "results in" line), in its folder.
   awk '{ buf = buf $0 "\n" } /^results in / { dir = substr($0, 12); if (system("test -d \"" dir "\"") == 0) {
          system("mkdir -p \"" dir "/logs\""); printf "%s", buf >(dir "/logs/hunav_run.log"); close(dir "/logs/hunav_run.log") } buf = "" }' \
@@ -281,26 +270,20 @@ print_matrix=0 counterfactual=0
 planner_specs=()  # --planner-cmd NAME=CMD and --planner-config NAME=FILE, as option-value pairs
 declare -A planner_cmd_of=()
 while [ "$#" -gt 0 ]; do
-  opt=$1 value=""
-  case "$opt" in
-    --*=*) value=${opt#*=}; opt=${opt%%=*} ;;
-  esac
+  split_option "$1"
   case "$opt" in
     -h | --help) usage; exit 0 ;;
     --print-matrix) print_matrix=1 ;;
     --counterfactual) counterfactual=1 ;;
     --planner-cmd | --planner-config)
-      if [ -z "$value" ]; then
-        [ "$#" -ge 2 ] || usage_error "$opt needs NAME=VALUE"
-        value=$2
-        shift
-      fi
+      [ "$inline" -eq 1 ] || [ "$#" -ge 2 ] || usage_error "$opt needs NAME=VALUE"
+      option_value_or_empty "$@"
       [[ $value == ?*=?* ]] || usage_error "$opt needs NAME=VALUE (got '$value')"
       spec_name=${value%%=*} spec_value=${value#*=}
       [[ $spec_name =~ ^[A-Za-z0-9.-]+(_[A-Za-z0-9.-]+)*$ ]] || usage_error "$opt: '$spec_name' is not a planner name (letters, digits, . _ -)"
       case "$spec_value" in *$'\n'*) usage_error "$opt $spec_name: the value must be one line" ;; esac
       if [ "$opt" = --planner-config ]; then
-        [ -f "$spec_value" ] && [ -r "$spec_value" ] || usage_error "--planner-config $spec_name: cannot read the file '$spec_value'"
+        check_file "--planner-config $spec_name" "$spec_value"
         spec_value=$(readlink -f "$spec_value")
       else
         planner_cmd_of[$spec_name]=$spec_value
@@ -311,12 +294,7 @@ while [ "$#" -gt 0 ]; do
       done
       planner_specs+=("$opt" "$spec_name=$spec_value") ;;
     --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile | --metrics | --format)
-      if [ -z "$value" ]; then
-        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
-        value=$2
-        shift
-      fi
-      [ -n "$value" ] || usage_error "$opt needs a non-empty value"
+      option_value "$@"
       case "$opt" in
         --scenarios) scenarios=$value ;;
         --planners) planners=$value ;;
@@ -332,7 +310,7 @@ while [ "$#" -gt 0 ]; do
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
-  shift
+  shift $((1 + taken))
 done
 
 # finished() (here and in every job) asks for counterfactual.csv too.
@@ -342,14 +320,14 @@ export HUNAV_BATCH_COUNTERFACTUAL=$counterfactual
 [ -n "$planners" ] || usage_error "--planners LIST is required (e.g. --planners dwb,scl,sfw)"
 [ -n "$seeds" ] || usage_error "--seeds is required (e.g. --seeds 1-10)"
 [ "$print_matrix" -eq 1 ] || [ -n "$out" ] || usage_error "--out DIR is required"
-case "$mode" in inprocess | lockstep | realtime) ;; *) usage_error "--mode must be inprocess, lockstep or realtime (got '$mode')" ;; esac
-if [ -n "$jobs" ] && ! [[ $jobs =~ ^[1-9][0-9]*$ ]]; then usage_error "--jobs must be an integer >= 1 (got '$jobs')"; fi
-if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
-if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
-case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
-case "$format" in "" | csv | hunav_txt) ;; *) usage_error "--format must be csv or hunav_txt (got '$format')" ;; esac
+check_choice --mode "$mode" inprocess lockstep realtime
+check_count --jobs "$jobs"
+check_seconds --duration "$duration"
+check_seconds --timeout "$timeout"
+check_choice --profile "$profile" default hunav_v1
+check_choice --format "$format" csv hunav_txt
 if [ -n "$metrics" ]; then
-  if [ ! -f "$metrics" ] || [ ! -r "$metrics" ]; then usage_error "--metrics: cannot read the file '$metrics'"; fi
+  check_file --metrics "$metrics"
   metrics=$(readlink -f "$metrics")  # the runs may start in another folder
 fi
 
@@ -444,11 +422,11 @@ fi
 # ---------------------------------------------------------------------------------------------------
 # The batch
 # ---------------------------------------------------------------------------------------------------
-command -v parallel >/dev/null 2>&1 || { err "GNU parallel is missing (package parallel): run bash launch_scripts/setup.sh"; exit 1; }
-[ -x "$bin_dir/hunav_summary" ] || { err "$bin_dir/hunav_summary is missing: build the project first (bash launch_scripts/setup.sh)"; exit 1; }
+command -v parallel >/dev/null 2>&1 || die "GNU parallel is missing (package parallel): run bash launch_scripts/setup.sh"
+need_bin hunav_summary
 [ -n "$jobs" ] || jobs=$(nproc 2>/dev/null || echo 2)
 
-mkdir -p "$out/runs" || { err "cannot create the batch folder '$out'"; exit 1; }
+mkdir -p "$out/runs" || die "cannot create the batch folder '$out'"
 out=$(cd "$out" && pwd)
 matrix >"$out/matrix.tsv"
 total=$(wc -l <"$out/matrix.tsv")
@@ -466,16 +444,16 @@ run_args=(--mode "$mode")
 [ "$counterfactual" -eq 0 ] || run_args+=(--counterfactual)
 run_args+=("${planner_specs[@]}")
 
-echo "run_batch: $total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"
-echo "run_batch: batch folder $out"
+log "$total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"
+log "batch folder $out"
 rm -f "$out/.progress" "$out/.exited_nonzero"
-started=$(date +%s.%N)
+batch_started=$(date +%s.%N)
 parallel_rc=0
 if [ "$mode" = inprocess ]; then
   # Chunks: the runs still to do of each (scenario, planner), a few seeds per hunav_run process,
   # about six chunks per job so that the jobs end together (at most 10 runs per chunk: progress lines
   # come at the end of each chunk). The finished runs are reported as skipped here.
-  [ -x "$bin_dir/hunav_run" ] || { err "$bin_dir/hunav_run is missing: build the project first (bash launch_scripts/setup.sh)"; exit 1; }
+  need_bin hunav_run
   todo=$((total - already))
   chunk_size=$(((todo + 6 * jobs - 1) / (6 * jobs)))
   [ "$chunk_size" -ge 1 ] || chunk_size=1
@@ -513,7 +491,7 @@ else
   HUNAV_BATCH_TOTAL=$total HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
     --arg-file "$out/matrix.tsv" "$job" || parallel_rc=$?
 fi
-elapsed=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+elapsed=$(awk -v a="$batch_started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 rm -f "$out/.progress" "$out/.progress.lock"
 exited_nonzero=()
 if [ -f "$out/.exited_nonzero" ]; then mapfile -t exited_nonzero <"$out/.exited_nonzero"; fi
@@ -534,7 +512,7 @@ summary_rc=0
 printf '%s\t%s\tjobs=%s\tmode=%s\truns=%d\tran=%d\tfinished=%d\tfailed=%d\twall=%ss\n' \
   "$(date -Is)" "scenarios=${scenarios} planners=${planners} seeds=${seeds}" "$jobs" "$mode" "$total" \
   "$((total - already))" "$done_now" "${#failed[@]}" "$elapsed" >>"$out/batch.log"
-echo "run_batch: $((total - already)) runs in ${elapsed} s with $jobs jobs; $done_now of $total finished"
+log "$((total - already)) runs in ${elapsed} s with $jobs jobs; $done_now of $total finished"
 if [ "${#failed[@]}" -gt 0 ]; then
   err "${#failed[@]} runs did not finish (run the same command again to retry them):"
   printf '  %s\n' "${failed[@]}" >&2
@@ -551,8 +529,8 @@ else
   err "$bin_dir/hunav_expect is missing: no junit.xml (build the project first)"
   junit_rc=1
 fi
-[ "$summary_rc" -eq 0 ] || { err "hunav_summary failed (exit $summary_rc)"; exit 1; }
-echo "run_batch: summary in $out/summary.md (tables), summary.csv, summary_stats.csv, paired.csv"
+[ "$summary_rc" -eq 0 ] || die "hunav_summary failed (exit $summary_rc)"
+log "summary in $out/summary.md (tables), summary.csv, summary_stats.csv, paired.csv"
 if [ "${#failed[@]}" -gt 0 ] || [ "$parallel_rc" -ne 0 ]; then exit 1; fi
 case "$junit_rc" in
   0) ;;

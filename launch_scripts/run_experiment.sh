@@ -22,9 +22,9 @@ set -euo pipefail
 
 readonly NETNS_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1'
 
-script_path=$(readlink -f "${BASH_SOURCE[0]}")
-repo_root=$(cd "$(dirname "$script_path")/.." && pwd)
-bin_dir=${HUNAV_BIN_DIR:-$repo_root/build/bin}
+prog=run_experiment
+# shellcheck source=launch_scripts/lib.sh
+source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 ready_timeout=${HUNAV_READY_TIMEOUT:-30}  # s to wait for a process's "ready" line
 eval_grace=${HUNAV_EVAL_GRACE:-60}        # s the evaluator gets to write its files
 stop_grace=${HUNAV_STOP_GRACE:-10}        # s any other process gets to stop after SIGTERM
@@ -105,17 +105,6 @@ HUNAV_STOP_GRACE (10 s), HUNAV_STALL_LIMIT (2 s a process may stay stopped).
 EOF
 }
 
-log() { printf 'run_experiment: %s\n' "$*"; }
-err() { printf 'run_experiment: error: %s\n' "$*" >&2; }
-usage_error() {
-  err "$*"
-  echo "run_experiment: see: launch_scripts/run_experiment.sh --help" >&2
-  exit 2
-}
-
-is_number() { [[ $1 =~ ^([0-9]+([.][0-9]*)?|[.][0-9]+)$ ]]; }
-is_positive() { is_number "$1" && awk -v v="$1" 'BEGIN { exit !(v > 0) }'; }
-
 # ---------------------------------------------------------------------------------------------------
 # Arguments
 # ---------------------------------------------------------------------------------------------------
@@ -141,30 +130,17 @@ view=0
 counterfactual=0
 
 while [ "$#" -gt 0 ]; do
-  opt=$1
-  value=""
-  inline=0
-  case "$opt" in
-    --*=*) value=${opt#*=}; opt=${opt%%=*}; inline=1 ;;
-  esac
+  split_option "$1"
   case "$opt" in
     -h | --help) usage; exit 0 ;;
-    --record)
-      [ "$inline" -eq 0 ] || usage_error "--record takes no value"
-      record=1 ;;
+    --record) no_value; record=1 ;;
     --view) view=1 ;;
-    --counterfactual)
-      [ "$inline" -eq 0 ] || usage_error "--counterfactual takes no value"
-      counterfactual=1 ;;
+    --counterfactual) no_value; counterfactual=1 ;;
     --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
       --experiment-tag | --timeout | --planner-config | --planner-cmd | --metrics | --format)
-      if [ "$inline" -eq 0 ]; then
-        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
-        value=$2
-        case "$value" in --*) usage_error "$opt needs a value (got the option '$value')" ;; esac
-        shift
-      fi
-      [ -n "$value" ] || usage_error "$opt needs a non-empty value"
+      option_value "$@"
+      # A next argument that is an option is not this one's value (--opt=--x is taken as written).
+      [ "$taken" -eq 0 ] || case "$value" in --*) usage_error "$opt needs a value (got the option '$value')" ;; esac
       case "$opt" in
         --scenario) scenario=$value ;;
         --planner) planner=$value; planner_given=1 ;;
@@ -184,11 +160,11 @@ while [ "$#" -gt 0 ]; do
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
-  shift
+  shift $((1 + taken))
 done
 
 [ -n "$scenario" ] || usage_error "--scenario FILE is required (e.g. --scenario scenarios/passing.yaml)"
-if [ ! -f "$scenario" ] || [ ! -r "$scenario" ]; then usage_error "--scenario: cannot read the file '$scenario'"; fi
+check_file --scenario "$scenario"
 if [ -n "$planner_cmd" ]; then
   [ "$mode" != inprocess ] || usage_error "--planner-cmd needs --mode lockstep or realtime (your planner is a process of its own)"
   [ -z "$planner_config" ] || usage_error "--planner-config is for the built-in planners; give your planner its parameters in --planner-cmd"
@@ -200,19 +176,19 @@ else
 fi
 if [ -n "$planner_config" ]; then
   [ "$planner" != none ] || usage_error "--planner-config needs a planner (got --planner none)"
-  if [ ! -f "$planner_config" ] || [ ! -r "$planner_config" ]; then usage_error "--planner-config: cannot read the file '$planner_config'"; fi
+  check_file --planner-config "$planner_config"
   planner_config=$(readlink -f "$planner_config")
 fi
-case "$mode" in inprocess | lockstep | realtime) ;; *) usage_error "--mode must be inprocess, lockstep or realtime (got '$mode')" ;; esac
+check_choice --mode "$mode" inprocess lockstep realtime
 if [ -n "$seed" ] && ! [[ $seed =~ ^[0-9]+$ ]]; then usage_error "--seed must be an integer >= 0 (got '$seed')"; fi
-if [ -n "$duration" ] && ! is_positive "$duration"; then usage_error "--duration must be a number of seconds > 0 (got '$duration')"; fi
+check_seconds --duration "$duration"
 if [ -n "$sample_rate" ] && ! is_number "$sample_rate"; then usage_error "--sample-rate must be a number of Hz >= 0 (got '$sample_rate')"; fi
-if [ -n "$timeout" ] && ! is_positive "$timeout"; then usage_error "--timeout must be a number of seconds > 0 (got '$timeout')"; fi
-case "$profile" in "" | default | hunav_v1) ;; *) usage_error "--profile must be default or hunav_v1 (got '$profile')" ;; esac
+check_seconds --timeout "$timeout"
+check_choice --profile "$profile" default hunav_v1
 case "$tag" in *[,\"$'\n'$'\r']*) usage_error "--experiment-tag must not contain commas, quotes or line breaks" ;; esac
-case "$format" in "" | csv | hunav_txt) ;; *) usage_error "--format must be csv or hunav_txt (got '$format')" ;; esac
+check_choice --format "$format" csv hunav_txt
 if [ -n "$metrics" ]; then
-  if [ ! -f "$metrics" ] || [ ! -r "$metrics" ]; then usage_error "--metrics: cannot read the file '$metrics'"; fi
+  check_file --metrics "$metrics"
   metrics=$(readlink -f "$metrics")  # the processes may run elsewhere
 fi
 for v in HUNAV_READY_TIMEOUT:"$ready_timeout" HUNAV_EVAL_GRACE:"$eval_grace" HUNAV_STOP_GRACE:"$stop_grace" \
@@ -241,12 +217,6 @@ if [ -z "$seed_label" ]; then
 fi
 [ -n "$out" ] || out="$repo_root/results/${scenario_name}_${planner}_${seed_label}"
 
-need_bin() {
-  if [ ! -x "$bin_dir/$1" ]; then
-    err "$bin_dir/$1 is missing: build the project first (bash launch_scripts/setup.sh)"
-    exit 1
-  fi
-}
 if [ "$mode" = inprocess ]; then
   need_bin hunav_run
 else
@@ -258,20 +228,16 @@ fi
 # ---------------------------------------------------------------------------------------------------
 # Separate-process modes: re-run this script inside a private network namespace
 # ---------------------------------------------------------------------------------------------------
-current_netns=$(readlink /proc/self/ns/net 2>/dev/null || echo unknown)
-in_private_netns=0
-if [ -n "${HUNAV_NETNS_PARENT:-}" ] && [ "$HUNAV_NETNS_PARENT" != "$current_netns" ]; then
-  in_private_netns=1
-fi
-unset HUNAV_NETNS_PARENT
+in_netns=0
+if in_private_netns; then in_netns=1; fi
 
 # --view: hunav_view for this run. Its HTTP socket opens here, in the host's namespace where the
 # browser is; then it joins the run's namespace (this process's after the re-execution below: the
 # same PID) for LCM, and it exits with the run (and, by pdeathsig, with this script).
-if [ "$view" -eq 1 ] && [ "$in_private_netns" -eq 0 ]; then
+if [ "$view" -eq 1 ] && [ "$in_netns" -eq 0 ]; then
   [ "$mode" != inprocess ] || usage_error "--view needs --mode lockstep or realtime (an in-process run has no bus to watch; replay it with: build/bin/hunav_view --results DIR)"
   need_bin hunav_view
-  mkdir -p "$out/logs" || { err "cannot create the output folder '$out'"; exit 1; }
+  mkdir -p "$out/logs" || die "cannot create the output folder '$out'"
   view_log="$out/logs/view.log"
   view_args=(--scenario "$scenario" --port "${HUNAV_VIEW_PORT:-0}" --no-editor)
   if [ -n "$shared_bus" ]; then view_args+=(--lcm-url "$shared_bus"); else view_args+=(--lcm-url "$NETNS_URL" --netns-pid "$$"); fi
@@ -286,28 +252,12 @@ if [ "$view" -eq 1 ] && [ "$in_private_netns" -eq 0 ]; then
   log "watch this run live: $view_url"
 fi
 
-if [ "$mode" != inprocess ] && [ -z "$shared_bus" ] && [ "$in_private_netns" -eq 0 ]; then
+if [ "$mode" != inprocess ] && [ -z "$shared_bus" ] && [ "$in_netns" -eq 0 ]; then
   for tool in unshare ip; do
-    if ! command -v "$tool" >/dev/null 2>&1; then
-      err "'$tool' is not installed (packages util-linux and iproute2): run bash launch_scripts/setup.sh"
-      exit 1
-    fi
+    command -v "$tool" >/dev/null 2>&1 ||
+      die "'$tool' is not installed (packages util-linux and iproute2): run bash launch_scripts/setup.sh"
   done
-  if [ "$(id -u)" -eq 0 ]; then
-    candidates=("--net" "--map-root-user --net")
-  else
-    candidates=("--map-root-user --net")
-  fi
-  unshare_flags=""
-  unshare_error=""
-  for c in "${candidates[@]}"; do
-    # shellcheck disable=SC2086 # $c holds flags
-    if unshare_error=$(unshare $c -- true 2>&1); then
-      unshare_flags=$c
-      break
-    fi
-  done
-  if [ -z "$unshare_flags" ]; then
+  if ! netns_unshare_flags; then
     {
       err "cannot create a private network namespace for this run."
       echo "  unshare said: ${unshare_error:-nothing}"
@@ -328,86 +278,16 @@ if [ "$mode" != inprocess ] && [ -z "$shared_bus" ] && [ "$in_private_netns" -eq
     } >&2
     exit 1
   fi
-  # shellcheck disable=SC2086 # $unshare_flags holds flags
-  HUNAV_NETNS_PARENT=$current_netns exec unshare $unshare_flags -- "$BASH" "$script_path" "${orig_args[@]}"
+  reexec_in_private_netns "${orig_args[@]}"
 fi
 
 # ---------------------------------------------------------------------------------------------------
 # Process bookkeeping and cleanup
 # ---------------------------------------------------------------------------------------------------
-declare -A pid_of=()   # name -> pid of every process started
-declare -A code_of=()  # name -> exit code once collected
-started=()             # names in start order
 cleaning=0
-
-# Each process gets its own session (setsid, so a terminal's Ctrl-C reaches only this script, which
-# then stops them in order) and, where setpriv supports it, SIGTERM when this script dies, even by SIGKILL.
-launcher=(setsid)
-if setpriv --help 2>/dev/null | grep -q -- --pdeathsig; then
-  launcher+=(setpriv --pdeathsig TERM --)
-fi
-
-# start NAME LOGFILE CMD...: starts CMD in the background, output into LOGFILE.
-start() {
-  local name=$1 logfile=$2
-  shift 2
-  : >"$logfile"
-  "${launcher[@]}" "$@" >>"$logfile" 2>&1 </dev/null &
-  pid_of[$name]=$!
-  started+=("$name")
-}
-
-alive() { [ -n "${pid_of[$1]:-}" ] && [ -z "${code_of[$1]:-}" ] && kill -0 "${pid_of[$1]}" 2>/dev/null; }
-
-# collect NAME: reaps NAME once it has exited and records its exit code.
-collect() {
-  local name=$1 rc=0
-  [ -z "${code_of[$name]:-}" ] || return 0
-  wait "${pid_of[$name]}" 2>/dev/null || rc=$?
-  code_of[$name]=$rc
-}
-
-# signal NAME SIG: sends SIG to NAME's process group (it and anything it started).
-signal() {
-  local pid=${pid_of[$1]}
-  kill -s "$2" -- "-$pid" 2>/dev/null || kill -s "$2" "$pid" 2>/dev/null || true
-  # A stopped (SIGSTOPped) process handles SIGTERM only once continued.
-  if [ "$2" = TERM ]; then kill -s CONT -- "-$pid" 2>/dev/null || kill -s CONT "$pid" 2>/dev/null || true; fi
-}
-
-# Wall-clock deadlines in microseconds (EPOCHREALTIME: no fork per check).
-now_us() { local t=${EPOCHREALTIME//[.,]/}; echo "$((10#$t))"; }
-# deadline SECONDS: sets $deadline_us to now + SECONDS (0 = none).
-deadline() {
-  if [ "$1" = 0 ]; then deadline_us=0; return 0; fi
-  deadline_us=$(($(now_us) + $(awk -v s="$1" 'BEGIN { printf "%d", s * 1000000 }')))
-}
+# Each process gets its own session, and SIGTERM when this script dies (lib.sh).
+use_own_sessions
 run_started_us=$(now_us)
-# past DEADLINE_US: true once that deadline has passed (never for 0).
-past() { [ "$1" -ne 0 ] && [ "$(now_us)" -ge "$1" ]; }
-
-# wait_exit NAME SECONDS: waits until NAME has exited (SECONDS = 0: forever). Returns 1 on timeout.
-wait_exit() {
-  local name=$1 deadline_us
-  deadline "$2"
-  while alive "$name"; do
-    if past "$deadline_us"; then return 1; fi
-    sleep 0.1
-  done
-  collect "$name"
-}
-
-# stop NAME SIG GRACE: sends SIG, waits GRACE seconds, then SIGKILLs what is left.
-stop() {
-  local name=$1 sig=$2 grace=$3
-  alive "$name" || { [ -z "${pid_of[$name]:-}" ] || collect "$name"; return 0; }
-  signal "$name" "$sig"
-  if ! wait_exit "$name" "$grace"; then
-    err "$name did not stop within ${grace} s of SIG$sig: killing it"
-    signal "$name" KILL
-    wait_exit "$name" 0 || true
-  fi
-}
 
 cleanup() {
   [ "$cleaning" -eq 0 ] || return 0
@@ -509,16 +389,6 @@ exit_text() {
   fi
 }
 
-# proc_state PID: sets $state to the state letter of /proc/PID/stat (R, S, D, T stopped, t traced,
-# Z ...), empty when gone. No subshell: it runs for every process ten times a second.
-proc_state() {
-  local line=""
-  state=""
-  { read -r line <"/proc/$1/stat"; } 2>/dev/null || return 0
-  line=${line##*) }
-  state=${line%% *}
-}
-
 # abort_run REASON: ends the run as aborted with REASON: the reason file first (the evaluator and the
 # world read it on SIGTERM: episode_status.hpp, stopCause), then every process is stopped, the
 # evaluator first so it writes what it recorded.
@@ -592,7 +462,7 @@ json_field() {
 # ---------------------------------------------------------------------------------------------------
 # The run
 # ---------------------------------------------------------------------------------------------------
-mkdir -p "$out" || { err "cannot create the output folder '$out'"; exit 1; }
+mkdir -p "$out" || die "cannot create the output folder '$out'"
 out_dir=$(cd "$out" && pwd)
 log_dir="$out_dir/logs"
 mkdir -p "$log_dir"
@@ -641,30 +511,24 @@ else
   if [ -n "$shared_bus" ]; then
     url=$shared_bus
     log "LCM bus: $url (shared with the host: other programs on it will hear this run)"
-    if [[ $url =~ ^udpm://([0-9.]+) ]] && command -v ip >/dev/null 2>&1; then
-      group=${BASH_REMATCH[1]}
-      if ! route=$(ip route get "$group" 2>/dev/null); then
-        err "no route to the multicast address $group: add one on loopback only with"
-        echo "  sudo ip route add 224.0.0.0/4 dev lo" >&2
-        exit 1
-      fi
-      if [[ $route =~ dev[[:space:]]+([^[:space:]]+) ]] && [ "${BASH_REMATCH[1]}" != lo ]; then
-        log "warning: multicast to $group goes through interface ${BASH_REMATCH[1]}, not loopback;"
-        log "  to keep it on this host: sudo ip route add 224.0.0.0/4 dev lo (and keep ttl=0 in the URL)"
-      fi
+    if ! multicast_route "$url"; then
+      err "no route to the multicast address $mc_group: add one on loopback only with"
+      echo "  sudo ip route add 224.0.0.0/4 dev lo" >&2
+      exit 1
+    fi
+    if [ -n "$mc_dev" ] && [ "$mc_dev" != lo ]; then
+      log "warning: multicast to $mc_group goes through interface $mc_dev, not loopback;"
+      log "  to keep it on this host: sudo ip route add 224.0.0.0/4 dev lo (and keep ttl=0 in the URL)"
     fi
   else
     url=$NETNS_URL
-    if ! ip link set lo up || ! ip route replace 224.0.0.0/4 dev lo; then
-      err "cannot set up loopback multicast in the run's network namespace"
-      exit 1
-    fi
+    loopback_multicast || die "cannot set up loopback multicast in the run's network namespace"
     log "private network namespace: PID $$ holds it; watch this run with: launch_scripts/spy.sh --netns-pid $$"
     log "LCM bus inside it: $url"
   fi
   # The evaluator hears only channels of the URL's own port: give it the URL without our option,
   # which plain LCM would warn about.
-  eval_url=$(printf '%s' "$url" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//')
+  eval_url=$(plain_lcm_url "$url")
   if [ "$eval_url" != "$url" ]; then
     log "STEP_REQUEST and STEP_REPLY on ports of their own (channel_ports=1); every other channel on the URL's port"
   fi

@@ -4,10 +4,10 @@
 # then one aggregation job (hunav_summary) once every task has ended. See --help.
 set -euo pipefail
 
-script_path=$(readlink -f "${BASH_SOURCE[0]}")
-repo_root=$(cd "$(dirname "$script_path")/.." && pwd)
+prog=slurm_batch
+# shellcheck source=launch_scripts/lib.sh
+source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 run_batch="$repo_root/launch_scripts/run_batch.sh"
-bin_dir=${HUNAV_BIN_DIR:-$repo_root/build/bin}
 
 usage() {
   cat <<'EOF'
@@ -46,13 +46,6 @@ and read by every task. Environment: HUNAV_BIN_DIR (binaries, default <repo>/bui
 EOF
 }
 
-err() { printf 'slurm_batch: error: %s\n' "$*" >&2; }
-usage_error() {
-  err "$*"
-  echo "slurm_batch: see: launch_scripts/slurm_batch.sh --help" >&2
-  exit 2
-}
-
 # ---------------------------------------------------------------------------------------------------
 # Inside the cluster: one task, or the aggregation
 # ---------------------------------------------------------------------------------------------------
@@ -66,7 +59,7 @@ case "${1:-}" in
     [[ $SLURM_ARRAY_TASK_ID =~ ^[0-9]+$ ]] || usage_error "--task: SLURM_ARRAY_TASK_ID is not a number"
     per_task=1
     [ ! -s "$out/slurm_runs_per_task" ] || per_task=$(cat "$out/slurm_runs_per_task")
-    [[ $per_task =~ ^[1-9][0-9]*$ ]] || { err "$out/slurm_runs_per_task:1: not a number of runs: '$per_task'"; exit 2; }
+    is_count "$per_task" || { err "$out/slurm_runs_per_task:1: not a number of runs: '$per_task'"; exit 2; }
     first=$((SLURM_ARRAY_TASK_ID * per_task))
     rows=$(awk -F'\t' -v a="$first" -v b="$((first + per_task))" '$1 >= a && $1 < b' "$out/matrix.tsv")
     [ -n "$rows" ] || { err "no row for task $SLURM_ARRAY_TASK_ID (rows $first..$((first + per_task - 1))) in $out/matrix.tsv"; exit 2; }
@@ -124,10 +117,7 @@ esac
 # ---------------------------------------------------------------------------------------------------
 matrix_args=() out="" print_matrix=0 dry_run=0 max_parallel="" sbatch_args="" run_options=() runs_per_task="" mode=inprocess
 while [ "$#" -gt 0 ]; do
-  opt=$1 value=""
-  case "$opt" in
-    --*=*) value=${opt#*=}; opt=${opt%%=*} ;;
-  esac
+  split_option "$1"
   case "$opt" in
     -h | --help) usage; exit 0 ;;
     --print-matrix) print_matrix=1 ;;
@@ -135,11 +125,8 @@ while [ "$#" -gt 0 ]; do
     --counterfactual) matrix_args+=("$opt"); run_options+=("$opt") ;;
     --scenarios | --planners | --seeds | --out | --mode | --duration | --timeout | --profile | --max-parallel | \
       --sbatch-args | --planner-cmd | --planner-config | --metrics | --format | --runs-per-task)
-      if [ -z "$value" ]; then
-        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
-        value=$2
-        shift
-      fi
+      # An empty value is passed on: run_batch.sh judges the matrix options, and --sbatch-args "" is no extra option.
+      option_value_or_empty "$@"
       case "$opt" in
         --scenarios | --planners | --seeds) matrix_args+=("$opt" "$value") ;;
         --mode | --duration | --timeout | --profile | --planner-cmd | --format)
@@ -160,22 +147,18 @@ while [ "$#" -gt 0 ]; do
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
-  shift
+  shift $((1 + taken))
 done
 
 # run_batch.sh checks the matrix options and expands the matrix (the same index order).
 if [ "$print_matrix" -eq 1 ]; then exec "$run_batch" "${matrix_args[@]}" --print-matrix; fi
 [ -n "$out" ] || usage_error "--out DIR is required"
-if [ -n "$max_parallel" ] && ! [[ $max_parallel =~ ^[1-9][0-9]*$ ]]; then
-  usage_error "--max-parallel must be an integer >= 1 (got '$max_parallel')"
-fi
-if [ -n "$runs_per_task" ] && ! [[ $runs_per_task =~ ^[1-9][0-9]*$ ]]; then
-  usage_error "--runs-per-task must be an integer >= 1 (got '$runs_per_task')"
-fi
+check_count --max-parallel "$max_parallel"
+check_count --runs-per-task "$runs_per_task"
 # In the inprocess mode a task's runs share one hunav_run process per scenario and planner.
 [ -n "$runs_per_task" ] || { [ "$mode" = inprocess ] && runs_per_task=10 || runs_per_task=1; }
 matrix=$("$run_batch" "${matrix_args[@]}" --print-matrix) || exit $?
-mkdir -p "$out/runs" || { err "cannot create the batch folder '$out'"; exit 1; }
+mkdir -p "$out/runs" || die "cannot create the batch folder '$out'"
 out=$(cd "$out" && pwd)
 printf '%s\n' "$matrix" >"$out/matrix.tsv"
 if [ "${#run_options[@]}" -gt 0 ]; then printf '%s\n' "${run_options[@]}" >"$out/slurm_options"; else : >"$out/slurm_options"; fi
@@ -195,7 +178,7 @@ array_cmd=(sbatch --parsable --job-name=hunav_batch --array="$array" --cpus-per-
   --output="$out/slurm_logs/task-%A_%a.log" "${extra[@]}" --wrap="$task_cmd")
 summary_sbatch=(sbatch --parsable --job-name=hunav_summary --cpus-per-task=1
   --output="$out/slurm_logs/summary-%j.log" "${extra[@]}" --wrap="$summary_cmd")
-echo "slurm_batch: $count runs in $tasks tasks of up to $runs_per_task -> $out (matrix.tsv)"
+log "$count runs in $tasks tasks of up to $runs_per_task -> $out (matrix.tsv)"
 if [ "$dry_run" -eq 1 ]; then
   printf '%q ' "${array_cmd[@]}"
   echo
@@ -203,9 +186,9 @@ if [ "$dry_run" -eq 1 ]; then
   echo
   exit 0
 fi
-command -v sbatch >/dev/null 2>&1 || { err "sbatch is not available (is this a Slurm login node?); try --dry-run"; exit 1; }
+command -v sbatch >/dev/null 2>&1 || die "sbatch is not available (is this a Slurm login node?); try --dry-run"
 array_job=$("${array_cmd[@]}")
 array_job=${array_job%%;*}
 summary_job=$("${summary_sbatch[@]:0:2}" --dependency="afterany:$array_job" "${summary_sbatch[@]:2}")
-echo "slurm_batch: submitted array job $array_job ($tasks tasks) and summary job ${summary_job%%;*}"
-echo "slurm_batch: watch with: squeue -j $array_job; results in $out/summary.md when both are done"
+log "submitted array job $array_job ($tasks tasks) and summary job ${summary_job%%;*}"
+log "watch with: squeue -j $array_job; results in $out/summary.md when both are done"

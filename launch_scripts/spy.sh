@@ -7,6 +7,10 @@ set -euo pipefail
 
 readonly DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
 
+prog=spy.sh
+# shellcheck source=launch_scripts/lib.sh
+source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
+
 usage() {
   cat <<'EOF'
 Usage: launch_scripts/spy.sh [--lcm-url URL] [--netns-pid PID] [--step-channel CHANNEL]
@@ -32,32 +36,15 @@ Environment: HUNAV_TYPES_JAR (default <repo>/build/share/java/hunav_lcmtypes_jav
 EOF
 }
 
-err() { printf 'spy.sh: error: %s\n' "$*" >&2; }
-usage_error() {
-  err "$*"
-  echo "spy.sh: see: launch_scripts/spy.sh --help" >&2
-  exit 2
-}
-
 url=${LCM_DEFAULT_URL:-$DEFAULT_URL}
 netns_pid=""
 step_channel=""
 while [ "$#" -gt 0 ]; do
-  opt=$1
-  value=""
-  inline=0
-  case "$opt" in
-    --*=*) value=${opt#*=}; opt=${opt%%=*}; inline=1 ;;
-  esac
+  split_option "$1"
   case "$opt" in
     -h | --help) usage; exit 0 ;;
     --lcm-url | --netns-pid | --step-channel)
-      if [ "$inline" -eq 0 ]; then
-        [ "$#" -ge 2 ] || usage_error "$opt needs a value"
-        value=$2
-        shift
-      fi
-      [ -n "$value" ] || usage_error "$opt needs a non-empty value"
+      option_value "$@"
       case "$opt" in
         --lcm-url) url=$value ;;
         --netns-pid) netns_pid=$value ;;
@@ -65,11 +52,11 @@ while [ "$#" -gt 0 ]; do
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
-  shift
+  shift $((1 + taken))
 done
 
-# channel_ports=1 is our option (common/include/hunav/transport.hpp), unknown to lcm-spy: drop it.
-url=$(printf '%s' "$url" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//')
+# channel_ports=1 and receive=lcm are our options, unknown to lcm-spy: drop them.
+url=$(foreign_lcm_url "$url")
 if [ -n "$step_channel" ]; then
   # The offsets of common/include/hunav/channels.hpp (kOwnPortChannels).
   case "$step_channel" in
@@ -83,61 +70,49 @@ if [ -n "$step_channel" ]; then
   url="udpm://$address:$((port + offset))${BASH_REMATCH[4]}"
 fi
 
-repo_root=$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd)
 java=${JAVA:-java}
 lcm_jar=/usr/share/java/lcm.jar
 jchart_jar=/usr/share/java/jchart2d.jar
 types_jar=${HUNAV_TYPES_JAR:-$repo_root/build/share/java/hunav_lcmtypes_java.jar}
 
-command -v "$java" >/dev/null 2>&1 || { err "java is not installed (package default-jdk-headless): run bash launch_scripts/setup.sh"; exit 1; }
-[ -f "$lcm_jar" ] || { err "$lcm_jar is missing (package liblcm-java): run bash launch_scripts/setup.sh"; exit 1; }
-[ -f "$jchart_jar" ] || { err "$jchart_jar is missing (package libjchart2d-java): run bash launch_scripts/setup.sh"; exit 1; }
+command -v "$java" >/dev/null 2>&1 || die "java is not installed (package default-jdk-headless): run bash launch_scripts/setup.sh"
+[ -f "$lcm_jar" ] || die "$lcm_jar is missing (package liblcm-java): run bash launch_scripts/setup.sh"
+[ -f "$jchart_jar" ] || die "$jchart_jar is missing (package libjchart2d-java): run bash launch_scripts/setup.sh"
 classpath="$lcm_jar:$jchart_jar"
 if [ -f "$types_jar" ]; then
   classpath="$classpath:$types_jar"
 else
-  echo "spy.sh: warning: $types_jar is missing (build the project: bash launch_scripts/setup.sh);" \
-    "lcm-spy will list the channels but not decode them" >&2
+  warn "$types_jar is missing (build the project: bash launch_scripts/setup.sh);" \
+    "lcm-spy will list the channels but not decode them"
 fi
-if [ -z "${DISPLAY:-}" ]; then
-  err "no display (DISPLAY is not set): run it in a desktop session, with ssh -X, or headless under: xvfb-run -a $0 ..."
-  exit 1
-fi
+[ -n "${DISPLAY:-}" ] ||
+  die "no display (DISPLAY is not set): run it in a desktop session, with ssh -X, or headless under: xvfb-run -a $0 ..."
 
 prefix=()
 if [ -n "$netns_pid" ]; then
   [[ $netns_pid =~ ^[0-9]+$ ]] || usage_error "--netns-pid must be a process id (got '$netns_pid')"
-  if [ ! -e "/proc/$netns_pid" ]; then
-    err "no process $netns_pid: is the experiment still running? (run_experiment.sh prints the PID to use)"
-    exit 1
-  fi
-  command -v nsenter >/dev/null 2>&1 || { err "nsenter is missing (package util-linux)"; exit 1; }
-  prefix=(nsenter --target "$netns_pid" --net)
-  # A run started by a normal user lives in a user namespace too (unshare -rn): enter it as well.
-  if [ "$(readlink "/proc/$netns_pid/ns/user" 2>/dev/null || true)" != "$(readlink /proc/self/ns/user)" ]; then
-    prefix+=(--user --preserve-credentials)
-  fi
+  [ -e "/proc/$netns_pid" ] ||
+    die "no process $netns_pid: is the experiment still running? (run_experiment.sh prints the PID to use)"
+  command -v nsenter >/dev/null 2>&1 || die "nsenter is missing (package util-linux)"
+  # A run started by a normal user lives in a user namespace too (unshare -rn): entered as well.
+  netns_join_command "$netns_pid"
+  prefix=("${netns_join[@]}")
   if [[ $DISPLAY == localhost:* || $DISPLAY == 127.0.0.1:* ]]; then
-    echo "spy.sh: warning: DISPLAY=$DISPLAY is a TCP display on this host's loopback, which the run's" \
-      "namespace cannot reach; use a local display (e.g. :0) or run the experiment with --shared-bus" >&2
+    warn "DISPLAY=$DISPLAY is a TCP display on this host's loopback, which the run's" \
+      "namespace cannot reach; use a local display (e.g. :0) or run the experiment with --shared-bus"
   fi
-  if ! "${prefix[@]}" true 2>/dev/null; then
-    err "cannot enter the network namespace of process $netns_pid (as root: sudo $0 --netns-pid $netns_pid)"
-    exit 1
-  fi
+  "${prefix[@]}" true 2>/dev/null ||
+    die "cannot enter the network namespace of process $netns_pid (as root: sudo $0 --netns-pid $netns_pid)"
   prefix+=(--)
-  echo "spy.sh: watching $url in the network namespace of process $netns_pid"
+  log "watching $url in the network namespace of process $netns_pid"
 else
-  echo "spy.sh: watching $url"
-  if [[ $url =~ ^udpm://([0-9.]+) ]] && command -v ip >/dev/null 2>&1; then
-    group=${BASH_REMATCH[1]}
-    if ! route=$(ip route get "$group" 2>/dev/null); then
-      echo "spy.sh: warning: no route to $group: lcm-spy will see nothing. Watch a run's namespace with" \
-        "--netns-pid PID, or add a loopback route: sudo ip route add 224.0.0.0/4 dev lo" >&2
-    elif [[ $route =~ dev[[:space:]]+([^[:space:]]+) ]] && [ "${BASH_REMATCH[1]}" != lo ]; then
-      echo "spy.sh: warning: multicast to $group goes through ${BASH_REMATCH[1]}, not loopback; to keep" \
-        "it on this host: sudo ip route add 224.0.0.0/4 dev lo (runs in a namespace: use --netns-pid PID)" >&2
-    fi
+  log "watching $url"
+  if ! multicast_route "$url"; then
+    warn "no route to $mc_group: lcm-spy will see nothing. Watch a run's namespace with" \
+      "--netns-pid PID, or add a loopback route: sudo ip route add 224.0.0.0/4 dev lo"
+  elif [ -n "$mc_dev" ] && [ "$mc_dev" != lo ]; then
+    warn "multicast to $mc_group goes through $mc_dev, not loopback; to keep" \
+      "it on this host: sudo ip route add 224.0.0.0/4 dev lo (runs in a namespace: use --netns-pid PID)"
   fi
 fi
 
