@@ -14,6 +14,7 @@
 
 #include "hunav/fingerprint.hpp"
 #include "hunav/manager/agent_manager.hpp"
+#include "people_social.hpp"  // the grid and the pair kernel (internal)
 
 using namespace hunav;
 using namespace hunav::manager;

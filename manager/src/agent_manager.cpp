@@ -9,6 +9,7 @@
 #include "bt_social.hpp"
 #include "hunav/bus.hpp"  // BadMessage
 #include "people_routes.hpp"
+#include "people_social.hpp"
 
 namespace hunav::manager {
 
@@ -253,7 +254,9 @@ void turnToward(TickContext& c, const Vec2& target, double max_step) {
 
 // ---------------------------------------------------------------------------------------------------
 
-AgentManager::AgentManager() : lib_(NodeLibrary::withBuiltins()) {}
+AgentManager::AgentManager() : lib_(NodeLibrary::withBuiltins()), grid_(std::make_unique<NeighborGrid>()) {}
+
+AgentManager::~AgentManager() = default;
 
 void AgentManager::clearMemory() {
   memory_.clear();
@@ -413,8 +416,8 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   snap.social = social_active_ ? &social_ : nullptr;
   snap.global_goals = &global_goals_;
   if (cutoff_ > 0.0) {
-    grid_.build(snap.agents, snap.by_id, cutoff_);
-    computePeopleSocial(snap, grid_, cutoff_);
+    grid_->build(snap.agents, snap.by_id, cutoff_);
+    computePeopleSocial(snap, *grid_, cutoff_);
   } else {
     snap.people_social.clear();
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "hunav/manager/agent_manager.hpp"
+#include "people_social.hpp"  // internal: the grid and the pair kernel
 
 using namespace hunav;
 using namespace hunav::manager;

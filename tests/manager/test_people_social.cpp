@@ -7,6 +7,7 @@
 
 #include "hunav/manager/agent_manager.hpp"
 #include "lcg.hpp"
+#include "people_social.hpp"  // internal: the grid and the pair kernel
 
 using namespace hunav;
 using namespace hunav::manager;

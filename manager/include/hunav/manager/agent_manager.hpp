@@ -4,11 +4,9 @@
 // An agent's goal queue and parameters travel in its agent_state_t; the behavior-tree memory
 // (timers, once flags, running nodes) lives here, keyed by (episode, agent id), and evolves with
 // each computed step. A new episode number resets it.
-#include <algorithm>
-#include <array>
-#include <cmath>
+// The people's forces, the neighbour grid and the threads a step may share live inside the manager
+// (manager/src/); what a behavior-tree node sees is tick_context.hpp.
 #include <cstdint>
-#include <functional>
 #include <hunav/agent_state_t.hpp>
 #include <hunav/people_social_t.hpp>
 #include <hunav/step_reply_t.hpp>
@@ -21,181 +19,23 @@
 
 #include "hunav/geometry.hpp"
 #include "hunav/manager/behavior_tree.hpp"
+#include "hunav/manager/tick_context.hpp"
 #include "hunav/scenario.hpp"
-#include "hunav/social_force.hpp"
 
 namespace hunav::manager {
 
-// How far beyond goal_radius a goal already counts as reached, and the next one is taken
-// (HuNavSim's IsGoalReached uses goal_radius + 0.1 m).
-inline constexpr double kGoalSwitchMargin = 0.1;
 // Default cut-off radius of the social force between people (see manager/README.md: the mean error
 // against all-pairs stays under 1% of the mean social force on random crowds).
 inline constexpr double kDefaultSocialCutoff = 8.0;
-// Half field of view of IsRobotVisible (reference 3.1).
-inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
-// Turn rate of surprised / LookAtRobot (rad/s).
-inline constexpr double kTurnRate = kPi;
 
-struct StepSnapshot;
-class RouteMap;
-
-// What a person shows the others (bt_social.cpp): whether it speaks, its conversation circle, whom
-// it looks at. Nodes read everybody's entry of the previous step (so the result does not depend on
-// the order people are ticked in) and write their own for the next.
-struct PersonSocial {
-  int id = 0;
-  std::int64_t speaking_until = 0;  // us of simulation time: speaking while utime < speaking_until
-  std::string message;              // what it said last (SaySomething)
-  int conversation = -1;            // main agent id of its conversation circle, -1: none
-  int looking_at = -1;              // id of the person or robot a look node turns it to, -1: none
-  bool speaking(std::int64_t utime) const { return utime < speaking_until; }
-};
-
-// Uniform grid over the snapshot's people, cells of `cell` metres; agents of a cell sorted by id, so
-// a query visits neighbours in an order that does not depend on the request order. Rebuilding it
-// reuses its storage (no allocation once it has seen the largest crowd).
-class NeighborGrid {
- public:
-  void build(const std::vector<SfmBody>& bodies, const std::vector<int>& order, double cell);
-  // Calls f(j) for every body within `radius` (<= cell) of p, in a fixed order.
-  template <class F>
-  void forEachNear(const Vec2& p, double radius, F&& f) const;
-  // Calls f(i, j) once for every unordered pair within `radius` (<= cell), in a fixed order: by
-  // cell, then for each body of the cell the rest of its own cell and the forward half of the 3x3
-  // neighbourhood, (+1,0), (-1,+1), (0,+1), (+1,+1).
-  template <class F>
-  void forEachPair(double radius, F&& f) const;
-
- private:
-  friend void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
-
-  double cell_ = 1.0;
-  Vec2 origin_ = Vec2::Zero();
-  int nx_ = 0, ny_ = 0;
-  std::vector<int> start_;  // nx*ny+1 offsets into items_
-  std::vector<int> items_;  // body indices, cell by cell
-  std::vector<int> fill_;   // build scratch
-  // The bodies in items_ order, structure of arrays (the pair kernel streams through them).
-  std::vector<double> x_, y_, vx_, vy_;
-  const std::vector<SfmBody>* bodies_ = nullptr;
-};
-
-// A snapshot of one step: every agent's body as it was at time t, so forces do not depend on the
-// order agents are processed in.
-struct StepSnapshot {
-  const step_request_t* request = nullptr;
-  std::vector<SfmBody> agents;  // same order as request->agents
-  SfmBody robot;
-  std::vector<int> by_id;  // agent indices sorted by id (all-pairs order)
-  // Groups: member indices sorted by (group id, agent id); group_members[group_start[g] ..
-  // group_start[g + 1]) are the members of group g, and group_of[i] is agent i's g (-1: none).
-  std::vector<int> group_members;
-  std::vector<int> group_start;
-  std::vector<int> group_of;
-  // Cut-off mode: per agent, the sum over the people within the cut-off of the social force without
-  // its weight omega_s (computePeopleSocial). Empty: exact all pairs.
-  std::vector<Vec2> people_social;
-  // The scenario's human model: how obstacle points add up, and the people's routes (null: walk
-  // straight at goals).
-  ObstaclePoints obstacle_points = ObstaclePoints::Each;
-  const RouteMap* routes = nullptr;
-  // The social state of the previous step, by id (empty when no tree uses a social node), and the
-  // scenario's HuNavSim 2 global goals (goal_id ports).
-  const std::vector<PersonSocial>* social = nullptr;
-  const std::map<int, Vec2>* global_goals = nullptr;
-  // The robot is not in the world (AgentManager::setRobotAbsent): the request's robot is ignored.
-  bool robot_absent = false;
-  // The request's robot, or nullptr when it is absent: what every node that looks at the robot uses.
-  const agent_state_t* robotState() const { return robot_absent ? nullptr : &request->robot; }
-  // The request index of the person with this id, or -1.
-  int indexOf(int id) const;
-  // Fills by_id and the groups from agents (keeps the previous step's order when the ids are the same).
-  void index();
-};
-
-// The social force of section 1.5 of `other` on `me` without the weight omega_s: the formula of
-// hunav::socialForceFrom with atan2 and exp replaced by polynomials (errors < 1e-10 rad and 1e-15
-// relative) and theta taken from D = lambda (v_me - v_other) + e directly, so that equal
-// velocities give exactly theta = 0 (no sideways force). The force of `me` on `other` is exactly
-// the opposite, so the cut-off mode evaluates each pair once. This scalar form gives the same bits
-// as the batched kernel of computePeopleSocial.
-Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& other, const SfmParams& p);
-
-// Fills snap.people_social from the pairs of `grid` (built on snap.agents) within `cutoff`: the
-// same sums, in the same order, as forEachPair with unweightedSocialForce (people_social[i] += u,
-// people_social[j] -= u), computed in batches (SIMD where the CPU has it).
-void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
-
-// Runs work(0), ..., work(chunks - 1), each once, on the calling thread and the manager's helper
-// thread (shared by the managers of the process) when `people` make a hand-over worth it and the
-// helper is free; else all on the calling thread. The chunks must be independent. Returns when all
-// are done; rethrows what one threw.
-void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work);
-// Whether forChunksOnTwoThreads may hand chunks over for this many people (below that, a caller may
-// run its work directly, without the chunks' calls through std::function).
-bool twoThreadsMayPay(std::size_t people);
-// Gives the calling thread room for the scratch lists of a tick (groups of up to 256 people), so
-// that the ticks on a helper thread allocate nothing once it has started.
-void reserveTickScratch();
-
-// How the robot enters an agent's social force model (manager/README.md).
-enum class RobotAs { Person, Obstacle, Ignored };
-
-// The SFM parameters of an agent, from the weights it carries.
-SfmParams paramsOf(const agent_state_t& a);
-// The forces on agent `index` of the snapshot toward `goal` (nullptr = none) at `desired_speed`.
-ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
-                       RobotAs robot, double desired_speed);
-// Compatibility: robot as a person, or as an obstacle point; the agent's own desired speed.
-ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
-                       bool robot_as_obstacle);
-
-// Per-agent memory of the manager (besides the tree's own node memory).
-struct AgentMemory {
-  int id = 0;
-  std::string tree_source;  // file path, or "builtin:<code>"
-  int behavior = -1;        // what the tree was chosen from
-  std::string tree_file;
-  BtTree tree;
-  bool stopped = false;                       // StopMovement / ResumeMovement
-  bool social_tree = false;                   // the tree uses a node of the social state
-  PersonSocial social;                        // this step's social state (written by the nodes)
-  int group_override = -2;                    // SetGroupId / SetGroupWalk: the group from the next step on (-2: none)
-  std::array<double, kOutputKeys> outputs{};  // output entries of the blackboard (-1 until written)
-  bool moved = false;                         // a motion action already ran this tick
-  // Route following (people.navigation: path): the waypoint chosen for route_target, kept until
-  // route_until_utime unless the target moves or the waypoint is reached.
-  bool has_route = false;
-  bool route_direct = false;  // the target was in sight: head straight for it
-  Vec2 route_target = Vec2::Zero();
-  Vec2 route_waypoint = Vec2::Zero();
-  std::int64_t route_until_utime = 0;
-};
-
-// What a node sees while ticking one agent.
-struct TickContext {
-  const StepSnapshot& snap;
-  std::size_t index;        // of the agent in the snapshot
-  const agent_state_t& in;  // state at t
-  agent_state_t& out;       // state at t + dt, pre-filled with `in`
-  double dt;
-  std::int64_t episode;
-  std::int64_t seq;
-  AgentMemory& memory;
-  Blackboard bb{};
-};
-
-// Moves the agent with the social force model toward the front goal of out.goals (or `goal` when
-// given) at `speed`, adding `extra` to the force. Shared by RegularNav and the reactions.
-void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal = nullptr, const Vec2& extra = Vec2::Zero(),
-             double goal_radius = -1.0);
-// Turns out.yaw toward `target` by at most kTurnRate*dt (stops exactly on it, no dithering).
-void turnToward(TickContext& c, const Vec2& target, double max_step);
+class NeighborGrid;
 
 class AgentManager {
  public:
   AgentManager();
+  ~AgentManager();
+  AgentManager(const AgentManager&) = delete;
+  AgentManager& operator=(const AgentManager&) = delete;
 
   // The robot is not in the world (the robot-free run of a counterfactual, docs/metrics.md): every
   // person ignores the request's robot: no force from it, no condition on it holds, and nodes that
@@ -253,7 +93,7 @@ class AgentManager {
   std::int64_t episode_ = 0;
   std::unordered_map<int, AgentMemory> memory_;  // node pointers stay valid while it grows
   std::vector<AgentMemory*> memory_at_;          // per request index: the memory found last step
-  NeighborGrid grid_;
+  std::unique_ptr<NeighborGrid> grid_;           // cut-off mode's pairs (people_social.hpp)
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
   std::shared_ptr<const RouteMap> routes_;
@@ -269,46 +109,5 @@ class AgentManager {
 
 // loadTrees with a manager of its own: for a process that only needs the check.
 void checkBehaviorTrees(const Scenario& scenario);
-
-template <class F>
-void NeighborGrid::forEachNear(const Vec2& p, double radius, F&& f) const {
-  if (nx_ == 0) return;
-  const int cx = static_cast<int>(std::floor((p.x() - origin_.x()) / cell_));
-  const int cy = static_cast<int>(std::floor((p.y() - origin_.y()) / cell_));
-  const double r2 = radius * radius;
-  for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny_ - 1); ++y)
-    for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx_ - 1); ++x) {
-      const int c = y * nx_ + x;
-      for (int k = start_[c]; k < start_[c + 1]; ++k) {
-        const int j = items_[k];
-        if (((*bodies_)[j].position - p).squaredNorm() <= r2) f(j);
-      }
-    }
-}
-
-template <class F>
-void NeighborGrid::forEachPair(double radius, F&& f) const {
-  const double r2 = radius * radius;
-  const auto& b = *bodies_;
-  for (int cy = 0; cy < ny_; ++cy)
-    for (int cx = 0; cx < nx_; ++cx) {
-      const int c = cy * nx_ + cx;
-      for (int k = start_[c]; k < start_[c + 1]; ++k) {
-        const int i = items_[k];
-        const Vec2& pi = b[i].position;
-        for (int m = k + 1; m < start_[c + 1]; ++m)
-          if ((b[items_[m]].position - pi).squaredNorm() <= r2) f(i, items_[m]);
-        // forward half of the 3x3 neighbourhood: (+1,0), (-1,+1), (0,+1), (+1,+1)
-        static constexpr int kOff[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-        for (const auto& o : kOff) {
-          const int x = cx + o[0], y = cy + o[1];
-          if (x < 0 || x >= nx_ || y >= ny_) continue;
-          const int c2 = y * nx_ + x;
-          for (int m = start_[c2]; m < start_[c2 + 1]; ++m)
-            if ((b[items_[m]].position - pi).squaredNorm() <= r2) f(i, items_[m]);
-        }
-      }
-    }
-}
 
 }  // namespace hunav::manager

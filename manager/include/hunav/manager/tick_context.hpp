@@ -1,0 +1,129 @@
+#pragma once
+// What a behavior-tree node sees while it ticks one person (for node authors: NodeLibrary in
+// behavior_tree.hpp registers node types by name): the snapshot of the step (every body as it was
+// at time t), the person's state in and out, its memory, and the social force model's moves.
+#include <array>
+#include <cstdint>
+#include <hunav/agent_state_t.hpp>
+#include <hunav/step_request_t.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "hunav/geometry.hpp"
+#include "hunav/manager/behavior_tree.hpp"
+#include "hunav/scenario.hpp"
+#include "hunav/social_force.hpp"
+
+namespace hunav::manager {
+
+// How far beyond goal_radius a goal already counts as reached, and the next one is taken
+// (HuNavSim's IsGoalReached uses goal_radius + 0.1 m).
+inline constexpr double kGoalSwitchMargin = 0.1;
+// Half field of view of IsRobotVisible (reference 3.1).
+inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
+// Turn rate of surprised / LookAtRobot (rad/s).
+inline constexpr double kTurnRate = kPi;
+
+class RouteMap;
+
+// What a person shows the others (bt_social.cpp): whether it speaks, its conversation circle, whom
+// it looks at. Nodes read everybody's entry of the previous step (so the result does not depend on
+// the order people are ticked in) and write their own for the next.
+struct PersonSocial {
+  int id = 0;
+  std::int64_t speaking_until = 0;  // us of simulation time: speaking while utime < speaking_until
+  std::string message;              // what it said last (SaySomething)
+  int conversation = -1;            // main agent id of its conversation circle, -1: none
+  int looking_at = -1;              // id of the person or robot a look node turns it to, -1: none
+  bool speaking(std::int64_t utime) const { return utime < speaking_until; }
+};
+
+// A snapshot of one step: every agent's body as it was at time t, so forces do not depend on the
+// order agents are processed in.
+struct StepSnapshot {
+  const step_request_t* request = nullptr;
+  std::vector<SfmBody> agents;  // same order as request->agents
+  SfmBody robot;
+  std::vector<int> by_id;  // agent indices sorted by id (all-pairs order)
+  // Groups: member indices sorted by (group id, agent id); group_members[group_start[g] ..
+  // group_start[g + 1]) are the members of group g, and group_of[i] is agent i's g (-1: none).
+  std::vector<int> group_members;
+  std::vector<int> group_start;
+  std::vector<int> group_of;
+  // Cut-off mode: per agent, the sum over the people within the cut-off of the social force without
+  // its weight omega_s (computePeopleSocial). Empty: exact all pairs.
+  std::vector<Vec2> people_social;
+  // The scenario's human model: how obstacle points add up, and the people's routes (null: walk
+  // straight at goals).
+  ObstaclePoints obstacle_points = ObstaclePoints::Each;
+  const RouteMap* routes = nullptr;
+  // The social state of the previous step, by id (empty when no tree uses a social node), and the
+  // scenario's HuNavSim 2 global goals (goal_id ports).
+  const std::vector<PersonSocial>* social = nullptr;
+  const std::map<int, Vec2>* global_goals = nullptr;
+  // The robot is not in the world (AgentManager::setRobotAbsent): the request's robot is ignored.
+  bool robot_absent = false;
+  // The request's robot, or nullptr when it is absent: what every node that looks at the robot uses.
+  const agent_state_t* robotState() const { return robot_absent ? nullptr : &request->robot; }
+  // The request index of the person with this id, or -1.
+  int indexOf(int id) const;
+  // Fills by_id and the groups from agents (keeps the previous step's order when the ids are the same).
+  void index();
+};
+
+// How the robot enters an agent's social force model (manager/README.md).
+enum class RobotAs { Person, Obstacle, Ignored };
+
+// The SFM parameters of an agent, from the weights it carries.
+SfmParams paramsOf(const agent_state_t& a);
+// The forces on agent `index` of the snapshot toward `goal` (nullptr = none) at `desired_speed`.
+ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                       RobotAs robot, double desired_speed);
+// Compatibility: robot as a person, or as an obstacle point; the agent's own desired speed.
+ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                       bool robot_as_obstacle);
+
+// Per-agent memory of the manager (besides the tree's own node memory).
+struct AgentMemory {
+  int id = 0;
+  std::string tree_source;  // file path, or "builtin:<code>"
+  int behavior = -1;        // what the tree was chosen from
+  std::string tree_file;
+  BtTree tree;
+  bool stopped = false;                       // StopMovement / ResumeMovement
+  bool social_tree = false;                   // the tree uses a node of the social state
+  PersonSocial social;                        // this step's social state (written by the nodes)
+  int group_override = -2;                    // SetGroupId / SetGroupWalk: the group from the next step on (-2: none)
+  std::array<double, kOutputKeys> outputs{};  // output entries of the blackboard (-1 until written)
+  bool moved = false;                         // a motion action already ran this tick
+  // Route following (people.navigation: path): the waypoint chosen for route_target, kept until
+  // route_until_utime unless the target moves or the waypoint is reached.
+  bool has_route = false;
+  bool route_direct = false;  // the target was in sight: head straight for it
+  Vec2 route_target = Vec2::Zero();
+  Vec2 route_waypoint = Vec2::Zero();
+  std::int64_t route_until_utime = 0;
+};
+
+// What a node sees while ticking one agent.
+struct TickContext {
+  const StepSnapshot& snap;
+  std::size_t index;        // of the agent in the snapshot
+  const agent_state_t& in;  // state at t
+  agent_state_t& out;       // state at t + dt, pre-filled with `in`
+  double dt;
+  std::int64_t episode;
+  std::int64_t seq;
+  AgentMemory& memory;
+  Blackboard bb{};
+};
+
+// Moves the agent with the social force model toward the front goal of out.goals (or `goal` when
+// given) at `speed`, adding `extra` to the force. Shared by RegularNav and the reactions.
+void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal = nullptr, const Vec2& extra = Vec2::Zero(),
+             double goal_radius = -1.0);
+// Turns out.yaw toward `target` by at most kTurnRate*dt (stops exactly on it, no dithering).
+void turnToward(TickContext& c, const Vec2& target, double max_step);
+
+}  // namespace hunav::manager
