@@ -55,13 +55,14 @@ void Bus::endEverySubscription() {
   subscribers_.clear();
 }
 
-void Bus::deliver(Subscriber& sub, const void* data, std::size_t size) {
+template <class Take>
+void Bus::guardedCall(Subscriber& sub, Take&& take) {
   if (sub.bus == nullptr) return;
   // Keeps the subscriber alive through its handler, which may end its own subscription.
   const std::shared_ptr<Subscriber> keep = sub.shared_from_this();
   // Nothing may propagate through a backend's dispatch loop (LCM's is C): keep the first error.
   try {
-    if (!sub.takeBytes(data, size)) throw BadMessage(kUndecodable);
+    if (!take()) throw BadMessage(kUndecodable);
   } catch (const BadMessage& e) {
     ++dropped_;
     ++sub.drops.count;
@@ -71,21 +72,17 @@ void Bus::deliver(Subscriber& sub, const void* data, std::size_t size) {
   }
 }
 
+void Bus::deliver(Subscriber& sub, const void* data, std::size_t size) {
+  guardedCall(sub, [&] { return sub.takeBytes(data, size); });
+}
+
 void Bus::deliver(Subscriber& sub, const MessageBox& box) {
-  if (sub.bus == nullptr) return;
-  const std::shared_ptr<Subscriber> keep = sub.shared_from_this();
-  try {
-    if (sub.takeBox(box)) return;
+  guardedCall(sub, [&] {
+    if (sub.takeBox(box)) return true;
     // Another type on this channel: what a subscriber over LCM would get, the bytes (and a drop).
     box.encodeTo(convert_buffer_);
-    if (!sub.takeBytes(convert_buffer_.data(), convert_buffer_.size())) throw BadMessage(kUndecodable);
-  } catch (const BadMessage& e) {
-    ++dropped_;
-    ++sub.drops.count;
-    sub.drops.last_reason = e.what();
-  } catch (...) {
-    if (!pending_) pending_ = std::current_exception();
-  }
+    return sub.takeBytes(convert_buffer_.data(), convert_buffer_.size());
+  });
 }
 
 void Bus::rethrowPending() {

@@ -45,15 +45,7 @@ struct LcmBus::Instances {
 
   lcm::LCM& forChannel(std::string_view channel) {
     const int offset = channel_ports ? channels::portOffset(channel) : 0;
-    for (auto& [o, instance] : owned)
-      if (o == offset) return *instance;
-    if (offset == 0 && main != nullptr) return *main;
-    const std::string port_url = detail::lcmUrlAtOffset(url, offset);
-    auto instance = std::make_unique<lcm::LCM>(port_url);
-    if (!instance->good())
-      throw std::runtime_error("LCM is not usable on " + port_url + " (bad URL, or no multicast route?)");
-    owned.emplace_back(offset, std::move(instance));
-    return *owned.back().second;
+    return offset == 0 && main != nullptr ? *main : owned.at(offset);
   }
   void addReceiver(lcm::LCM& lcm) {
     if (std::find(receivers.begin(), receivers.end(), &lcm) != receivers.end()) return;
@@ -61,10 +53,9 @@ struct LcmBus::Instances {
     poll_fds.push_back(pollfd{lcm.getFileno(), POLLIN, 0});
   }
 
-  std::string url;
   bool channel_ports = false;
-  lcm::LCM* main = nullptr;                                      // the caller's instance (LcmBus(lcm::LCM&)), or null
-  std::vector<std::pair<int, std::unique_ptr<lcm::LCM>>> owned;  // port offset, instance
+  lcm::LCM* main = nullptr;        // the caller's instance (LcmBus(lcm::LCM&)), or null
+  detail::LcmInstances owned{""};  // else ours, one per port
   std::vector<std::unique_ptr<Entry>> entries;
   std::vector<lcm::LCM*> receivers;  // instances with subscriptions: what handleFor() waits on
   std::vector<pollfd> poll_fds;
@@ -73,7 +64,7 @@ struct LcmBus::Instances {
 };
 
 LcmBus::LcmBus(const std::string& url) : lcm_(std::make_unique<Instances>()) {
-  lcm_->url = url;
+  lcm_->owned = detail::LcmInstances(url);
   lcm_->channel_ports = detail::hasChannelPorts(url);
   lcm_->forChannel("");  // opens the URL's own port now, so that a bad URL fails here
 }

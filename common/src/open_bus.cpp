@@ -82,6 +82,17 @@ std::string lcmUrlAtOffset(const std::string& url, int offset) {
   return out;
 }
 
+lcm::LCM& LcmInstances::at(int offset) {
+  for (auto& [o, instance] : instances_)
+    if (o == offset) return *instance;
+  const std::string port_url = lcmUrlAtOffset(url_, offset);
+  auto instance = std::make_unique<lcm::LCM>(port_url);
+  if (!instance->good())
+    throw std::runtime_error("LCM is not usable on " + port_url + " (bad URL, or no multicast route?)");
+  instances_.emplace_back(offset, std::move(instance));
+  return *instances_.back().second;
+}
+
 }  // namespace detail
 
 std::string lcmUrlForChannel(const std::string& url, std::string_view channel) {

@@ -18,16 +18,7 @@ using Clock = std::chrono::steady_clock;
 struct UdpmBus::Ports {
   // The LCM instance that publishes on `offset`'s port, opened on first use (it never opens a receive
   // socket: nothing subscribes through it).
-  lcm::LCM& sender(int offset) {
-    for (auto& [o, instance] : senders)
-      if (o == offset) return *instance;
-    const std::string port_url = detail::lcmUrlAtOffset(url, offset);
-    auto instance = std::make_unique<lcm::LCM>(port_url);
-    if (!instance->good())
-      throw std::runtime_error("LCM is not usable on " + port_url + " (bad URL, or no multicast route?)");
-    senders.emplace_back(offset, std::move(instance));
-    return *senders.back().second;
-  }
+  lcm::LCM& sender(int offset) { return senders.at(offset); }
   // Our receive socket of `offset`'s port, opened on first use.
   detail::DirectReceiver& receiver(int offset) {
     for (auto& [o, r] : receivers)
@@ -63,7 +54,7 @@ struct UdpmBus::Ports {
   std::string url;
   bool channel_ports = false;
   ReceiveOptions options;
-  std::vector<std::pair<int, std::unique_ptr<lcm::LCM>>> senders;                  // port offset, instance
+  detail::LcmInstances senders{""};                                                // one per port
   std::vector<std::pair<int, std::unique_ptr<detail::DirectReceiver>>> receivers;  // port offset, socket
   std::vector<pollfd> poll_fds;                                                    // of receivers, in the same order
   std::size_t next_receiver = 0;                                                   // round robin among ready sockets
@@ -76,6 +67,7 @@ struct UdpmBus::Ports {
 UdpmBus::UdpmBus(const std::string& url, const ReceiveOptions& options) : ports_(std::make_unique<Ports>()) {
   if (!detail::isUdpm(url)) throw std::invalid_argument("not a udpm:// URL: " + url);
   ports_->url = url;
+  ports_->senders = detail::LcmInstances(url);
   ports_->channel_ports = detail::hasChannelPorts(url);
   ports_->options = options;
   ports_->sender(0);  // a bad URL or a missing route fails here

@@ -270,6 +270,9 @@ class Bus {
   };
 
   Subscription add(std::shared_ptr<Subscriber> sub, int queue_capacity);
+  // Runs take() (false: the message does not decode) for a live subscriber, counting drops.
+  template <class Take>
+  void guardedCall(Subscriber& sub, Take&& take);
 
   std::vector<std::shared_ptr<Subscriber>> subscribers_;
   std::exception_ptr pending_;

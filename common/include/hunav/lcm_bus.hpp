@@ -10,7 +10,6 @@
 
 #include "hunav/bus.hpp"
 
-
 namespace hunav {
 
 class LcmBus final : public Bus {
