@@ -18,10 +18,10 @@ inline constexpr const char* kPlannerReady = "PLANNER_READY";          // planne
 // A planner publishes PLANNER_READY at least this often (ms) once subscribed (docs/planner_contract.md).
 inline constexpr int kPlannerReadyPeriodMs = 500;
 
-// With `channel_ports=1` in a udpm URL (transport.hpp), these channels go to UDP ports of their own:
+// With `channel_ports=1` in a udpm URL (open_bus.hpp), these channels go to UDP ports of their own:
 // the URL's port plus 1, 2, ... in this order. They are the world-manager exchange of the step
 // protocol, sent every tick between those two only, so each datagram wakes only the process
-// that listens (bench/bench_lockstep.sh: about a quarter less CPU per tick). The planner's
+// that listens (lcmtypes/README.md, "Ports: channel_ports=1", measures it). The planner's
 // channels (ROBOT_OBSERVATION, ROBOT_COMMAND), the world states, episode events, goal and live metrics
 // stay on the URL's own port: a user's planner on the plain URL (any LCM binding), lcm-spy and
 // lcm-logger keep working unchanged. lcmtypes/README.md documents the ports.

@@ -1,8 +1,8 @@
 #pragma once
 // The run fingerprint: a 64-bit hash of every encoded world state, chained message by message with
 // XXH3 (libxxhash): h_0 = 0, h_k = XXH3_64bits_withSeed(bytes of message k, its size, h_{k-1}).
-// XXH3 reads 8-byte words in wide vector lanes (~40 us for the world state of 1000 people, where
-// the byte-wise FNV-1a used before took ~0.25 ms), and the chain keeps the order of messages.
+// The chain keeps the order of messages; XXH3 is fast enough to hash a crowd's state every tick
+// (docs/world.md, "The run fingerprint", measures it).
 #include <cstddef>
 #include <cstdint>
 #include <hunav/world_state_t.hpp>
