@@ -355,25 +355,39 @@ class PlacedBodies {
   double max_radius_ = 0.0;
 };
 
-// One `generate:` entry: `count` people with seeded start positions, goals and speeds. Appends them
-// to `agents`. `index` numbers the entries (each has its own random stream).
-void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string& gw, std::size_t index,
-                    std::uint64_t seed, const std::vector<Shape>& static_shapes, std::set<int>& ids,
-                    PlacedBodies& placed, std::vector<AgentConfig>& agents) {
-  if (!g.IsMap()) yr.fail(g, gw, "expected a mapping (count, region, goals or routes, ...)");
-  const int count = yr.get<int>(g, "count", gw);
-  if (count < 0 || count > 100000) yr.fail(g["count"], YamlReader::join(gw, "count"), "must be 0..100000");
+// The fields of one `generate:` entry, read and checked.
+struct GenerateEntry {
+  int count = 0;
+  int first_id = 0;
+  std::string prefix;
+  Box region;
+  std::vector<std::vector<Box>> routes;  // each person follows one, drawn at random
+  Interval max_vel;
+  double radius = 0.0, goal_radius = 0.0, spacing = 0.0;
+  bool cyclic = true;
+  int group_id = -1, skin = 0;
+  std::string tree;
+  int tree_line = 0;
+  std::vector<KeepClear> keep_clear;
+};
+
+// `count` and `first_id`: the ids first_id .. first_id + count - 1 must all be ints.
+void readCountAndFirstId(const YamlReader& yr, const YAML::Node& g, const std::string& gw, const std::set<int>& ids,
+                         GenerateEntry& e) {
+  e.count = yr.get<int>(g, "count", gw);
+  if (e.count < 0 || e.count > 100000) yr.fail(g["count"], YamlReader::join(gw, "count"), "must be 0..100000");
   const long long first_id_wide =
       yr.get<long long>(g, "first_id", gw, ids.empty() ? 1LL : static_cast<long long>(*ids.rbegin()) + 1);
   if (first_id_wide < 0) yr.fail(g["first_id"], YamlReader::join(gw, "first_id"), "must be >= 0");
   // Ids are ints: the last one, first_id + count - 1, must be one too.
-  if (first_id_wide + count - 1 > std::numeric_limits<int>::max())
+  if (first_id_wide + e.count - 1 > std::numeric_limits<int>::max())
     yr.fail(g["first_id"] ? g["first_id"] : g["count"], YamlReader::join(gw, "first_id"),
             "first_id + count - 1 must be at most " + std::to_string(std::numeric_limits<int>::max()));
-  const int first_id = static_cast<int>(first_id_wide);
-  const std::string prefix = yr.get<std::string>(g, "name_prefix", gw, "person");
-  const Box region = readBox(yr, yr.child(g, "region", gw, true), YamlReader::join(gw, "region"));
+  e.first_id = static_cast<int>(first_id_wide);
+}
 
+// `goals` (one route) or `routes` (several), or neither.
+std::vector<std::vector<Box>> readRoutes(const YamlReader& yr, const YAML::Node& g, const std::string& gw) {
   std::vector<std::vector<Box>> routes;
   const YAML::Node goals = yr.child(g, "goals", gw, false);
   const YAML::Node route_list = yr.child(g, "routes", gw, false);
@@ -384,26 +398,27 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
       yr.fail(route_list, YamlReader::join(gw, "routes"), "expected a non-empty list of routes (lists of boxes)");
     for (const YAML::Node& r : route_list) routes.push_back(readRoute(yr, r, YamlReader::join(gw, "routes")));
   }
+  return routes;
+}
 
+// `max_vel`, `radius`, `goal_radius` and `min_spacing`.
+void readSpeedAndSizes(const YamlReader& yr, const YAML::Node& g, const std::string& gw, GenerateEntry& e) {
   const YAML::Node vel_node = yr.child(g, "max_vel", gw, false);
-  const Interval max_vel = vel_node ? readInterval(yr, vel_node, YamlReader::join(gw, "max_vel")) : Interval{1.0, 1.0};
-  if (max_vel.lo < 0.0 || max_vel.hi > kMaxSpeed)
+  e.max_vel = vel_node ? readInterval(yr, vel_node, YamlReader::join(gw, "max_vel")) : Interval{1.0, 1.0};
+  if (e.max_vel.lo < 0.0 || e.max_vel.hi > kMaxSpeed)
     yr.fail(vel_node, YamlReader::join(gw, "max_vel"), "must be in [0, 10] m/s");
-  const double radius = yr.get<double>(g, "radius", gw, 0.35);
-  if (!(radius >= kMinBodySize && radius <= 10.0))
+  e.radius = yr.get<double>(g, "radius", gw, 0.35);
+  if (!(e.radius >= kMinBodySize && e.radius <= 10.0))
     yr.fail(g["radius"], YamlReader::join(gw, "radius"), "must be in [1e-3, 10] m");
-  const double goal_radius = yr.get<double>(g, "goal_radius", gw, 0.3);
-  if (goal_radius < 0.0 || goal_radius > kMaxCoordinate)
+  e.goal_radius = yr.get<double>(g, "goal_radius", gw, 0.3);
+  if (e.goal_radius < 0.0 || e.goal_radius > kMaxCoordinate)
     yr.fail(g["goal_radius"], YamlReader::join(gw, "goal_radius"), "must be in [0, 1e5] m");
-  const double spacing = yr.get<double>(g, "min_spacing", gw, 0.1);
-  if (spacing < 0.0 || spacing > 100.0)
+  e.spacing = yr.get<double>(g, "min_spacing", gw, 0.1);
+  if (e.spacing < 0.0 || e.spacing > 100.0)
     yr.fail(g["min_spacing"], YamlReader::join(gw, "min_spacing"), "must be in [0, 100] m");
-  const bool cyclic = yr.get<bool>(g, "cyclic_goals", gw, true);
-  const int group_id = yr.get<int>(g, "group_id", gw, -1);
-  const int skin = yr.get<int>(g, "skin", gw, 0);
-  int tree_line = 0;
-  const std::string tree = readTreePath(yr, g, gw, tree_line);
+}
 
+std::vector<KeepClear> readKeepClear(const YamlReader& yr, const YAML::Node& g, const std::string& gw) {
   std::vector<KeepClear> keep_clear;
   if (const YAML::Node kc = yr.child(g, "keep_clear", gw, false)) {
     const std::string kw = YamlReader::join(gw, "keep_clear");
@@ -414,60 +429,98 @@ void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string
       keep_clear.push_back({readPoint(yr, c, kw), r});
     }
   }
+  return keep_clear;
+}
 
+GenerateEntry readGenerateEntry(const YamlReader& yr, const YAML::Node& g, const std::string& gw,
+                                const std::set<int>& ids) {
+  if (!g.IsMap()) yr.fail(g, gw, "expected a mapping (count, region, goals or routes, ...)");
+  GenerateEntry e;
+  readCountAndFirstId(yr, g, gw, ids, e);
+  e.prefix = yr.get<std::string>(g, "name_prefix", gw, "person");
+  e.region = readBox(yr, yr.child(g, "region", gw, true), YamlReader::join(gw, "region"));
+  e.routes = readRoutes(yr, g, gw);
+  readSpeedAndSizes(yr, g, gw, e);
+  e.cyclic = yr.get<bool>(g, "cyclic_goals", gw, true);
+  e.group_id = yr.get<int>(g, "group_id", gw, -1);
+  e.skin = yr.get<int>(g, "skin", gw, 0);
+  e.tree = readTreePath(yr, g, gw, e.tree_line);
+  e.keep_clear = readKeepClear(yr, g, gw);
+  return e;
+}
+
+double drawUniform(const Interval& i, std::mt19937_64& rng) {
+  return i.lo == i.hi ? i.lo : std::uniform_real_distribution<double>(i.lo, i.hi)(rng);
+}
+
+Vec2 drawPointIn(const Box& b, std::mt19937_64& rng) {
+  const double x = drawUniform(b.x, rng);  // x drawn first
+  return Vec2(x, drawUniform(b.y, rng));
+}
+
+// Whether a person of the entry may start at p: clear of the keep_clear circles, the walls and the
+// people placed so far, by min_spacing.
+bool startIsFree(const GenerateEntry& e, const Vec2& p, const std::vector<Shape>& static_shapes,
+                 const PlacedBodies& placed) {
+  for (const KeepClear& c : e.keep_clear)
+    if ((p - c.center).norm() < c.radius + e.radius + e.spacing) return false;
+  for (const Shape& sh : static_shapes)
+    if (sh.distance(p) < e.radius + e.spacing) return false;
+  return placed.clear(p, e.radius, e.spacing);
+}
+
+// A free start in the entry's region for person k (0-based), drawn until one is free.
+Vec2 drawFreeStart(const YamlReader& yr, const YAML::Node& g, const std::string& gw, const GenerateEntry& e, int k,
+                   const std::vector<Shape>& static_shapes, const PlacedBodies& placed, std::mt19937_64& rng) {
+  constexpr int kAttempts = 10000;  // per person: a region this crowded is a mistake in the file
+  int attempt = 0;
+  Vec2 p;
+  do {
+    if (++attempt > kAttempts)
+      yr.fail(g["region"], YamlReader::join(gw, "region"),
+              "no free start for person " + std::to_string(k + 1) + " of " + std::to_string(e.count) + " after " +
+                  std::to_string(kAttempts) + " tries: enlarge the region or lower count, radius or min_spacing");
+    p = drawPointIn(e.region, rng);
+  } while (!startIsFree(e, p, static_shapes, placed));
+  return p;
+}
+
+// One `generate:` entry: `count` people with seeded start positions, goals and speeds. Appends them
+// to `agents`. `index` numbers the entries (each has its own random stream).
+void generatePeople(const YamlReader& yr, const YAML::Node& g, const std::string& gw, std::size_t index,
+                    std::uint64_t seed, const std::vector<Shape>& static_shapes, std::set<int>& ids,
+                    PlacedBodies& placed, std::vector<AgentConfig>& agents) {
+  const GenerateEntry e = readGenerateEntry(yr, g, gw, ids);
   // One stream per entry, from the scenario seed: the same seed places the same crowd.
   std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
                     static_cast<std::uint32_t>(index), 0x67656eu /* "gen": people generator stream */};
   std::mt19937_64 rng(seq);
-  auto uniform = [&](const Interval& i) {
-    return i.lo == i.hi ? i.lo : std::uniform_real_distribution<double>(i.lo, i.hi)(rng);
-  };
-  auto pointIn = [&](const Box& b) {
-    const double x = uniform(b.x);
-    return Vec2(x, uniform(b.y));
-  };
-  auto startIsFree = [&](const Vec2& p) {
-    for (const KeepClear& c : keep_clear)
-      if ((p - c.center).norm() < c.radius + radius + spacing) return false;
-    for (const Shape& sh : static_shapes)
-      if (sh.distance(p) < radius + spacing) return false;
-    return placed.clear(p, radius, spacing);
-  };
-
-  constexpr int kAttempts = 10000;  // per person: a region this crowded is a mistake in the file
-  for (int k = 0; k < count; ++k) {
+  for (int k = 0; k < e.count; ++k) {
     AgentConfig a;
-    a.id = first_id + k;
-    a.name = prefix + std::to_string(a.id);
+    a.id = e.first_id + k;
+    a.name = e.prefix + std::to_string(a.id);
     a.source_file = yr.path();
     a.source_line = YamlReader::lineOf(g);
     if (!ids.insert(a.id).second)
       yr.fail(g, YamlReader::join(gw, "first_id"),
               "generated id " + std::to_string(a.id) + " is used by another agent");
-    int attempt = 0;
-    do {
-      if (++attempt > kAttempts)
-        yr.fail(g["region"], YamlReader::join(gw, "region"),
-                "no free start for person " + std::to_string(k + 1) + " of " + std::to_string(count) + " after " +
-                    std::to_string(kAttempts) + " tries: enlarge the region or lower count, radius or min_spacing");
-      a.position = pointIn(region);
-    } while (!startIsFree(a.position));
-    a.radius = radius;
+    a.position = drawFreeStart(yr, g, gw, e, k, static_shapes, placed, rng);
+    a.radius = e.radius;
     placed.add(a.position, a.radius);
-    if (!routes.empty()) {
+    if (!e.routes.empty()) {
       const std::vector<Box>& route =
-          routes[routes.size() == 1 ? 0 : std::uniform_int_distribution<std::size_t>(0, routes.size() - 1)(rng)];
-      for (const Box& b : route) a.goals.push_back(pointIn(b));
+          e.routes[e.routes.size() == 1 ? 0 : std::uniform_int_distribution<std::size_t>(0, e.routes.size() - 1)(rng)];
+      for (const Box& b : route) a.goals.push_back(drawPointIn(b, rng));
     }
-    a.max_vel = uniform(max_vel);
+    a.max_vel = drawUniform(e.max_vel, rng);
     // Facing the first goal: nobody starts by turning around.
     a.yaw = a.goals.empty() ? 0.0 : angleOf(a.goals.front() - a.position);
-    a.goal_radius = goal_radius;
-    a.cyclic_goals = cyclic;
-    a.group_id = group_id;
-    a.skin = skin;
-    a.behavior_tree = tree;
-    a.behavior_tree_line = tree_line;
+    a.goal_radius = e.goal_radius;
+    a.cyclic_goals = e.cyclic;
+    a.group_id = e.group_id;
+    a.skin = e.skin;
+    a.behavior_tree = e.tree;
+    a.behavior_tree_line = e.tree_line;
     readBehavior(yr, g, gw, seed, a);
     agents.push_back(std::move(a));
   }

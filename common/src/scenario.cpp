@@ -270,8 +270,8 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
   }
 }
 
-void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
-  robot.id = yr.get<int>(r, "id", "robot", robot.id);
+// `shape`: a circle of `radius`, or a box of `length` x `width`.
+void readRobotShape(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   const std::string shape = yr.get<std::string>(r, "shape", "robot", "circle");
   if (shape == "circle") {
     robot.shape = RobotShape::Circle;
@@ -291,6 +291,9 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   } else {
     yr.fail(r["shape"], "robot.shape", "expected circle or box, got '" + shape + "'");
   }
+}
+
+void readRobotDrive(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   const std::string drive = yr.get<std::string>(r, "drive", "robot", "differential");
   if (drive == "differential")
     robot.drive = RobotDrive::Differential;
@@ -298,6 +301,10 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     robot.drive = RobotDrive::Holonomic;
   else
     yr.fail(r["drive"], "robot.drive", "expected differential or holonomic, got '" + drive + "'");
+}
+
+// `start` (required) and `goal` (optional), each a pose; the goal with its radius.
+void readRobotStartAndGoal(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   const YAML::Node start = yr.child(r, "start", "robot", true);
   robot.start = readXY(yr, start, "robot.start");
   robot.start_yaw = readYaw(yr, start, "yaw", "robot.start");
@@ -309,6 +316,10 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (robot.goal_radius <= 0.0) yr.fail(goal["radius"], "robot.goal.radius", "must be > 0");
     if (robot.goal_radius > kMaxCoordinate) yr.fail(goal["radius"], "robot.goal.radius", "must be <= 1e5 m");
   }
+}
+
+// `limits`: speeds and accelerations (the lateral ones of a holonomic base only).
+void readRobotLimits(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   if (const YAML::Node l = yr.child(r, "limits", "robot", false)) {
     RobotLimits& lim = robot.limits;
     lim.max_v = yr.get<double>(l, "max_v", "robot.limits", lim.max_v);
@@ -340,6 +351,9 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
                                      {"max_acc_vy", lim.max_acc_vy}})
       if (value > kMaxAcceleration) yr.fail(l[key], std::string("robot.limits.") + key, "must be <= 1e3");
   }
+}
+
+void readRobotLaser(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   if (const YAML::Node l = yr.child(r, "laser", "robot", false)) {
     LaserConfig& las = robot.laser;
     las.beams = yr.get<int>(l, "beams", "robot.laser", las.beams);
@@ -356,6 +370,10 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
     if (las.noise_std < 0.0 || las.noise_std > kMaxSensorRange)
       yr.fail(l["noise_std"], "robot.laser.noise_std", "must be in [0, 1e3] m");
   }
+}
+
+// What the robot perceives of the people, and how often its planner runs.
+void readRobotPerceptionAndRate(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   robot.perception_range = yr.get<double>(r, "perception_range", "robot", robot.perception_range);
   if (robot.perception_range < 0.0 || robot.perception_range > kMaxSensorRange)
     yr.fail(r["perception_range"], "robot.perception_range", "must be in [0, 1e3] m");
@@ -368,6 +386,16 @@ void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
   robot.control_rate = yr.get<double>(r, "control_rate", "robot", robot.control_rate);
   // 1 / (control_rate * dt) ticks must be a number the clock can count.
   if (!(robot.control_rate >= 1e-3)) yr.fail(r["control_rate"], "robot.control_rate", "must be >= 1e-3 Hz");
+}
+
+void readRobot(const YamlReader& yr, const YAML::Node& r, RobotConfig& robot) {
+  robot.id = yr.get<int>(r, "id", "robot", robot.id);
+  readRobotShape(yr, r, robot);
+  readRobotDrive(yr, r, robot);
+  readRobotStartAndGoal(yr, r, robot);
+  readRobotLimits(yr, r, robot);
+  readRobotLaser(yr, r, robot);
+  readRobotPerceptionAndRate(yr, r, robot);
 }
 
 // A point must keep `clearance` from every static shape.
@@ -600,11 +628,9 @@ std::string resolveBehaviorTree(const std::string& scenario_file, const std::str
   return (std::filesystem::path(scenario_file).parent_path() / ref).lexically_normal().string();
 }
 
-Scenario loadScenario(const std::string& path, long long seed_override) {
-  YamlReader yr(path);
-  const YAML::Node& root = yr.root();
-  Scenario s;
-  s.file = path;
+namespace {
+
+void readScenarioName(const YamlReader& yr, const YAML::Node& root, const std::string& path, Scenario& s) {
   // The name becomes part of folder names (results/<name>_..., a batch's runs/<name>__...): a given
   // one may not climb out of them or hide; the default, the file's stem, is made safe.
   const auto safeChar = [](char c) {
@@ -624,6 +650,10 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
     s.name.erase(0, s.name.find_first_not_of('.'));
     if (s.name.empty()) s.name = "scenario";
   }
+}
+
+// The clock, the seed (unless overridden: seed_override >= 0), and the world's and stuck detector's settings.
+void readSimulationSettings(const YamlReader& yr, const YAML::Node& root, long long seed_override, Scenario& s) {
   s.dt = yr.get<double>(root, "dt", "", s.dt);
   if (s.dt <= 0.0 || s.dt > 0.1) yr.fail(root["dt"], "dt", "must be in (0, 0.1] s");
   s.time_limit = yr.get<double>(root, "time_limit", "", s.time_limit);
@@ -642,6 +672,9 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
   s.stuck_distance = yr.get<double>(root, "stuck_distance", "", s.stuck_distance);
   if (s.stuck_distance <= 0.0 || s.stuck_distance > 1e3)
     yr.fail(root["stuck_distance"], "stuck_distance", "must be in (0, 1e3] m");
+}
+
+void readEvaluation(const YamlReader& yr, const YAML::Node& root, const std::string& path, Scenario& s) {
   if (const YAML::Node evaluation = yr.child(root, "evaluation", "", false)) {
     s.evaluation_sample_rate = yr.get<double>(evaluation, "sample_rate", "evaluation", 0.0);
     // The evaluator's own bounds (sample_rate.hpp), checked here so that a bad value stops the run
@@ -651,12 +684,10 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       yr.fail(evaluation["sample_rate"], "evaluation.sample_rate", "must be 0 (every tick) or between 1e-6 and 1e6 Hz");
     s.evaluation_metrics = readMetricsPath(yr, evaluation, path);
   }
+}
 
-  if (const YAML::Node expect = yr.child(root, "expect", "", false)) s.expectations = readExpectations(yr, expect);
-
-  if (const YAML::Node map = yr.child(root, "map", "", false)) readMap(yr, map, s);
-  readRobot(yr, yr.child(root, "robot", "", true), s.robot);
-
+// `people`: a HuNavSim agents file, or the agents (and the people model) in the scenario itself.
+void readPeople(const YamlReader& yr, const YAML::Node& root, const std::string& path, Scenario& s) {
   if (const YAML::Node people = yr.child(root, "people", "", false)) {
     if (people.IsScalar()) {  // a HuNavSim agents file, relative to the scenario
       std::filesystem::path p = people.Scalar();
@@ -671,7 +702,10 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
       readPeopleModel(yr, people, s.people_model);
     }
   }
+}
 
+// The robot's start and goal and every agent's start clear of the walls; the robot's id its own.
+void checkStartsAndIds(const YamlReader& yr, const YAML::Node& root, const std::string& path, const Scenario& s) {
   const YAML::Node robot = root["robot"];
   checkClear(yr, s, robot["start"], "robot.start", s.robot.start, s.robot.radius, "the robot start");
   if (s.robot.has_goal) checkClear(yr, s, robot["goal"], "robot.goal", s.robot.goal, s.robot.radius, "the robot goal");
@@ -683,6 +717,25 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
         throw ConfigError(a.source_file, a.source_line, a.name + ".init_pose",
                           "the agent starts inside or touching a wall");
   }
+}
+
+}  // namespace
+
+Scenario loadScenario(const std::string& path, long long seed_override) {
+  YamlReader yr(path);
+  const YAML::Node& root = yr.root();
+  Scenario s;
+  s.file = path;
+  readScenarioName(yr, root, path, s);
+  readSimulationSettings(yr, root, seed_override, s);
+  readEvaluation(yr, root, path, s);
+
+  if (const YAML::Node expect = yr.child(root, "expect", "", false)) s.expectations = readExpectations(yr, expect);
+
+  if (const YAML::Node map = yr.child(root, "map", "", false)) readMap(yr, map, s);
+  readRobot(yr, yr.child(root, "robot", "", true), s.robot);
+  readPeople(yr, root, path, s);
+  checkStartsAndIds(yr, root, path, s);
   return s;
 }
 

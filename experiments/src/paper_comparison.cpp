@@ -244,6 +244,88 @@ VerdictCount countVerdicts(const std::vector<ComparisonRow>& rows, const std::st
   return n;
 }
 
+namespace {
+
+// A planner's two cells in a row: the paper's value as printed, and ours with its interval (≈ when
+// the paper's value lies inside it).
+std::string paperAndOursCells(const ComparisonRow& r, const std::string& planner) {
+  const auto pv = r.paper.find(planner);
+  const auto e = r.ours.find(planner);
+  if (pv == r.paper.end() || e == r.ours.end()) return " – | – |";
+  std::string cell = e->second.n == 0 ? std::string("–") : show(e->second.mean);
+  if (std::isfinite(e->second.ci_low) && std::isfinite(e->second.ci_high)) {
+    cell += " [" + show(e->second.ci_low) + ", " + show(e->second.ci_high) + "]";
+    if (pv->second >= e->second.ci_low && pv->second <= e->second.ci_high) cell += " ≈";
+  }
+  return fmt::format(" {} | {} |", num(pv->second), cell);
+}
+
+// The cell of the ordering a vs b in a row: the paper's, and whether ours agrees.
+std::string orderingCell(const ComparisonRow& r, const std::string& a, const std::string& b) {
+  const auto c = std::find_if(r.orderings.begin(), r.orderings.end(),
+                              [&](const OrderingCheck& o) { return o.planner_a == a && o.planner_b == b; });
+  std::string cell = "–";
+  if (c != r.orderings.end()) {
+    switch (c->verdict) {
+      case Verdict::Agree:
+        cell = fmt::format("✓ {}", c->paper);
+        break;
+      case Verdict::Disagree:
+        cell = fmt::format("**✗** paper {}, ours {}", c->paper, c->ours);
+        break;
+      case Verdict::PaperTie:
+        cell = fmt::format("= (ours {})", c->ours);
+        break;
+      case Verdict::Missing:
+        break;
+    }
+    if (c->has_paired && !c->significant && c->verdict != Verdict::Missing) cell += " n.s.";
+  }
+  return cell;
+}
+
+// The table of one behavior of a scenario: metrics x (planners' paper and ours, orderings). Adds
+// the metrics with a note to `noted`.
+std::string behaviorComparisonMarkdown(const std::vector<ComparisonRow>& rows, const std::string& scenario,
+                                       const std::string& behavior, const PaperMeans& paper,
+                                       std::set<std::string>& noted) {
+  std::vector<const ComparisonRow*> mine;
+  std::vector<std::string> planners;                       // union, in the rows' order
+  std::vector<std::pair<std::string, std::string>> pairs;  // union
+  for (const auto& r : rows) {
+    if (r.scenario != scenario || r.behavior != behavior) continue;
+    mine.push_back(&r);
+    for (const auto& p : r.planners)
+      if (std::find(planners.begin(), planners.end(), p) == planners.end()) planners.push_back(p);
+    for (const auto& c : r.orderings)
+      if (std::find(pairs.begin(), pairs.end(), std::make_pair(c.planner_a, c.planner_b)) == pairs.end())
+        pairs.emplace_back(c.planner_a, c.planner_b);
+  }
+  const std::string& table = mine.front()->table;
+  std::string md =
+      fmt::format("\n{} (paper: {})\n\n| metric (paper's name) | unit |",
+                  behavior == "all" ? std::string("All people") : "People of behavior `" + behavior + "` only",
+                  table.empty() ? std::string("–") : table);
+  for (const auto& p : planners) md += fmt::format(" {} paper | {} ours |", p, p);
+  for (const auto& [a, b] : pairs) md += fmt::format(" {} vs {} |", a, b);
+  md += "\n|---|---|";
+  for (std::size_t i = 0; i < planners.size(); ++i) md += "---|---|";
+  for (std::size_t i = 0; i < pairs.size(); ++i) md += "---|";
+  md += "\n";
+  for (const ComparisonRow* r : mine) {
+    const bool has_note = paper.notes.count(r->metric) != 0;
+    if (has_note) noted.insert(r->metric);
+    md += fmt::format("| {}{} | {} |", r->metric == r->paper_name ? r->metric : r->metric + " (" + r->paper_name + ")",
+                      has_note ? " †" : "", unitOf(r->metric));
+    for (const auto& p : planners) md += paperAndOursCells(*r, p);
+    for (const auto& [a, b] : pairs) md += " " + orderingCell(*r, a, b) + " |";
+    md += "\n";
+  }
+  return md;
+}
+
+}  // namespace
+
 std::string paperComparisonMarkdown(const std::vector<ComparisonRow>& rows, const std::string& scenario,
                                     const PaperMeans& paper) {
   std::vector<std::string> behaviors;
@@ -261,74 +343,7 @@ std::string paperComparisonMarkdown(const std::vector<ComparisonRow>& rows, cons
       scenario, paper.source, paper.file, n.agree, n.disagree, n.paper_tie,
       n.missing > 0 ? fmt::format(", {} without our value", n.missing) : std::string());
   std::set<std::string> noted;
-  for (const auto& behavior : behaviors) {
-    std::vector<const ComparisonRow*> mine;
-    std::vector<std::string> planners;                       // union, in the rows' order
-    std::vector<std::pair<std::string, std::string>> pairs;  // union
-    for (const auto& r : rows) {
-      if (r.scenario != scenario || r.behavior != behavior) continue;
-      mine.push_back(&r);
-      for (const auto& p : r.planners)
-        if (std::find(planners.begin(), planners.end(), p) == planners.end()) planners.push_back(p);
-      for (const auto& c : r.orderings)
-        if (std::find(pairs.begin(), pairs.end(), std::make_pair(c.planner_a, c.planner_b)) == pairs.end())
-          pairs.emplace_back(c.planner_a, c.planner_b);
-    }
-    const std::string& table = mine.front()->table;
-    md += fmt::format("\n{} (paper: {})\n\n| metric (paper's name) | unit |",
-                      behavior == "all" ? std::string("All people") : "People of behavior `" + behavior + "` only",
-                      table.empty() ? std::string("–") : table);
-    for (const auto& p : planners) md += fmt::format(" {} paper | {} ours |", p, p);
-    for (const auto& [a, b] : pairs) md += fmt::format(" {} vs {} |", a, b);
-    md += "\n|---|---|";
-    for (std::size_t i = 0; i < planners.size(); ++i) md += "---|---|";
-    for (std::size_t i = 0; i < pairs.size(); ++i) md += "---|";
-    md += "\n";
-    for (const ComparisonRow* r : mine) {
-      const bool has_note = paper.notes.count(r->metric) != 0;
-      if (has_note) noted.insert(r->metric);
-      md +=
-          fmt::format("| {}{} | {} |", r->metric == r->paper_name ? r->metric : r->metric + " (" + r->paper_name + ")",
-                      has_note ? " †" : "", unitOf(r->metric));
-      for (const auto& p : planners) {
-        const auto pv = r->paper.find(p);
-        const auto e = r->ours.find(p);
-        if (pv == r->paper.end() || e == r->ours.end()) {
-          md += " – | – |";
-          continue;
-        }
-        std::string cell = e->second.n == 0 ? std::string("–") : show(e->second.mean);
-        if (std::isfinite(e->second.ci_low) && std::isfinite(e->second.ci_high)) {
-          cell += " [" + show(e->second.ci_low) + ", " + show(e->second.ci_high) + "]";
-          if (pv->second >= e->second.ci_low && pv->second <= e->second.ci_high) cell += " ≈";
-        }
-        md += fmt::format(" {} | {} |", num(pv->second), cell);  // the paper's value as printed
-      }
-      for (const auto& [a, b] : pairs) {
-        const auto c = std::find_if(r->orderings.begin(), r->orderings.end(),
-                                    [&](const OrderingCheck& o) { return o.planner_a == a && o.planner_b == b; });
-        std::string cell = "–";
-        if (c != r->orderings.end()) {
-          switch (c->verdict) {
-            case Verdict::Agree:
-              cell = fmt::format("✓ {}", c->paper);
-              break;
-            case Verdict::Disagree:
-              cell = fmt::format("**✗** paper {}, ours {}", c->paper, c->ours);
-              break;
-            case Verdict::PaperTie:
-              cell = fmt::format("= (ours {})", c->ours);
-              break;
-            case Verdict::Missing:
-              break;
-          }
-          if (c->has_paired && !c->significant && c->verdict != Verdict::Missing) cell += " n.s.";
-        }
-        md += " " + cell + " |";
-      }
-      md += "\n";
-    }
-  }
+  for (const auto& behavior : behaviors) md += behaviorComparisonMarkdown(rows, scenario, behavior, paper, noted);
   if (!noted.empty()) {
     md += "\n";
     for (const auto& m : noted) md += fmt::format("- † `{}`: {}.\n", m, paper.notes.at(m));

@@ -127,16 +127,21 @@ std::string unitOf(const std::string& metric) {
   return "";
 }
 
+// The estimate of a metric for a scenario, planner and behavior, when the statistics hold one.
+const Estimate* findEstimate(const std::vector<StatRow>& stats, const std::string& scenario, const std::string& planner,
+                             const std::string& behavior, const std::string& metric) {
+  for (const auto& r : stats)
+    if (r.scenario == scenario && r.planner == planner && r.behavior == behavior && r.metric == metric)
+      return &r.estimate;
+  return nullptr;
+}
+
 // The section of a scenario on the robot's effect on people (runs with --counterfactual): the
 // counterfactual_* metrics per planner, the lowest mean of each in bold, and the planners ranked by
 // how much they moved people off their robot-free paths (mean deviation, then delay, then effort).
 std::string counterfactualMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::string& scenario,
                                    const std::vector<std::string>& planners) {
-  auto find = [&](const std::string& pl, const std::string& m) -> const Estimate* {
-    for (const auto& r : stats)
-      if (r.scenario == scenario && r.planner == pl && r.behavior == "all" && r.metric == m) return &r.estimate;
-    return nullptr;
-  };
+  auto find = [&](const std::string& pl, const std::string& m) { return findEstimate(stats, scenario, pl, "all", m); };
   const auto& names = evaluator::counterfactualMetricNames();
   std::vector<std::string> shown;
   for (const auto& m : names)
@@ -293,22 +298,11 @@ std::string pairedCsv(const std::vector<PairedRow>& paired) {
   return s;
 }
 
-std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
-                            const std::vector<std::string>& scenario_order, const PaperMeans* paper) {
-  auto find = [&](const std::string& sc, const std::string& pl, const std::string& beh,
-                  const std::string& m) -> const Estimate* {
-    for (const auto& r : stats)
-      if (r.scenario == sc && r.planner == pl && r.behavior == beh && r.metric == m) return &r.estimate;
-    return nullptr;
-  };
-  std::vector<std::string> scenarios;
-  for (const auto& s : scenario_order) scenarios.push_back(s);
-  for (const auto& s : scenariosOf(batch)) scenarios.push_back(s);
-  scenarios = uniqueInOrder(scenarios);
-  const auto present = scenariosOf(batch);
-  const std::vector<ComparisonRow> versus =
-      paper != nullptr ? paperComparison(*paper, stats, paired) : std::vector<ComparisonRow>{};
+namespace {
 
+// The summary's head: how the runs ended, which ones the tables leave out, how to read a cell, and
+// the batch's warnings.
+std::string overviewMarkdown(const Batch& batch) {
   std::map<std::string, int> status_count;
   for (const auto& r : batch.runs) ++status_count[r.status];
   std::string md = "# Batch summary\n\n";
@@ -342,119 +336,158 @@ std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stat
       "summary.csv; every "
       "number of these tables: summary_stats.csv and paired.csv.\n";
   for (const auto& w : batch.warnings) md += "\n> warning: " + w + "\n";
+  return md;
+}
 
-  for (const std::string& scenario : scenarios) {
-    if (std::find(present.begin(), present.end(), scenario) == present.end()) continue;
-    const auto planners = plannersOf(batch, scenario);
-    std::map<std::string, std::size_t> runs_of;
-    for (const auto& r : batch.runs)
-      if (r.key.scenario == scenario) ++runs_of[r.key.planner];
-    md += fmt::format("\n## Scenario `{}`\n\nHow the runs ended (the tables count all but the not ended ones):\n\n",
-                      scenario);
-    md += outcomeTable(batch, scenario, planners) + "\n";
-
-    // Table II/III: metrics x planners.
-    md += "| metric | unit |";
-    for (const auto& p : planners) md += " " + p + " |";
-    md += "\n|---|---|";
-    for (std::size_t i = 0; i < planners.size(); ++i) md += "---|";
-    md += "\n";
-    for (const auto& m : batch.metric_names) {
-      std::string line = "| " + m + " | " + unitOf(m) + " |";
-      bool any = false;
-      for (const auto& p : planners) {
-        const Estimate* e = find(scenario, p, "all", m);
-        if (e == nullptr) {
-          line += " – |";
-          continue;
-        }
-        any = true;
-        line += " " + show(e->mean);
-        if (e->n >= 2) line += " ± " + show(e->std) + "<br>[" + show(e->ci_low) + ", " + show(e->ci_high) + "]";
-        if (e->n != runs_of[p]) line += fmt::format(" (n={})", e->n);
-        line += " |";
+// Table II/III of the paper: metrics x planners, over all people.
+std::string plannerTableMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::string& scenario,
+                                 const std::vector<std::string>& planners) {
+  std::map<std::string, std::size_t> runs_of;
+  for (const auto& r : batch.runs)
+    if (r.key.scenario == scenario) ++runs_of[r.key.planner];
+  std::string md = "| metric | unit |";
+  for (const auto& p : planners) md += " " + p + " |";
+  md += "\n|---|---|";
+  for (std::size_t i = 0; i < planners.size(); ++i) md += "---|";
+  md += "\n";
+  for (const auto& m : batch.metric_names) {
+    std::string line = "| " + m + " | " + unitOf(m) + " |";
+    bool any = false;
+    for (const auto& p : planners) {
+      const Estimate* e = findEstimate(stats, scenario, p, "all", m);
+      if (e == nullptr) {
+        line += " – |";
+        continue;
       }
-      if (any) md += line + "\n";
+      any = true;
+      line += " " + show(e->mean);
+      if (e->n >= 2) line += " ± " + show(e->std) + "<br>[" + show(e->ci_low) + ", " + show(e->ci_high) + "]";
+      if (e->n != runs_of[p]) line += fmt::format(" (n={})", e->n);
+      line += " |";
     }
-
-    // Table IV: metrics x behaviors, planners in one cell.
-    const auto behaviors = behaviorsOf(batch, scenario);
-    if (!behaviors.empty()) {
-      std::string names;
-      for (const auto& p : planners) names += (names.empty() ? "" : " / ") + p;
-      md += fmt::format(
-          "\n### `{}` per behavior\n\nMetrics of the people of each behavior only (the per-behavior "
-          "files); each cell is the mean of {}.\n\n| metric |",
-          scenario, names);
-      for (const auto& b : behaviors) md += " " + b + " |";
-      md += "\n|---|";
-      for (std::size_t i = 0; i < behaviors.size(); ++i) md += "---|";
-      md += "\n";
-      for (const auto& m : batch.metric_names) {
-        std::string line = "| " + m + " |";
-        bool any = false;
-        for (const auto& b : behaviors) {
-          std::string cell;
-          for (const auto& p : planners) {
-            const Estimate* e = find(scenario, p, b, m);
-            any = any || e != nullptr;
-            cell += (cell.empty() ? "" : " / ") + (e == nullptr ? std::string("–") : show(e->mean));
-          }
-          line += " " + cell + " |";
-        }
-        if (any) md += line + "\n";
-      }
-    }
-
-    // Paired comparisons.
-    std::vector<std::pair<std::string, std::string>> pairs;
-    for (const auto& r : paired)
-      if (r.scenario == scenario &&
-          std::find(pairs.begin(), pairs.end(), std::make_pair(r.planner_a, r.planner_b)) == pairs.end())
-        pairs.emplace_back(r.planner_a, r.planner_b);
-    if (!pairs.empty()) {
-      md += fmt::format(
-          "\n### `{}` paired comparisons\n\nDifference a − b over the seeds both planners ran (paired "
-          "t test): mean difference, its 95% confidence interval and the two-sided p value. **n.s.**: "
-          "not significant at 5% (the interval contains 0); **not testable**: a single common seed, no interval "
-          "and no test.\n\n| metric |",
-          scenario);
-      for (const auto& [a, b] : pairs) md += " " + a + " − " + b + " |";
-      md += "\n|---|";
-      for (std::size_t i = 0; i < pairs.size(); ++i) md += "---|";
-      md += "\n";
-      for (const auto& m : batch.metric_names) {
-        std::string line = "| " + m + " |";
-        bool any = false;
-        for (const auto& [a, b] : pairs) {
-          const PairedRow* row = nullptr;
-          for (const auto& r : paired)
-            if (r.scenario == scenario && r.planner_a == a && r.planner_b == b && r.metric == m) row = &r;
-          if (row == nullptr) {
-            line += " – |";
-            continue;
-          }
-          any = true;
-          const Estimate& e = row->difference.diff;
-          line += " " + show(e.mean);
-          if (e.n >= 2) {
-            line += " [" + show(e.ci_low) + ", " + show(e.ci_high) + "]";
-            line += std::isfinite(row->difference.p_value) ? " p=" + show(row->difference.p_value) : "";
-          }
-          if (!row->difference.testable) {
-            line += " **not testable**";
-          } else if (!row->difference.significant) {
-            line += " **n.s.**";
-          }
-          line += " |";
-        }
-        if (any) md += line + "\n";
-      }
-    }
-    md += counterfactualMarkdown(batch, stats, scenario, planners);
-    if (paper != nullptr) md += paperComparisonMarkdown(versus, scenario, *paper);
-    md += expectationsMarkdown(batch, scenario);
+    if (any) md += line + "\n";
   }
+  return md;
+}
+
+// Table IV of the paper: metrics x behaviors, the planners' means in one cell ("" without behaviors).
+std::string behaviorTableMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::string& scenario,
+                                  const std::vector<std::string>& planners) {
+  const auto behaviors = behaviorsOf(batch, scenario);
+  if (behaviors.empty()) return "";
+  std::string names;
+  for (const auto& p : planners) names += (names.empty() ? "" : " / ") + p;
+  std::string md = fmt::format(
+      "\n### `{}` per behavior\n\nMetrics of the people of each behavior only (the per-behavior "
+      "files); each cell is the mean of {}.\n\n| metric |",
+      scenario, names);
+  for (const auto& b : behaviors) md += " " + b + " |";
+  md += "\n|---|";
+  for (std::size_t i = 0; i < behaviors.size(); ++i) md += "---|";
+  md += "\n";
+  for (const auto& m : batch.metric_names) {
+    std::string line = "| " + m + " |";
+    bool any = false;
+    for (const auto& b : behaviors) {
+      std::string cell;
+      for (const auto& p : planners) {
+        const Estimate* e = findEstimate(stats, scenario, p, b, m);
+        any = any || e != nullptr;
+        cell += (cell.empty() ? "" : " / ") + (e == nullptr ? std::string("–") : show(e->mean));
+      }
+      line += " " + cell + " |";
+    }
+    if (any) md += line + "\n";
+  }
+  return md;
+}
+
+// One cell of the paired comparisons: the mean difference, its interval and p value, and whether it
+// is significant.
+std::string pairedCell(const PairedRow& row) {
+  const Estimate& e = row.difference.diff;
+  std::string cell = " " + show(e.mean);
+  if (e.n >= 2) {
+    cell += " [" + show(e.ci_low) + ", " + show(e.ci_high) + "]";
+    cell += std::isfinite(row.difference.p_value) ? " p=" + show(row.difference.p_value) : "";
+  }
+  if (!row.difference.testable) {
+    cell += " **not testable**";
+  } else if (!row.difference.significant) {
+    cell += " **n.s.**";
+  }
+  return cell + " |";
+}
+
+// The paired comparisons of a scenario's planners: metrics x pairs ("" without pairs).
+std::string pairedTableMarkdown(const Batch& batch, const std::vector<PairedRow>& paired, const std::string& scenario) {
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const auto& r : paired)
+    if (r.scenario == scenario &&
+        std::find(pairs.begin(), pairs.end(), std::make_pair(r.planner_a, r.planner_b)) == pairs.end())
+      pairs.emplace_back(r.planner_a, r.planner_b);
+  if (pairs.empty()) return "";
+  std::string md = fmt::format(
+      "\n### `{}` paired comparisons\n\nDifference a − b over the seeds both planners ran (paired "
+      "t test): mean difference, its 95% confidence interval and the two-sided p value. **n.s.**: "
+      "not significant at 5% (the interval contains 0); **not testable**: a single common seed, no interval "
+      "and no test.\n\n| metric |",
+      scenario);
+  for (const auto& [a, b] : pairs) md += " " + a + " − " + b + " |";
+  md += "\n|---|";
+  for (std::size_t i = 0; i < pairs.size(); ++i) md += "---|";
+  md += "\n";
+  for (const auto& m : batch.metric_names) {
+    std::string line = "| " + m + " |";
+    bool any = false;
+    for (const auto& [a, b] : pairs) {
+      const PairedRow* row = nullptr;  // the last match
+      for (const auto& r : paired)
+        if (r.scenario == scenario && r.planner_a == a && r.planner_b == b && r.metric == m) row = &r;
+      if (row == nullptr) {
+        line += " – |";
+        continue;
+      }
+      any = true;
+      line += pairedCell(*row);
+    }
+    if (any) md += line + "\n";
+  }
+  return md;
+}
+
+// A scenario's section: how its runs ended, then one table or section per renderer above.
+std::string scenarioMarkdown(const Batch& batch, const std::vector<StatRow>& stats,
+                             const std::vector<PairedRow>& paired, const std::string& scenario,
+                             const std::vector<ComparisonRow>& versus, const PaperMeans* paper) {
+  const auto planners = plannersOf(batch, scenario);
+  std::string md = fmt::format(
+      "\n## Scenario `{}`\n\nHow the runs ended (the tables count all but the not ended ones):\n\n", scenario);
+  md += outcomeTable(batch, scenario, planners) + "\n";
+  md += plannerTableMarkdown(batch, stats, scenario, planners);
+  md += behaviorTableMarkdown(batch, stats, scenario, planners);
+  md += pairedTableMarkdown(batch, paired, scenario);
+  md += counterfactualMarkdown(batch, stats, scenario, planners);
+  if (paper != nullptr) md += paperComparisonMarkdown(versus, scenario, *paper);
+  md += expectationsMarkdown(batch, scenario);
+  return md;
+}
+
+}  // namespace
+
+std::string summaryMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::vector<PairedRow>& paired,
+                            const std::vector<std::string>& scenario_order, const PaperMeans* paper) {
+  std::vector<std::string> scenarios;
+  for (const auto& s : scenario_order) scenarios.push_back(s);
+  for (const auto& s : scenariosOf(batch)) scenarios.push_back(s);
+  scenarios = uniqueInOrder(scenarios);
+  const auto present = scenariosOf(batch);
+  const std::vector<ComparisonRow> versus =
+      paper != nullptr ? paperComparison(*paper, stats, paired) : std::vector<ComparisonRow>{};
+  std::string md = overviewMarkdown(batch);
+  for (const std::string& scenario : scenarios)
+    if (std::find(present.begin(), present.end(), scenario) != present.end())
+      md += scenarioMarkdown(batch, stats, paired, scenario, versus, paper);
   return md;
 }
 

@@ -376,62 +376,101 @@ double DwbPlanner::headingErrorToPath() const {
   return normalizeAngle(angleOf(to_target) - ctx_.robot_yaw);
 }
 
+// The samples of a window: nv speeds from v_max down by dv, nw yaw rates from w_min up by dw.
+// Sample (iv, iw) is number iv * nw + iw in the sampling order (fastest speeds first).
+struct DwbPlanner::SampleGrid {
+  SampleGrid(const VelocityWindow& window, int v_samples, int w_samples)
+      : nv(window.v_max - window.v_min > 1e-9 ? v_samples : 1),
+        nw(window.w_max - window.w_min > 1e-9 ? w_samples : 1),
+        dv(nv > 1 ? (window.v_max - window.v_min) / (nv - 1) : 0.0),
+        dw(nw > 1 ? (window.w_max - window.w_min) / (nw - 1) : 0.0) {}
+  const int nv, nw;
+  const double dv, dw;
+};
+
+// The cheapest admissible sample so far (none: cost kReject).
+struct DwbPlanner::BestSample {
+  double cost = TrajectoryCritic::kReject;
+  int order = std::numeric_limits<int>::max();
+  double v = 0.0, w = 0.0;
+  // On equal cost the earlier sample in the sampling order wins.
+  bool beatenBy(double total, int sample_order) const {
+    return total < cost || (total == cost && sample_order < order);
+  }
+};
+
 bool DwbPlanner::sampleBest(const VelocityWindow& window, double& v, double& w) {
-  const int nv = window.v_max - window.v_min > 1e-9 ? params_.v_samples : 1;
-  const int nw = window.w_max - window.w_min > 1e-9 ? params_.w_samples : 1;
-  const double dv = nv > 1 ? (window.v_max - window.v_min) / (nv - 1) : 0.0;
-  const double dw = nw > 1 ? (window.w_max - window.w_min) / (nw - 1) : 0.0;
+  const SampleGrid grid(window, params_.v_samples, params_.w_samples);
   // The cheapest admissible sample (fastest speeds first: on equal cost the earlier one in that
   // order wins), found by branch and bound without scoring most samples in full (scores are >= 0).
-  double best = TrajectoryCritic::kReject;
-  int best_order = std::numeric_limits<int>::max();
-  const auto beats = [&](double total, int order) { return total < best || (total == best && order < best_order); };
-  // Adds weight * score on trajectory_ of the critics that judge the end pose (end_critics) or of
-  // those that need the positions; false when one rejects or the total stops beating the best.
-  const auto addScores = [&](bool end_critics, int order, double& total) {
-    for (const auto& critic : critics_) {
-      if (critic->needsPositions() == end_critics) continue;
-      const double s = critic->score(trajectory_, ctx_);
-      if (s == TrajectoryCritic::kReject) return false;
-      total += critic->weight() * s;
-      if (!beats(total, order)) return false;
-    }
-    return true;
-  };
-  // 1. A first bound: the sample nearest to the previous command (the best is usually close).
-  if (last_command_) {
-    const int iv = nv > 1 ? static_cast<int>(std::lround((window.v_max - window.clampV(last_command_->x())) / dv)) : 0;
-    const int iw = nw > 1 ? static_cast<int>(std::lround((window.clampW(last_command_->y()) - window.w_min) / dw)) : 0;
-    const double guess_v = window.v_max - iv * dv, guess_w = window.w_min + iw * dw;
-    rollout(start_, guess_v, guess_w, params_.sim_time, params_.sim_step, trajectory_);
-    double total = 0.0;
-    if (addScores(true, iv * nw + iw, total) && addScores(false, iv * nw + iw, total)) {
-      ++last_admissible_;
-      best = total;
-      best_order = iv * nw + iw;
-      v = guess_v;
-      w = guess_w;
-    }
+  BestSample best;
+  if (last_command_) scoreNearestToLastCommand(window, grid, best);
+  boundSamples(window, grid, best);
+  scoreCandidates(best);
+  if (best.order != std::numeric_limits<int>::max()) {
+    v = best.v;
+    w = best.w;
   }
-  // 2. Every sample's end pose, the critics that judge only it, and the lower bounds the others
-  //    give from it: cheap, and most samples already cost more than the bound.
+  last_best_cost_ = best.cost;
+  return last_admissible_ > 0;
+}
+
+// Adds weight * score on trajectory_ of the critics that judge the end pose (end_critics) or of
+// those that need the positions; false when one rejects or the total stops beating the best.
+// Inline (as takeSample): called for every sample of every cycle, it folds into its callers.
+inline bool DwbPlanner::addScores(bool end_critics, int order, const BestSample& best, double& total) {
+  for (const auto& critic : critics_) {
+    if (critic->needsPositions() == end_critics) continue;
+    const double s = critic->score(trajectory_, ctx_);
+    if (s == TrajectoryCritic::kReject) return false;
+    total += critic->weight() * s;
+    if (!best.beatenBy(total, order)) return false;
+  }
+  return true;
+}
+
+inline void DwbPlanner::takeSample(BestSample& best, double total, int order, double v, double w) {
+  ++last_admissible_;
+  best.cost = total;
+  best.order = order;
+  best.v = v;
+  best.w = w;
+}
+
+// sampleBest's first bound: the sample nearest to the previous command (the best is usually close).
+void DwbPlanner::scoreNearestToLastCommand(const VelocityWindow& window, const SampleGrid& grid, BestSample& best) {
+  const int nv = grid.nv, nw = grid.nw;
+  const double dv = grid.dv, dw = grid.dw;
+  const int iv = nv > 1 ? static_cast<int>(std::lround((window.v_max - window.clampV(last_command_->x())) / dv)) : 0;
+  const int iw = nw > 1 ? static_cast<int>(std::lround((window.clampW(last_command_->y()) - window.w_min) / dw)) : 0;
+  const double guess_v = window.v_max - iv * dv, guess_w = window.w_min + iw * dw;
+  rollout(start_, guess_v, guess_w, params_.sim_time, params_.sim_step, trajectory_);
+  double total = 0.0;
+  if (addScores(true, iv * nw + iw, best, total) && addScores(false, iv * nw + iw, best, total))
+    takeSample(best, total, iv * nw + iw, guess_v, guess_w);
+}
+
+// sampleBest's second step: every sample's end pose, the critics that judge only it, and the lower
+// bounds the others give from it (cheap, and most samples already cost more than the bound); the
+// samples that may still beat the best go to candidates_.
+void DwbPlanner::boundSamples(const VelocityWindow& window, const SampleGrid& grid, const BestSample& best) {
   candidates_.clear();
-  for (int iw = 0; iw < nw; ++iw) {
-    const double sample_w = window.w_min + iw * dw;
+  for (int iw = 0; iw < grid.nw; ++iw) {
+    const double sample_w = window.w_min + iw * grid.dw;
     const RolloutArc arc(start_, sample_w, params_.sim_time, params_.sim_step);
-    for (int iv = 0; iv < nv; ++iv) {
-      const int order = iv * nw + iw;
-      if (order == best_order) continue;  // the first bound, scored already
-      const double sample_v = window.v_max - iv * dv;
+    for (int iv = 0; iv < grid.nv; ++iv) {
+      const int order = iv * grid.nw + iw;
+      if (order == best.order) continue;  // the first bound, scored already
+      const double sample_v = window.v_max - iv * grid.dv;
       rolloutEnd(start_, sample_v, arc, trajectory_);
       double end_cost = 0.0;
-      if (!addScores(true, order, end_cost)) continue;
+      if (!addScores(true, order, best, end_cost)) continue;
       double bound = end_cost;
       bool hopeless = false;
       for (const auto& critic : critics_) {
         if (!critic->needsPositions()) continue;
         bound += critic->weight() * critic->lowerBound(trajectory_, ctx_);
-        if (!beats(bound, order)) {
+        if (!best.beatenBy(bound, order)) {
           hopeless = true;
           break;
         }
@@ -439,24 +478,21 @@ bool DwbPlanner::sampleBest(const VelocityWindow& window, double& v, double& w) 
       if (!hopeless) candidates_.push_back({bound, end_cost, order, sample_v, sample_w});
     }
   }
-  // 3. The critics over the full rollout, lowest bound first: once the bound of a sample no
-  //    longer beats the best total, neither can any after it.
+}
+
+// sampleBest's last step: the critics over the full rollout, lowest bound first: once the bound of
+// a candidate no longer beats the best total, neither can any after it.
+void DwbPlanner::scoreCandidates(BestSample& best) {
   std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& a, const Candidate& b) {
     return a.bound < b.bound || (a.bound == b.bound && a.order < b.order);
   });
   for (const Candidate& c : candidates_) {
-    if (!beats(c.bound, c.order)) break;
+    if (!best.beatenBy(c.bound, c.order)) break;
     rollout(start_, c.v, c.w, params_.sim_time, params_.sim_step, trajectory_);
     double total = c.end_cost;
-    if (!addScores(false, c.order, total)) continue;
-    ++last_admissible_;
-    best = total;
-    best_order = c.order;
-    v = c.v;
-    w = c.w;
+    if (!addScores(false, c.order, best, total)) continue;
+    takeSample(best, total, c.order, c.v, c.w);
   }
-  last_best_cost_ = best;
-  return last_admissible_ > 0;
 }
 
 bool DwbPlanner::admissible(double v, double w) {
@@ -467,10 +503,9 @@ bool DwbPlanner::admissible(double v, double w) {
 }
 
 bool DwbPlanner::sampleEvade(const VelocityWindow& window, double& v, double& w) {
-  const int nv = window.v_max - window.v_min > 1e-9 ? params_.v_samples : 1;
-  const int nw = window.w_max - window.w_min > 1e-9 ? params_.w_samples : 1;
-  const double dv = nv > 1 ? (window.v_max - window.v_min) / (nv - 1) : 0.0;
-  const double dw = nw > 1 ? (window.w_max - window.w_min) / (nw - 1) : 0.0;
+  const SampleGrid grid(window, params_.v_samples, params_.w_samples);
+  const int nv = grid.nv, nw = grid.nw;
+  const double dv = grid.dv, dw = grid.dw;
   const ObstacleCritic obstacles(1.0);
   double best = -std::numeric_limits<double>::infinity();
   for (int iv = 0; iv < nv; ++iv) {

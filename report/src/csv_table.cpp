@@ -27,19 +27,24 @@ bool parseNumber(const std::string& text, double& value) {
   return true;
 }
 
-CsvTable CsvTable::read(const fs::path& file) {
-  CsvTable t;
-  t.file_ = file.string();
+namespace {
+
+std::string readWholeFile(const fs::path& file, const std::string& name) {
   std::error_code ec;
-  if (!fs::exists(file, ec)) throw ConfigError(t.file_, 0, "", "missing file");
-  if (!fs::is_regular_file(file, ec)) throw ConfigError(t.file_, 0, "", "not a regular file");
+  if (!fs::exists(file, ec)) throw ConfigError(name, 0, "", "missing file");
+  if (!fs::is_regular_file(file, ec)) throw ConfigError(name, 0, "", "not a regular file");
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw ConfigError(t.file_, 0, "", "cannot read the file");
+  if (!in) throw ConfigError(name, 0, "", "cannot read the file");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  return buffer.str();
+}
 
-  // One pass over the characters: a record ends at a line break outside quotes.
+// Splits the text of `file` into records in one pass over the characters (a record ends at a line
+// break outside quotes) and calls on_record(fields, line where the record starts) for each one that
+// is not a blank line, as it ends. Throws ConfigError for a stray or unterminated quote.
+template <typename OnRecord>
+void splitRecords(const std::string& text, const std::string& file, OnRecord&& on_record) {
   std::vector<std::string> record;
   std::string field;
   bool quoted = false;  // inside a quoted field
@@ -49,18 +54,7 @@ CsvTable CsvTable::read(const fs::path& file) {
     record.push_back(field);
     field.clear();
     const bool blank = record.size() == 1 && record[0].empty() && !field_started;
-    if (!blank) {
-      if (t.header_.empty()) {
-        t.header_ = record;
-      } else {
-        if (record.size() != t.header_.size())
-          throw ConfigError(t.file_, record_line, "",
-                            "expected " + std::to_string(t.header_.size()) + " fields (as the header), got " +
-                                std::to_string(record.size()));
-        t.rows_.push_back(record);
-        t.lines_.push_back(record_line);
-      }
-    }
+    if (!blank) on_record(record, record_line);
     record.clear();
     field_started = false;
   };
@@ -82,7 +76,7 @@ CsvTable CsvTable::read(const fs::path& file) {
     }
     switch (c) {
       case '"':
-        if (!field.empty()) throw ConfigError(t.file_, line, "", "a quote inside an unquoted field");
+        if (!field.empty()) throw ConfigError(file, line, "", "a quote inside an unquoted field");
         quoted = true;
         field_started = true;
         break;
@@ -103,15 +97,38 @@ CsvTable CsvTable::read(const fs::path& file) {
         field_started = true;
     }
   }
-  if (quoted) throw ConfigError(t.file_, record_line, "", "unterminated quoted field");
+  if (quoted) throw ConfigError(file, record_line, "", "unterminated quoted field");
   if (field_started || !field.empty() || !record.empty()) end_record();
+}
 
-  if (t.header_.empty()) throw ConfigError(t.file_, 1, "", "empty file (no header)");
+void checkHeader(const std::vector<std::string>& header, const std::string& file) {
+  if (header.empty()) throw ConfigError(file, 1, "", "empty file (no header)");
   std::set<std::string> seen;
-  for (const auto& name : t.header_) {
-    if (name.empty()) throw ConfigError(t.file_, 1, "", "empty column name in the header");
-    if (!seen.insert(name).second) throw ConfigError(t.file_, 1, name, "duplicate column");
+  for (const auto& name : header) {
+    if (name.empty()) throw ConfigError(file, 1, "", "empty column name in the header");
+    if (!seen.insert(name).second) throw ConfigError(file, 1, name, "duplicate column");
   }
+}
+
+}  // namespace
+
+CsvTable CsvTable::read(const fs::path& file) {
+  CsvTable t;
+  t.file_ = file.string();
+  const std::string text = readWholeFile(file, t.file_);
+  splitRecords(text, t.file_, [&t](const std::vector<std::string>& record, int record_line) {
+    if (t.header_.empty()) {
+      t.header_ = record;
+      return;
+    }
+    if (record.size() != t.header_.size())
+      throw ConfigError(t.file_, record_line, "",
+                        "expected " + std::to_string(t.header_.size()) + " fields (as the header), got " +
+                            std::to_string(record.size()));
+    t.rows_.push_back(record);
+    t.lines_.push_back(record_line);
+  });
+  checkHeader(t.header_, t.file_);
   return t;
 }
 

@@ -241,19 +241,16 @@ std::string runPageJson(const RunData& d, const ReportLimits& limits, const std:
   return j.str();
 }
 
-std::string batchPageJson(const BatchData& d) {
-  JsonWriter j;
-  j.beginObject();
-  j.key("kind").value("batch");
-  j.key("dir").value(d.dir.filename().empty() ? d.dir.parent_path().filename().string() : d.dir.filename().string());
-  j.key("path").value(d.dir.string());
-  j.key("metricNames").beginArray();
-  for (const auto& m : d.metric_names) j.value(m);
-  j.endArray();
+namespace {
+
+void writeUnits(JsonWriter& j) {
   j.key("units").beginObject();
   for (const auto& def : evaluator::metricsForProfile("default").definitions()) j.key(def.name).value(def.unit);
   for (const auto& m : evaluator::counterfactualMetrics({})) j.key(m.name).value(m.unit);
   j.endObject();
+}
+
+void writeBatchRuns(JsonWriter& j, const BatchData& d) {
   j.key("runs").beginArray();
   for (const auto& r : d.runs) {
     j.beginObject();
@@ -271,6 +268,10 @@ std::string batchPageJson(const BatchData& d) {
     j.endObject();
   }
   j.endArray();
+}
+
+// summary_stats.csv and paired.csv, one array per row.
+void writeBatchStatistics(JsonWriter& j, const BatchData& d) {
   j.key("stats").beginArray();
   for (const auto& s : d.stats)
     j.beginArray()
@@ -300,6 +301,10 @@ std::string batchPageJson(const BatchData& d) {
         .value(p.significant)
         .endArray();
   j.endArray();
+}
+
+// The comparison with the paper's means and orderings, one array per row.
+void writeBatchPaper(JsonWriter& j, const BatchData& d) {
   j.key("paper").beginArray();
   for (const auto& p : d.paper)
     j.beginArray()
@@ -330,6 +335,9 @@ std::string batchPageJson(const BatchData& d) {
         .value(o.significant)
         .endArray();
   j.endArray();
+}
+
+void writeBatchExpectations(JsonWriter& j, const BatchData& d) {
   j.key("expectations").beginArray();
   for (const auto& e : d.expectations)
     j.beginArray()
@@ -342,6 +350,24 @@ std::string batchPageJson(const BatchData& d) {
         .value(e.pass)
         .endArray();
   j.endArray();
+}
+
+}  // namespace
+
+std::string batchPageJson(const BatchData& d) {
+  JsonWriter j;
+  j.beginObject();
+  j.key("kind").value("batch");
+  j.key("dir").value(d.dir.filename().empty() ? d.dir.parent_path().filename().string() : d.dir.filename().string());
+  j.key("path").value(d.dir.string());
+  j.key("metricNames").beginArray();
+  for (const auto& m : d.metric_names) j.value(m);
+  j.endArray();
+  writeUnits(j);
+  writeBatchRuns(j, d);
+  writeBatchStatistics(j, d);
+  writeBatchPaper(j, d);
+  writeBatchExpectations(j, d);
   j.key("summaryMd").value(d.has_summary_md ? "summary.md" : "");
   j.key("notes").beginArray();
   for (const auto& n : d.notes) j.value(n);

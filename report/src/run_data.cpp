@@ -193,15 +193,20 @@ void addGoal(Track& t, const evaluator::EntityState& e, std::size_t max_goals) {
   t.goals.push_back(g);
 }
 
-void extractTracks(RunData& data, const Recording& rec, const ReportLimits& limits) {
+// The samples the replay shows: every frame_stride-th, and the last.
+std::vector<std::size_t> replayFrames(RunData& data, const Recording& rec, const ReportLimits& limits) {
   std::size_t max_entities = 1;
   for (const auto& s : rec.samples()) max_entities = std::max<std::size_t>(max_entities, 1 + s.agents_count);
   data.frame_stride = frameStride(rec.size(), max_entities, limits);
   std::vector<std::size_t> frames;
   for (std::size_t k = 0; k < rec.size(); k += data.frame_stride) frames.push_back(k);
   if (!frames.empty() && frames.back() != rec.size() - 1) frames.push_back(rec.size() - 1);
-  const std::size_t n = frames.size();
+  return frames;
+}
 
+// One track for the robot (the first), then one per person in the order of first appearance, with
+// the goals of every sample. Returns the track of each person id.
+std::unordered_map<int, std::size_t> createTracks(RunData& data, const Recording& rec, const ReportLimits& limits) {
   Track robot;
   robot.robot = true;
   robot.id = rec.front().robot.id;
@@ -221,11 +226,17 @@ void extractTracks(RunData& data, const Recording& rec, const ReportLimits& limi
     }
     return data.tracks[it->second];
   };
-  // Goals and the order of first appearance come from every sample; positions from the frames only.
   for (const auto& s : rec.samples()) {
     addGoal(data.tracks[0], s.robot, limits.max_goals_per_track);
     for (const auto& a : rec.agents(s)) addGoal(trackOf(a), a, limits.max_goals_per_track);
   }
+  return index_of;
+}
+
+// The tracks' poses at the frames (NaN where an entity is absent).
+void fillFramePoses(RunData& data, const Recording& rec, const std::vector<std::size_t>& frames,
+                    const std::unordered_map<int, std::size_t>& index_of) {
+  const std::size_t n = frames.size();
   for (auto& t : data.tracks) {
     t.x.assign(n, kNaN);
     t.y.assign(n, kNaN);
@@ -243,12 +254,11 @@ void extractTracks(RunData& data, const Recording& rec, const ReportLimits& limi
     put(data.tracks[0], s.robot);
     for (const auto& a : rec.agents(s)) put(data.tracks[index_of.at(a.id)], a);
   }
-  if (data.frame_stride > 1)
-    data.notes.push_back(fmt::format(
-        "the replay shows one sample in {} of the {} samples ({} frames; the plots keep each interval's extremes)",
-        data.frame_stride, rec.size(), n));
+}
 
-  // Reaction spans at full resolution.
+// The spans of time each person was reacting (behavior_state != 0), at full resolution, in time order.
+void extractActiveSpans(RunData& data, const Recording& rec, const ReportLimits& limits,
+                        const std::unordered_map<int, std::size_t>& index_of) {
   std::unordered_map<int, double> open_since, last_active;
   bool truncated = false;
   auto close = [&](int id) {
@@ -284,6 +294,18 @@ void extractTracks(RunData& data, const Recording& rec, const ReportLimits& limi
             [](const ActiveSpan& a, const ActiveSpan& b) { return a.t0 != b.t0 ? a.t0 < b.t0 : a.track < b.track; });
   if (truncated)
     data.notes.push_back(fmt::format("only the first {} reaction spans are shown", limits.max_active_spans));
+}
+
+void extractTracks(RunData& data, const Recording& rec, const ReportLimits& limits) {
+  const std::vector<std::size_t> frames = replayFrames(data, rec, limits);
+  // Goals and the order of first appearance come from every sample; positions from the frames only.
+  const std::unordered_map<int, std::size_t> index_of = createTracks(data, rec, limits);
+  fillFramePoses(data, rec, frames, index_of);
+  if (data.frame_stride > 1)
+    data.notes.push_back(fmt::format(
+        "the replay shows one sample in {} of the {} samples ({} frames; the plots keep each interval's extremes)",
+        data.frame_stride, rec.size(), frames.size()));
+  extractActiveSpans(data, rec, limits, index_of);
 }
 
 // The columns the plots need, from metrics_steps.csv when it has them all, else recomputed.

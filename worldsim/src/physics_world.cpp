@@ -364,27 +364,11 @@ void PhysicsWorld::rayFan(const Vec2& from, double first_angle, double increment
   const auto n = static_cast<std::size_t>(std::max(beams, 0));
   out.assign(n, max_range);
   if (n == 0) return;
-  // Every fixture a beam can hit overlaps the box the fan reaches.
-  fan_fixtures_.clear();
-  FixturesInBox query(fan_fixtures_);
-  const double reach = max_range + 0.01;
-  b2AABB box;
-  box.lowerBound = b2Vec2(static_cast<float>(from.x() - reach), static_cast<float>(from.y() - reach));
-  box.upperBound = b2Vec2(static_cast<float>(from.x() + reach), static_cast<float>(from.y() + reach));
-  world_->QueryAABB(&query, box);
-
+  collectFanFixtures(from, max_range);
   // The beams exactly as rayDistance builds them. A beam's fraction is the minimum over the fixtures
   // it hits, which is what Box2D's clipped ray cast returns whatever the order of the reports.
   const b2Vec2 p1 = toB2(from);
-  if (fan_dirs_.size() != n || !(fan_dirs_first_ == first_angle) || !(fan_dirs_increment_ == increment)) {
-    fan_dirs_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double angle = first_angle + static_cast<double>(i) * increment;
-      fan_dirs_[i] = Vec2(std::cos(angle), std::sin(angle));
-    }
-    fan_dirs_first_ = first_angle;
-    fan_dirs_increment_ = increment;
-  }
+  updateFanDirections(n, first_angle, increment);
   auto beamInput = [&](std::size_t i) {
     b2RayCastInput input;
     input.p1 = p1;
@@ -444,6 +428,29 @@ void PhysicsWorld::rayFan(const Vec2& from, double first_angle, double increment
     if (fan_best_[i] <= 1.0f) out[i] = static_cast<double>(fan_best_[i]) * max_range;
 }
 
+// Every fixture a beam of the fan can hit overlaps the box the fan reaches: into fan_fixtures_.
+void PhysicsWorld::collectFanFixtures(const Vec2& from, double max_range) const {
+  fan_fixtures_.clear();
+  FixturesInBox query(fan_fixtures_);
+  const double reach = max_range + 0.01;
+  b2AABB box;
+  box.lowerBound = b2Vec2(static_cast<float>(from.x() - reach), static_cast<float>(from.y() - reach));
+  box.upperBound = b2Vec2(static_cast<float>(from.x() + reach), static_cast<float>(from.y() + reach));
+  world_->QueryAABB(&query, box);
+}
+
+// The beam directions into fan_dirs_, unless they are those of the last fan already.
+void PhysicsWorld::updateFanDirections(std::size_t n, double first_angle, double increment) const {
+  if (fan_dirs_.size() == n && fan_dirs_first_ == first_angle && fan_dirs_increment_ == increment) return;
+  fan_dirs_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double angle = first_angle + static_cast<double>(i) * increment;
+    fan_dirs_[i] = Vec2(std::cos(angle), std::sin(angle));
+  }
+  fan_dirs_first_ = first_angle;
+  fan_dirs_increment_ = increment;
+}
+
 bool PhysicsWorld::lineOfSight(const Vec2& a, const Vec2& b) const {
   if ((b - a).squaredNorm() <= 0.0) return true;
   b2RayCastInput input;
@@ -455,19 +462,26 @@ bool PhysicsWorld::lineOfSight(const Vec2& a, const Vec2& b) const {
   return !cb.hit;
 }
 
+namespace {
+// linesOfSightTo's bins of bearings from the target. Margins are far above rounding; parts close
+// to the target go in every bin.
+constexpr int kSightBins = 1024;
+constexpr double kSightBinWidth = 2.0 * kPi / kSightBins;
+constexpr double kSightAngleMargin = 1e-4;  // rad
+constexpr double kSightNear = 0.5;          // m
+
+int sightBinOf(double angle) {  // angle in [-pi, pi]
+  return std::clamp(static_cast<int>(std::floor((angle + kPi) / kSightBinWidth)), 0, kSightBins - 1);
+}
+}  // namespace
+
 void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& from, std::vector<char>& visible) const {
   visible.assign(from.size(), 1);
   if (from.empty() || static_parts_.empty()) return;
   double reach = 0.0;
   for (const Vec2& p : from) reach = std::max(reach, (p - target).norm());
   reach += 0.01;
-  // The static parts the segments can reach.
-  sight_parts_.clear();
-  b2AABB box;
-  box.lowerBound = b2Vec2(static_cast<float>(target.x() - reach), static_cast<float>(target.y() - reach));
-  box.upperBound = b2Vec2(static_cast<float>(target.x() + reach), static_cast<float>(target.y() + reach));
-  PartsInBox query(static_tree_, sight_parts_);
-  static_tree_.Query(&query, box);
+  collectSightParts(target, reach);
   // Few segments, or few among much geometry: one tree walk each (building the bins below costs
   // about as much as 30 walks: in the passing corridor it was a fifth of a tick for 2 people).
   constexpr std::size_t kMinSegmentsForBins = 32;
@@ -475,29 +489,36 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
     for (std::size_t i = 0; i < from.size(); ++i) visible[i] = lineOfSight(from[i], target) ? 1 : 0;
     return;
   }
+  binSightParts(target);
+  testSightsInBins(target, from, visible);
+}
 
-  // Bin the parts by their bearing from the target. A part that blocks the segment from p to the
-  // target holds a point of it, which has p's bearing and is not farther than p: the bin of p's
-  // bearing lists the part, with its least distance to the target. Margins are far above rounding;
-  // parts close to the target go in every bin.
-  constexpr int kBins = 1024;
-  constexpr double kBinWidth = 2.0 * kPi / kBins;
-  constexpr double kAngleMargin = 1e-4;  // rad
-  constexpr double kNear = 0.5;          // m
-  auto binOf = [&](double angle) {       // angle in [-pi, pi]
-    return std::clamp(static_cast<int>(std::floor((angle + kPi) / kBinWidth)), 0, kBins - 1);
-  };
+// The static parts the segments within `reach` of the target can cross, into sight_parts_.
+void PhysicsWorld::collectSightParts(const Vec2& target, double reach) const {
+  sight_parts_.clear();
+  b2AABB box;
+  box.lowerBound = b2Vec2(static_cast<float>(target.x() - reach), static_cast<float>(target.y() - reach));
+  box.upperBound = b2Vec2(static_cast<float>(target.x() + reach), static_cast<float>(target.y() + reach));
+  PartsInBox query(static_tree_, sight_parts_);
+  static_tree_.Query(&query, box);
+}
+
+// Bins sight_parts_ by their bearing from the target (compressed rows: sight_start_, sight_sorted_).
+// A part that blocks the segment from p to the target holds a point of it, which has p's bearing and
+// is not farther than p: the bin of p's bearing lists the part, with its least distance to the target.
+void PhysicsWorld::binSightParts(const Vec2& target) const {
   sight_entries_.clear();
   auto add = [&](std::uint32_t part, double distance, double centre, double half) {
     const auto d = static_cast<float>(std::max(0.0, distance - kGridMargin));
-    if (distance < kNear || half + kAngleMargin >= kPi) {
-      for (int b = 0; b < kBins; ++b) sight_entries_.push_back({static_cast<std::uint32_t>(b), part, d});
+    if (distance < kSightNear || half + kSightAngleMargin >= kPi) {
+      for (int b = 0; b < kSightBins; ++b) sight_entries_.push_back({static_cast<std::uint32_t>(b), part, d});
       return;
     }
-    const double lo = normalizeAngle(centre - half - kAngleMargin);
-    const int first = binOf(lo), count = static_cast<int>(std::ceil((2.0 * (half + kAngleMargin)) / kBinWidth)) + 1;
-    for (int k = 0; k <= count && k < kBins; ++k)
-      sight_entries_.push_back({static_cast<std::uint32_t>((first + k) % kBins), part, d});
+    const double lo = normalizeAngle(centre - half - kSightAngleMargin);
+    const int first = sightBinOf(lo),
+              count = static_cast<int>(std::ceil((2.0 * (half + kSightAngleMargin)) / kSightBinWidth)) + 1;
+    for (int k = 0; k <= count && k < kSightBins; ++k)
+      sight_entries_.push_back({static_cast<std::uint32_t>((first + k) % kSightBins), part, d});
   };
   for (const std::uint32_t part : sight_parts_) {
     const b2Fixture* f = static_parts_[part].fixture;
@@ -515,18 +536,19 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
       add(part, closestPointOnSegment(Vec2::Zero(), a, b).norm(), ta + span / 2.0, std::abs(span) / 2.0);
     }
   }
-  // Compressed rows by bin.
-  sight_start_.assign(kBins + 1, 0);
+  sight_start_.assign(kSightBins + 1, 0);
   for (const SightEntry& e : sight_entries_) ++sight_start_[e.bin + 1];
-  for (int b = 1; b <= kBins; ++b)
+  for (int b = 1; b <= kSightBins; ++b)
     sight_start_[static_cast<std::size_t>(b)] += sight_start_[static_cast<std::size_t>(b - 1)];
   sight_sorted_.resize(sight_entries_.size());
-  {
-    std::vector<std::uint32_t>& fill = sight_fill_;
-    fill.assign(sight_start_.begin(), sight_start_.end() - 1);
-    for (const SightEntry& e : sight_entries_) sight_sorted_[fill[e.bin]++] = e;
-  }
+  std::vector<std::uint32_t>& fill = sight_fill_;
+  fill.assign(sight_start_.begin(), sight_start_.end() - 1);
+  for (const SightEntry& e : sight_entries_) sight_sorted_[fill[e.bin]++] = e;
+}
 
+// visible[i] = 0 for each segment from[i]-target a part in its bin blocks (lineOfSight's ray).
+void PhysicsWorld::testSightsInBins(const Vec2& target, const std::vector<Vec2>& from,
+                                    std::vector<char>& visible) const {
   for (std::size_t i = 0; i < from.size(); ++i) {
     const Vec2 v = from[i] - target;
     const double dist = v.norm();
@@ -535,7 +557,7 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
     input.p1 = toB2(from[i]);
     input.p2 = toB2(target);
     input.maxFraction = 1.0f;
-    const int b = binOf(angleOf(v));
+    const int b = sightBinOf(angleOf(v));
     for (std::uint32_t k = sight_start_[static_cast<std::size_t>(b)]; k < sight_start_[static_cast<std::size_t>(b) + 1];
          ++k) {
       const SightEntry& e = sight_sorted_[k];

@@ -182,6 +182,14 @@ class DwbPlanner : public Planner {
   double headingErrorToPath() const;
   // Best sample of the window, or false when none is admissible.
   bool sampleBest(const VelocityWindow& window, double& v, double& w);
+  // sampleBest's steps (dwb_planner.cpp).
+  struct SampleGrid;
+  struct BestSample;
+  bool addScores(bool end_critics, int order, const BestSample& best, double& total);
+  void takeSample(BestSample& best, double total, int order, double v, double w);
+  void scoreNearestToLastCommand(const VelocityWindow& window, const SampleGrid& grid, BestSample& best);
+  void boundSamples(const VelocityWindow& window, const SampleGrid& grid, const BestSample& best);
+  void scoreCandidates(BestSample& best);
   // Whether (v, w) passes every critic.
   bool admissible(double v, double w);
   // The obstacle-free sample keeping the largest distance to the people; false when none is free.

@@ -89,6 +89,17 @@ class AStarPlanner {
   std::vector<std::uint64_t> open_;
   void siftUp(std::size_t i, std::uint64_t key);
   void siftDown(std::size_t i, std::uint64_t key);
+  void push(float f, int cell);  // queues a cell, or lowers its key when it is queued already
+  int pop();                     // the open cell of least f, or -1 when there is none
+
+  // The steps of plan() (global_planner.cpp).
+  struct Search;
+  void clearLastSearch(std::size_t cells);
+  int expandUntilGoal(const Search& search);  // the goal's cell, or -1
+  void relaxInterior(const Search& search, int top_cell, int cx, int cy, float g_here);
+  void relaxChecked(const Search& search, int top_cell, int cx, int cy, float g_here, bool interior);
+  void relax(const Search& search, int top_cell, int cx, int cy, int k, float g_next);
+  GlobalPath tracePath(const Search& search, int reached) const;
   std::size_t expansions_ = 0;
   std::size_t searches_ = 0;
 };

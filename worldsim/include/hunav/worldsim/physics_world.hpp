@@ -121,8 +121,15 @@ class PhysicsWorld {
   mutable std::vector<Vec2> fan_dirs_;
   mutable double fan_dirs_first_ = std::numeric_limits<double>::quiet_NaN();
   mutable double fan_dirs_increment_ = std::numeric_limits<double>::quiet_NaN();
+  // rayFan's steps.
+  void collectFanFixtures(const Vec2& from, double max_range) const;
+  void updateFanDirections(std::size_t n, double first_angle, double increment) const;
   mutable std::vector<std::uint32_t> sight_parts_, sight_start_, sight_fill_;
   mutable std::vector<SightEntry> sight_entries_, sight_sorted_;
+  // linesOfSightTo's steps.
+  void collectSightParts(const Vec2& target, double reach) const;
+  void binSightParts(const Vec2& target) const;
+  void testSightsInBins(const Vec2& target, const std::vector<Vec2>& from, std::vector<char>& visible) const;
 };
 
 inline Vec2 toVec(const b2Vec2& v) { return Vec2(v.x, v.y); }
