@@ -70,6 +70,181 @@ struct EpisodeTally {
   }
 };
 
+// Everything the command line says.
+struct Options {
+  hunav::runner::RunOptions run;
+  std::string scenario_file;
+  long long seed = -1;        // < 0: the scenario's
+  double duration = 0.0;      // 0: the scenario's time limit
+  double sample_rate = -1.0;  // < 0: the scenario's evaluation.sample_rate
+  std::string seed_list, planner_list, folder_label;
+  std::string format = "csv";
+  bool quiet = false;
+  bool no_states_csv = false;
+  bool no_per_tick_files = false;
+  CLI::Option* experiment_tag = nullptr;  // given on the command line when its count() > 0
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  hunav::runner::RunOptions& run = o.run;
+  app.add_option("--scenario", o.scenario_file, "scenario YAML file")->required();
+  app.add_option(
+      "--planner", run.planner, "planner: " + [] {
+        std::string names;
+        for (const auto& n : hunav::planners::plannerNames()) names += n + ", ";
+        return names + "or none";
+      }());
+  app.add_option("--planner-config", run.planner_config, "YAML file with planner parameters");
+  auto* seed_opt =
+      app.add_option("--seed", o.seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
+  app.add_option("--seeds", o.seed_list,
+                 "run one episode per seed, one after the other in this process: N, A-B or a comma-separated mix "
+                 "(1-10, 1-5,8); each into OUT/<scenario>__<planner>__seed<N>/ (OUT: --out, default results)")
+      ->excludes(seed_opt);
+  app.add_option("--planners", o.planner_list,
+                 "with --seeds: comma-separated planners, each run on every seed (default: --planner)");
+  app.add_option("--folder-label", o.folder_label,
+                 "with --seeds: the <scenario> part of each run's folder name (default: the scenario's name:; "
+                 "run_batch.sh passes its label of the scenario file)");
+  app.add_option("--duration", o.duration, "override the scenario's time limit, s of simulation time")
+      ->check(hunav::cli::positiveNumber());
+  app.add_option("--sample-rate", o.sample_rate,
+                 "evaluate and record states.csv at most HZ samples per second of simulation time, 0 = every "
+                 "tick (default: the scenario's evaluation.sample_rate)")
+      ->check(hunav::cli::nonNegativeNumber());
+  app.add_option("--out", run.out_dir,
+                 "output folder (default results/<scenario>_<planner>_<seed>); with --seeds the folder of the runs' "
+                 "folders (default results)");
+  app.add_option("--record", run.record_file, "also write every message to this LCM log file");
+  app.add_option("--profile", run.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
+  o.experiment_tag = app.add_option("--experiment-tag", run.experiment_tag, "experiment tag in metrics.csv");
+  app.add_option("--metrics", run.metrics_file,
+                 "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
+                 "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics")
+      ->check(CLI::ExistingFile);
+  app.add_option("--format", o.format, "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's .txt files")
+      ->check(CLI::IsMember({"csv", "hunav_txt"}));
+  app.add_option("--run-id", run.run_id, "run id (default <scenario>_<planner>_s<seed>)");
+  app.add_flag("--quiet", o.quiet, "do not print the metrics table");
+  app.add_flag("--memq", run.use_memq,
+               "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
+  app.add_flag("--counterfactual", run.counterfactual,
+               "also run the episode with the same seed without the robot and compare each person's trajectory: "
+               "counterfactual.csv per person and the counterfactual_* metrics (docs/metrics.md)");
+  app.add_flag("--no-states-csv", o.no_states_csv,
+               "do not write states.csv (the metrics and every other file are the same; saves formatting one row "
+               "per entity per sample); not with --counterfactual, which reads it back")
+      ->excludes("--counterfactual");
+  app.add_flag("--no-per-tick-files", o.no_per_tick_files,
+               "do not write the per-tick metric files (metrics_steps.csv, metrics_beh_<b>_steps.csv); the metrics "
+               "and summaries are the same");
+}
+
+// The scenario of one seed (-1: its own), with this invocation's overrides; bad input throws
+// ConfigError (exit 2) before anything runs.
+hunav::Scenario scenarioFor(const Options& o, long long seed) {
+  hunav::Scenario scenario = hunav::cli::loadScenarioFor(o.scenario_file, seed, o.duration);
+  if (o.sample_rate >= 0.0) scenario.evaluation_sample_rate = o.sample_rate;
+  return scenario;
+}
+
+// The first scenario, and the run options the files complete: the metrics file (or the
+// scenario's: a bad one is exit 2 here) and the expect: conditions, checked against this run's
+// profile and selection before anything starts.
+hunav::Scenario prepare(Options& o) {
+  hunav::Scenario scenario = scenarioFor(o, o.seed);
+  hunav::runner::RunOptions& run = o.run;
+  if (run.metrics_file.empty()) run.metrics_file = scenario.evaluation_metrics;
+  double metrics_sample_rate = scenario.evaluation_sample_rate;
+  hunav::evaluator::applyMetricsFile(run.metrics_file, run.profile, o.sample_rate >= 0.0, metrics_sample_rate,
+                                     o.experiment_tag->count() > 0, run.experiment_tag);
+  scenario.evaluation_sample_rate = metrics_sample_rate;
+  hunav::runner::checkExpectations(scenario.expectations, hunav::evaluator::metricsFor(run.profile, run.metrics_file));
+  run.hunav_txt = o.format == "hunav_txt";
+  run.states_csv = !o.no_states_csv;
+  run.per_tick_files = !o.no_per_tick_files;
+  return scenario;
+}
+
+// --planners and --seeds, each checked (exit 2 naming the option); false when one is bad.
+bool readLists(const Options& o, std::vector<std::string>& planners, std::vector<long long>& seeds) {
+  planners = {o.run.planner};
+  try {
+    if (!o.planner_list.empty()) planners = hunav::runner::parseNameList(o.planner_list);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "hunav_run: --planners: " << e.what() << "\n";
+    return false;
+  }
+  try {
+    if (!o.seed_list.empty()) seeds = hunav::runner::parseSeedList(o.seed_list);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "hunav_run: --seeds: " << e.what() << "\n";
+    return false;
+  }
+  for (const auto& planner : planners) {
+    if (planner != "none" && !hunav::planners::hasPlanner(planner)) {
+      std::cerr << "hunav_run: unknown planner '" << planner << "'\n";
+      return false;
+    }
+  }
+  return true;
+}
+
+// Several episodes: planners outer, seeds inner (run_batch.sh's order); each as its own run.
+int runSeries(const Options& o, const hunav::Scenario& first, const std::vector<std::string>& planners,
+              std::vector<long long> seeds) {
+  const hunav::runner::RunOptions& options = o.run;
+  if (seeds.empty()) seeds.push_back(static_cast<long long>(first.seed));
+  const std::string out_root = options.out_dir.empty() ? "results" : options.out_dir;
+  EpisodeTally tally;
+  for (const auto& planner : planners) {
+    for (long long episode_seed : seeds) {
+      if (options.stop->load()) break;
+      hunav::runner::RunOptions episode = options;
+      episode.planner = planner;
+      episode.run_id =
+          options.run_id.empty() ? "" : options.run_id + "_" + planner + "_s" + std::to_string(episode_seed);
+      int code;
+      try {
+        hunav::Scenario s =
+            static_cast<std::uint64_t>(episode_seed) == first.seed ? first : scenarioFor(o, episode_seed);
+        s.evaluation_sample_rate = first.evaluation_sample_rate;
+        episode.out_dir =
+            (std::filesystem::path(out_root) /
+             hunav::runner::batchRunFolder(o.folder_label.empty() ? s.name : o.folder_label, planner, episode_seed))
+                .string();
+        code = runEpisode(s, episode, o.quiet);
+      } catch (const hunav::ConfigError& e) {
+        std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": " << e.what() << "\n";
+        code = hunav::kExitBadInput;
+      } catch (const std::exception& e) {
+        std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": error: " << e.what() << "\n";
+        code = 1;
+      }
+      tally.add(code);
+    }
+  }
+  std::cout << tally.text();
+  // Interrupted between two episodes: the ones left are not run (an interrupt's exit code).
+  if (options.stop->load() && tally.runs < planners.size() * seeds.size())
+    tally.interrupt_code = hunav::episode_status::exitCodeFor(hunav::episode_status::kInterrupted, hunav::stopSignal());
+  return tally.exitCode();
+}
+
+int run(Options& o) {
+  hunav::Scenario scenario = prepare(o);
+  std::vector<std::string> planners;
+  std::vector<long long> seeds;
+  if (!readLists(o, planners, seeds)) return hunav::kExitBadInput;
+  o.run.stop = &hunav::installStopSignals();
+  if (seeds.empty() && o.planner_list.empty()) {
+    if (o.run.out_dir.empty())
+      o.run.out_dir = "results/" + scenario.name + "_" + o.run.planner + "_" + std::to_string(scenario.seed);
+    return runEpisode(scenario, o.run, o.quiet);
+  }
+  return runSeries(o, scenario, planners, seeds);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,163 +257,16 @@ int main(int argc, char** argv) {
       "by SIGINT/SIGTERM (README.md, \"Statuses and exit codes\"). With --seeds (and --planners) it runs one "
       "episode per planner and seed, one after the other, each a run as above; the exit code is then 2 if any "
       "had bad input, else the first non-zero code of the table in the order 130/143, 1, 3."};
-  std::string scenario_file;
-  hunav::runner::RunOptions options;
-  long long seed = -1;
-  double duration = 0.0;
-  double sample_rate = -1.0;  // < 0: the scenario's evaluation.sample_rate
-  bool quiet = false;
-  app.add_option("--scenario", scenario_file, "scenario YAML file")->required();
-  app.add_option(
-      "--planner", options.planner, "planner: " + [] {
-        std::string names;
-        for (const auto& n : hunav::planners::plannerNames()) names += n + ", ";
-        return names + "or none";
-      }());
-  app.add_option("--planner-config", options.planner_config, "YAML file with planner parameters");
-  auto* seed_opt =
-      app.add_option("--seed", seed, "override the scenario's seed")->check(hunav::cli::nonNegativeInteger());
-  std::string seed_list, planner_list;
-  app.add_option("--seeds", seed_list,
-                 "run one episode per seed, one after the other in this process: N, A-B or a comma-separated mix "
-                 "(1-10, 1-5,8); each into OUT/<scenario>__<planner>__seed<N>/ (OUT: --out, default results)")
-      ->excludes(seed_opt);
-  app.add_option("--planners", planner_list,
-                 "with --seeds: comma-separated planners, each run on every seed (default: --planner)");
-  std::string folder_label;
-  app.add_option("--folder-label", folder_label,
-                 "with --seeds: the <scenario> part of each run's folder name (default: the scenario's name:; "
-                 "run_batch.sh passes its label of the scenario file)");
-  app.add_option("--duration", duration, "override the scenario's time limit, s of simulation time")
-      ->check(hunav::cli::positiveNumber());
-  app.add_option("--sample-rate", sample_rate,
-                 "evaluate and record states.csv at most HZ samples per second of simulation time, 0 = every "
-                 "tick (default: the scenario's evaluation.sample_rate)")
-      ->check(hunav::cli::nonNegativeNumber());
-  app.add_option("--out", options.out_dir,
-                 "output folder (default results/<scenario>_<planner>_<seed>); with --seeds the folder of the runs' "
-                 "folders (default results)");
-  app.add_option("--record", options.record_file, "also write every message to this LCM log file");
-  app.add_option("--profile", options.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
-  auto* tag_opt = app.add_option("--experiment-tag", options.experiment_tag, "experiment tag in metrics.csv");
-  app.add_option("--metrics", options.metrics_file,
-                 "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
-                 "sample rate and its experiment_tag the tag unless given); default: the scenario's evaluation.metrics")
-      ->check(CLI::ExistingFile);
-  std::string format = "csv";
-  app.add_option("--format", format, "result files: 'csv', or 'hunav_txt' = csv plus HuNavSim v1's .txt files")
-      ->check(CLI::IsMember({"csv", "hunav_txt"}));
-  app.add_option("--run-id", options.run_id, "run id (default <scenario>_<planner>_s<seed>)");
-  app.add_flag("--quiet", quiet, "do not print the metrics table");
-  app.add_flag("--memq", options.use_memq,
-               "pass messages through LCM's memq:// instead of the built-in in-process queue (same results, slower)");
-  app.add_flag("--counterfactual", options.counterfactual,
-               "also run the episode with the same seed without the robot and compare each person's trajectory: "
-               "counterfactual.csv per person and the counterfactual_* metrics (docs/metrics.md)");
-  bool no_states_csv = false;
-  app.add_flag("--no-states-csv", no_states_csv,
-               "do not write states.csv (the metrics and every other file are the same; saves formatting one row "
-               "per entity per sample); not with --counterfactual, which reads it back")
-      ->excludes("--counterfactual");
-  bool no_per_tick_files = false;
-  app.add_flag("--no-per-tick-files", no_per_tick_files,
-               "do not write the per-tick metric files (metrics_steps.csv, metrics_beh_<b>_steps.csv); the metrics "
-               "and summaries are the same");
+  Options o;
+  addOptions(app, o);
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
-  options.states_csv = !no_states_csv;
-  options.per_tick_files = !no_per_tick_files;
-
-  if (sample_rate != -1.0) {  // given (NaN included: CLI11's check lets it through)
+  if (o.sample_rate != -1.0) {  // given (NaN included: CLI11's check lets it through)
     try {
-      hunav::evaluator::SampleRate{sample_rate};  // the evaluator's own check, before anything starts
+      hunav::evaluator::SampleRate{o.sample_rate};  // the evaluator's own check, before anything starts
     } catch (const std::invalid_argument& e) {
       std::cerr << "hunav_run: --sample-rate: " << e.what() << "\n";
       return hunav::kExitBadInput;
     }
   }
-
-  return hunav::cli::run("hunav_run", [&] {
-    // The scenario of one seed (-1: its own), with this invocation's overrides; bad input throws
-    // ConfigError (exit 2) before anything runs.
-    auto prepare = [&](long long episode_seed) {
-      hunav::Scenario scenario = hunav::cli::loadScenarioFor(scenario_file, episode_seed, duration);
-      if (sample_rate >= 0.0) scenario.evaluation_sample_rate = sample_rate;
-      return scenario;
-    };
-    hunav::Scenario scenario = prepare(seed);
-    // The metrics file (or the scenario's): a bad one stops the run here, exit 2.
-    if (options.metrics_file.empty()) options.metrics_file = scenario.evaluation_metrics;
-    double metrics_sample_rate = scenario.evaluation_sample_rate;
-    hunav::evaluator::applyMetricsFile(options.metrics_file, options.profile, sample_rate >= 0.0, metrics_sample_rate,
-                                       tag_opt->count() > 0, options.experiment_tag);
-    scenario.evaluation_sample_rate = metrics_sample_rate;
-    // expect: names metrics of this run's profile and selection: checked before anything starts.
-    hunav::runner::checkExpectations(scenario.expectations,
-                                     hunav::evaluator::metricsFor(options.profile, options.metrics_file));
-    options.hunav_txt = format == "hunav_txt";
-    std::vector<std::string> planners{options.planner};
-    std::vector<long long> seeds;
-    try {
-      if (!planner_list.empty()) planners = hunav::runner::parseNameList(planner_list);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "hunav_run: --planners: " << e.what() << "\n";
-      return hunav::kExitBadInput;
-    }
-    try {
-      if (!seed_list.empty()) seeds = hunav::runner::parseSeedList(seed_list);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "hunav_run: --seeds: " << e.what() << "\n";
-      return hunav::kExitBadInput;
-    }
-    for (const auto& planner : planners) {
-      if (planner != "none" && !hunav::planners::hasPlanner(planner)) {
-        std::cerr << "hunav_run: unknown planner '" << planner << "'\n";
-        return hunav::kExitBadInput;
-      }
-    }
-    options.stop = &hunav::installStopSignals();
-    if (seeds.empty() && planner_list.empty()) {
-      if (options.out_dir.empty())
-        options.out_dir = "results/" + scenario.name + "_" + options.planner + "_" + std::to_string(scenario.seed);
-      return runEpisode(scenario, options, quiet);
-    }
-
-    // Several episodes: planners outer, seeds inner (run_batch.sh's order); each as its own run.
-    if (seeds.empty()) seeds.push_back(scenario.seed);
-    const std::string out_root = options.out_dir.empty() ? "results" : options.out_dir;
-    const std::string run_id = options.run_id;
-    EpisodeTally tally;
-    for (const auto& planner : planners) {
-      for (long long episode_seed : seeds) {
-        if (options.stop->load()) break;
-        hunav::runner::RunOptions episode = options;
-        episode.planner = planner;
-        episode.run_id = run_id.empty() ? "" : run_id + "_" + planner + "_s" + std::to_string(episode_seed);
-        int code;
-        try {
-          hunav::Scenario s =
-              static_cast<std::uint64_t>(episode_seed) == scenario.seed ? scenario : prepare(episode_seed);
-          s.evaluation_sample_rate = scenario.evaluation_sample_rate;
-          episode.out_dir =
-              (std::filesystem::path(out_root) /
-               hunav::runner::batchRunFolder(folder_label.empty() ? s.name : folder_label, planner, episode_seed))
-                  .string();
-          code = runEpisode(s, episode, quiet);
-        } catch (const hunav::ConfigError& e) {
-          std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": " << e.what() << "\n";
-          code = hunav::kExitBadInput;
-        } catch (const std::exception& e) {
-          std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": error: " << e.what() << "\n";
-          code = 1;
-        }
-        tally.add(code);
-      }
-    }
-    std::cout << tally.text();
-    // Interrupted between two episodes: the ones left are not run (an interrupt's exit code).
-    if (options.stop->load() && tally.runs < planners.size() * seeds.size())
-      tally.interrupt_code =
-          hunav::episode_status::exitCodeFor(hunav::episode_status::kInterrupted, hunav::stopSignal());
-    return tally.exitCode();
-  });
+  return hunav::cli::run("hunav_run", [&] { return run(o); });
 }
