@@ -24,7 +24,7 @@
 #include "hunav/lcm_log_reader.hpp"
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/sim_tools.hpp"
 
 namespace {
 namespace hp = hunav::planners;
@@ -58,7 +58,7 @@ std::vector<Call> closedLoopEpisode(hp::DwbPlanner& planner, const hunav::Scenar
   std::vector<Call> calls;
   const double dt = scenario.dt;
   const int ticks_per_plan = std::max(1, static_cast<int>(std::lround(1.0 / (scenario.robot.control_rate * dt))));
-  hp::MiniWorld world(scenario);
+  hunav::testing::MiniWorld world(scenario);
   hunav::robot_command_t cmd{};
   reached = false;
   for (int tick = 0; world.time() < scenario.time_limit; ++tick) {

@@ -392,6 +392,39 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
     episode_ = request.episode;
     have_episode_ = true;
   }
+  takeSnapshot(request);
+  const std::size_t count = request.agents.size();
+  reply.utime = request.utime + static_cast<int64_t>(std::llround(request.dt * 1e6));
+  reply.seq = request.seq;
+  reply.episode = request.episode;
+  reply.num_agents = request.num_agents;
+  reply.agents.resize(count);
+  if (!twoThreadsMayPay(count)) {  // a small crowd: one pass, in the same order as the chunks
+    reserveTickScratch();
+    tickAgents(request, reply, 0, count);
+  } else {
+    constexpr int kTickChunks = 8;
+    struct Job {
+      AgentManager* self;
+      const step_request_t* request;
+      step_reply_t* reply;
+      std::size_t count;
+    } const job{this, &request, &reply, count};
+    // A closure of one reference: it fits in std::function's own storage (no allocation).
+    forChunksOnTwoThreads(count, kTickChunks, [&job](int c) {
+      const auto k = static_cast<std::size_t>(c), chunks = static_cast<std::size_t>(kTickChunks);
+      job.self->tickAgents(*job.request, *job.reply, k * job.count / chunks, (k + 1) * job.count / chunks);
+    });
+  }
+  if (social_active_) {  // what the people show, by id, for the next step and PEOPLE_SOCIAL
+    social_.resize(count);
+    for (std::size_t k = 0; k < count; ++k) social_[k] = memory_at_[snap_.by_id[k]]->social;
+    social_utime_ = reply.utime;
+  }
+  snap_.request = nullptr;
+}
+
+void AgentManager::takeSnapshot(const step_request_t& request) {
   StepSnapshot& snap = snap_;
   snap.request = &request;
   snap.obstacle_points = obstacle_points_;
@@ -421,77 +454,62 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   } else {
     snap.people_social.clear();
   }
+}
 
-  reply.utime = request.utime + static_cast<int64_t>(std::llround(request.dt * 1e6));
-  reply.seq = request.seq;
-  reply.episode = request.episode;
-  reply.num_agents = request.num_agents;
-  reply.agents.resize(count);
-  auto tickRange = [&](std::size_t from, std::size_t to) {
-    for (std::size_t i = from; i < to; ++i) {
-      // What the agent a few places ahead will touch, fetched while this one is ticked: its memory,
-      // tree and goal and obstacle lists live apart on the heap, and thousands of agents do not fit
-      // in the cache.
-      constexpr std::size_t kAhead = 4;
-      if (i + kAhead < to) {
-        const agent_state_t& next_in = request.agents[i + kAhead];
-        const agent_state_t& next_out = reply.agents[i + kAhead];
-        __builtin_prefetch(next_in.goals.data());
-        __builtin_prefetch(next_in.obstacles.data());
-        __builtin_prefetch(next_out.goals.data(), 1);
-        __builtin_prefetch(next_out.obstacles.data(), 1);
-        const AgentMemory* next = memory_at_[i + kAhead];
-        __builtin_prefetch(next);
-        next->tree.prefetch();
-      }
-      const agent_state_t& in = request.agents[i];
-      agent_state_t& out = reply.agents[i];
-      out = in;  // reuses the strings and vectors of the last reply
-      out.utime = reply.utime;
-      out.behavior_state = agent_state_t::STATE_INACTIVE;
-      AgentMemory& mem = *memory_at_[i];
-      mem.moved = false;
-      TickContext ctx{snap, i, in, out, request.dt, request.episode, request.seq, mem, {}};
-      auto set = [&](BbKey k, double v) { ctx.bb[static_cast<std::size_t>(k)] = v; };
-      const behavior_params_t& bp = in.behavior_params;
-      set(BbKey::Id, in.id);
-      set(BbKey::Dt, request.dt);
-      set(BbKey::Time, static_cast<double>(request.utime) * 1e-6);
-      set(BbKey::Dist, bp.dist);
-      set(BbKey::Duration, bp.duration);
-      set(BbKey::Once, bp.once ? 1.0 : 0.0);
-      set(BbKey::Vel, bp.vel);
-      set(BbKey::GoalForceFactor, bp.goal_force_factor);
-      set(BbKey::ObstacleForceFactor, bp.obstacle_force_factor);
-      set(BbKey::SocialForceFactor, bp.social_force_factor);
-      set(BbKey::OtherForceFactor, bp.other_force_factor);
-      set(BbKey::MaxVel, in.desired_speed);
-      for (int k = 0; k < kOutputKeys; ++k) ctx.bb[static_cast<std::size_t>(kFirstOutputKey + k)] = mem.outputs[k];
-      // Conversation and gaze hold only while a node keeps them up this tick; speech lasts its time.
-      mem.social.id = in.id;
-      mem.social.conversation = -1;
-      mem.social.looking_at = -1;
-      mem.tree.tick(ctx);
+namespace {
+// The blackboard a person's tree starts its tick with: the request's time, its behavior parameters
+// and the outputs its tree wrote on earlier ticks.
+void fillBlackboard(Blackboard& bb, const step_request_t& request, const agent_state_t& in, const AgentMemory& mem) {
+  auto set = [&](BbKey k, double v) { bb[static_cast<std::size_t>(k)] = v; };
+  const behavior_params_t& bp = in.behavior_params;
+  set(BbKey::Id, in.id);
+  set(BbKey::Dt, request.dt);
+  set(BbKey::Time, static_cast<double>(request.utime) * 1e-6);
+  set(BbKey::Dist, bp.dist);
+  set(BbKey::Duration, bp.duration);
+  set(BbKey::Once, bp.once ? 1.0 : 0.0);
+  set(BbKey::Vel, bp.vel);
+  set(BbKey::GoalForceFactor, bp.goal_force_factor);
+  set(BbKey::ObstacleForceFactor, bp.obstacle_force_factor);
+  set(BbKey::SocialForceFactor, bp.social_force_factor);
+  set(BbKey::OtherForceFactor, bp.other_force_factor);
+  set(BbKey::MaxVel, in.desired_speed);
+  for (int k = 0; k < kOutputKeys; ++k) bb[static_cast<std::size_t>(kFirstOutputKey + k)] = mem.outputs[k];
+}
+}  // namespace
+
+void AgentManager::tickAgents(const step_request_t& request, step_reply_t& reply, std::size_t from, std::size_t to) {
+  for (std::size_t i = from; i < to; ++i) {
+    // What the agent a few places ahead will touch, fetched while this one is ticked: its memory,
+    // tree and goal and obstacle lists live apart on the heap, and thousands of agents do not fit
+    // in the cache.
+    constexpr std::size_t kAhead = 4;
+    if (i + kAhead < to) {
+      const agent_state_t& next_in = request.agents[i + kAhead];
+      const agent_state_t& next_out = reply.agents[i + kAhead];
+      __builtin_prefetch(next_in.goals.data());
+      __builtin_prefetch(next_in.obstacles.data());
+      __builtin_prefetch(next_out.goals.data(), 1);
+      __builtin_prefetch(next_out.obstacles.data(), 1);
+      const AgentMemory* next = memory_at_[i + kAhead];
+      __builtin_prefetch(next);
+      next->tree.prefetch();
     }
-  };
-  if (!twoThreadsMayPay(count)) {  // a small crowd: one pass, in the same order as the chunks
-    reserveTickScratch();
-    tickRange(0, count);
-  } else {
-    constexpr int kTickChunks = 8;
-    const std::size_t chunk_bounds[2] = {count, static_cast<std::size_t>(kTickChunks)};
-    // A closure of two references: it fits in std::function's own storage (no allocation).
-    forChunksOnTwoThreads(count, kTickChunks, [&tickRange, &chunk_bounds](int c) {
-      const std::size_t k = static_cast<std::size_t>(c), n = chunk_bounds[0], chunks = chunk_bounds[1];
-      tickRange(k * n / chunks, (k + 1) * n / chunks);
-    });
+    const agent_state_t& in = request.agents[i];
+    agent_state_t& out = reply.agents[i];
+    out = in;  // reuses the strings and vectors of the last reply
+    out.utime = reply.utime;
+    out.behavior_state = agent_state_t::STATE_INACTIVE;
+    AgentMemory& mem = *memory_at_[i];
+    mem.moved = false;
+    TickContext ctx{snap_, i, in, out, request.dt, request.episode, request.seq, mem, {}};
+    fillBlackboard(ctx.bb, request, in, mem);
+    // Conversation and gaze hold only while a node keeps them up this tick; speech lasts its time.
+    mem.social.id = in.id;
+    mem.social.conversation = -1;
+    mem.social.looking_at = -1;
+    mem.tree.tick(ctx);
   }
-  if (social_active_) {  // what the people show, by id, for the next step and PEOPLE_SOCIAL
-    social_.resize(count);
-    for (std::size_t k = 0; k < count; ++k) social_[k] = memory_at_[snap.by_id[k]]->social;
-    social_utime_ = reply.utime;
-  }
-  snap.request = nullptr;
 }
 
 void AgentManager::socialState(people_social_t& out) const {

@@ -9,6 +9,8 @@
 #include "hunav/agents_file.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 
@@ -17,12 +19,7 @@ namespace {
 std::string source(const std::string& rel) { return std::string(HUNAV_SOURCE_DIR) + "/" + rel; }
 
 std::string writeFile(const std::string& name, const std::string& text) {
-  // One folder per test process: ctest runs the tests of this binary in parallel.
-  const auto dir = std::filesystem::temp_directory_path() / ("hunav_test_agents_file_" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = (dir / name).string();
-  std::ofstream(path) << text;
-  return path;
+  return hunav::testing::writeFile(hunav::testing::testDir() / name, text);
 }
 
 // Parses `text` (a people node) as parseAgents does for a scenario's `people:`.

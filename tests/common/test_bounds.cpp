@@ -13,6 +13,8 @@
 #include "hunav/bounds.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/message_checks.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 #include "hunav/yaml_reader.hpp"
 
 using namespace hunav;
@@ -37,11 +39,7 @@ std::string agentsFileWith(const std::string& key, const std::string& value) {
   EXPECT_NE(at, std::string::npos);
   text.replace(at, v1.size(),
                "      behavior:\n        type: 4\n        configuration: custom\n        " + key + ": " + value + "\n");
-  const fs::path dir = fs::temp_directory_path() / ("hunav_test_bounds_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const fs::path path = dir / ("agents_" + key + ".yaml");
-  std::ofstream(path) << text;
-  return path.string();
+  return hunav::testing::writeFile(hunav::testing::testDir() / ("agents_" + key + ".yaml"), text);
 }
 
 // agent1 of the loaded file as the world puts it into its messages (worldsim's initialAgentState).
@@ -155,8 +153,7 @@ TEST(Bounds, MessageChecksNameTheFieldOutsideItsBound) {
 }
 
 TEST(Bounds, FileErrorsWithoutANodeNameTheFirstLine) {
-  const fs::path dir = fs::temp_directory_path() / ("hunav_test_bounds_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const hunav::testing::TempDir dir;
   for (const char* text : {"", "# only a comment\n", "- a list\n- not a mapping\n", "just text\n"}) {
     const fs::path file = dir / "not_a_mapping.yaml";
     std::ofstream(file) << text;
@@ -171,7 +168,7 @@ TEST(Bounds, FileErrorsWithoutANodeNameTheFirstLine) {
 }
 
 TEST(Bounds, AMapWhoseImageIsAFolderIsAnErrorAtTheImageLine) {
-  const fs::path dir = fs::temp_directory_path() / ("hunav_test_bounds_" + std::to_string(getpid())) / "map";
+  const hunav::testing::TempDir dir;
   fs::create_directories(dir / "folder.pgm");
   std::ofstream(dir / "map.yaml") << "resolution: 0.05\norigin: [0.0, 0.0, 0.0]\nimage: folder.pgm\n";
   try {

@@ -10,17 +10,15 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/runner/expectations.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 
 namespace {
 
 std::string writeFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("hunav_test_expect_" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = (dir / name).string();
-  std::ofstream(path) << text;
-  return path;
+  return hunav::testing::writeFile(hunav::testing::testDir() / name, text);
 }
 
 // Lines 1-4; an expect: block starts at line 5.

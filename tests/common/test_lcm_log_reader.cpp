@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -8,17 +7,14 @@
 #include <vector>
 
 #include "hunav/lcm_log_reader.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using hunav::LcmLogReader;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hunav_log_reader_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path scratch(const std::string& name) { return hunav::testing::testDir() / name; }
 
 // Writes events with liblcm's writer (the format lcm-logger writes): channel "CH<k>", k + 1 bytes.
 void writeLog(const fs::path& file, int events) {
@@ -52,7 +48,6 @@ TEST(LcmLogReader, ReadsWhatLiblcmWrote) {
   EXPECT_EQ(reader.next(), nullptr);
   EXPECT_TRUE(reader.stopReason().empty()) << reader.stopReason();
   EXPECT_EQ(reader.eventsRead(), 3u);
-  fs::remove_all(file.parent_path());
 }
 
 TEST(LcmLogReader, ACutLogEndsAtTheLastWholeEvent) {
@@ -75,7 +70,6 @@ TEST(LcmLogReader, ACutLogEndsAtTheLastWholeEvent) {
   short_header.next();
   EXPECT_EQ(short_header.next(), nullptr);
   EXPECT_NE(short_header.stopReason().find("ends inside an event header (10 bytes left)"), std::string::npos);
-  fs::remove_all(file.parent_path());
 }
 
 TEST(LcmLogReader, AbsurdLengthsAndForeignFilesStopTheReading) {
@@ -101,5 +95,4 @@ TEST(LcmLogReader, AbsurdLengthsAndForeignFilesStopTheReading) {
 
   EXPECT_THROW(LcmLogReader(text.parent_path()), std::runtime_error);  // a folder
   EXPECT_THROW(LcmLogReader(scratch("missing.lcmlog")), std::runtime_error);
-  fs::remove_all(text.parent_path());
 }

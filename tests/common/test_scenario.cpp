@@ -7,6 +7,8 @@
 
 #include "hunav/config_error.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 
@@ -16,12 +18,7 @@ std::string source(const std::string& rel) { return std::string(HUNAV_SOURCE_DIR
 
 // Writes `text` to a fresh file and returns its path.
 std::string writeFile(const std::string& name, const std::string& text) {
-  // One folder per test process: ctest runs the tests of this binary in parallel.
-  const auto dir = std::filesystem::temp_directory_path() / ("hunav_test_scenario_" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = (dir / name).string();
-  std::ofstream(path) << text;
-  return path;
+  return hunav::testing::writeFile(hunav::testing::testDir() / name, text);
 }
 
 const char* kMinimal = R"(name: mini

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "hunav/evaluator/recording.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace evaluator_test {
 
@@ -71,35 +73,11 @@ class RecordingBuilder {
   Recording rec_;
 };
 
-// An empty folder for one test, under the build tree.
-inline std::filesystem::path freshDir(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(HUNAV_BINARY_DIR) / "test-output" / "evaluator" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-inline std::filesystem::path freshDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  return freshDir(std::string(info->test_suite_name()) + "." + info->name());
-}
-
-inline std::vector<std::string> readLines(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-inline std::string readFile(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-inline void writeFile(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream out(file);
-  out << text;
-}
+// Files and the running test's folder (testDir(), removed when the test ends).
+using hunav::testing::readFile;
+using hunav::testing::readLines;
+using hunav::testing::testDir;
+using hunav::testing::writeFile;
 
 inline int checkOutputs(const std::filesystem::path& dir) {
   const std::string cmd = "python3 /work/shared/tools/check_outputs.py '" + dir.string() + "' >/dev/null";

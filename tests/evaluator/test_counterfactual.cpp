@@ -1,6 +1,5 @@
 // The counterfactual comparison (docs/metrics.md, "Counterfactual"): every value worked out by hand.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -9,6 +8,7 @@
 #include <stdexcept>
 
 #include "hunav/evaluator/counterfactual.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace hunav::evaluator {
 namespace {
@@ -132,8 +132,7 @@ TEST(Counterfactual, MismatchedRunsAreRejected) {
 }
 
 TEST(Counterfactual, CsvFile) {
-  const auto dir = std::filesystem::temp_directory_path() / ("hunav_cf_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const hunav::testing::TempDir dir;
   writeCounterfactualCsv(dir / "counterfactual.csv", compareWithRobotFree(run(true), run(false)));
   std::ifstream in(dir / "counterfactual.csv");
   std::stringstream text;
@@ -144,7 +143,6 @@ TEST(Counterfactual, CsvFile) {
             "1,1,1,1,0,1,3.414213562373095,3,0.4142135623730949,0.5,1,2,true\n"
             "7,1,0,0,0,0,3,3,0,0,0,0,false\n"
             "9,1,0,1,1,1,0,0,0,0,0,0,false\n");
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ using namespace hunav::evaluator;
 using namespace evaluator_test;
 
 TEST(DropCounts, UndecodableAndRejectedMessagesAndTheWorldsCountGoIntoRunJson) {
-  const auto dir = freshDir("drop-counts");
+  const auto dir = testDir().subdir("drop-counts");
   lcm::LCM lcm{"memq://"};
   hunav::LcmBus bus{lcm};    // the evaluator's
   hunav::LcmBus world{lcm};  // plays the world

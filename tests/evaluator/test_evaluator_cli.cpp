@@ -124,7 +124,7 @@ void writeSmallRun(const std::filesystem::path& dir) {
 }  // namespace
 
 TEST(EvaluatorCli, HelpDocumentsEveryOption) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   ASSERT_EQ(run(kBinary + " --help > '" + (dir / "help.txt").string() + "'"), 0);
   const std::string help = readFile(dir / "help.txt");
   for (const char* opt : {"--out", "--profile", "--experiment-tag", "--episodes", "--lcm-url", "--states", "--log",
@@ -133,13 +133,13 @@ TEST(EvaluatorCli, HelpDocumentsEveryOption) {
 }
 
 TEST(EvaluatorCli, BadCommandLineExitsWithTwo) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   EXPECT_EQ(run(kBinary + " 2>/dev/null"), 2);  // --out is required
   EXPECT_EQ(run(kBinary + " --out '" + dir.string() + "' --profile nope 2>/dev/null"), 2);
 }
 
 TEST(EvaluatorCli, OfflineRecomputesFromStatesAndRunJson) {
-  const auto src = freshDir();
+  const auto src = testDir().path();
   writeSmallRun(src);
   const auto out = src / "recomputed";
   ASSERT_EQ(run(kBinary + " --states '" + (src / "states.csv").string() + "' --out '" + out.string() + "' > '" +
@@ -163,7 +163,7 @@ TEST(EvaluatorCli, OfflineRecomputesFromStatesAndRunJson) {
 }
 
 TEST(EvaluatorCli, MalformedStatesFileNamesLineAndKeyAndExitsWithTwo) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   writeFile(dir / "states.csv", std::string(kStatesCsvHeader) +
                                     "\n0,robot,1,0,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n"
                                     "0.1,robot,1,zero,0,0,0,0,0,0,0,0.3,0,0,-1,,,,\n");
@@ -185,7 +185,7 @@ TEST(EvaluatorCli, MalformedStatesFileNamesLineAndKeyAndExitsWithTwo) {
 }
 
 TEST(EvaluatorCli, PrintsReadyAndExitsCleanlyOnSigterm) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   Child c = Child::spawn({"--out", dir.string(), "--lcm-url", "memq://"});
   ASSERT_GT(c.pid, 0);
   EXPECT_EQ(c.readLine(std::chrono::seconds(10)), "ready");
@@ -197,7 +197,7 @@ TEST(EvaluatorCli, PrintsReadyAndExitsCleanlyOnSigterm) {
 // Two processes over UDP multicast: needs a private network namespace with a multicast route
 // (README.md, "Modes and separate processes"). Skipped where namespaces cannot be created.
 TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   const pid_t helper = fork();
   if (helper == 0) {
     // In the helper process: no gtest assertions, exit codes only (77 = cannot isolate).
@@ -240,7 +240,7 @@ TEST(EvaluatorCli, SigintMidEpisodeWritesWhatWasRecorded) {
 }
 
 TEST(EvaluatorCli, ReplaysAnLcmLogWithProfileSelectionAndTxtFormat) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   {
     lcm::LCM lcm("memq://");
     hunav::LcmBus enc(lcm);
@@ -301,7 +301,7 @@ TEST(EvaluatorCli, ReplaysAnLcmLogWithProfileSelectionAndTxtFormat) {
 TEST(EvaluatorCli, ACorruptLogKeepsTheEpisodeUpToTheCorruptEvent) {
   // liblcm's reader would allocate and read an event length of 0x7fffffff (a crash); the replay
   // stops there and writes the episode as incomplete, with the world states before it.
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   const auto log_file = dir / "cut.lcmlog";
   std::vector<std::uint64_t> event_starts;
   {

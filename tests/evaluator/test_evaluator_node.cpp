@@ -69,7 +69,7 @@ class EvaluatorNodeTest : public ::testing::Test {
     bus.handleAvailable();
   }
 
-  std::filesystem::path dir = freshDir();
+  std::filesystem::path dir = testDir().path();
   lcm::LCM lcm{"memq://"};
   hunav::LcmBus bus{lcm};    // the evaluator's
   hunav::LcmBus world{lcm};  // plays the world
@@ -406,7 +406,7 @@ TEST(EvaluatorNode, RejectsUnknownProfileAndBadOptions) {
   lcm::LCM lcm("memq://");
   hunav::LcmBus bus(lcm);
   EvaluatorOptions o;
-  o.out_dir = freshDir("RejectsUnknownProfile");
+  o.out_dir = testDir().subdir("RejectsUnknownProfile");
   o.profile = "hunav_v0";
   EXPECT_THROW((EvaluatorNode{bus, o}), std::invalid_argument);
   o.profile = "default";

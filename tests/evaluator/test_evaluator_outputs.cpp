@@ -108,7 +108,7 @@ class OutputsTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(OutputsTest, LiveLogReplayAndStatesRecomputationAgreeExactly) {
   const std::string profile = GetParam();
-  const fs::path dir = freshDir("OutputsTest.Agree-" + profile);
+  const fs::path dir = testDir().subdir("OutputsTest.Agree-" + profile);
   EvaluatorOptions o;
   o.out_dir = dir / "live";
   o.profile = profile;
@@ -163,7 +163,7 @@ TEST_P(OutputsTest, LiveLogReplayAndStatesRecomputationAgreeExactly) {
 INSTANTIATE_TEST_SUITE_P(Profiles, OutputsTest, ::testing::Values("default", "hunav_v1"));
 
 TEST(Outputs, PerTickAndPerBehaviorLayouts) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   EvaluatorOptions o;
   o.out_dir = dir;
   playEpisode(o, dir / "run.lcmlog");
@@ -192,7 +192,7 @@ TEST(Outputs, PerTickAndPerBehaviorLayouts) {
 }
 
 TEST(Outputs, HunavTxtLayout) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   EvaluatorOptions o;
   o.out_dir = dir;
   o.experiment_tag = "t1";
@@ -212,7 +212,7 @@ TEST(Outputs, HunavTxtLayout) {
 }
 
 TEST(Outputs, LiveMetricsAtOneHertzOfSimulationTime) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   EvaluatorOptions o;
   o.out_dir = dir;
   o.live_metrics = true;
@@ -229,7 +229,7 @@ TEST(Outputs, LiveMetricsAtOneHertzOfSimulationTime) {
 }
 
 TEST(Outputs, MetricSelectionFile) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   writeFile(dir / "sel.yaml", "metrics:\n  social_work: false\n  completed: true\n  danger_fear_cost: false\n");
   EvaluatorOptions o;
   o.out_dir = dir / "run";
@@ -263,7 +263,7 @@ TEST(Outputs, HunavsimsMetricsFileLoadsUnchanged) {
   EXPECT_TRUE(m.disabled.empty());
   EXPECT_EQ(metricsFor("hunav_v1", file).names(), metricsForProfile("hunav_v1").names());
 
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   writeFile(dir / "bad.yaml", "hunav_evaluator_node:\n  ros__parameters:\n    frequency: 1.0\n    colour: red\n");
   try {
     readMetricsFile((dir / "bad.yaml").string(), "default");

@@ -141,7 +141,7 @@ class WorkerTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(WorkerTest, WorkerThreadWritesTheSameBytesAsTheSynchronousMode) {
   const std::string profile = GetParam();
-  const fs::path dir = freshDir("WorkerTest.SameBytes-" + profile);
+  const fs::path dir = testDir().subdir("WorkerTest.SameBytes-" + profile);
   const Played sync = play(optionsFor(dir / "sync", profile, false), kTicks, true);
   const Played worker = play(optionsFor(dir / "worker", profile, true), kTicks, true);
   expectSameFiles(dir / "sync", dir / "worker", false);
@@ -161,7 +161,7 @@ TEST_P(WorkerTest, WorkerThreadWritesTheSameBytesAsTheSynchronousMode) {
 INSTANTIATE_TEST_SUITE_P(Profiles, WorkerTest, ::testing::Values("default", "hunav_v1"));
 
 TEST(Worker, FinishIncompleteDrainsEverySampleReceived) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   // 247 ticks: not a multiple of the hand-off batch, the last ones still queued at finishIncomplete.
   constexpr int kCut = 247;
   EvaluatorOptions sync = optionsFor(dir / "sync", "default", false);
@@ -180,7 +180,7 @@ TEST(Worker, FinishIncompleteDrainsEverySampleReceived) {
 }
 
 TEST(Worker, DestructionWritesEverySampleReceived) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   constexpr int kCut = 123;
   EvaluatorOptions o = optionsFor(dir, "default", true);
   o.live_metrics = false;
@@ -220,7 +220,7 @@ TEST(SurpriseCostIds, AnyIdsGiveTheSameValues) {
 
 // worker_min_people: the worker takes over at tick 150, when the crowd grows from 50 to 60 people.
 TEST(Worker, TakingOverDuringTheRunWritesTheSameBytes) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   EvaluatorOptions worker = optionsFor(dir / "worker", "default", true);
   worker.worker_min_people = 55;
   play(optionsFor(dir / "sync", "default", false), kTicks, true);
@@ -233,7 +233,7 @@ TEST(Worker, TakingOverDuringTheRunWritesTheSameBytes) {
 // mode's does.
 TEST(Worker, AWriteErrorReachesTheCaller) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   for (const bool worker : {false, true}) {
     const fs::path out = dir / (worker ? "worker" : "sync");
     fs::create_directories(out);
@@ -271,7 +271,7 @@ TEST(Worker, AWriteErrorReachesTheCaller) {
 // requests after every message and two people only (the worker takes over from the first world
 // state): the same bytes as the synchronous mode, in every episode's folder.
 TEST(Worker, EpisodesSampleRateAndFlushRequestsWriteTheSameBytes) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   for (const bool worker : {false, true}) {
     EvaluatorOptions o = optionsFor(dir / (worker ? "worker" : "sync"), "default", worker);
     o.episodes = 3;
@@ -312,7 +312,7 @@ TEST(Worker, EpisodesSampleRateAndFlushRequestsWriteTheSameBytes) {
 // A large crowd: the ring holds fewer items (its memory bound), so the producer fills it and waits
 // for the worker again and again; the files are still those of the synchronous mode.
 TEST(Worker, ALargeCrowdFillingTheRingWritesTheSameBytes) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   constexpr int kCrowd = 1200, kCrowdTicks = 60;
   for (const bool worker : {false, true}) {
     EvaluatorOptions o = optionsFor(dir / (worker ? "worker" : "sync"), "default", worker);

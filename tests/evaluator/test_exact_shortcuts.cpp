@@ -90,7 +90,7 @@ TEST_P(MirroredTrack, BehaviorFilesEqualTheMetricsOfTheFilteredRecording) {
        {std::pair<int, int>{60, 120}, std::pair<int, int>{300, 420}, std::pair<int, int>{-1, -1}}) {
     SCOPED_TRACE(other_from);
     const Recording rec = behaviorRecording(480, other_from, other_to);
-    const fs::path dir = freshDir(fmt::format("mirror-{}-{}", profile, other_from));
+    const fs::path dir = testDir().subdir(fmt::format("mirror-{}-{}", profile, other_from));
     RunInfo info;
     info.run_id = "mirror";
     info.experiment_tag = "tag";
@@ -179,8 +179,8 @@ TEST(WorkerHandOver, EncodedOrCopiedTheFilesAreThoseOfTheSynchronousMode) {
     if (k % 13 == 6) people[1].name = std::string("bad\0name", 8);
     states.push_back(worldState(1, k, 20000 + 10000 * k, robot, people));
   }
-  const fs::path sync_dir = freshDir("handover-sync");
-  const fs::path worker_dir = freshDir("handover-worker");
+  const fs::path sync_dir = testDir().subdir("handover-sync");
+  const fs::path worker_dir = testDir().subdir("handover-worker");
   for (const bool worker : {false, true}) {
     EvaluatorOptions o;
     o.out_dir = worker ? worker_dir : sync_dir;

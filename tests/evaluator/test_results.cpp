@@ -31,7 +31,7 @@ TEST(Results, GitCommitCanBeOverriddenByTheEnvironment) {
 }
 
 TEST(Results, MetricsRowsShareOneHeaderAndAnotherHeaderGetsItsOwnFile) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   RunInfo info;
   info.experiment_tag = "exp,1";
   info.run_id = "r1";
@@ -55,7 +55,7 @@ TEST(Results, MetricsRowsShareOneHeaderAndAnotherHeaderGetsItsOwnFile) {
 }
 
 TEST(Results, RunJsonReadsBackAndEscapesStrings) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   RunInfo info;
   info.run_id = "r1";
   info.scenario = "a \"quoted\"\\ name\twith\ncontrol \x01 chars";

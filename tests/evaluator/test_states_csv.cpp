@@ -76,7 +76,7 @@ Recording awkward(const std::filesystem::path& file) {
 }  // namespace
 
 TEST(StatesCsv, WritesTheLayoutOfDesignSection10) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   Recording rec;
   EntityState r = robotWithGoal(1.5, -2, 4, 0, 0.3);
   r.id = 100;
@@ -102,7 +102,7 @@ TEST(StatesCsv, WritesTheLayoutOfDesignSection10) {
 }
 
 TEST(StatesCsv, ReadsBackTheSameDoubles) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   const Recording original = awkward(dir / "states.csv");
   const Recording back = readStatesCsv(dir / "states.csv");
   ASSERT_EQ(back.size(), original.size());
@@ -118,7 +118,7 @@ TEST(StatesCsv, ReadsBackTheSameDoubles) {
 }
 
 TEST(StatesCsv, HeaderOnlyFileIsAnEmptyRecording) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   writeFile(dir / "states.csv", std::string(kStatesCsvHeader) + "\n");
   EXPECT_TRUE(readStatesCsv(dir / "states.csv").empty());
 }
@@ -126,7 +126,7 @@ TEST(StatesCsv, HeaderOnlyFileIsAnEmptyRecording) {
 namespace {
 // Expects readStatesCsv to fail with "file:line: key: ..." for a file made of the header and `rows`.
 void expectError(const std::string& rows, int line, const std::string& key) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   const auto file = dir / "states.csv";
   writeFile(file, std::string(kStatesCsvHeader) + "\n" + rows);
   try {
@@ -160,7 +160,7 @@ TEST(StatesCsv, MalformedFilesNameFileLineAndKey) {
 }
 
 TEST(StatesCsv, WrongHeaderIsLineOne) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   writeFile(dir / "states.csv", "t,kind,id\n");
   try {
     readStatesCsv(dir / "states.csv");
@@ -176,7 +176,7 @@ TEST(StatesCsv, WrongHeaderIsLineOne) {
 // goal_radius) from one row of an entity to its next while their values stay the same: every
 // change of any of them (and ids it does not cache: negative, >= 2^16) must still be written.
 TEST(StatesCsv, RowsFollowEveryChangeOfTheColumnsThatRarelyChange) {
-  const auto dir = freshDir();
+  const auto dir = testDir().path();
   Recording rec;
   std::vector<std::string> expected;
   for (int k = 0; k < 12; ++k) {

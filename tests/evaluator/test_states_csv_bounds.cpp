@@ -22,7 +22,7 @@ std::string oneTick(const std::string& radius) {
 }  // namespace
 
 TEST(StatesCsvBounds, ARadiusOutsideTheMessagesBoundIsAnErrorAtItsLine) {
-  const auto dir = freshDir("states-bounds");
+  const auto dir = testDir().subdir("states-bounds");
   writeFile(dir / "ok.csv", oneTick("100"));
   EXPECT_EQ(readStatesCsv(dir / "ok.csv").size(), 1u);
   for (const char* radius : {"1e6", "100.5", "-0.1"}) {
@@ -40,7 +40,7 @@ TEST(StatesCsvBounds, ARadiusOutsideTheMessagesBoundIsAnErrorAtItsLine) {
 }
 
 TEST(StatesCsvBounds, AFolderIsNotAStatesFile) {
-  const auto dir = freshDir("states-folder");
+  const auto dir = testDir().subdir("states-folder");
   std::filesystem::create_directories(dir / "states.csv");
   try {
     readStatesCsv(dir / "states.csv");

@@ -89,7 +89,7 @@ TEST(SampleRate, KeepsTheFirstSampleAtOrAfterEachGridPoint) {
 }
 
 TEST(SampleRate, MetricsAtTenHertzWorkedOutByHand) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   {
     Recording rec;
     StatesCsvWriter w(dir / "states.csv");
@@ -133,7 +133,7 @@ TEST(SampleRate, MetricsAtTenHertzWorkedOutByHand) {
 }
 
 TEST(SampleRate, TheLiveEvaluatorKeepsTheSameSamplesAsTheOfflineOne) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   lcm::LCM lcm("memq://");
   hunav::LcmBus bus(lcm);
   hunav::LcmBus world(lcm);
@@ -178,7 +178,7 @@ TEST(SampleRate, TheLiveEvaluatorKeepsTheSameSamplesAsTheOfflineOne) {
 }
 
 TEST(SampleRate, CommandLine) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   Recording rec;
   {
     StatesCsvWriter w(dir / "states.csv");
@@ -208,7 +208,7 @@ TEST(SampleRate, CommandLine) {
 // Offline run folders
 
 TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   const std::string rows = std::string(kStatesCsvHeader) +
                            "\r\n0,robot,1,0,0,0,0,0,0,0.5,0,0.3,0,0,-1,2,0,0.3,\r\n"
                            "\r\n"  // a blank line is skipped
@@ -256,7 +256,7 @@ TEST(OfflineFolder, HoldsACopyOfTheStatesAndNothingAfterBadInput) {
 }
 
 TEST(StatesCsvReader, LinesLongerThanAReadBlockAndChunks) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   // A robot with 40000 obstacle points: a row of about 0.5 MB, longer than one read block.
   Recording rec;
   std::vector<hunav::Vec2> points;
@@ -289,7 +289,7 @@ TEST(StatesCsvReader, LinesLongerThanAReadBlockAndChunks) {
 // Writers
 
 TEST(StatesCsvWriter, BuffersRowsUntilFlushAndKeepsThemOnClose) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   Recording rec;
   StatesCsvWriter w(dir / "states.csv");
   rec.addSample(0.0, robot(0, 0), {agent(1, 1, 1)});
@@ -307,7 +307,7 @@ TEST(StatesCsvWriter, BuffersRowsUntilFlushAndKeepsThemOnClose) {
 }
 
 TEST(StatesCsvWriter, TheNodeNeverHoldsBackAHundredSamples) {
-  const fs::path dir = freshDir();
+  const fs::path dir = testDir().path();
   lcm::LCM lcm("memq://");
   hunav::LcmBus bus(lcm);
   hunav::LcmBus world(lcm);

@@ -7,7 +7,7 @@
 set -euo pipefail
 export HUNAV_BIN_DIR="$BIN"
 WORK=$(mktemp -d /tmp/hunav_batch_timeout.XXXXXX)
-trap "true" EXIT
+trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 out="$WORK/batch"
 start=$(date +%s.%N)

@@ -11,6 +11,8 @@
 #include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/summary.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::experiments;
@@ -18,12 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hunav::testing::readFile;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
@@ -32,9 +29,9 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hunav_test_batch_" + name);
-  fs::remove_all(d);
+// An empty batch folder (with its runs/) in the running test's folder.
+fs::path batchDir(const std::string& name) {
+  const fs::path d = hunav::testing::testDir().subdir(name);
   fs::create_directories(d / "runs");
   return d;
 }
@@ -97,7 +94,7 @@ TEST(BatchLayout, CsvFieldsAndNumbers) {
 }
 
 TEST(BatchSummary, WritesTheFourFilesWithHandComputedStatistics) {
-  const fs::path dir = freshDir("four");
+  const fs::path dir = batchDir("four");
   // Scenario "s": planner a takes 10, 12, 14 s; planner b 11, 12, 16 s (seeds 1..3); minimum
   // distances a 0.5, 0.7, 0.6 and b 0.9, 1.0, 1.1; the regular people (code 1) and the curious (5).
   makeRun(dir, "s", "a", 1, 10, 0.5, true, {{1, 0.5}, {5, 2.0}});
@@ -188,7 +185,7 @@ TEST(BatchSummary, WritesTheFourFilesWithHandComputedStatistics) {
 }
 
 TEST(BatchSummary, StuckRunsAreFinishedFailuresCountedApart) {
-  const fs::path dir = freshDir("stuck");
+  const fs::path dir = batchDir("stuck");
   // Planner a: seed 1 reaches its goal in 10 s, seed 2 is stuck at 6 s, seed 3 was aborted; planner b
   // runs out of time (20 s).
   makeRun(dir, "s", "a", 1, 10, 0.5, true);
@@ -225,7 +222,7 @@ TEST(BatchSummary, StuckRunsAreFinishedFailuresCountedApart) {
 }
 
 TEST(BatchSummary, EmptyAndMissingFolders) {
-  const fs::path dir = freshDir("empty");
+  const fs::path dir = batchDir("empty");
   writeBatchSummary(dir);
   EXPECT_EQ(readFile(dir / "summary.csv"), "scenario,planner,seed,status,sim_time,wall_time,run_dir\n");
   EXPECT_EQ(readFile(dir / "paired.csv"),
@@ -234,7 +231,7 @@ TEST(BatchSummary, EmptyAndMissingFolders) {
 }
 
 TEST(BatchSummary, ScenarioOrderFollowsTheMatrix) {
-  const fs::path dir = freshDir("order");
+  const fs::path dir = batchDir("order");
   std::ofstream(dir / "matrix.tsv") << "0\t/x/passing.yaml\tpassing\tdwb\t1\n1\t/x/crossing.yaml\tcrossing\tdwb\t1\n"
                                        "2\t/x/passing.yaml\tpassing\tscl\t1\n";
   EXPECT_EQ(scenarioOrder(dir), (std::vector<std::string>{"passing", "crossing"}));
@@ -246,7 +243,7 @@ TEST(BatchSummary, ScenarioOrderFollowsTheMatrix) {
 }
 
 TEST(BatchSummary, ADuplicateMetricColumnIsAWarningNotASilentPick) {
-  const fs::path dir = freshDir("duplicate_column");
+  const fs::path dir = batchDir("duplicate_column");
   makeRun(dir, "passing", "dwb", 1, 10, 0.5, true);
   const fs::path metrics = dir / "runs" / runFolderName({"passing", "dwb", 1}) / "metrics.csv";
   // The same metric twice, with different values: which one is meant cannot be told.
@@ -262,7 +259,7 @@ TEST(BatchSummary, ADuplicateMetricColumnIsAWarningNotASilentPick) {
 }
 
 TEST(BatchSummary, IntervalsStayInsideWhatTheMetricCanTakeAndOnePairIsNotTestable) {
-  const fs::path dir = freshDir("bounded");
+  const fs::path dir = batchDir("bounded");
   // Planner a, seeds 1 and 2: minimum distances 0.2 and 1.0 m, completed both times. Planner b ran
   // seed 1 only.
   makeRun(dir, "s", "a", 1, 10, 0.2, true);
@@ -296,7 +293,7 @@ TEST(BatchSummary, IntervalsStayInsideWhatTheMetricCanTakeAndOnePairIsNotTestabl
 
 // Runs with --counterfactual: summary.md compares the planners on the counterfactual_* metrics.
 TEST(BatchSummary, CounterfactualSection) {
-  const fs::path batch = freshDir("counterfactual");
+  const fs::path batch = batchDir("counterfactual");
   // dwb moves people 0.04 and 0.06 m off their paths (mean 0.05), scl 0.01 and 0.03 (mean 0.02).
   const std::map<std::string, std::pair<double, double>> deviation = {{"dwb", {0.04, 0.06}}, {"scl", {0.01, 0.03}}};
   for (const auto& [planner, dev] : deviation)
@@ -340,7 +337,7 @@ TEST(BatchSummary, CounterfactualSection) {
 }
 
 TEST(BatchSummary, NoCounterfactualSectionWithoutTheMetrics) {
-  const fs::path batch = freshDir("no_counterfactual");
+  const fs::path batch = batchDir("no_counterfactual");
   makeRun(batch, "passing", "dwb", 1, 20.0, 1.0, true);
   makeRun(batch, "passing", "scl", 1, 21.0, 1.1, true);
   writeBatchSummary(batch);

@@ -11,30 +11,24 @@
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/expectations_summary.hpp"
 #include "hunav/experiments/summary.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav::experiments;
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hunav::testing::readFile;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hunav_test_expectations_" + name);
-  fs::remove_all(d);
+// An empty batch folder (with its runs/) in the running test's folder.
+fs::path batchDir(const std::string& name) {
+  const fs::path d = hunav::testing::testDir().subdir(name);
   fs::create_directories(d / "runs");
   return d;
 }
 
-void writeFile(const fs::path& file, const std::string& text) {
-  fs::create_directories(file.parent_path());
-  std::ofstream(file, std::ios::binary) << text;
-}
+using hunav::testing::writeFile;
 
 // A run folder as run_experiment.sh leaves it (metrics.csv and run.json, by the evaluator's writers).
 fs::path makeRun(const fs::path& batch, const std::string& scenario, const std::string& planner, long long seed,
@@ -87,7 +81,7 @@ std::string section(const std::string& md, const std::string& heading) {
 }  // namespace
 
 TEST(ExpectationsSummary, VerdictsPerPlannerAndConditionWithTheFailingSeeds) {
-  const fs::path dir = freshDir("verdicts");
+  const fs::path dir = batchDir("verdicts");
   // passing: dwb seed 1 passes both, seed 2 is too close (0.42), seed 3 has no expect.json (did not
   // finish); sfw seed 1 fails both, seed 2 passes both. crossing has no expect: block at all.
   writeExpect(makeRun(dir, "passing", "dwb", 1, true, 0.8), "true", true, "0.8", true);
@@ -136,7 +130,7 @@ TEST(ExpectationsSummary, VerdictsPerPlannerAndConditionWithTheFailingSeeds) {
 }
 
 TEST(ExpectationsSummary, NoExpectJsonNoFileNoSection) {
-  const fs::path dir = freshDir("none");
+  const fs::path dir = batchDir("none");
   makeRun(dir, "passing", "dwb", 1, true, 0.8);
   writeFile(dir / "expectations.csv", "stale\n");  // from an earlier summary of runs now gone
   const Batch batch = writeBatchSummary(dir);
@@ -146,7 +140,7 @@ TEST(ExpectationsSummary, NoExpectJsonNoFileNoSection) {
 }
 
 TEST(ExpectationsSummary, AMalformedExpectJsonIsAWarningNamingFileAndKey) {
-  const fs::path dir = freshDir("malformed");
+  const fs::path dir = batchDir("malformed");
   const fs::path run = makeRun(dir, "passing", "dwb", 1, true, 0.8);
   writeFile(run / "expect.json",
             R"({"conditions": [{"metric": "completed", "condition": "== true", "value": "true"}]})");

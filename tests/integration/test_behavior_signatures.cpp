@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -51,22 +52,7 @@ double offFacing(const Row& a, double x, double y) {
   return std::abs(std::remainder(std::atan2(y - a.y, x - a.x) - a.yaw, 2.0 * M_PI));
 }
 
-class TempDir {
- public:
-  TempDir()
-      : path_(fs::temp_directory_path() /
-              ("hunav_signatures_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using hunav::testing::TempDir;
 
 // Runs scenarios/<name>.yaml with the test's planner; returns the tracks (status checked).
 Tracks run(const std::string& name, const std::string& planner) {

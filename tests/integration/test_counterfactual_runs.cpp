@@ -20,6 +20,7 @@
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/runner/robot_free_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using hunav::evaluator::readStatesCsv;
@@ -27,11 +28,8 @@ using hunav::evaluator::Recording;
 
 namespace {
 
-fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hunav_cf_runs_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  return d;
-}
+// A run's output folder (not yet made) in the running test's folder.
+fs::path outDir(const std::string& name) { return hunav::testing::testDir() / name; }
 
 hunav::Scenario scenario(const std::string& name, long long seed) {
   return hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/" + name + ".yaml", seed);
@@ -79,7 +77,7 @@ TEST_P(Parked, RobotFarOutsideTheMapChangesNothing) {
   s.robot.start = hunav::Vec2(1000.0, 1000.0);  // 1 km away from the map and every person
   s.robot.has_goal = false;                     // never stuck, never at a goal: runs to the time limit
   s.time_limit = 40.0;
-  const fs::path out = tempDir(std::string("parked_") + GetParam());
+  const fs::path out = outDir(std::string("parked_") + GetParam());
   hunav::runner::RunOptions o;
   o.planner = "none";
   o.out_dir = out.string();
@@ -112,7 +110,6 @@ TEST_P(Parked, RobotFarOutsideTheMapChangesNothing) {
     EXPECT_EQ(f[12], "false") << line;
   }
   EXPECT_EQ(people, static_cast<int>(s.agents.size()));
-  fs::remove_all(out);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, Parked, ::testing::Values("cafe", "passing"));
@@ -120,7 +117,7 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, Parked, ::testing::Values("cafe", "passing")
 TEST(Counterfactual, NobodyReactsToAnAbsentRobot) {
   // Cafe with dwb: the robot crosses the cafe among scared, threatening, curious and impassive people.
   const hunav::Scenario s = scenario("cafe", 1);
-  const fs::path out = tempDir("cafe_dwb");
+  const fs::path out = outDir("cafe_dwb");
   hunav::runner::RunOptions o;
   o.planner = "dwb";
   o.out_dir = out.string();
@@ -140,13 +137,12 @@ TEST(Counterfactual, NobodyReactsToAnAbsentRobot) {
     for (const auto& p : without.agents(sample))
       ASSERT_EQ(p.behavior_state, 0) << "person " << p.id << " reacts at " << sample.t << " s without a robot";
   EXPECT_GT(counterfactualOf(r).at("counterfactual_people_affected"), 0.0);
-  fs::remove_all(out);
 }
 
 class Disturbs : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Disturbs, RobotWalkingThroughPeopleDisturbsSomeone) {
-  const fs::path out = tempDir(std::string("disturbs_") + GetParam());
+  const fs::path out = outDir(std::string("disturbs_") + GetParam());
   hunav::runner::RunOptions o;
   o.planner = "dwb";
   o.out_dir = out.string();
@@ -162,13 +158,12 @@ TEST_P(Disturbs, RobotWalkingThroughPeopleDisturbsSomeone) {
   const std::string header = text(out / "metrics.csv").substr(0, text(out / "metrics.csv").find('\n'));
   EXPECT_NE(header.find(",surprise_react_cost,counterfactual_people_affected,counterfactual_delay,"), std::string::npos)
       << header;
-  fs::remove_all(out);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, Disturbs, ::testing::Values("passing", "crossing"));
 
 TEST(Counterfactual, OffLeavesTheFilesAsBefore) {
-  const fs::path plain = tempDir("plain"), with = tempDir("with");
+  const fs::path plain = outDir("plain"), with = outDir("with");
   hunav::runner::RunOptions o;
   o.planner = "dwb";
   o.out_dir = plain.string();
@@ -181,8 +176,6 @@ TEST(Counterfactual, OffLeavesTheFilesAsBefore) {
   EXPECT_TRUE(fs::exists(with / "counterfactual.csv"));
   for (const char* f : {"states.csv", "metrics_steps.csv"}) EXPECT_EQ(text(plain / f), text(with / f)) << f;
   EXPECT_EQ(text(plain / "metrics.csv").find("counterfactual"), std::string::npos);
-  fs::remove_all(plain);
-  fs::remove_all(with);
 }
 
 }  // namespace

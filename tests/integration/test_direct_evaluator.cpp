@@ -32,7 +32,7 @@ hunav::world_state_t crowdState(std::int64_t tick, int people) {
 }
 
 TEST(DirectEvaluator, RecordsEveryWorldStateAndCountsTheOneThatNeverCame) {
-  const std::filesystem::path dir = freshDir("direct_evaluator");
+  const std::filesystem::path dir = testDir().subdir("direct_evaluator");
   hunav::UdpmBus bus(kEvaluatorUrl);
   hunav::evaluator::EvaluatorOptions eval;
   eval.out_dir = dir;

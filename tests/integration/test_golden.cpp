@@ -10,6 +10,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -27,16 +28,13 @@ hunav::runner::RunOutcome runPassing(const fs::path& out, const std::string& rec
   return hunav::runner::runInProcess(s, o);
 }
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hunav_golden_" + name);
-  fs::remove_all(d);
-  return d;
-}
+// A run's output folder (not yet made) in the running test's folder.
+fs::path outDir(const std::string& name) { return hunav::testing::testDir() / name; }
 
 }  // namespace
 
 TEST(Golden, PassingWithDwbMatchesTheRecordedFingerprint) {
-  const auto outcome = runPassing(freshDir("a"));
+  const auto outcome = runPassing(outDir("a"));
   ASSERT_EQ(outcome.episode.status, "goal_reached") << outcome.episode.reason;
   // Around the people without touching anyone: no contact at all in the episode (Box2D's contact
   // events), and a positive surface distance to every person at every tick.
@@ -58,10 +56,10 @@ TEST(Golden, PassingWithDwbMatchesTheRecordedFingerprint) {
 }
 
 TEST(Golden, RepeatedRunsAreBitIdenticalAndRecordEverything) {
-  const fs::path log = fs::temp_directory_path() / "hunav_golden_run.lcmlog";
-  const auto a = runPassing(freshDir("b"), log.string());
-  const auto b = runPassing(freshDir("c"));
-  const auto c = runPassing(freshDir("d"), "", true);  // LCM's memq:// instead of the in-process queue
+  const fs::path log = hunav::testing::testDir() / "run.lcmlog";
+  const auto a = runPassing(outDir("b"), log.string());
+  const auto b = runPassing(outDir("c"));
+  const auto c = runPassing(outDir("d"), "", true);  // LCM's memq:// instead of the in-process queue
   EXPECT_EQ(a.episode.fingerprint, b.episode.fingerprint);
   EXPECT_EQ(a.episode.fingerprint, c.episode.fingerprint);
   ASSERT_TRUE(a.result.has_value());

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -24,8 +25,7 @@ const char* const kPlanners[] = {"dwb", "scl", "sfw"};
 
 // Per planner, the mean over seeds 1-5 of each metric; every run must reach its goal.
 std::map<std::string, std::map<std::string, double>> meansOf(const std::string& scenario) {
-  const fs::path out = fs::temp_directory_path() /
-                       ("hunav_orderings_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
+  const hunav::testing::TempDir out;
   std::map<std::string, std::map<std::string, double>> means;
   for (const char* planner : kPlanners) {
     for (int seed = 1; seed <= kSeeds; ++seed) {
@@ -43,8 +43,6 @@ std::map<std::string, std::map<std::string, double>> meansOf(const std::string& 
       for (const auto& m : r.result->metrics) means[planner][m.name] += m.value / kSeeds;
     }
   }
-  std::error_code ec;
-  fs::remove_all(out, ec);
   return means;
 }
 

@@ -13,7 +13,7 @@
 //      while more than goal_radius + 0.5 m from its current goal and not reacting to the robot
 //      (behavior_state 0). A person pinned in front of a gap its obstacle force does not let it
 //      through (the warehouse's 0.9 m between rack uprights) fails here.
-// Failure messages name scenario, planner, seed, agent and time. HUNAV_KEEP_RUNS=1 keeps the result
+// Failure messages name scenario, planner, seed, agent and time. HUNAV_KEEP_TEMP=1 keeps the result
 // folders (their path is printed) to look at them, e.g. with hunav_report.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -35,6 +35,7 @@
 
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -282,27 +283,7 @@ void reportMissed(const std::string& label, const std::vector<Missed>& missed, d
   }
 }
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("hunav_real_maps_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    const char* keep = std::getenv("HUNAV_KEEP_RUNS");
-    if (keep != nullptr && std::string(keep) == "1") {
-      std::printf("real maps: runs kept in %s\n", path_.c_str());
-      return;
-    }
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using hunav::testing::TempDir;
 
 struct Run {
   hunav::runner::RunOutcome outcome;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -51,22 +52,7 @@ Tracks readTracks(const fs::path& states) {
   return tracks;
 }
 
-class TempDir {
- public:
-  TempDir()
-      : path_(fs::temp_directory_path() /
-              ("hunav_recovery_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using hunav::testing::TempDir;
 
 hunav::runner::RunOutcome run(const std::string& planner, bool person_leaves, const fs::path& out) {
   hunav::Scenario s = hunav::loadScenario(kData + "dead_end.yaml");

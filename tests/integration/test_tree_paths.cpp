@@ -12,6 +12,7 @@
 #include "hunav/config_error.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -34,8 +35,7 @@ hunav::runner::RunOutcome runFrom(const fs::path& cwd, const std::string& scenar
 }  // namespace
 
 TEST(TreePaths, FingerprintDoesNotDependOnHowTheScenarioPathIsWritten) {
-  const fs::path root = fs::temp_directory_path() / ("hunav_tree_paths_" + std::to_string(::getpid()));
-  fs::remove_all(root);
+  const hunav::testing::TempDir root;
   fs::create_directories(root / "scen" / "people");
   fs::create_directories(root / "elsewhere" / "deeper");
   // HuNavSim's own v3 trees (with their <include>), beside the agents file that names one.
@@ -70,15 +70,12 @@ people: people/agents.yaml
   EXPECT_EQ(hunav::behaviorTreeReference(s.file, s.agents.at(0).behavior_tree), "people/trees/BTSurprisedNav.xml");
   EXPECT_EQ(hunav::resolveBehaviorTree(s.file, "people/trees/BTSurprisedNav.xml"),
             (root / "scen" / "people" / "trees" / "BTSurprisedNav.xml").string());
-  fs::remove_all(root);
 }
 
 // HuNavSim's metrics.yaml (its ROS parameter wrapper) named by the scenario's evaluation.metrics:
 // its metrics are selected, its frequency (1 Hz) is the sample rate, its experiment_tag the tag.
 TEST(MetricsFile, ScenarioEvaluationMetricsWithHunavsimsFile) {
-  const fs::path root = fs::temp_directory_path() / ("hunav_metrics_file_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
+  const hunav::testing::TempDir root;
   const std::string yaml = std::string(HUNAV_SOURCE_DIR) + "/tests/data/hunav_files/metrics.yaml";
   std::ifstream in(yaml);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -125,5 +122,4 @@ TEST(MetricsFile, ScenarioEvaluationMetricsWithHunavsimsFile) {
     EXPECT_EQ(e.line(), 3);
     EXPECT_EQ(e.key(), "evaluation.metrics");
   }
-  fs::remove_all(root);
 }

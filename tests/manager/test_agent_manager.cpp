@@ -9,15 +9,15 @@
 #include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/testing/lossy_bus.hpp"
-#include "people_fixtures.hpp"
+#include "hunav/testing/people.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
 
 namespace {
 
-using test::person;
-using test::robotAt;
+using hunav::testing::person;
+using hunav::testing::robotAt;
 
 step_request_t request(std::vector<agent_state_t> agents, agent_state_t robot, int64_t seq = 1) {
   step_request_t r{};

@@ -6,28 +6,21 @@
 #include <fstream>
 
 #include "hunav/manager/agent_manager.hpp"
-#include "people_fixtures.hpp"
+#include "hunav/testing/people.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
 
 namespace {
 
-// The resting person of people_fixtures.hpp, with a short, one-off reaction.
+// The resting person of hunav/testing/people.hpp, with a short, one-off reaction.
 agent_state_t person(int id, double x, double y) {
-  agent_state_t a = test::person(id, x, y);
-  a.behavior_params.duration = 1.0;
-  a.behavior_params.once = true;
-  a.robot_in_sight = true;
-  return a;
+  return hunav::testing::reactingOnce(hunav::testing::person(id, x, y), 1.0);
 }
 
 agent_state_t robotAt(double x, double y, double yaw = 0.0) {
-  agent_state_t r = person(0, x, y);
-  r.type = agent_state_t::TYPE_ROBOT;
-  r.behavior = agent_state_t::BEH_NONE;
-  r.yaw = yaw;
-  return r;
+  return hunav::testing::reactingOnce(hunav::testing::robotAt(x, y, yaw), 1.0);
 }
 
 step_request_t request(const agent_state_t& a, const agent_state_t& robot, int64_t seq, int64_t episode = 1) {
@@ -80,7 +73,7 @@ int countSuccess(const std::string& cond, const agent_state_t& a, const agent_st
 }
 
 std::string loadError(const std::string& xml) {
-  const std::string path = std::string(HUNAV_BINARY_DIR) + "/bt_error_test.xml";
+  const std::string path = (hunav::testing::testDir() / "bt_error_test.xml").string();
   std::ofstream(path) << xml;
   AgentManager m;
   try {
@@ -127,7 +120,7 @@ TEST(BehaviorTreeXml, ErrorsNameFileLineAndWhat) {
 TEST(BehaviorTreeXml, ScenarioTreesAreCheckedWhenTheScenarioIsLoaded) {
   // Every agent's behavior_tree file is parsed by loadTrees (hunav_run, hunav_manager --scenario):
   // the error names the agents file, the agent's line and key, then the tree file's own error.
-  const std::string dir = std::string(HUNAV_BINARY_DIR) + "/";
+  const std::string dir = hunav::testing::testDir().string() + "/";
   std::ofstream(dir + "bt_check_good.xml") << "<root BTCPP_format=\"4\"><BehaviorTree ID=\"T\"><StopMovement/>"
                                               "</BehaviorTree></root>";
   std::ofstream(dir + "bt_check_malformed.xml") << "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n</root>\n";
@@ -182,7 +175,7 @@ TEST(BehaviorTreeXml, ShippedTreesLoad) {
 }
 
 TEST(BehaviorTreeXml, AgentMayNameItsOwnTreeFile) {
-  const std::string path = std::string(HUNAV_BINARY_DIR) + "/bt_stand_still.xml";
+  const std::string path = (hunav::testing::testDir() / "bt_stand_still.xml").string();
   std::ofstream(path) << "<root BTCPP_format=\"4\"><BehaviorTree ID=\"Stand\"><StopMovement/></BehaviorTree></root>";
   agent_state_t a = person(1, 0, 0);
   a.goals = {point2d_t{5, 0}};

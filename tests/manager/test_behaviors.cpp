@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "hunav/manager/agent_manager.hpp"
+#include "hunav/testing/people.hpp"
 #include "people_social.hpp"  // internal: the grid and the pair kernel
 
 using namespace hunav;
@@ -12,26 +13,12 @@ using namespace hunav::manager;
 
 namespace {
 
+// The resting person of hunav/testing/people.hpp reacting once for 40 s, with the v1 other-force
+// factor and reaction speed.
 agent_state_t person(int id, double x, double y, int behavior = agent_state_t::BEH_REGULAR) {
-  agent_state_t a{};
-  a.id = id;
-  a.type = agent_state_t::TYPE_PERSON;
-  a.behavior = static_cast<int8_t>(behavior);
-  a.group_id = -1;
-  a.x = x;
-  a.y = y;
-  a.radius = 0.35;
-  a.desired_speed = 1.0;
-  a.goal_radius = 0.3;
-  a.cyclic_goals = false;
-  a.behavior_params.goal_force_factor = 2.0;
-  a.behavior_params.obstacle_force_factor = 10.0;
-  a.behavior_params.social_force_factor = 5.0;
+  agent_state_t a = hunav::testing::reactingOnce(hunav::testing::person(id, x, y, behavior), 40.0);
   a.behavior_params.other_force_factor = 20.0;
-  a.behavior_params.duration = 40.0;
-  a.behavior_params.once = true;
   a.behavior_params.vel = 1.0;
-  a.robot_in_sight = true;
   return a;
 }
 

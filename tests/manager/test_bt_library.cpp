@@ -11,12 +11,13 @@
 
 #include "bt_social.hpp"
 #include "hunav/manager/agent_manager.hpp"
-#include "people_fixtures.hpp"
+#include "hunav/testing/people.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
-using hunav::test::person;
-using hunav::test::robotAt;
+using hunav::testing::person;
+using hunav::testing::robotAt;
 
 namespace {
 
@@ -76,7 +77,7 @@ agent_state_t walker(int id, double x, double y, double gx, double gy, double sp
 
 // A tree's load error, from a file (the message after "path:").
 std::string loadError(const std::string& body) {
-  const std::string path = std::string(HUNAV_BINARY_DIR) + "/bt_library_error.xml";
+  const std::string path = (hunav::testing::testDir() / "bt_library_error.xml").string();
   std::ofstream(path) << "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n"
                       << body << "\n</BehaviorTree>\n</root>\n";
   AgentManager m;

@@ -9,6 +9,9 @@
 #include <fstream>
 
 #include "hunav/manager/agent_manager.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/people.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -17,23 +20,13 @@ namespace {
 
 const std::string kTrees = std::string(HUNAV_SOURCE_DIR) + "/tests/data/hunav_files/behavior_trees/";
 
+// The resting person of hunav/testing/people.hpp at the origin, walking 6 m out and back.
 agent_state_t walker(int behavior) {
-  agent_state_t a{};
-  a.id = 1;
-  a.type = agent_state_t::TYPE_PERSON;
-  a.behavior = static_cast<int8_t>(behavior);
-  a.group_id = -1;
-  a.radius = 0.35;
-  a.desired_speed = 1.0;
-  a.goal_radius = 0.3;
+  agent_state_t a = hunav::testing::person(1, 0.0, 0.0, behavior);
   a.cyclic_goals = true;
   a.goals = {point2d_t{6.0, 0.0}, point2d_t{0.0, 0.0}};
   a.num_goals = 2;
-  behavior_params_t& p = a.behavior_params;
-  p.goal_force_factor = 2.0;
-  p.obstacle_force_factor = 10.0;
-  p.social_force_factor = 5.0;
-  p.other_force_factor = 20.0;
+  a.behavior_params.other_force_factor = 20.0;
   a.robot_in_sight = true;
   return a;
 }
@@ -84,11 +77,9 @@ std::string loadError(const std::string& file) {
   return "no error";
 }
 
+// Files under the running test's folder, named relative to it.
 std::string writeFile(const std::string& name, const std::string& text) {
-  const std::string dir = std::string(HUNAV_BINARY_DIR) + "/bt_v3/";
-  std::filesystem::create_directories(dir);
-  std::ofstream(dir + name) << text;
-  return dir + name;
+  return hunav::testing::writeFile(hunav::testing::testDir() / name, text);
 }
 
 }  // namespace
@@ -150,7 +141,6 @@ TEST(HunavTrees, RegularWalksToItsGoalsInTurnAndCuriousStopsAtItsDistance) {
 }
 
 TEST(HunavTrees, IncludesAreRelativeToTheIncludingFileAndCyclesAreErrors) {
-  std::filesystem::create_directories(std::string(HUNAV_BINARY_DIR) + "/bt_v3/sub");
   writeFile("sub/leaf.xml",
             "<root>\n<BehaviorTree ID=\"Leaf\">\n<StopMovement agent_id=\"{id}\"/>\n</BehaviorTree>\n</root>\n");
   writeFile("sub/mid.xml", "<root>\n<include path=\"leaf.xml\"/>\n</root>\n");
@@ -169,7 +159,7 @@ TEST(HunavTrees, IncludesAreRelativeToTheIncludingFileAndCyclesAreErrors) {
 
   const std::string missing = writeFile("missing_inc.xml", "<root>\n<include path=\"nowhere.xml\"/>\n</root>\n");
   EXPECT_EQ(loadError(missing),
-            missing + ":2: include: cannot open '" + std::string(HUNAV_BINARY_DIR) + "/bt_v3/nowhere.xml'");
+            missing + ":2: include: cannot open '" + (hunav::testing::testDir() / "nowhere.xml").string() + "'");
   const std::string dup = writeFile("dup.xml",
                                     "<root>\n<include path=\"sub/leaf.xml\"/>\n<BehaviorTree ID=\"Leaf\">\n"
                                     "<StopMovement/>\n</BehaviorTree>\n</root>\n");
@@ -180,7 +170,7 @@ TEST(HunavTrees, IncludesAreRelativeToTheIncludingFileAndCyclesAreErrors) {
               "<root>\n<include path=\"chain" + std::to_string(i + 1) + ".xml\"/>\n</root>\n");
   writeFile("chain20.xml", "<root/>\n");
   EXPECT_NE(
-      loadError(std::string(HUNAV_BINARY_DIR) + "/bt_v3/chain0.xml").find("include: files nested more than 16 deep"),
+      loadError((hunav::testing::testDir() / "chain0.xml").string()).find("include: files nested more than 16 deep"),
       std::string::npos);
 }
 

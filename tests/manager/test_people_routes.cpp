@@ -6,7 +6,7 @@
 #include <random>
 
 #include "hunav/manager/agent_manager.hpp"
-#include "people_fixtures.hpp"
+#include "hunav/testing/people.hpp"
 #include "people_routes.hpp"
 
 using namespace hunav;
@@ -14,8 +14,8 @@ using namespace hunav::manager;
 
 namespace {
 
-using test::person;
-using test::robotAt;
+using hunav::testing::person;
+using hunav::testing::robotAt;
 
 Shape box(double x0, double y0, double x1, double y1) {
   Shape s;

@@ -13,7 +13,8 @@
 #include "hunav/channels.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
-#include "people_fixtures.hpp"
+#include "hunav/testing/people.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::manager;
@@ -21,15 +22,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using test::person;
-using test::robotAt;
+using hunav::testing::person;
+using hunav::testing::robotAt;
 
 const char* kStand = "<root BTCPP_format=\"4\"><BehaviorTree ID=\"Stand\"><StopMovement/></BehaviorTree></root>";
 
-// A folder of this process with a good tree, a malformed one, a tree with an unknown node, a folder
+// A folder of the test with a good tree, a malformed one, a tree with an unknown node, a folder
 // named like a tree, and a good tree outside the folder.
 struct TreeFiles {
-  fs::path root = fs::temp_directory_path() / ("hunav_test_tree_sources_" + std::to_string(getpid()));
+  hunav::testing::TempDir root;
   fs::path folder = root / "trees";
   TreeFiles() {
     fs::create_directories(folder / "folder.xml");
@@ -38,10 +39,6 @@ struct TreeFiles {
     std::ofstream(folder / "unknown.xml")
         << "<root BTCPP_format=\"4\"><BehaviorTree ID=\"T\"><Dance/></BehaviorTree></root>";
     std::ofstream(root / "outside.xml") << kStand;
-  }
-  ~TreeFiles() {
-    std::error_code ec;
-    fs::remove_all(root, ec);
   }
 };
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/sim_tools.hpp"
 
 namespace hunav::planners {
 
@@ -48,7 +48,8 @@ struct ExhaustiveComparison {
 
 // Drives `world` with `planner` (a plan every 10 steps of 0.01 s, up to 40 s or the goal) and checks
 // every sampled decision against exhaustiveBest: branch and bound must pick exactly the same sample.
-inline void compareWithExhaustiveSearch(DwbPlanner& planner, MiniWorld& world, ExhaustiveComparison& out) {
+inline void compareWithExhaustiveSearch(DwbPlanner& planner, hunav::testing::MiniWorld& world,
+                                        ExhaustiveComparison& out) {
   robot_command_t cmd{};
   for (int tick = 0; world.time() < 40.0; ++tick) {
     if (tick % 10 == 0) {

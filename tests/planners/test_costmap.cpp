@@ -10,18 +10,14 @@
 
 #include "hunav/config_error.hpp"
 #include "hunav/planners/costmap.hpp"
+#include "hunav/testing/scenarios.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
 
 namespace {
 
-Shape wall(Vec2 a, Vec2 b) {
-  Shape s;
-  s.kind = Shape::Kind::Polyline;
-  s.points = {a, b};
-  return s;
-}
+using hunav::testing::wall;
 
 constexpr double kRadius = 0.3;
 

@@ -5,14 +5,14 @@
 
 #include "exhaustive_search.hpp"
 #include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
+using namespace hunav::testing;
 
 namespace {
-
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
 
 AgentConfig standingPerson(int id, const Vec2& at) {
   AgentConfig a;

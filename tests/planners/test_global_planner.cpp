@@ -10,18 +10,14 @@
 #include <vector>
 
 #include "hunav/planners/global_planner.hpp"
+#include "hunav/testing/scenarios.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
 
 namespace {
 
-Shape wall(Vec2 a, Vec2 b) {
-  Shape s;
-  s.kind = Shape::Kind::Polyline;
-  s.points = {a, b};
-  return s;
-}
+using hunav::testing::wall;
 
 // A 10 m x 6 m room split at x = 5 by a wall; `gap` leaves a door of that width at its top.
 Costmap splitRoom(double gap) {

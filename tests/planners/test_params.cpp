@@ -7,19 +7,17 @@
 #include "hunav/config_error.hpp"
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
+using namespace hunav::testing;
 
 namespace {
 
-std::string writeConfig(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
+std::string writeConfig(const std::string& name, const std::string& text) { return writeFile(testDir() / name, text); }
 
 // The ConfigError message for `text`, or "" when it loads.
 std::string configError(const std::string& text) {

@@ -9,10 +9,12 @@
 #include "hunav/lcm_bus.hpp"
 #include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner_node.hpp"
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
+using namespace hunav::testing;
 
 namespace {
 
@@ -28,8 +30,6 @@ class CountingPlanner : public Planner {
   std::shared_ptr<int> plans = std::make_shared<int>(0);
   std::shared_ptr<int> resets = std::make_shared<int>(0);
 };
-
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
 
 class PlannerNodeTest : public ::testing::Test {
  protected:

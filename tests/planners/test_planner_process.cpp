@@ -11,6 +11,9 @@
 #include <thread>
 #include <vector>
 
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
+
 namespace {
 
 const std::string kBinary = std::string(HUNAV_BINARY_DIR) + "/bin/hunav_planner";
@@ -98,8 +101,8 @@ TEST(PlannerProcess, BadInputExitsWithCode2AndSaysWhere) {
   r = run({"--scenario", "/nonexistent.yaml"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("/nonexistent.yaml"), std::string::npos) << r.err;
-  const std::string config = ::testing::TempDir() + "/process_bad.yaml";
-  std::ofstream(config) << "dwb:\n  sim_time: -1\n";
+  const std::string config =
+      hunav::testing::writeFile(hunav::testing::testDir() / "process_bad.yaml", "dwb:\n  sim_time: -1\n");
   r = run({"--scenario", kScenario, "--config", config});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find(config + ":2: dwb.sim_time"), std::string::npos) << r.err;

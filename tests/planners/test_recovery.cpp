@@ -11,21 +11,14 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/recovery.hpp"
 #include "hunav/planners/sfw_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/sim_tools.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
+using namespace hunav::testing;
 
 namespace {
-
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
-
-Shape wall(const Vec2& a, const Vec2& b) {
-  Shape s;
-  s.kind = Shape::Kind::Polyline;
-  s.points = {a, b};
-  return s;
-}
 
 // The empty passing corridor closed by a wall at x = 3.6 (no path to the goal), the robot standing
 // at (x, 0) facing the wall (by default 0.05 m of free space between them). It may reverse (min_v < 0).

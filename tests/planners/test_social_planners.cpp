@@ -11,21 +11,20 @@
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/scl_planner.hpp"
 #include "hunav/planners/sfw_planner.hpp"
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/sim_tools.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;
+using namespace hunav::testing;
 
 namespace {
 
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
-Scenario crossing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/crossing.yaml"); }
+Scenario crossing() { return shippedScenario("crossing"); }
 
-std::string writeConfig(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+std::string writeConfig(const std::string& name, const std::string& text) { return writeFile(testDir() / name, text); }
 
 detected_person_t person(double x, double y, double vx, double vy, double yaw = 0.0) {
   detected_person_t p{};

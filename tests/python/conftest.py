@@ -12,6 +12,15 @@ REPO = pathlib.Path(os.environ.get("HUNAV_REPO", pathlib.Path(__file__).resolve(
 PASSING = str(REPO / "scenarios" / "passing.yaml")
 
 
+@pytest.fixture(autouse=True)
+def private_tmpdir(tmp_path, monkeypatch):
+    """TMPDIR inside the test's tmp_path: the result folders Simulation makes when given none
+    (hunav-py-XXXXXX, python/src/hunav_module.cpp) go with pytest's folders, not into /tmp."""
+    tmp = tmp_path / "tmpdir"
+    tmp.mkdir()
+    monkeypatch.setenv("TMPDIR", str(tmp))
+
+
 @pytest.fixture
 def passing():
     return PASSING

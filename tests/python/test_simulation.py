@@ -163,7 +163,7 @@ def test_bad_scenario_raises_with_file_line(passing, tmp_path):
         hunav.Simulation(str(tmp_path / "missing.yaml"))
 
 
-def test_bad_calls_raise(passing):
+def test_bad_calls_raise(passing, tmp_path):
     with pytest.raises(ValueError, match="unknown planner"):
         hunav.Simulation(passing, planner="nope")
     sim = hunav.Simulation(passing, duration=0.2)
@@ -186,7 +186,7 @@ def test_bad_calls_raise(passing):
     running = hunav.Simulation(passing)
     running.reset()
     with pytest.raises(RuntimeError, match="still running"):
-        running.save("/tmp/never")
+        running.save(str(tmp_path / "never"))
 
 
 def test_map_and_robot(passing):

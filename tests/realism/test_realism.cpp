@@ -17,6 +17,8 @@
 #include "hunav/realism/output.hpp"
 #include "hunav/realism/realism.hpp"
 #include "hunav/social_force.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace hunav;
@@ -27,27 +29,7 @@ namespace {
 const std::string kSlice = std::string(HUNAV_SOURCE_DIR) + "/tests/data/eth_ucy/crowds_zara01.txt";
 const std::string kBinary = std::string(HUNAV_BINARY_DIR) + "/bin/hunav_realism";
 
-fs::path tempRoot() { return fs::temp_directory_path() / ("hunav_test_realism_" + std::to_string(::getpid())); }
-
-// Removes this process's temporary folders when the tests end.
-class TempCleanup : public ::testing::Environment {
- public:
-  void TearDown() override { fs::remove_all(tempRoot()); }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new TempCleanup);
-
-// A private temporary folder per test.
-fs::path tempDir(const std::string& name) {
-  const fs::path d = tempRoot() / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string writeFile(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path.string();
-}
+using hunav::testing::writeFile;
 
 struct BinaryRun {
   int code = -1;
@@ -174,7 +156,7 @@ TEST(RealismTracks, ReadsTheRealSlice) {
 }
 
 TEST(RealismTracks, MalformedRowsNameFileLineAndKey) {
-  const fs::path dir = tempDir("malformed");
+  const fs::path dir = hunav::testing::testDir().subdir("malformed");
   struct Case {
     std::string text;
     int line;
@@ -222,7 +204,7 @@ TEST(RealismTracks, WindowsAreTwentyConsecutiveFrames) {
     if (k <= 20) text += std::to_string(10 * k) + " 1 " + std::to_string(0.5 * k) + " 0\n";
     if (k != 10) text += std::to_string(10 * k) + " 2 0 " + std::to_string(0.4 * k) + "\n";
   }
-  const Dataset d = readTracks(writeFile(tempDir("windows") / "w.txt", text));
+  const Dataset d = readTracks(writeFile(hunav::testing::testDir().subdir("windows") / "w.txt", text));
   const std::vector<Sample> s = extractSamples(d);
   ASSERT_EQ(s.size(), 2u);
   EXPECT_EQ(s[0].id, 1);
@@ -232,7 +214,7 @@ TEST(RealismTracks, WindowsAreTwentyConsecutiveFrames) {
 }
 
 TEST(RealismParams, YamlFileAndErrors) {
-  const fs::path dir = tempDir("params");
+  const fs::path dir = hunav::testing::testDir().subdir("params");
   const ModelParams p =
       readParams(writeFile(dir / "ok.yaml", "goal_weight: 1.5\nsocial_weight: 2.1\ndesired_speed: 1.0\n"), {});
   EXPECT_EQ(p.goal_weight, 1.5);
@@ -311,7 +293,7 @@ TEST(RealismRun, BinaryOnTheRealSliceMatchesAnIndependentRecomputation) {
     }
   ASSERT_GT(n, 50u);
 
-  const fs::path out = tempDir("run");
+  const fs::path out = hunav::testing::testDir().subdir("run");
   const BinaryRun r = runBinary(kSlice + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream csv(out / "realism.csv");
@@ -343,7 +325,7 @@ TEST(RealismRun, BinaryOnTheRealSliceMatchesAnIndependentRecomputation) {
 }
 
 TEST(RealismRun, BadInputExitsTwoNamingFileAndLine) {
-  const fs::path dir = tempDir("cli");
+  const fs::path dir = hunav::testing::testDir().subdir("cli");
   const std::string bad = writeFile(dir / "bad.txt", "0 1 2.0 3.0\n10 1 oops 3.0\n");
   BinaryRun r = runBinary(bad + " --out " + (dir / "out").string());
   EXPECT_EQ(r.code, 2);

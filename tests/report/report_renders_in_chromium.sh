@@ -17,7 +17,8 @@ command -v chromium >/dev/null 2>&1 ||
 render() {
   local profile
   profile=$(mktemp -d "$WORK/profile.XXXXXX")
-  if ! timeout 120 chromium --headless --no-sandbox --disable-gpu --user-data-dir="$profile" \
+  # TMPDIR: Chromium's own org.chromium.Chromium.* folders go with $WORK, not into /tmp.
+  if ! TMPDIR="$WORK" timeout 120 chromium --headless --no-sandbox --disable-gpu --user-data-dir="$profile" \
       --virtual-time-budget=5000 --dump-dom "file://$1" >"$2" 2>"$WORK/chromium.err"; then
     tail -n 20 "$WORK/chromium.err" >&2
     fail "chromium could not render $1"

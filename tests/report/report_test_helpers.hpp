@@ -7,31 +7,17 @@
 #include <fstream>
 #include <string>
 
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
+
 namespace report_test {
 
 namespace fs = std::filesystem;
 
-// A fresh, empty folder under the temporary directory, unique to the running test.
-inline fs::path freshDir(const std::string& name) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  // Under the working directory (ctest's: the build tree), not /tmp: builds of the same tree tested
-  // at the same time would otherwise remove each other's files.
-  const fs::path dir =
-      fs::current_path() / "hunav_report_test" / (std::string(info->test_suite_name()) + "." + info->name()) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-inline void writeFile(const fs::path& file, const std::string& text) {
-  fs::create_directories(file.parent_path());
-  std::ofstream(file, std::ios::binary) << text;
-}
-
-inline std::string readFile(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+// Files and the running test's folder (testDir(), removed when the test ends).
+using hunav::testing::readFile;
+using hunav::testing::testDir;
+using hunav::testing::writeFile;
 
 inline const char* kStatesHeader =
     "t,kind,id,x,y,yaw,vx,vy,vyaw,linear_vel,angular_vel,radius,behavior,behavior_state,group,goal_x,goal_y,"

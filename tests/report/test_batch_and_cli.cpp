@@ -60,7 +60,7 @@ fs::path writeTinyBatch(const fs::path& dir) {
 }  // namespace
 
 TEST(BatchData, ReadsTheThreeTables) {
-  const BatchData d = loadBatchData(writeTinyBatch(freshDir("batch")));
+  const BatchData d = loadBatchData(writeTinyBatch(testDir().subdir("batch")));
   EXPECT_EQ(d.metric_names, (std::vector<std::string>{"time_to_reach_goal", "completed"}));
   ASSERT_EQ(d.runs.size(), 2u);
   EXPECT_EQ(d.runs[0].planner, "dwb");
@@ -84,7 +84,7 @@ TEST(BatchData, ReadsTheThreeTables) {
 }
 
 TEST(BatchData, MissingOrMalformedTablesAreErrors) {
-  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const fs::path dir = writeTinyBatch(testDir().subdir("batch"));
   auto error = [&] {
     try {
       loadBatchData(dir);
@@ -114,7 +114,7 @@ TEST(BatchData, MissingOrMalformedTablesAreErrors) {
 // "Paper vs ours" (hunav_summary's paper_comparison.csv and paper_orderings.csv): optional, read
 // when present, malformed fields named by file, line and column, and carried into the batch page.
 TEST(BatchData, ReadsThePaperComparison) {
-  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const fs::path dir = writeTinyBatch(testDir().subdir("batch"));
   EXPECT_TRUE(loadBatchData(dir).paper.empty());  // a batch summarised before the comparison existed
   writeFile(dir / "paper_comparison.csv",
             "scenario,behavior,metric,paper_metric,planner,paper_mean,n,mean,ci95_low,ci95_high,paper_in_ci\n"
@@ -170,7 +170,7 @@ TEST(BatchData, ReadsThePaperComparison) {
 // read when present, carried into the batch page (batch.js draws the badges and the table of failing
 // conditions from them; report_renders_in_chromium.sh checks the drawn table).
 TEST(BatchData, ReadsTheExpectations) {
-  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const fs::path dir = writeTinyBatch(testDir().subdir("batch"));
   const BatchData without = loadBatchData(dir);
   EXPECT_TRUE(without.expectations.empty());  // no scenario with expect:
   const std::string plain = renderBatchPage(without);
@@ -212,7 +212,7 @@ TEST(BatchData, ReadsTheExpectations) {
 }
 
 TEST(Pages, RunPageEmbedsItsDataAndNothingExternal) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   ReportOptions options;
   const ReportResult r = writeRunReport(dir, options);
   EXPECT_EQ(r.page, dir / "report.html");
@@ -230,7 +230,7 @@ TEST(Pages, RunPageEmbedsItsDataAndNothingExternal) {
 }
 
 TEST(Pages, BatchPageLinksTheRunPages) {
-  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const fs::path dir = writeTinyBatch(testDir().subdir("batch"));
   const ReportResult r = writeBatchReport(dir, ReportOptions{});
   EXPECT_EQ(r.run_pages, 1u);
   ASSERT_EQ(r.warnings.size(), 1u);  // the aborted run has no folder
@@ -249,7 +249,7 @@ TEST(Pages, StatusBadgeClasses) {
 }
 
 TEST(Pages, StuckRunsShowTheirStatusOnBothPages) {
-  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const fs::path dir = writeTinyBatch(testDir().subdir("batch"));
   writeFile(dir / "summary.csv",
             "scenario,planner,seed,status,sim_time,wall_time,run_dir,time_to_reach_goal,completed\n"
             "tiny,dwb,1,stuck,0.3,0.01,runs/tiny__dwb__seed1,0.3,false\n");
@@ -266,7 +266,7 @@ TEST(Pages, StuckRunsShowTheirStatusOnBothPages) {
 TEST(Pages, LongCrowdedRunStaysSmall) {
   // 2000 samples of 100 people: the replay is downsampled (stride max(ceil(2000 / 1500),
   // ceil(2000 * 101 / 250000)) = 2) and the plots to about 2 x 1000 points each.
-  const fs::path dir = freshDir("crowd");
+  const fs::path dir = testDir().subdir("crowd");
   std::string states = kStatesHeader;
   for (int k = 0; k < 2000; ++k) {
     const double t = k * 0.01;
@@ -287,7 +287,7 @@ TEST(Pages, LongCrowdedRunStaysSmall) {
 }
 
 TEST(Cli, WritesARunPageAndExits0) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   const Result r = runBinary(quoted(dir));
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("wrote " + (dir / "report.html").string()), std::string::npos) << r.output;
@@ -298,7 +298,7 @@ TEST(Cli, WritesARunPageAndExits0) {
 }
 
 TEST(Cli, BadInputExits2WithTheFileNamed) {
-  const fs::path dir = freshDir("bad");
+  const fs::path dir = testDir().subdir("bad");
   Result r = runBinary(quoted(dir / "missing"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("missing: no such folder"), std::string::npos) << r.output;
@@ -327,7 +327,7 @@ TEST(Cli, BadInputExits2WithTheFileNamed) {
 }
 
 TEST(Cli, BatchWithABrokenRunStillWritesTheBatchPage) {
-  const fs::path dir = writeTinyBatch(freshDir("batch"));
+  const fs::path dir = writeTinyBatch(testDir().subdir("batch"));
   writeFile(dir / "runs" / "tiny__dwb__seed1" / "run.json", "{ not json");
   const Result r = runBinary(quoted(dir));
   EXPECT_EQ(r.code, 0) << r.output;

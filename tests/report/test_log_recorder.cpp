@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "hunav/report/log_recorder.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 namespace {
 
@@ -36,10 +37,9 @@ void recordUntil(hunav::report::LogRecorder& recorder, std::int64_t count) {
 }
 
 TEST(LogRecorder, RecordsEveryInstanceIntoOneLog) {
-  // memq:// instances are separate buses, as the ports of channel_ports=1 are. The log goes under the
-  // working directory (ctest's: the build tree), so that builds tested at once do not collide.
+  // memq:// instances are separate buses, as the ports of channel_ports=1 are.
   lcm::LCM main_port("memq://"), request_port("memq://"), reply_port("memq://");
-  const std::string path = (std::filesystem::current_path() / "hunav_test_log_recorder.lcmlog").string();
+  const std::string path = (hunav::testing::testDir() / "recorded.lcmlog").string();
   {
     hunav::report::LogRecorder recorder({&main_port, &request_port, &reply_port}, path);
     // Two ticks: request (utime t), reply (t + dt), world state (t + dt), as a lockstep run sends them.
@@ -64,7 +64,6 @@ TEST(LogRecorder, RecordsEveryInstanceIntoOneLog) {
     recorder.flush();
   }
   const std::vector<Event> events = readLog(path);
-  std::remove(path.c_str());
   ASSERT_EQ(events.size(), 6u);
   // Handled one at a time, so in the order sent; stamps are the messages' utimes.
   const std::vector<std::string> channels = {"STEP_REQUEST", "STEP_REPLY", "WORLD_STATE",
@@ -78,18 +77,17 @@ TEST(LogRecorder, RecordsEveryInstanceIntoOneLog) {
 
 TEST(LogRecorder, TimesOutWhenNoInstanceHasAMessage) {
   lcm::LCM a("memq://"), b("memq://");
-  const std::string path = (std::filesystem::current_path() / "hunav_test_log_recorder_quiet.lcmlog").string();
+  const std::string path = (hunav::testing::testDir() / "quiet.lcmlog").string();
   hunav::report::LogRecorder recorder({&a, &b}, path);
   EXPECT_FALSE(recorder.handle(std::chrono::milliseconds(10)));
   EXPECT_EQ(recorder.events(), 0);
-  std::remove(path.c_str());
 }
 
 TEST(LogRecorder, AChannelExpressionLcmCannotCompileIsRejectedNotFatal) {
   // LCM's C++ subscribe() hands back a subscription holding NULL for such an expression, which
   // crashes on its first use; the recorder says what is wrong instead.
   lcm::LCM a("memq://"), b("memq://");
-  const std::string path = (std::filesystem::current_path() / "hunav_test_log_recorder_regex.lcmlog").string();
+  const std::string path = (hunav::testing::testDir() / "regex.lcmlog").string();
   for (const char* bad : {"(", "[z-a]"}) {
     try {
       hunav::report::LogRecorder recorder({&a, &b}, path, bad);
@@ -101,7 +99,6 @@ TEST(LogRecorder, AChannelExpressionLcmCannotCompileIsRejectedNotFatal) {
   // The instances are left usable: a recorder with a good expression records on them.
   hunav::report::LogRecorder recorder({&a, &b}, path, "WORLD_.*");
   EXPECT_FALSE(recorder.handle(std::chrono::milliseconds(1)));
-  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -30,7 +30,7 @@ std::string errorOf(const std::function<void()>& f) {
 }  // namespace
 
 TEST(RunData, PerTickSeriesRecomputedFromStates) {
-  const RunData d = loadRunData(writeTinyRun(freshDir("run")));
+  const RunData d = loadRunData(writeTinyRun(testDir().subdir("run")));
   ASSERT_EQ(d.samples, 4u);
   EXPECT_NE(d.series_source.find("recomputed from states.csv"), std::string::npos) << d.series_source;
   // Closest surface distances (helper comment): 1.35, 0.30, 0.55, nobody.
@@ -73,7 +73,7 @@ TEST(RunData, PerTickSeriesRecomputedFromStates) {
 }
 
 TEST(RunData, PerTickSeriesReadFromMetricsSteps) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   writeFile(dir / "metrics_steps.csv",
             "t,avg_distance_to_closest_person,intimate_space_intrusions,personal_space_intrusions,"
             "social_space_intrusions,avg_robot_linear_speed,social_work\n"
@@ -93,7 +93,7 @@ TEST(RunData, PerTickSeriesReadFromMetricsSteps) {
 }
 
 TEST(RunData, MetricsStepsOfAnotherRunIsAnError) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   const std::string header =
       "t,avg_distance_to_closest_person,intimate_space_intrusions,personal_space_intrusions,"
       "social_space_intrusions,avg_robot_linear_speed,social_work\n";
@@ -112,7 +112,7 @@ TEST(RunData, MetricsStepsOfAnotherRunIsAnError) {
 }
 
 TEST(RunData, MetricsStepsWithoutTheColumnsIsRecomputed) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   writeFile(dir / "metrics_steps.csv", "t,path_length\n0,0\n0.1,1\n0.2,2\n0.3,3\n");
   const RunData d = loadRunData(dir);
   EXPECT_NE(d.series_source.find("metrics_steps.csv has no column avg_distance_to_closest_person"), std::string::npos)
@@ -121,7 +121,7 @@ TEST(RunData, MetricsStepsWithoutTheColumnsIsRecomputed) {
 }
 
 TEST(RunData, TracksGoalsAndReactions) {
-  const RunData d = loadRunData(writeTinyRun(freshDir("run")));
+  const RunData d = loadRunData(writeTinyRun(testDir().subdir("run")));
   ASSERT_EQ(d.tracks.size(), 3u);  // robot, then people in order of first appearance
   EXPECT_TRUE(d.tracks[0].robot);
   EXPECT_EQ(d.tracks[1].id, 1);
@@ -156,7 +156,7 @@ TEST(RunData, TracksGoalsAndReactions) {
 }
 
 TEST(RunData, MapFromTheScenarioAndBounds) {
-  const RunData d = loadRunData(writeTinyRun(freshDir("run")));
+  const RunData d = loadRunData(writeTinyRun(testDir().subdir("run")));
   ASSERT_EQ(d.shapes.size(), 1u);
   EXPECT_EQ(d.shapes[0].kind, hunav::Shape::Kind::Polyline);
   EXPECT_TRUE(d.obstacle_points.empty());
@@ -169,7 +169,7 @@ TEST(RunData, MapFromTheScenarioAndBounds) {
 }
 
 TEST(RunData, MapFromObstaclePointsWhenTheScenarioIsGone) {
-  const RunData d = loadRunData(writeTinyRun(freshDir("run"), "no/such/scenario_for_the_report_test.yaml"));
+  const RunData d = loadRunData(writeTinyRun(testDir().subdir("run"), "no/such/scenario_for_the_report_test.yaml"));
   EXPECT_TRUE(d.shapes.empty());
   // Recorded points: (0,-1), (0,1), (2,-1), (0.01,-1); the last is on the 5 cm grid cell of (0,-1).
   ASSERT_EQ(d.obstacle_points.size(), 3u);
@@ -178,7 +178,7 @@ TEST(RunData, MapFromObstaclePointsWhenTheScenarioIsGone) {
 }
 
 TEST(RunData, ScenarioOptionThatFailsIsAnError) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   RunDataOptions options;
   options.scenario_file = (dir / "missing.yaml").string();
   EXPECT_NE(errorOf([&] { loadRunData(dir, options); }).find("missing.yaml"), std::string::npos);
@@ -187,7 +187,7 @@ TEST(RunData, ScenarioOptionThatFailsIsAnError) {
 TEST(RunData, DownsampledFrames) {
   RunDataOptions options;
   options.limits.max_frames = 2;  // 4 samples -> stride 2: samples 0, 2 and the last one, 3
-  const RunData d = loadRunData(writeTinyRun(freshDir("run")), options);
+  const RunData d = loadRunData(writeTinyRun(testDir().subdir("run")), options);
   EXPECT_EQ(d.frame_stride, 2u);
   ASSERT_EQ(d.frame_t.size(), 3u);
   EXPECT_DOUBLE_EQ(d.frame_t[1], 0.2);
@@ -197,7 +197,7 @@ TEST(RunData, DownsampledFrames) {
 }
 
 TEST(RunData, BehaviorMetricsOfThisRun) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   writeFile(dir / "metrics_beh_3.csv",
             "experiment_tag,run_id,scenario,planner,seed,profile,social_work\n"
             "exp,other_run,tiny,dwb,3,default,1.5\n"
@@ -208,7 +208,7 @@ TEST(RunData, BehaviorMetricsOfThisRun) {
 }
 
 TEST(RunData, MissingOrMalformedInputsNameTheFile) {
-  const fs::path dir = writeTinyRun(freshDir("run"));
+  const fs::path dir = writeTinyRun(testDir().subdir("run"));
   fs::remove(dir / "run.json");
   EXPECT_NE(errorOf([&] { loadRunData(dir); }).find("run.json: missing file"), std::string::npos);
   writeTinyRun(dir);
@@ -255,7 +255,7 @@ TEST(Decimation, CumulativePercentAndFrameStride) {
 }
 
 TEST(CsvTable, QuotedFieldsAndErrors) {
-  const fs::path dir = freshDir("csv");
+  const fs::path dir = testDir().subdir("csv");
   writeFile(dir / "a.csv", "a,b\n\"x, \"\"y\"\"\",2\n\n\"multi\nline\",3\n");
   const CsvTable t = CsvTable::read(dir / "a.csv");
   ASSERT_EQ(t.rows(), 2u);

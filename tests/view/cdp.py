@@ -4,6 +4,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
@@ -22,7 +23,10 @@ class Browser:
             [exe, "--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run", "--no-default-browser-check",
              "--disable-extensions", "--remote-debugging-port=0", "--remote-allow-origins=*",
              "--user-data-dir=" + self.profile, "--window-size=%d,%d" % (width, height), "about:blank"],
-            stdout=self.log, stderr=subprocess.STDOUT)
+            stdout=self.log, stderr=subprocess.STDOUT,
+            # Chromium's own org.chromium.Chromium.* folders go with the profile, not into /tmp; its
+            # own process group, to end its helpers with it (close()).
+            env=dict(os.environ, TMPDIR=self.profile), start_new_session=True)
         port = None
         deadline = time.time() + timeout
         while port is None:
@@ -125,6 +129,19 @@ class Browser:
         except subprocess.TimeoutExpired:
             self.proc.kill()
             self.proc.wait()
+        # Chromium's helpers (zygote, renderers) can outlive the browser and write into the profile
+        # after it is removed: end what is left of its process group first.
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        deadline = time.time() + 10
+        while time.time() < deadline:
+            try:
+                os.killpg(self.proc.pid, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.05)
         self.log.close()
         shutil.rmtree(self.profile, ignore_errors=True)
 

@@ -12,6 +12,7 @@
 
 #include "hunav/config_error.hpp"
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/temp_dir.hpp"
 #include "hunav/view/editor.hpp"
 #include "hunav/view/replay.hpp"
 
@@ -22,15 +23,7 @@ using hunav::view::PathError;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag) {
-    path = fs::temp_directory_path() / ("hunav_view_test_" + tag + "_" + std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
+using hunav::testing::TempDir;
 
 void write(const fs::path& p, const std::string& text) {
   std::ofstream out(p);
@@ -41,24 +34,24 @@ void write(const fs::path& p, const std::string& text) {
 
 TEST(ViewEditor, PathsOutsideTheFolderAreRefused) {
   TempDir root("root"), outside("outside");
-  write(root.path / "a.yaml", "name: a\n");
-  fs::create_directories(root.path / "sub");
-  write(root.path / "sub" / "b.yaml", "name: b\n");
-  write(outside.path / "secret.yaml", "name: secret\n");
-  fs::create_symlink(outside.path, root.path / "out");                        // a folder out of the root
-  fs::create_symlink(outside.path / "secret.yaml", root.path / "evil.yaml");  // a file out of the root
-  fs::create_symlink(root.path / "a.yaml", root.path / "alias.yaml");         // stays inside: allowed
-  Editor editor(root.path);
+  write(root.path() / "a.yaml", "name: a\n");
+  fs::create_directories(root.path() / "sub");
+  write(root.path() / "sub" / "b.yaml", "name: b\n");
+  write(outside.path() / "secret.yaml", "name: secret\n");
+  fs::create_symlink(outside.path(), root.path() / "out");                        // a folder out of the root
+  fs::create_symlink(outside.path() / "secret.yaml", root.path() / "evil.yaml");  // a file out of the root
+  fs::create_symlink(root.path() / "a.yaml", root.path() / "alias.yaml");         // stays inside: allowed
+  Editor editor(root.path());
 
-  EXPECT_EQ(editor.resolve("a.yaml", true), fs::canonical(root.path / "a.yaml"));
-  EXPECT_EQ(editor.resolve("sub/b.yaml", true), fs::canonical(root.path / "sub" / "b.yaml"));
-  EXPECT_EQ(editor.resolve("alias.yaml", true), fs::canonical(root.path / "a.yaml"));
-  EXPECT_EQ(editor.resolve("new.yaml", false), fs::canonical(root.path) / "new.yaml");
+  EXPECT_EQ(editor.resolve("a.yaml", true), fs::canonical(root.path() / "a.yaml"));
+  EXPECT_EQ(editor.resolve("sub/b.yaml", true), fs::canonical(root.path() / "sub" / "b.yaml"));
+  EXPECT_EQ(editor.resolve("alias.yaml", true), fs::canonical(root.path() / "a.yaml"));
+  EXPECT_EQ(editor.resolve("new.yaml", false), fs::canonical(root.path()) / "new.yaml");
   const std::vector<std::string> refused = {"../a.yaml",
                                             "sub/../a.yaml",
                                             "..",
                                             "/etc/passwd",
-                                            (outside.path / "secret.yaml").string(),
+                                            (outside.path() / "secret.yaml").string(),
                                             "evil.yaml",
                                             "out/secret.yaml",
                                             "out/new.yaml",
@@ -68,7 +61,7 @@ TEST(ViewEditor, PathsOutsideTheFolderAreRefused) {
   EXPECT_THROW(editor.resolve("missing.yaml", true), PathError);
   EXPECT_THROW(editor.open("evil.yaml"), PathError);
   EXPECT_THROW(editor.save("../escaped.yaml", hunav::view::jsonFromYaml("name: x\n")), PathError);
-  EXPECT_FALSE(fs::exists(root.path.parent_path() / "escaped.yaml"));
+  EXPECT_FALSE(fs::exists(root.path().parent_path() / "escaped.yaml"));
 
   const auto files = editor.files().get<std::vector<std::string>>();
   EXPECT_EQ(files, (std::vector<std::string>{"a.yaml", "alias.yaml", "sub/b.yaml"}));
@@ -76,7 +69,7 @@ TEST(ViewEditor, PathsOutsideTheFolderAreRefused) {
 
 TEST(ViewEditor, MalformedDocumentsAreRejectedWithoutWriting) {
   TempDir root("bad");
-  Editor editor(root.path);
+  Editor editor(root.path());
   EXPECT_THROW(hunav::view::yamlFromJson(Json::object({{"x", 1}})), std::invalid_argument);
   EXPECT_THROW(hunav::view::yamlFromJson(Json::parse(R"({"__map": [[1, 2]]})")), std::invalid_argument);
   // A document that is YAML but not a scenario: the loader's file:line: key error comes back.
@@ -87,9 +80,9 @@ TEST(ViewEditor, MalformedDocumentsAreRejectedWithoutWriting) {
   EXPECT_EQ(res["error"]["key"], "dt");
   EXPECT_NE(res["error"]["message"].get<std::string>().find("s.yaml:2: dt"), std::string::npos)
       << res["error"]["message"];
-  EXPECT_FALSE(fs::exists(root.path / "s.yaml"));
+  EXPECT_FALSE(fs::exists(root.path() / "s.yaml"));
   // Nothing left behind by the checks.
-  EXPECT_TRUE(fs::is_empty(root.path));
+  EXPECT_TRUE(fs::is_empty(root.path()));
 }
 
 namespace {
@@ -143,13 +136,13 @@ void expectSameScenario(const hunav::Scenario& a, const hunav::Scenario& b) {
 TEST(ViewEditor, EveryScenarioSavedUnchangedLoadsAndRunsTheSame) {
   TempDir root("roundtrip");
   // The scenarios and what they refer to beside them (behavior trees in manager/behavior_trees).
-  fs::copy(fs::path(HUNAV_SOURCE_DIR) / "scenarios", root.path / "scenarios", fs::copy_options::recursive);
-  fs::create_directories(root.path / "manager");
-  fs::copy(fs::path(HUNAV_SOURCE_DIR) / "manager" / "behavior_trees", root.path / "manager" / "behavior_trees",
+  fs::copy(fs::path(HUNAV_SOURCE_DIR) / "scenarios", root.path() / "scenarios", fs::copy_options::recursive);
+  fs::create_directories(root.path() / "manager");
+  fs::copy(fs::path(HUNAV_SOURCE_DIR) / "manager" / "behavior_trees", root.path() / "manager" / "behavior_trees",
            fs::copy_options::recursive);
-  Editor editor(root.path);
+  Editor editor(root.path());
   int checked = 0;
-  for (const auto& entry : fs::directory_iterator(root.path / "scenarios")) {
+  for (const auto& entry : fs::directory_iterator(root.path() / "scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
     const std::string rel = "scenarios/" + entry.path().filename().string();
     SCOPED_TRACE(rel);
@@ -160,7 +153,7 @@ TEST(ViewEditor, EveryScenarioSavedUnchangedLoadsAndRunsTheSame) {
     ASSERT_TRUE(saved["ok"].get<bool>()) << saved.dump();
 
     const hunav::Scenario original = hunav::loadScenario(entry.path().string());
-    const hunav::Scenario again = hunav::loadScenario((root.path / saved_rel).string());
+    const hunav::Scenario again = hunav::loadScenario((root.path() / saved_rel).string());
     expectSameScenario(original, again);
 
     std::string fingerprints[2];
@@ -168,7 +161,7 @@ TEST(ViewEditor, EveryScenarioSavedUnchangedLoadsAndRunsTheSame) {
     for (hunav::Scenario s : {original, again}) {
       s.time_limit = std::min(s.time_limit, 3.0);
       hunav::runner::RunOptions options;
-      options.out_dir = (root.path / ("out_" + std::to_string(k))).string();
+      options.out_dir = (root.path() / ("out_" + std::to_string(k))).string();
       fingerprints[k++] = hunav::runner::runInProcess(s, options).episode.fingerprint;
     }
     EXPECT_EQ(fingerprints[0], fingerprints[1]);
@@ -189,25 +182,25 @@ Json& entry(Json& map, const std::string& key) {
 // the page gets that file's tree with the scenario, edits it, and saving writes both files.
 TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   TempDir root("agents_file"), outside("agents_outside");
-  fs::create_directories(root.path / "hunav");
+  fs::create_directories(root.path() / "hunav");
   fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "tests" / "data" / "hunav_files" / "agents.yaml",
-                root.path / "hunav" / "agents.yaml");
+                root.path() / "hunav" / "agents.yaml");
   fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "tests" / "data" / "hunav_files" / "agents.yaml",
-                outside.path / "agents.yaml");
+                outside.path() / "agents.yaml");
   // An open room around HuNavSim's cafe agents (they stand within 11 m of the origin).
   const std::string room =
       "name: room\ndt: 0.01\ntime_limit: 20.0\nseed: 1\n"
       "map:\n  walls:\n    - [[-15, -15], [15, -15], [15, 15], [-15, 15], [-15, -15]]\n"
       "robot:\n  radius: 0.3\n  start: {x: 12.0, y: 0.0, yaw: 3.14159}\n  goal: {x: -12.0, y: 0.0, radius: 0.3}\n";
-  write(root.path / "room.yaml", room + "people: hunav/agents.yaml\n");
-  write(root.path / "escape.yaml", room + "people: " + (outside.path / "agents.yaml").string() + "\n");
-  Editor editor(root.path);
+  write(root.path() / "room.yaml", room + "people: hunav/agents.yaml\n");
+  write(root.path() / "escape.yaml", room + "people: " + (outside.path() / "agents.yaml").string() + "\n");
+  Editor editor(root.path());
 
   Json opened = editor.open("room.yaml");
   ASSERT_TRUE(opened["error"].is_null()) << opened["error"].dump();
   ASSERT_TRUE(opened["people"].is_object()) << opened.dump().substr(0, 300);
   EXPECT_EQ(opened["people"]["path"], "hunav/agents.yaml");
-  const hunav::Scenario before = hunav::loadScenario((root.path / "room.yaml").string());
+  const hunav::Scenario before = hunav::loadScenario((root.path() / "room.yaml").string());
   ASSERT_EQ(before.agents.size(), 5u);  // agent1, agent2, agent7, agent4, agent5
 
   // Move agent1 and make agent2 scared (2), as the page's controls do: numbers set as numbers.
@@ -221,7 +214,7 @@ TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   ASSERT_TRUE(saved["ok"].get<bool>()) << saved.dump();
   EXPECT_EQ(saved["people_path"], "hunav/agents.yaml");
 
-  const hunav::Scenario after = hunav::loadScenario((root.path / "room.yaml").string());
+  const hunav::Scenario after = hunav::loadScenario((root.path() / "room.yaml").string());
   ASSERT_EQ(after.agents.size(), before.agents.size());
   EXPECT_DOUBLE_EQ(after.agents[0].position.x(), 2.0);
   EXPECT_DOUBLE_EQ(after.agents[0].position.y(), 7.5);
@@ -239,7 +232,7 @@ TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   // temporary copy is left beside either file.
   entry(entry(params, "agent2"), "max_vel") = -1.0;
   const std::string agents_text = [&] {
-    std::ifstream in(root.path / "hunav" / "agents.yaml");
+    std::ifstream in(root.path() / "hunav" / "agents.yaml");
     return std::string(std::istreambuf_iterator<char>(in), {});
   }();
   const Json bad = editor.save("room.yaml", opened["doc"], people);
@@ -247,9 +240,9 @@ TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   EXPECT_EQ(bad["error"]["file"], "hunav/agents.yaml") << bad.dump();
   EXPECT_NE(bad["error"]["key"].get<std::string>().find("max_vel"), std::string::npos) << bad.dump();
   EXPECT_EQ(bad["error"]["message"].get<std::string>().find(".hunav_view_"), std::string::npos) << bad.dump();
-  std::ifstream again(root.path / "hunav" / "agents.yaml");
+  std::ifstream again(root.path() / "hunav" / "agents.yaml");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(again), {}), agents_text);
-  for (const auto& dir : {root.path, root.path / "hunav"})
+  for (const auto& dir : {root.path(), root.path() / "hunav"})
     for (const auto& f : fs::directory_iterator(dir))
       EXPECT_EQ(f.path().filename().string().rfind(".hunav_view_", 0), std::string::npos) << f.path();
 
@@ -261,20 +254,20 @@ TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   EXPECT_NE(escape["people"]["error"].get<std::string>().find("outside"), std::string::npos);
   EXPECT_THROW(editor.save("escape.yaml", escape["doc"], people), PathError);
   // Agents sent for a scenario whose people are inline: a bad request.
-  write(root.path / "inline.yaml", room);
+  write(root.path() / "inline.yaml", room);
   EXPECT_THROW(editor.validate("inline.yaml", editor.open("inline.yaml")["doc"], people), std::invalid_argument);
 }
 
 TEST(ViewReplay, ResultsFolderErrorsNameTheFile) {
   TempDir dir("replay");
   try {
-    hunav::view::loadResults(dir.path);
+    hunav::view::loadResults(dir.path());
     FAIL() << "no states.csv accepted";
   } catch (const hunav::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("states.csv"), std::string::npos);
   }
-  write(dir.path / "states.csv", "t,kind,id\n0,robot,0\n");
-  EXPECT_THROW(hunav::view::loadResults(dir.path), hunav::ConfigError);
-  write(dir.path / "run.lcmlog", "not a log");
-  EXPECT_THROW(hunav::view::loadLog(dir.path / "run.lcmlog"), hunav::ConfigError);
+  write(dir.path() / "states.csv", "t,kind,id\n0,robot,0\n");
+  EXPECT_THROW(hunav::view::loadResults(dir.path()), hunav::ConfigError);
+  write(dir.path() / "run.lcmlog", "not a log");
+  EXPECT_THROW(hunav::view::loadLog(dir.path() / "run.lcmlog"), hunav::ConfigError);
 }

@@ -11,6 +11,7 @@
 
 #include "hunav/config_error.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/temp_dir.hpp"
 #include "hunav/worldsim/physics_world.hpp"
 
 using namespace hunav;
@@ -18,23 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A fresh folder for one test, removed at its end. Per process: other build trees may run these tests
-// at the same time.
-struct TempDir {
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("hunav_map_test_" + std::to_string(getpid()) + "_" + name)) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  fs::path operator/(const std::string& name) const { return path / name; }
-  fs::path path;
-};
+using hunav::testing::TempDir;
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 

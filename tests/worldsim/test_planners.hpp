@@ -1,7 +1,12 @@
 #pragma once
-// Test-only planners for the world's tests: answer every observation on the bus, as a planner process would.
+// Test-only planners for the world's tests: answer every observation on the bus, as a planner process would;
+// and the echo a test-only manager builds its replies from.
+#include <cmath>
+#include <cstdint>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
+#include <hunav/step_reply_t.hpp>
+#include <hunav/step_request_t.hpp>
 #include <vector>
 
 #include "hunav/bus.hpp"
@@ -32,5 +37,16 @@ class FixedCommand {
  private:
   hunav::Bus& bus_;
 };
+
+// A manager's reply that leaves the people as they were: the request's people, one step (dt) later.
+inline hunav::step_reply_t echoReply(const hunav::step_request_t& r) {
+  hunav::step_reply_t reply{};
+  reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
+  reply.seq = r.seq;
+  reply.episode = r.episode;
+  reply.agents = r.agents;
+  reply.num_agents = r.num_agents;
+  return reply;
+}
 
 }  // namespace worldsim_test

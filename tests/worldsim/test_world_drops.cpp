@@ -18,6 +18,7 @@
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
+#include "hunav/testing/scenarios.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 #include "test_planners.hpp"
 
@@ -27,7 +28,7 @@ using hunav::worldsim::WorldSim;
 
 namespace {
 
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
+using hunav::testing::passing;
 
 WorldOptions fastOptions() {
   WorldOptions o;
@@ -52,12 +53,7 @@ class EchoingManager {
   EchoingManager(Bus& bus, std::function<void(step_reply_t&)> tweak) {
     subscriptions_.push_back(
         bus.subscribe<step_request_t>(channels::kStepRequest, [&bus, tweak](const step_request_t& r) {
-          step_reply_t reply{};
-          reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
-          reply.seq = r.seq;
-          reply.episode = r.episode;
-          reply.agents = r.agents;
-          reply.num_agents = r.num_agents;
+          step_reply_t reply = worldsim_test::echoReply(r);
           tweak(reply);
           bus.publish(channels::kStepReply, reply);
         }));

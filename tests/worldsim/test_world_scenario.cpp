@@ -8,6 +8,8 @@
 
 #include "hunav/config_error.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 namespace fs = std::filesystem;
@@ -15,13 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 Scenario loadText(const std::string& name, const std::string& text) {
-  const fs::path p = fs::temp_directory_path() / ("hunav_world_scenario_" + std::to_string(getpid()) + "_" + name);
-  std::ofstream(p) << text;
-  struct Remove {
-    fs::path p;
-    ~Remove() { fs::remove(p); }
-  } remove{p};
-  return loadScenario(p.string());
+  return loadScenario(hunav::testing::writeFile(hunav::testing::testDir() / name, text));
 }
 
 void expectError(const std::string& name, const std::string& text, int line, const std::string& key) {

@@ -20,7 +20,10 @@
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
+#include "hunav/testing/files.hpp"
 #include "hunav/testing/lossy_bus.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/temp_dir.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 #include "test_planners.hpp"
 
@@ -31,7 +34,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Scenario passing() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml"); }
+using hunav::testing::passing;
 
 // A test-only planner: turn toward the goal, drive when roughly facing it.
 class PointAtGoal {
@@ -218,8 +221,8 @@ TEST(WorldSim, StopFlagEndsTheEpisodeAsInterrupted) {
 }
 
 TEST(WorldSim, StopWithASupervisorsReasonEndsTheEpisodeAsAbortedWithIt) {
-  const auto file = std::filesystem::temp_directory_path() / ("hunav_stop_reason_" + std::to_string(::getpid()));
-  std::ofstream(file) << "planner was killed by SIGKILL (exit status 137)\n";
+  const std::string file = hunav::testing::writeFile(hunav::testing::testDir() / "stop_reason",
+                                                     "planner was killed by SIGKILL (exit status 137)\n");
   ::setenv(episode_status::kStopReasonFileEnv, file.c_str(), 1);
   lcm::LCM lcm("memq://");
   LcmBus bus(lcm);
@@ -229,7 +232,6 @@ TEST(WorldSim, StopWithASupervisorsReasonEndsTheEpisodeAsAbortedWithIt) {
   WorldSim world(bus, passing(), o);
   const auto r = world.runEpisode();
   ::unsetenv(episode_status::kStopReasonFileEnv);
-  std::filesystem::remove(file);
   EXPECT_EQ(r.status, "aborted");
   EXPECT_EQ(r.reason, "planner was killed by SIGKILL (exit status 137)");
   EXPECT_EQ(episode_status::exitCodeFor(r.status, SIGTERM), 1);
@@ -311,12 +313,7 @@ class FixedVelocityManager {
   std::vector<hunav::Subscription> subscriptions_;  // ended with this object
   explicit FixedVelocityManager(Bus& bus, Vec2 velocity = Vec2::Zero()) : bus_(bus), velocity_(std::move(velocity)) {
     subscriptions_.push_back(bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) {
-      step_reply_t reply{};
-      reply.utime = r.utime + static_cast<std::int64_t>(std::llround(r.dt * 1e6));
-      reply.seq = r.seq;
-      reply.episode = r.episode;
-      reply.agents = r.agents;
-      reply.num_agents = r.num_agents;
+      step_reply_t reply = worldsim_test::echoReply(r);
       for (agent_state_t& a : reply.agents) {
         a.utime = reply.utime;
         a.vx = velocity_.x();
@@ -470,13 +467,10 @@ namespace {
 
 // The passing scenario with random uniform agent parameters, so the seed changes the people's walk.
 fs::path seededPassing() {
-  std::ifstream in(std::string(HUNAV_SOURCE_DIR) + "/scenarios/passing.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = hunav::testing::readFile(hunav::testing::scenarioFile("passing"));
   for (std::size_t at; (at = text.find("configuration: 0")) != std::string::npos;)
     text.replace(at, 16, "configuration: 3");
-  const fs::path p = fs::temp_directory_path() / ("hunav_seeded_passing_" + std::to_string(getpid()) + ".yaml");
-  std::ofstream(p) << text;
-  return p;
+  return hunav::testing::writeFile(hunav::testing::testDir() / "seeded_passing.yaml", text);
 }
 
 Scenario seededPassing(long long seed) {

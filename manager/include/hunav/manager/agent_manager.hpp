@@ -80,6 +80,10 @@ class AgentManager {
   void step(const step_request_t& request, step_reply_t& reply);
 
  private:
+  // The snapshot of the request (bodies, memories, groups, the people's social forces).
+  void takeSnapshot(const step_request_t& request);
+  // Ticks the trees of agents [from, to) into reply (a chunk: other chunks may run on another thread).
+  void tickAgents(const step_request_t& request, step_reply_t& reply, std::size_t from, std::size_t to);
   std::shared_ptr<const TreeDefinition> definitionFor(const agent_state_t& a, std::string& source);
   AgentMemory& memoryFor(const agent_state_t& a);
   AgentMemory& memoryAt(std::size_t index, const agent_state_t& a);

@@ -1,7 +1,7 @@
 #pragma once
-// A minimal stand-in for the world, for planner tests, benchmarks and experiments without the
+// A minimal stand-in for the world, for planner tests and bench_planner without the
 // simulator: observations built from a scenario, and laser scans ray-cast against its shapes and
-// round bodies (people). Not used by the planner process itself.
+// round bodies (people). Test code: never linked into a product binary.
 #include <cstdint>
 #include <hunav/laser_scan_t.hpp>
 #include <hunav/robot_observation_t.hpp>
@@ -11,7 +11,9 @@
 #include "hunav/planners/costmap.hpp"
 #include "hunav/scenario.hpp"
 
-namespace hunav::planners {
+namespace hunav::testing {
+
+using planners::Circle;
 
 // Distance along the ray from `origin` in direction `angle` to the first shape or body, or
 // `max_range` when nothing is hit closer.
@@ -64,4 +66,4 @@ class MiniWorld {
   std::vector<double> person_goal_radius_;
 };
 
-}  // namespace hunav::planners
+}  // namespace hunav::testing

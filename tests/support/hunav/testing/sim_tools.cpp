@@ -1,11 +1,11 @@
-#include "hunav/planners/sim_tools.hpp"
+#include "hunav/testing/sim_tools.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "hunav/planners/trajectory.hpp"
 
-namespace hunav::planners {
+namespace hunav::testing {
 
 namespace {
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
@@ -147,7 +147,7 @@ robot_observation_t MiniWorld::observe() {
 }
 
 void MiniWorld::step(double v, double w, double dt) {
-  stepUnicycle(robot_, yaw_, v, w, dt);
+  planners::stepUnicycle(robot_, yaw_, v, w, dt);
   v_ = v;
   w_ = w;
   for (std::size_t i = 0; i < people_.size(); ++i) {
@@ -160,4 +160,4 @@ void MiniWorld::step(double v, double w, double dt) {
   time_ += dt;
 }
 
-}  // namespace hunav::planners
+}  // namespace hunav::testing
