@@ -513,6 +513,47 @@ bool useHelper(std::size_t bodies) {
   return multicore && bodies >= kMinBodiesForHelper;
 }
 
+// This thread's share of the cells: up to the first cell past kOwnShare of the candidate pairs the
+// loops test (each body of a cell against the rest of its cell, the cell to the right and three cells
+// of the next row; this thread also adds the helper's forces afterwards, so it takes the smaller
+// share). Returns that cell; ws.chunk_start gets the later cells in chunks of about 1/kChunks.
+int splitCells(const GridView& g, Workspace& ws) {
+  const int cells = g.nx * g.ny;
+  constexpr double kOwnShare = 0.42;
+  constexpr double kChunks = 16.0;  // see LaterPairs::kMaxChunks
+  auto bodiesIn = [&](int cx, int cy) {
+    return cx < 0 || cx >= g.nx || cy >= g.ny
+               ? 0.0
+               : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
+  };
+  std::vector<double>& cost = ws.cell_cost;
+  cost.resize(static_cast<std::size_t>(cells));
+  double total = 0.0;
+  for (int c = 0; c < cells; ++c) {
+    const int cx = c % g.nx, cy = c / g.nx;
+    const double n = bodiesIn(cx, cy);
+    cost[static_cast<std::size_t>(c)] = n * (0.5 * n + bodiesIn(cx + 1, cy) + bodiesIn(cx - 1, cy + 1) +
+                                             bodiesIn(cx, cy + 1) + bodiesIn(cx + 1, cy + 1));
+    total += cost[static_cast<std::size_t>(c)];
+  }
+  int split = 0;
+  for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split)
+    sum += cost[static_cast<std::size_t>(split)];
+  // The later cells in chunks of about 1/kChunks of the total.
+  std::vector<int>& chunk_start = ws.chunk_start;
+  chunk_start.assign(1, split);
+  double chunk_sum = 0.0;
+  for (int c = split; c < cells; ++c) {
+    chunk_sum += cost[static_cast<std::size_t>(c)];
+    if (chunk_sum >= total / kChunks && c + 1 < cells) {
+      chunk_start.push_back(c + 1);
+      chunk_sum = 0.0;
+    }
+  }
+  chunk_start.push_back(cells);
+  return split;
+}
+
 }  // namespace
 
 void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff) {
@@ -542,41 +583,8 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
   if (helper == nullptr) {
     pairsOfCells(g, 0, cells, r2, kp, batch, sink);
   } else {
-    // The split: the first cell past kOwnShare of the candidate pairs the loops test (each body of a
-    // cell against the rest of its cell, the cell to the right and three cells of the next row; this
-    // thread also adds the helper's forces afterwards, so it takes the smaller share).
-    constexpr double kOwnShare = 0.42;
-    constexpr double kChunks = 16.0;  // see LaterPairs::kMaxChunks
-    auto bodiesIn = [&](int cx, int cy) {
-      return cx < 0 || cx >= g.nx || cy >= g.ny
-                 ? 0.0
-                 : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
-    };
-    std::vector<double>& cost = ws.cell_cost;
-    cost.resize(static_cast<std::size_t>(cells));
-    double total = 0.0;
-    for (int c = 0; c < cells; ++c) {
-      const int cx = c % g.nx, cy = c / g.nx;
-      const double n = bodiesIn(cx, cy);
-      cost[static_cast<std::size_t>(c)] = n * (0.5 * n + bodiesIn(cx + 1, cy) + bodiesIn(cx - 1, cy + 1) +
-                                               bodiesIn(cx, cy + 1) + bodiesIn(cx + 1, cy + 1));
-      total += cost[static_cast<std::size_t>(c)];
-    }
-    int split = 0;
-    for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split)
-      sum += cost[static_cast<std::size_t>(split)];
-    // The later cells in chunks of about 1/kChunks of the total.
-    std::vector<int>& chunk_start = ws.chunk_start;
-    chunk_start.assign(1, split);
-    double chunk_sum = 0.0;
-    for (int c = split; c < cells; ++c) {
-      chunk_sum += cost[static_cast<std::size_t>(c)];
-      if (chunk_sum >= total / kChunks && c + 1 < cells) {
-        chunk_start.push_back(c + 1);
-        chunk_sum = 0.0;
-      }
-    }
-    chunk_start.push_back(cells);
+    const int split = splitCells(g, ws);
+    const std::vector<int>& chunk_start = ws.chunk_start;
     static LaterPairs later;  // used under the helper's user() lock
     later.prepare(chunk_start);
     const std::thread::id caller = std::this_thread::get_id();

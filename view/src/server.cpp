@@ -93,6 +93,13 @@ void ViewServer::stop() {
 }
 
 void ViewServer::routes() {
+  routeAssets();
+  routeRun();
+  routeEditor();
+  routeErrors();
+}
+
+void ViewServer::routeAssets() {
   httplib::Server& s = *server_;
   for (int i = 0; i < kWebAssetCount; ++i) {
     const WebAsset asset = kWebAssets[i];
@@ -106,7 +113,11 @@ void ViewServer::routes() {
 
   // Browsers ask for an icon: none, rather than a 404 in the page's console.
   s.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
+}
 
+// What the page shows: the mode, the scene, the live frames (latest, or a stream) or the replay.
+void ViewServer::routeRun() {
+  httplib::Server& s = *server_;
   s.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) {
     std::string mode = parts_.live ? "live" : parts_.replay ? "replay" : "editor";
     sendJson(res, {{"mode", mode},
@@ -148,8 +159,11 @@ void ViewServer::routes() {
     if (parts_.replay == nullptr) return sendError(res, 404, "not a replay (start with --results DIR or --log FILE)");
     sendJson(res, parts_.replay->data);
   });
+}
 
-  // The editor. A PathError is a refusal (403), a missing file 404.
+// The scenario editor. A PathError is a refusal (403), a missing file 404.
+void ViewServer::routeEditor() {
+  httplib::Server& s = *server_;
   auto editor = [this](httplib::Response& res) -> Editor* {
     if (parts_.editor == nullptr) sendError(res, 404, "no editor (start hunav_view with --editor DIR)");
     return parts_.editor;
@@ -194,7 +208,11 @@ void ViewServer::routes() {
     if (!std::filesystem::is_directory(dir)) return sendError(res, 404, "no such results folder");
     sendJson(res, loadResults(dir).data);
   });
+}
 
+// Errors as JSON: a refused path 403, a rejected scenario 422, a bad request 400, anything else 500.
+void ViewServer::routeErrors() {
+  httplib::Server& s = *server_;
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
     try {
       std::rethrow_exception(ep);

@@ -44,6 +44,10 @@ class ViewServer {
 
  private:
   void routes();
+  void routeAssets();
+  void routeRun();
+  void routeEditor();
+  void routeErrors();
   ServerParts parts_;
   std::unique_ptr<httplib::Server> server_;
   std::atomic<bool> stopping_{false};
