@@ -6,7 +6,7 @@
 #   lockstep, realtime   evaluator, manager, planner and world as separate processes over LCM UDP
 #                        multicast, inside a private network namespace made for this run (or on the bus
 #                        given with --shared-bus).
-# Inside the namespace the bus is NETNS_URL with channel_ports=1 (common/include/hunav/transport.hpp):
+# Inside the namespace the bus is NETNS_URL with channel_ports=1 (common/include/hunav/open_bus.hpp):
 # STEP_REQUEST and STEP_REPLY, sent every tick between the world and the manager only, travel on
 # ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (about a
 # quarter less CPU per tick, bench/bench_lockstep.sh). Every other channel, the planner's included, stays
