@@ -60,7 +60,8 @@ struct LcmBus::Instances {
   std::vector<lcm::LCM*> receivers;  // instances with subscriptions: what handleFor() waits on
   std::vector<pollfd> poll_fds;
   std::size_t next_receiver = 0;  // round robin among ready instances
-  bool dispatching = false;       // inside LCM's handleTimeout
+  bool dispatching = false;
+  detail::ChannelNames channel_names;  // inside LCM's handleTimeout
 };
 
 LcmBus::LcmBus(const std::string& url) : lcm_(std::make_unique<Instances>()) {
@@ -108,18 +109,12 @@ void LcmBus::detach(Subscriber& sub) {
 }
 
 void LcmBus::publishMessage(std::string_view channel, const OutgoingMessage& msg) {
-  const void* data = msg.encoded;
-  std::size_t size = msg.encoded_size;
-  if (data == nullptr) {
-    msg.type->encode(msg.message, buffer_);
-    data = buffer_.data();
-    size = buffer_.size();
-  }
+  const auto [data, size] = detail::bytesOf(msg, buffer_);
   publishRaw(channel, data, size);
 }
 
 void LcmBus::publishRaw(std::string_view channel, const void* data, std::size_t size) {
-  const std::string name(channel);
+  const std::string& name = lcm_->channel_names.of(channel);
   if (lcm_->forChannel(name).publish(name, data, static_cast<unsigned>(size)) != 0)
     throw std::runtime_error("cannot publish on " + name);
 }

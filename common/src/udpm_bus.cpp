@@ -62,6 +62,7 @@ struct UdpmBus::Ports {
   Clock::time_point last_drain{};
   int dispatched_since_drain = 0;
   std::vector<std::uint8_t> buffer;
+  detail::ChannelNames channel_names;
 };
 
 UdpmBus::UdpmBus(const std::string& url, const ReceiveOptions& options) : ports_(std::make_unique<Ports>()) {
@@ -89,13 +90,12 @@ void UdpmBus::detach(Subscriber& sub) {
 }
 
 void UdpmBus::publishMessage(std::string_view channel, const OutgoingMessage& msg) {
-  if (msg.encoded != nullptr) return publishRaw(channel, msg.encoded, msg.encoded_size);
-  msg.type->encode(msg.message, ports_->buffer);
-  publishRaw(channel, ports_->buffer.data(), ports_->buffer.size());
+  const auto [data, size] = detail::bytesOf(msg, ports_->buffer);
+  publishRaw(channel, data, size);
 }
 
 void UdpmBus::publishRaw(std::string_view channel, const void* data, std::size_t size) {
-  const std::string name(channel);
+  const std::string& name = ports_->channel_names.of(channel);
   if (ports_->sender(ports_->offsetOf(name)).publish(name, data, static_cast<unsigned>(size)) != 0)
     throw std::runtime_error("cannot publish on " + name);
 }
