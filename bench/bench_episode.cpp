@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/thread_pool.hpp"
 
 namespace {
 double cpuSeconds() {
@@ -43,7 +44,10 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "episodes per planner (the best is reported)")->check(CLI::PositiveNumber);
   app.add_flag("--memq", memq, "run on LCM's memq:// instead of the in-process bus");
   app.add_option("--worker-min-people", worker_min_people,
-                 "the evaluator's worker thread from this many people (-1: the evaluator's default)");
+                 "the evaluator's worker (on the pool's lane) from this many people (-1: the evaluator's default)");
+  bool single_thread = false;
+  app.add_flag("--single-thread", single_thread,
+               "no thread pool: everything on the caller's thread (else hunav_run's pool: a helper, a lane)");
   CLI11_PARSE(app, argc, argv);
 
   const hunav::Scenario scenario = hunav::loadScenario(scenario_file);
@@ -51,6 +55,8 @@ int main(int argc, char** argv) {
   std::cout << "scenario " << scenario.name << ", dt " << scenario.dt << " s, " << scenario.agents.size()
             << " people, planner at " << scenario.robot.control_rate << " Hz, bus " << (memq ? "memq://" : "in-process")
             << ", best of " << repeat << "\n";
+  // hunav_run's threads: a helper for large crowds and a lane for the evaluator.
+  hunav::ThreadPool threads(hunav::ThreadPool::forThisMachine(1));
   for (const std::string& planner : planners) {
     double best_whole = 1e300, best_loop = 1e300, best_loop_cpu = 1e300, best_cpu = 1e300;
     hunav::worldsim::EpisodeResult ep;
@@ -61,6 +67,7 @@ int main(int argc, char** argv) {
       o.out_dir = out.string();
       o.use_memq = memq;
       o.evaluator_worker_min_people = worker_min_people;
+      o.threads = single_thread ? nullptr : &threads;
       const double cpu0 = cpuSeconds();
       const auto t0 = std::chrono::steady_clock::now();
       const auto outcome = hunav::runner::runInProcess(scenario, o);

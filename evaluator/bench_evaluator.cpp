@@ -13,9 +13,10 @@
 //    log (e.g. `hunav_run --record`) are loaded into memory, then played through an EvaluatorNode on
 //    an in-process bus (decoding, recording, states.csv, metrics and every result file at END),
 //    `repeat` times; reports the process CPU time per tick of the best repetition. --worker 1: with
-//    EvaluatorOptions::worker_thread (from --worker-min-people people, default kWorkerMinPeople); also reports the CPU
-//    time of the thread that publishes (the bus handler's share: what the evaluator costs the one-process runner's
-//    loop), the worker thread's (the process's minus the publishing thread's, per repetition) and the wall time.
+//    the evaluator's worker on a pool's lane (from --worker-min-people people, default kWorkerMinPeople); also reports
+//    the CPU time of the thread that publishes (the bus handler's share: what the evaluator costs the one-process
+//    runner's loop), the worker thread's (the process's minus the publishing thread's, per repetition) and the wall
+//    time.
 //    --typed 1: the world states are decoded beforehand and published as objects (Bus::publish of a message given up,
 //    as the world does in the one-process runner), so the publishing thread's figure is the bus hand-off and the
 //    evaluator's handler without LCM decoding.
@@ -39,6 +40,7 @@
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_log_reader.hpp"
+#include "hunav/thread_pool.hpp"
 
 using namespace hunav::evaluator;
 namespace fs = std::filesystem;
@@ -108,9 +110,9 @@ int replay(const std::string& log_file, int repeat, const std::string& dir, cons
       EvaluatorOptions o;
       o.out_dir = dir;
       o.profile = profile;
-      o.worker_thread = worker;
       o.worker_min_people = worker_min_people;
-      EvaluatorNode node(bus, o);
+      hunav::ThreadPool lanes(hunav::ThreadPool::Size{0, 1, {}});
+      EvaluatorNode node(bus, o, worker ? &lanes : nullptr);
       for (const auto& m : messages) {
         if (typed && m.is_world_state) {
           bus.publish(m.channel, std::move(to_publish[next_state++]));  // as the world does

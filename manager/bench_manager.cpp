@@ -107,8 +107,8 @@ StepTimes timeSteps(int n, double hall, int steps, double cutoff) {
   return StepTimes{ms.front(), ms[ms.size() / 2]};
 }
 
-// Thread CPU time of the people-people social force alone (grid build + pair kernel), minimum over
-// `steps` repetitions on one crowd.
+// Thread CPU time of the people-people social force alone (grid build + pair kernel) on one thread,
+// minimum over `steps` repetitions on one crowd.
 void timeSocialOnly(int n, double hall, int steps, double cutoff) {
   const step_request_t r = crowd(n, hall, 42);
   StepSnapshot snap;
@@ -119,11 +119,12 @@ void timeSocialOnly(int n, double hall, int steps, double cutoff) {
   long pairs = 0;
   grid.build(snap.agents, snap.by_id, cutoff);
   grid.forEachPair(cutoff, [&](int, int) { ++pairs; });
+  PeopleSocialForces forces;
   double best = 1e9;
   for (int s = 0; s < steps; ++s) {
     const double t0 = threadCpuSeconds();
     grid.build(snap.agents, snap.by_id, cutoff);
-    computePeopleSocial(snap, grid, cutoff);
+    forces.compute(snap, grid, cutoff);
     best = std::min(best, threadCpuSeconds() - t0);
   }
   std::printf("%d agents, %.1f m hall, cut-off %.1f m: %ld pairs, social force %.3f ms (min), %.2f ns/pair\n", n, hall,

@@ -16,6 +16,7 @@
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/runner/run_summary.hpp"
 #include "hunav/signals.hpp"
+#include "hunav/thread_pool.hpp"
 
 namespace {
 
@@ -237,6 +238,10 @@ int run(Options& o) {
   std::vector<long long> seeds;
   if (!readLists(o, planners, seeds)) return hunav::kExitBadInput;
   o.run.stop = &hunav::installStopSignals();
+  // The process's threads, for every episode of a series: a helper for large crowds, a lane for
+  // the evaluator's per-sample work.
+  hunav::ThreadPool threads(hunav::ThreadPool::forThisMachine(1));
+  o.run.threads = &threads;
   if (seeds.empty() && o.planner_list.empty()) {
     if (o.run.out_dir.empty())
       o.run.out_dir = "results/" + scenario.name + "_" + o.run.planner + "_" + std::to_string(scenario.seed);

@@ -100,33 +100,12 @@ bool socialForceLeavesUnchanged(const Vec2& sum, const SfmBody& me, const SfmBod
 
 GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates, const Vec2& desired_direction,
                         const SfmParams& p) {
-  GroupForces g;
-  if (mates.empty()) return g;
-  const double n = static_cast<double>(mates.size() + 1);
-  Vec2 center = me.position;
-  for (const SfmBody* m : mates) center += m->position;
-  center /= n;
-
-  // Gaze: turn back toward the others when they fall behind (more than 90 degrees off the heading).
-  const Vec2 others_center = (n * center - me.position) / (n - 1.0);
-  const Vec2 r = others_center - me.position;
-  const double e2 = desired_direction.squaredNorm();
-  if (e2 > 0.0 && r.squaredNorm() > 0.0 && desired_direction.dot(r) < 0.0) {
-    // angle > 90 degrees <=> e.R < 0; alpha = e.R / |e|^2 < 0 pulls the walker back.
-    g.gaze = p.group_gaze_weight * (desired_direction.dot(r) / e2) * desired_direction;
-  }
-
-  // Coherence: soft attraction to the centre beyond (n-1)/2 metres.
-  const Vec2 to_center = center - me.position;
-  const double threshold = (n - 1.0) / 2.0;
-  g.coherence = p.group_coherence_weight * ((std::tanh(to_center.norm() - threshold) + 1.0) / 2.0) * to_center;
-
-  // Repulsion between overlapping members.
-  for (const SfmBody* m : mates) {
-    const Vec2 away = me.position - m->position;
-    if (away.norm() < me.radius + m->radius) g.repulsion += p.group_repulsion_weight * away;
-  }
-  return g;
+  return groupForcesOf(
+      me, mates.size(),
+      [&](auto&& f) {
+        for (const SfmBody* m : mates) f(*m);
+      },
+      desired_direction, p);
 }
 
 void ForceSet::finish() {

@@ -1,19 +1,16 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 
 #include <fmt/format.h>
-#include <pthread.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
-#include <csignal>
 #include <cstring>
 #include <exception>
 #include <hunav/live_metrics_t.hpp>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 #include <utility>
 
 #include "hunav/channels.hpp"
@@ -48,12 +45,12 @@ struct EvaluatorNode::Episode {
 namespace {
 constexpr std::size_t kFlushBytes = std::size_t{1} << 20;  // buffered states.csv bytes that force a flush
 constexpr std::chrono::seconds kFlushAge{1};
-// With worker_thread, flushIfDue() asks the worker at most this often (the binary calls it after
+// With a worker, flushIfDue() asks the worker at most this often (the binary calls it after
 // every message).
 constexpr std::chrono::milliseconds kFlushRequestPeriod{100};
 }  // namespace
 
-// The worker thread of worker_thread: a single-producer single-consumer ring of reusable items
+// The worker on a lane of the node's pool: a single-producer single-consumer ring of reusable items
 // (no allocation once their buffers have grown) filled by the bus handler's thread and emptied in
 // order by the worker. A hand-off is the world state's encoding written into the item and one atomic
 // store: the mutex and the condition variables are taken only to sleep and to wake. The worker is woken
@@ -102,15 +99,12 @@ class EvaluatorNode::Worker {
     }
   };
 
-  explicit Worker(EvaluatorNode& node) : node_(node), items_(kCapacity) {
-    // Signals (SIGINT, SIGTERM) go to the caller's thread, whose loop handles them, never to the
-    // worker (where they could interrupt a write): the thread starts with every signal blocked.
-    sigset_t all;
-    sigset_t previous;
-    sigfillset(&all);
-    pthread_sigmask(SIG_BLOCK, &all, &previous);
-    thread_ = std::thread([this] { run(); });
-    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  // A worker on a lane of `threads`; null when every lane is taken (the node then does the work).
+  static std::unique_ptr<Worker> start(EvaluatorNode& node, ThreadPool& threads) {
+    std::unique_ptr<Worker> worker(new Worker(node));
+    worker->job_ = threads.startLongJob([w = worker.get()] { w->run(); });
+    if (!worker->job_) return nullptr;
+    return worker;
   }
   ~Worker() {
     {
@@ -118,7 +112,7 @@ class EvaluatorNode::Worker {
       stop_ = true;
     }
     work_.notify_one();
-    thread_.join();
+    job_.reset();  // waits for run() to return
   }
   Worker(const Worker&) = delete;
   Worker& operator=(const Worker&) = delete;
@@ -187,6 +181,8 @@ class EvaluatorNode::Worker {
   }
 
  private:
+  explicit Worker(EvaluatorNode& node) : node_(node), items_(kCapacity) {}
+
   static constexpr std::size_t kCapacity = 256;
   // The items waiting hold at most about this many agent states (memory: ~0.4 kB each), and at
   // least kMinLimit items.
@@ -260,7 +256,7 @@ class EvaluatorNode::Worker {
   std::condition_variable work_;
   std::condition_variable space_;
   std::condition_variable idle_;
-  std::thread thread_;
+  std::unique_ptr<ThreadPool::LongJob> job_;  // last: run() ends before the rest goes
 };
 
 EntityState entityOf(const agent_state_t& a) {
@@ -384,8 +380,11 @@ class EncodedWorldState {
 
 }  // namespace
 
-EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options)
-    : options_(std::move(options)), registry_(metricsFor(options_.profile, options_.metrics_file)), bus_(bus) {
+EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options, ThreadPool* threads)
+    : options_(std::move(options)),
+      registry_(metricsFor(options_.profile, options_.metrics_file)),
+      bus_(bus),
+      threads_(threads) {
   if (options_.episodes < 0) throw std::invalid_argument("episodes must be >= 0 (0 = no limit)");
   SampleRate check(options_.sample_rate);  // throws for a bad rate
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
@@ -498,8 +497,10 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   ep.last_t = t;
 
   // The switch keeps the order: the samples before were done here, the worker does the next ones.
-  if (options_.worker_thread && !worker_ && ws.agents.size() >= options_.worker_min_people)
-    worker_ = std::make_unique<Worker>(*this);
+  if (threads_ != nullptr && !worker_ && ws.agents.size() >= options_.worker_min_people) {
+    worker_ = Worker::start(*this, *threads_);
+    if (!worker_) threads_ = nullptr;  // no lane free: this node does the work itself
+  }
   const bool keep = ep.rate.keep(t);
   if (worker_) {
     Worker::Item& item = worker_->next(ws.agents.size());

@@ -198,7 +198,6 @@ std::vector<RunResult> replayLog(const fs::path& log_file, const EvaluatorOption
     EvaluatorOptions eo = options;
     eo.episodes = 0;
     eo.live_metrics = false;
-    eo.worker_thread = false;
     eo.robot_free_run = {};
     EvaluatorNode node(bus, eo);
     int ended = 0;

@@ -25,13 +25,6 @@ SfmBody bodyOf(const agent_state_t& a) {
   return b;
 }
 
-// The group mates of the agent whose forces are computed: one list per thread, reused (no
-// allocation per agent).
-std::vector<const SfmBody*>& groupScratch() {
-  static thread_local std::vector<const SfmBody*> mates;
-  return mates;
-}
-
 ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                     double goal_radius, RobotAs robot, double desired_speed) {
   const SfmParams p = paramsOf(a);
@@ -62,19 +55,27 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
     f.social += socialForceFrom(me, snap.robot, p);
 
   if (me.group_id >= 0) {
-    std::vector<const SfmBody*>& mates = groupScratch();
-    mates.clear();
     if (snap.group_of.size() == snap.agents.size()) {
       const int g = snap.group_of[index];
-      for (int k = snap.group_start[g]; k < snap.group_start[g + 1]; ++k) {
-        const int j = snap.group_members[k];
-        if (static_cast<std::size_t>(j) != index) mates.push_back(&snap.agents[j]);
-      }
+      const int from = snap.group_start[g], to = snap.group_start[g + 1];
+      f.group = groupForcesOf(
+                    me, static_cast<std::size_t>(to - from - 1),
+                    [&](auto&& visit) {
+                      for (int k = from; k < to; ++k)
+                        if (static_cast<std::size_t>(snap.group_members[k]) != index)
+                          visit(snap.agents[snap.group_members[k]]);
+                    },
+                    direction, p)
+                    .total();
     } else {
-      for (std::size_t j = 0; j < snap.agents.size(); ++j)
-        if (j != index && snap.agents[j].group_id == me.group_id) mates.push_back(&snap.agents[j]);
+      std::size_t mates = 0;
+      auto forEachMate = [&](auto&& visit) {
+        for (std::size_t j = 0; j < snap.agents.size(); ++j)
+          if (j != index && snap.agents[j].group_id == me.group_id) visit(snap.agents[j]);
+      };
+      forEachMate([&](const SfmBody&) { ++mates; });
+      f.group = groupForcesOf(me, mates, forEachMate, direction, p).total();
     }
-    f.group = groupForces(me, mates, direction, p).total();
   }
   f.finish();
   return f;
@@ -83,8 +84,6 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------
-
-void reserveTickScratch() { groupScratch().reserve(256); }
 
 void NeighborGrid::build(const std::vector<SfmBody>& bodies, const std::vector<int>& order, double cell) {
   bodies_ = &bodies;
@@ -254,7 +253,11 @@ void turnToward(TickContext& c, const Vec2& target, double max_step) {
 
 // ---------------------------------------------------------------------------------------------------
 
-AgentManager::AgentManager() : lib_(NodeLibrary::withBuiltins()), grid_(std::make_unique<NeighborGrid>()) {}
+AgentManager::AgentManager(ThreadPool* threads)
+    : threads_(threads),
+      lib_(NodeLibrary::withBuiltins()),
+      grid_(std::make_unique<NeighborGrid>()),
+      people_social_(std::make_unique<PeopleSocialForces>()) {}
 
 AgentManager::~AgentManager() = default;
 
@@ -399,8 +402,7 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
   reply.episode = request.episode;
   reply.num_agents = request.num_agents;
   reply.agents.resize(count);
-  if (!twoThreadsMayPay(count)) {  // a small crowd: one pass, in the same order as the chunks
-    reserveTickScratch();
+  if (!crowdWorthSharing(threads_, count)) {  // a small crowd: one pass, in the same order as the chunks
     tickAgents(request, reply, 0, count);
   } else {
     constexpr int kTickChunks = 8;
@@ -411,7 +413,7 @@ void AgentManager::step(const step_request_t& request, step_reply_t& reply) {
       std::size_t count;
     } const job{this, &request, &reply, count};
     // A closure of one reference: it fits in std::function's own storage (no allocation).
-    forChunksOnTwoThreads(count, kTickChunks, [&job](int c) {
+    threads_->run(kTickChunks, [&job](int c, int) {
       const auto k = static_cast<std::size_t>(c), chunks = static_cast<std::size_t>(kTickChunks);
       job.self->tickAgents(*job.request, *job.reply, k * job.count / chunks, (k + 1) * job.count / chunks);
     });
@@ -450,7 +452,7 @@ void AgentManager::takeSnapshot(const step_request_t& request) {
   snap.global_goals = &global_goals_;
   if (cutoff_ > 0.0) {
     grid_->build(snap.agents, snap.by_id, cutoff_);
-    computePeopleSocial(snap, *grid_, cutoff_);
+    people_social_->compute(snap, *grid_, cutoff_, threads_);
   } else {
     snap.people_social.clear();
   }

@@ -5,7 +5,7 @@
 
 namespace hunav::manager {
 
-ManagerNode::ManagerNode(Bus& bus, bool count_episodes) : bus_(bus) {
+ManagerNode::ManagerNode(Bus& bus, ThreadPool* threads, bool count_episodes) : bus_(bus), manager_(threads) {
   request_sub_ =
       bus_.subscribe<step_request_t>(channels::kStepRequest, [this](const step_request_t& r) { onRequest(r); });
   if (count_episodes)

@@ -9,15 +9,10 @@
 #include "people_social.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <condition_variable>
 #include <cstdint>
 #include <cstring>
-#include <exception>
-#include <functional>
-#include <mutex>
-#include <thread>
+#include <memory>
 #include <vector>
 
 #include "poly_math.hpp"
@@ -246,14 +241,6 @@ int appendPairs(const Bodies& g, int k, int from, int to, double r2, PairBatch& 
 
 KernelParams kernelParams(const SfmParams& p) { return KernelParams{p.lambda, p.gamma, p.n, p.n_prime, 1.0 / p.gamma}; }
 
-// Scratch of the kernel, reused from step to step.
-struct Workspace {
-  PairBatch batch;
-  std::vector<double> fx, fy;     // sums, in the grid's order
-  std::vector<double> cell_cost;  // pairs tested per cell (to split the work between threads)
-  std::vector<int> chunk_start;   // the helper's chunks of cells
-};
-
 }  // namespace
 
 Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& o, const SfmParams& p) {
@@ -330,123 +317,10 @@ void accumulate(const int* pi, const int* pj, const double* ux, const double* uy
   }
 }
 
-// A second thread for the manager's step, sharing work in chunks: start(count, work) offers
-// chunks 0..count-1; the helper thread and, in finish(), the calling thread take them in turn, so a
-// helper that the scheduler starts late costs no more than doing the work on one thread. Chunks
-// are independent; what depends on their order is combined by the caller after finish().
-class ChunkHelper {
- public:
-  ChunkHelper() : thread_([this] { run(); }) {
-    // Ready when its scratch is allocated: nothing of the helper allocates during a step after the first.
-    std::unique_lock<std::mutex> lock(mutex_);
-    finished_.wait(lock, [this] { return ready_; });
-  }
-  ~ChunkHelper() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_one();
-    thread_.join();
-  }
-  ChunkHelper(const ChunkHelper&) = delete;
-  ChunkHelper& operator=(const ChunkHelper&) = delete;
-
-  // Serialises callers (managers on several threads share the helper).
-  std::mutex& user() { return user_; }
-
-  // `work(chunk)` must stay valid until finish() returns.
-  void start(int count, const std::function<void(int)>& work) {
-    count_ = count;
-    next_.store(0, std::memory_order_relaxed);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      work_ = &work;
-      error_ = nullptr;
-      pending_ = true;
-      done_ = false;
-    }
-    wake_.notify_one();
-  }
-  // Takes the chunks nobody has taken yet, then waits for the helper's; rethrows what either threw.
-  void finish() {
-    std::exception_ptr error;
-    try {
-      takeChunks(*work_);
-    } catch (...) {
-      error = std::current_exception();
-      next_.store(count_, std::memory_order_relaxed);  // no more chunks for the helper either
-    }
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      if (pending_) {
-        pending_ = false;  // the helper has not started: it never will for this job
-      } else {
-        finished_.wait(lock, [this] { return done_; });
-      }
-      if (!error) error = error_;
-    }
-    if (error) std::rethrow_exception(error);
-  }
-
- private:
-  void takeChunks(const std::function<void(int)>& work) {
-    for (int c = next_.fetch_add(1, std::memory_order_relaxed); c < count_;
-         c = next_.fetch_add(1, std::memory_order_relaxed))
-      work(c);
-  }
-  void run() {
-    reserveTickScratch();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ready_ = true;
-    }
-    finished_.notify_one();
-    for (;;) {
-      const std::function<void(int)>* work = nullptr;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return pending_ || stop_; });
-        if (stop_) return;
-        work = work_;
-        pending_ = false;
-      }
-      std::exception_ptr error;
-      try {
-        takeChunks(*work);
-      } catch (...) {
-        error = std::current_exception();
-        next_.store(count_, std::memory_order_relaxed);
-      }
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        error_ = error;
-        done_ = true;
-      }
-      finished_.notify_one();
-    }
-  }
-
-  std::mutex user_;
-  std::mutex mutex_;
-  std::condition_variable wake_, finished_;
-  const std::function<void(int)>* work_ = nullptr;
-  std::exception_ptr error_;
-  bool ready_ = false, pending_ = false, done_ = false, stop_ = false;
-  int count_ = 0;             // set before the hand-over (mutex_), read by both
-  std::atomic<int> next_{0};  // the next chunk to take
-  std::thread thread_;        // last: starts when everything above exists
-};
-
-ChunkHelper& chunkHelper() {
-  static ChunkHelper helper;
-  return helper;
-}
-
-// The pairs of the later cells, in chunks of cells computed by either thread (ChunkHelper). Each
-// chunk keeps its forces (i, j, u); they are added after the earlier cells' in chunk order, that is
-// in pair order, so the sums are the same bits as on one thread, whatever thread computed which
-// chunk and whatever the timing.
+// The pairs of the later cells, in chunks of cells computed on any slot of the pool. Each chunk
+// keeps its forces (i, j, u); they are added after the earlier cells' in chunk order, that is in
+// pair order, so the sums are the same bits as on one thread, whatever thread computed which chunk
+// and whatever the timing.
 struct LaterPairs {
   static constexpr std::size_t kMaxChunks = 20;  // chunks of at least 1/16 of the pairs, +1
   struct Chunk {
@@ -457,9 +331,6 @@ struct LaterPairs {
   std::vector<Chunk> chunks;
   int count = 0;
   std::size_t largest = 0;  // pairs in the largest chunk seen
-  // One batch per thread, hot in the cache, refilled each time; what the sums need of it is copied
-  // out (keeping every batch instead: 4 MB of cold stores, measured slower).
-  PairBatch helper_batch;
 
   // `chunk_start`: the first cell of each chunk, then the end cell.
   void prepare(const std::vector<int>& chunk_start) {
@@ -482,6 +353,8 @@ struct LaterPairs {
       }
     }
   }
+  // `batch`: the slot's own, hot in the cache, refilled each time; what the sums need of it is
+  // copied out (keeping every batch instead: 4 MB of cold stores, measured slower).
   void compute(int c, const GridView& g, double r2, const KernelParams& kp, PairBatch* batch) {
     Chunk& k = chunks[static_cast<std::size_t>(c)];
     k.i.clear();
@@ -506,27 +379,20 @@ struct LaterPairs {
 
 // Below this many people one thread is faster than handing work over (measured: a hand-over costs
 // a few microseconds; 1000 people take ~1 ms on one thread).
-constexpr std::size_t kMinBodiesForHelper = 256;
+constexpr std::size_t kMinBodiesForHelpers = 256;
 
-bool useHelper(std::size_t bodies) {
-  static const bool multicore = std::thread::hardware_concurrency() > 1;
-  return multicore && bodies >= kMinBodiesForHelper;
-}
-
-// This thread's share of the cells: up to the first cell past kOwnShare of the candidate pairs the
-// loops test (each body of a cell against the rest of its cell, the cell to the right and three cells
-// of the next row; this thread also adds the helper's forces afterwards, so it takes the smaller
-// share). Returns that cell; ws.chunk_start gets the later cells in chunks of about 1/kChunks.
-int splitCells(const GridView& g, Workspace& ws) {
+// The caller's share of the cells: up to the first cell past `own_share` of the candidate pairs the
+// loops test (each body of a cell against the rest of its cell, the cell to the right and three
+// cells of the next row). Returns that cell; chunk_start gets the later cells in chunks of about
+// 1/kChunks.
+int splitCells(const GridView& g, double own_share, std::vector<double>& cost, std::vector<int>& chunk_start) {
   const int cells = g.nx * g.ny;
-  constexpr double kOwnShare = 0.42;
   constexpr double kChunks = 16.0;  // see LaterPairs::kMaxChunks
   auto bodiesIn = [&](int cx, int cy) {
     return cx < 0 || cx >= g.nx || cy >= g.ny
                ? 0.0
                : static_cast<double>(g.start[cy * g.nx + cx + 1] - g.start[cy * g.nx + cx]);
   };
-  std::vector<double>& cost = ws.cell_cost;
   cost.resize(static_cast<std::size_t>(cells));
   double total = 0.0;
   for (int c = 0; c < cells; ++c) {
@@ -537,10 +403,9 @@ int splitCells(const GridView& g, Workspace& ws) {
     total += cost[static_cast<std::size_t>(c)];
   }
   int split = 0;
-  for (double sum = 0.0; split < cells && sum < kOwnShare * total; ++split)
+  for (double sum = 0.0; split < cells && sum < own_share * total; ++split)
     sum += cost[static_cast<std::size_t>(split)];
   // The later cells in chunks of about 1/kChunks of the total.
-  std::vector<int>& chunk_start = ws.chunk_start;
   chunk_start.assign(1, split);
   double chunk_sum = 0.0;
   for (int c = split; c < cells; ++c) {
@@ -556,8 +421,24 @@ int splitCells(const GridView& g, Workspace& ws) {
 
 }  // namespace
 
-void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff) {
-  static thread_local Workspace ws;
+// Scratch of the kernel, reused from step to step.
+struct PeopleSocialForces::Workspace {
+  std::vector<PairBatch> batches;  // one per slot of the pool (the caller's first)
+  std::vector<double> fx, fy;      // sums, in the grid's order
+  std::vector<double> cell_cost;   // pairs tested per cell (to split the work between threads)
+  std::vector<int> chunk_start;    // the later cells' chunks
+  LaterPairs later;
+};
+
+bool crowdWorthSharing(const ThreadPool* threads, std::size_t people) {
+  return threads != nullptr && threads->slots() > 1 && people >= kMinBodiesForHelpers;
+}
+
+PeopleSocialForces::PeopleSocialForces() : ws_(std::make_unique<Workspace>()) {}
+PeopleSocialForces::~PeopleSocialForces() = default;
+
+void PeopleSocialForces::compute(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads) {
+  Workspace& ws = *ws_;
   const std::size_t count = grid.items_.size();
   snap.people_social.assign(snap.agents.size(), Vec2::Zero());
   if (count == 0) return;
@@ -566,60 +447,51 @@ void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cu
   const double r2 = cutoff * cutoff;
   const GridView g{Bodies{grid.x_.data(), grid.y_.data(), grid.vx_.data(), grid.vy_.data()}, grid.start_.data(),
                    grid.nx_, grid.ny_};
+  const bool share = crowdWorthSharing(threads, count);
+  const std::size_t slots = share ? static_cast<std::size_t>(threads->slots()) : 1;
+  if (ws.batches.size() < slots) ws.batches.resize(slots);
   ws.fx.assign(count, 0.0);
   ws.fy.assign(count, 0.0);
   double* fx = ws.fx.data();
   double* fy = ws.fy.data();
-  auto sink = [&](PairBatch*& b, int n) { accumulate(b->i, b->j, b->ux, b->uy, n, fx, fy); };
-  PairBatch* batch = &ws.batch;
   const int cells = g.nx * g.ny;
+  auto sink = [fx, fy](PairBatch*& b, int n) { accumulate(b->i, b->j, b->ux, b->uy, n, fx, fy); };
 
-  std::unique_lock<std::mutex> helper_lock;
-  ChunkHelper* helper = nullptr;
-  if (useHelper(count)) {
-    helper_lock = std::unique_lock<std::mutex>(chunkHelper().user(), std::try_to_lock);
-    if (helper_lock.owns_lock()) helper = &chunkHelper();
-  }
-  if (helper == nullptr) {
+  if (!share) {
+    PairBatch* batch = ws.batches.data();
     pairsOfCells(g, 0, cells, r2, kp, batch, sink);
   } else {
-    const int split = splitCells(g, ws);
-    const std::vector<int>& chunk_start = ws.chunk_start;
-    static LaterPairs later;  // used under the helper's user() lock
-    later.prepare(chunk_start);
-    const std::thread::id caller = std::this_thread::get_id();
-    struct ChunkJob {
+    // Item 0: the first cells, summed at once. It is first in the caller's queue, and the caller
+    // adds the chunks afterwards, so it is a little less than a thread's part (0.42 with two).
+    // Items 1..: the later cells' chunks, added after it in chunk order.
+    const double own_share = 0.84 / static_cast<double>(slots);
+    const int split = splitCells(g, own_share, ws.cell_cost, ws.chunk_start);
+    ws.later.prepare(ws.chunk_start);
+    struct Job {
+      Workspace& ws;
       const GridView& g;
       double r2;
       const KernelParams& kp;
-      std::thread::id caller;
-      PairBatch* caller_batch;
-      void operator()(int c) const {
-        later.compute(c, g, r2, kp, std::this_thread::get_id() == caller ? caller_batch : &later.helper_batch);
+      int split;
+      const decltype(sink)& first_cells_sink;
+      void operator()(int item, int slot) const {
+        PairBatch* batch = &ws.batches[static_cast<std::size_t>(slot)];
+        if (item == 0)
+          pairsOfCells(g, 0, split, r2, kp, batch, first_cells_sink);
+        else
+          ws.later.compute(item - 1, g, r2, kp, batch);
       }
-    } const job{g, r2, kp, caller, batch};
+    } const job{ws, g, r2, kp, split, sink};
     // A closure of one reference: it fits in std::function's own storage (no allocation).
-    const std::function<void(int)> work = [&job](int c) { job(c); };
-    helper->start(later.count, work);
-    pairsOfCells(g, 0, split, r2, kp, batch, sink);
-    helper->finish();
-    later.addTo(fx, fy);
+    threads->run(ws.later.count + 1, [&job](int item, int slot) { job(item, slot); });
+    ws.later.addTo(fx, fy);
   }
   for (std::size_t k = 0; k < count; ++k) snap.people_social[grid.items_[k]] = Vec2(fx[k], fy[k]);
 }
 
-bool twoThreadsMayPay(std::size_t people) { return useHelper(people); }
-
-void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work) {
-  reserveTickScratch();  // whichever thread ticks whom, neither allocates once warm
-  std::unique_lock<std::mutex> helper_lock;
-  if (useHelper(people)) helper_lock = std::unique_lock<std::mutex>(chunkHelper().user(), std::try_to_lock);
-  if (!helper_lock.owns_lock()) {
-    for (int c = 0; c < chunks; ++c) work(c);
-    return;
-  }
-  chunkHelper().start(chunks, work);
-  chunkHelper().finish();
+void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads) {
+  PeopleSocialForces forces;
+  forces.compute(snap, grid, cutoff, threads);
 }
 
 }  // namespace hunav::manager

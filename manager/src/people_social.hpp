@@ -1,13 +1,14 @@
 #pragma once
 // The social force between people in cut-off mode (people_social.cpp): the neighbour grid, the
-// batched pair kernel and its scalar reference, and the ticks shared with a helper thread.
+// batched pair kernel and its scalar reference.
 // Internal to the manager; tests include it to check the kernel against its reference.
 #include <cmath>
 #include <cstddef>
-#include <functional>
+#include <memory>
 #include <vector>
 
 #include "hunav/manager/tick_context.hpp"
+#include "hunav/thread_pool.hpp"
 
 namespace hunav::manager {
 
@@ -27,7 +28,7 @@ class NeighborGrid {
   void forEachPair(double radius, F&& f) const;
 
  private:
-  friend void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
+  friend class PeopleSocialForces;
 
   double cell_ = 1.0;
   Vec2 origin_ = Vec2::Zero();
@@ -50,20 +51,25 @@ Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& other, const SfmPar
 
 // Fills snap.people_social from the pairs of `grid` (built on snap.agents) within `cutoff`: the
 // same sums, in the same order, as forEachPair with unweightedSocialForce (people_social[i] += u,
-// people_social[j] -= u), computed in batches (SIMD where the CPU has it).
-void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff);
+// people_social[j] -= u), computed in batches (SIMD where the CPU has it). Keeps its storage from
+// step to step (one per manager). With `threads` and a crowd worth it (crowdWorthSharing), the
+// cells are shared out in chunks over the pool's slots: the same sums in the same order, the same
+// bits.
+class PeopleSocialForces {
+ public:
+  PeopleSocialForces();
+  ~PeopleSocialForces();
+  void compute(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads = nullptr);
 
-// Runs work(0), ..., work(chunks - 1), each once, on the calling thread and the manager's helper
-// thread (shared by the managers of the process) when `people` make a hand-over worth it and the
-// helper is free; else all on the calling thread. The chunks must be independent. Returns when all
-// are done; rethrows what one threw.
-void forChunksOnTwoThreads(std::size_t people, int chunks, const std::function<void(int)>& work);
-// Whether forChunksOnTwoThreads may hand chunks over for this many people (below that, a caller may
-// run its work directly, without the chunks' calls through std::function).
-bool twoThreadsMayPay(std::size_t people);
-// Gives the calling thread room for the scratch lists of a tick (groups of up to 256 people), so
-// that the ticks on a helper thread allocate nothing once it has started.
-void reserveTickScratch();
+ private:
+  struct Workspace;
+  std::unique_ptr<Workspace> ws_;
+};
+// One compute() with storage of its own (tests).
+void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads = nullptr);
+
+// Whether handing work of `people` people to the pool's helpers pays (fewer: one thread is faster).
+bool crowdWorthSharing(const ThreadPool* threads, std::size_t people);
 
 template <class F>
 void NeighborGrid::forEachNear(const Vec2& p, double radius, F&& f) const {

@@ -24,7 +24,7 @@
 #include "hunav/message_checks.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/stepped_run.hpp"
-#include "worker_pool.hpp"
+#include "hunav/thread_pool.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -182,9 +182,13 @@ class Simulation {
     options_.run_id = std::move(run_id);
     options_.states_csv = states_csv;
     options_.per_tick_files = per_tick_files;
-    // Without its worker thread the evaluator takes each tick's sample on the stepping thread (the
-    // same results): what VectorSimulation wants, whose own threads keep the cores busy.
-    if (!evaluator_thread) options_.evaluator_worker_min_people = std::numeric_limits<int>::max();
+    // Its own threads: a lane for the evaluator's per-sample work and a helper for large crowds.
+    // Without them everything runs on the stepping thread (the same results): what VectorSimulation
+    // wants, whose own threads keep the cores busy.
+    if (evaluator_thread) {
+      threads_ = std::make_unique<hunav::ThreadPool>(hunav::ThreadPool::forThisMachine(1));
+      options_.threads = threads_.get();
+    }
     load(seed.value_or(-1));  // a bad scenario or metrics file raises here, before any reset()
   }
   ~Simulation() {
@@ -437,6 +441,7 @@ class Simulation {
   std::optional<std::string> experiment_tag_;
   bool keep_out_dir_;
   bool external_ = false;
+  std::unique_ptr<hunav::ThreadPool> threads_;  // before run_: outlives its nodes
   hunav::runner::RunOptions options_;
   hunav::Scenario scenario_;
   fs::path temp_dir_;
@@ -474,11 +479,16 @@ class VectorSimulation {
     for (const auto& s : sims_) people = std::max(people, s->scenario().agents.size());
     max_people_ = max_people ? static_cast<std::size_t>(*max_people) : people;
     const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-    pool_ = std::make_unique<hunav::python::WorkerPool>(std::min(n, threads.value_or(cores)));
+    // The caller's thread and threads - 1 helpers. They look for the next step for a while before
+    // they sleep: a wake-up through the kernel costs about what a Python step takes between calls.
+    hunav::ThreadPool::Size size;
+    size.helpers = std::min(n, threads.value_or(cores)) - 1;
+    size.spin = std::chrono::microseconds(200);
+    pool_ = std::make_unique<hunav::ThreadPool>(size);
   }
 
   std::size_t size() const { return sims_.size(); }
-  int threads() const { return pool_->threads(); }
+  int threads() const { return pool_->slots(); }
   std::size_t maxPeople() const { return max_people_; }
   std::shared_ptr<Simulation> world(long long i) const { return sims_.at(index(i)); }
 
@@ -751,7 +761,7 @@ class VectorSimulation {
     std::vector<std::exception_ptr> errors(count);
     {
       py::gil_scoped_release release;
-      const std::function<void(int)> work = [&](int k) {
+      const std::function<void(int, int)> work = [&](int k, int) {
         try {
           f(static_cast<std::size_t>(k));
         } catch (...) {
@@ -766,7 +776,7 @@ class VectorSimulation {
 
   std::vector<std::shared_ptr<Simulation>> sims_;
   std::size_t max_people_ = 0;
-  std::unique_ptr<hunav::python::WorkerPool> pool_;  // last: its threads stop before the worlds go
+  std::unique_ptr<hunav::ThreadPool> pool_;  // last: its threads stop before the worlds go
 };
 
 PYBIND11_MODULE(_hunav, m) {

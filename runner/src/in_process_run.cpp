@@ -27,8 +27,8 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   if (!options.record_file.empty()) log = std::make_unique<LogWriter>(*bus_storage, options.record_file);
   Bus& bus = log ? static_cast<Bus&>(*log) : *bus_storage;
 
-  evaluator::EvaluatorNode evaluator(bus, evaluatorOptions(scenario, options));
-  manager::ManagerNode manager(bus);
+  evaluator::EvaluatorNode evaluator(bus, evaluatorOptions(scenario, options), options.threads);
+  manager::ManagerNode manager(bus, options.threads);
   manager.manager().useScenario(scenario);
   std::unique_ptr<planners::PlannerNode> planner;
   if (options.planner != "none")

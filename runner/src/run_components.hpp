@@ -20,7 +20,6 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   e.sample_rate = scenario.evaluation_sample_rate;
   e.metrics_file = options.metrics_file.empty() ? scenario.evaluation_metrics : options.metrics_file;
   e.hunav_txt = options.hunav_txt;
-  e.worker_thread = true;  // the evaluator's per-sample work off the world's loop
   if (options.evaluator_worker_min_people >= 0)
     e.worker_min_people = static_cast<std::size_t>(options.evaluator_worker_min_people);
   if (options.counterfactual) e.robot_free_run = robotFreeRunOf(scenario);

@@ -47,8 +47,8 @@ SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool
   bus_ = std::make_unique<InProcessBus>();
   evaluator::EvaluatorOptions eval_options = evaluatorOptions(scenario, options_);
   eval_options.live_metrics = true;  // metrics() while the episode runs
-  evaluator_ = std::make_unique<evaluator::EvaluatorNode>(*bus_, eval_options);
-  manager_ = std::make_unique<manager::ManagerNode>(*bus_);
+  evaluator_ = std::make_unique<evaluator::EvaluatorNode>(*bus_, eval_options, options_.threads);
+  manager_ = std::make_unique<manager::ManagerNode>(*bus_, options_.threads);
   manager_->manager().useScenario(scenario);
   if (options_.planner != "none" && !external_)
     planner_ = std::make_unique<planners::PlannerNode>(

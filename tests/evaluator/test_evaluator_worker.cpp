@@ -1,4 +1,4 @@
-// EvaluatorOptions::worker_thread: the files are byte for byte those of the synchronous mode, and
+// The evaluator's worker on a lane of the pool: the files are byte for byte those of the synchronous mode, and
 // every way of ending (END, finishIncomplete, destruction) first finishes the samples received.
 // Also the people-id lookup of the surprise costs (a table for ids in [0, 2^20), a search for
 // others) gives the same values for any ids.
@@ -6,6 +6,7 @@
 #include <cmath>
 #include <hunav/live_metrics_t.hpp>
 #include <lcm/lcm-cpp.hpp>
+#include <limits>
 #include <sstream>
 
 #include "evaluator_test_helpers.hpp"
@@ -16,8 +17,15 @@
 #include "hunav/fingerprint.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_bus.hpp"
+#include "hunav/thread_pool.hpp"
 
 using namespace hunav::evaluator;
+
+namespace {
+// One lane for the worker of the node under test (no helpers: the evaluator uses none).
+hunav::ThreadPool lanes(hunav::ThreadPool::Size{0, 1, {}});
+constexpr std::size_t kNeverWorker = std::numeric_limits<std::size_t>::max();
+}  // namespace
 using namespace evaluator_test;
 namespace fs = std::filesystem;
 
@@ -65,7 +73,7 @@ Played play(const EvaluatorOptions& options, int ticks, bool end, bool incomplet
   Played out;
   const hunav::Subscription sub1 = world.subscribe<hunav::live_metrics_t>(
       hunav::channels::kLiveMetrics, [&](const hunav::live_metrics_t& m) { out.live.push_back(m); });
-  EvaluatorNode node(bus, options);
+  EvaluatorNode node(bus, options, &lanes);
   hunav::Fingerprint fp;
   auto send = [&](const std::string& channel, const std::vector<std::uint8_t>& bytes) {
     world.publishRaw(channel, bytes.data(), bytes.size());
@@ -130,8 +138,8 @@ EvaluatorOptions optionsFor(const fs::path& dir, const std::string& profile, boo
   o.profile = profile;
   o.hunav_txt = true;
   o.live_metrics = true;
-  o.worker_thread = worker;
-  o.worker_min_people = 0;
+  // Every node of these tests gets the pool; the synchronous ones never reach the worker's threshold.
+  o.worker_min_people = worker ? 0 : kNeverWorker;
   return o;
 }
 
@@ -241,7 +249,7 @@ TEST(Worker, AWriteErrorReachesTheCaller) {
     EvaluatorOptions o = optionsFor(out, "default", worker);
     o.live_metrics = false;
     hunav::InProcessBus bus;
-    EvaluatorNode node(bus, o);
+    EvaluatorNode node(bus, o, &lanes);
     std::vector<std::string> errors;
     auto handle = [&] {
       try {
@@ -278,7 +286,7 @@ TEST(Worker, EpisodesSampleRateAndFlushRequestsWriteTheSameBytes) {
     o.sample_rate = 30.0;  // 30 of every 100 world states recorded
     o.live_metrics = false;
     hunav::InProcessBus bus;
-    EvaluatorNode node(bus, o);
+    EvaluatorNode node(bus, o, &lanes);
     for (std::int64_t episode = 1; episode <= 3; ++episode) {
       bus.publish(hunav::channels::kEpisodeEvent, startEvent(episode, "episodes"));
       bus.handleAvailable();
@@ -318,7 +326,7 @@ TEST(Worker, ALargeCrowdFillingTheRingWritesTheSameBytes) {
     EvaluatorOptions o = optionsFor(dir / (worker ? "worker" : "sync"), "default", worker);
     o.live_metrics = false;
     hunav::InProcessBus bus;
-    EvaluatorNode node(bus, o);
+    EvaluatorNode node(bus, o, &lanes);
     bus.publish(hunav::channels::kEpisodeEvent, startEvent(1, "crowd"));
     bus.handleAvailable();
     for (int k = 0; k < kCrowdTicks; ++k) {

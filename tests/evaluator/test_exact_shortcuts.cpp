@@ -23,6 +23,7 @@
 #include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/in_process_bus.hpp"
+#include "hunav/thread_pool.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;
@@ -145,7 +146,8 @@ INSTANTIATE_TEST_SUITE_P(Profiles, MirroredTrack, ::testing::Values("default", "
 // as the one-process runner delivers them).
 void playTyped(const EvaluatorOptions& options, const std::vector<hunav::world_state_t>& states) {
   hunav::InProcessBus bus;
-  EvaluatorNode node(bus, options);
+  hunav::ThreadPool lanes(hunav::ThreadPool::Size{0, 1, {}});  // the worker's, when options ask for it
+  EvaluatorNode node(bus, options, &lanes);
   hunav::Fingerprint fp;
   bus.publish(hunav::channels::kEpisodeEvent, startEvent(1, "typed-run"));
   bus.handleAvailable();
@@ -185,8 +187,7 @@ TEST(WorkerHandOver, EncodedOrCopiedTheFilesAreThoseOfTheSynchronousMode) {
     EvaluatorOptions o;
     o.out_dir = worker ? worker_dir : sync_dir;
     o.hunav_txt = true;
-    o.worker_thread = worker;
-    o.worker_min_people = 0;
+    o.worker_min_people = worker ? 0 : std::numeric_limits<std::size_t>::max();
     playTyped(o, states);
   }
   std::size_t files = 0;

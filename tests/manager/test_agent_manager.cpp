@@ -191,10 +191,11 @@ TEST(ManagerNode, AResendGetsTheSameReplyAgainAndALostReplyIsResent) {
   EXPECT_EQ(node.repliesResent(), 2u);
 }
 
-TEST(AgentManager, ManagersOnSeveralThreadsTickTheSameReplies) {
-  // 400 people of every behavior (from 256 the ticks are shared in chunks with the manager's helper
-  // thread when it is free; managers on other threads meanwhile tick everybody themselves): every
-  // manager's replies over 10 steps are the lone manager's, bit for bit, whatever the timing.
+TEST(AgentManager, AnyPoolAndAnyCallersTickTheSameReplies) {
+  // 400 people of every behavior (from 256 a step's pair forces and ticks are shared in chunks over
+  // the pool's slots; managers on other threads sharing the pool meanwhile tick everybody
+  // themselves): the replies over 10 steps with pools of 2 and 4 threads, and of three managers on
+  // three threads sharing one pool, are those of a manager without a pool, bit for bit.
   std::vector<agent_state_t> crowd;
   for (int i = 0; i < 400; ++i) {
     agent_state_t a = person(i + 1, (i % 20) * 1.3, (i / 20) * 1.1);
@@ -210,8 +211,8 @@ TEST(AgentManager, ManagersOnSeveralThreadsTickTheSameReplies) {
   }
   agent_state_t robot = robotAt(13.0, 11.0);
   robot.vx = 0.5;
-  auto run = [&](std::vector<step_reply_t>& replies) {
-    AgentManager m;
+  auto run = [&](std::vector<step_reply_t>& replies, ThreadPool* threads) {
+    AgentManager m(threads);
     step_request_t r = request(crowd, robot);
     for (int s = 0; s < 10; ++s) {
       step_reply_t reply;
@@ -223,20 +224,28 @@ TEST(AgentManager, ManagersOnSeveralThreadsTickTheSameReplies) {
     }
   };
   std::vector<step_reply_t> lone;
-  run(lone);
+  run(lone, nullptr);
+  auto expectLone = [&](const std::vector<step_reply_t>& got, const std::string& what) {
+    ASSERT_EQ(got.size(), lone.size());
+    for (std::size_t s = 0; s < lone.size(); ++s)
+      for (std::size_t i = 0; i < lone[s].agents.size(); ++i) {
+        const agent_state_t &a = got[s].agents[i], &b = lone[s].agents[i];
+        ASSERT_TRUE(a.x == b.x && a.y == b.y && a.vx == b.vx && a.vy == b.vy && a.yaw == b.yaw &&
+                    a.behavior_state == b.behavior_state && a.goals.size() == b.goals.size())
+            << what << " step " << s << " agent " << i;
+      }
+  };
+  for (int helpers : {1, 3}) {
+    ThreadPool pool(ThreadPool::Size{helpers, 0, {}});
+    std::vector<step_reply_t> got;
+    run(got, &pool);
+    expectLone(got, std::to_string(helpers) + " helpers");
+  }
+  ThreadPool shared(ThreadPool::Size{1, 0, {}});
   constexpr int kThreads = 3;
   std::vector<std::vector<step_reply_t>> got(kThreads);
   std::vector<std::thread> threads;
-  for (int t = 0; t < kThreads; ++t) threads.emplace_back([&, t] { run(got[t]); });
+  for (int t = 0; t < kThreads; ++t) threads.emplace_back([&, t] { run(got[t], &shared); });
   for (std::thread& t : threads) t.join();
-  for (int t = 0; t < kThreads; ++t) {
-    ASSERT_EQ(got[t].size(), lone.size());
-    for (std::size_t s = 0; s < lone.size(); ++s)
-      for (std::size_t i = 0; i < lone[s].agents.size(); ++i) {
-        const agent_state_t &a = got[t][s].agents[i], &b = lone[s].agents[i];
-        ASSERT_TRUE(a.x == b.x && a.y == b.y && a.vx == b.vx && a.vy == b.vy && a.yaw == b.yaw &&
-                    a.behavior_state == b.behavior_state && a.goals.size() == b.goals.size())
-            << "thread " << t << " step " << s << " agent " << i;
-      }
-  }
+  for (int t = 0; t < kThreads; ++t) expectLone(got[t], "thread " + std::to_string(t));
 }

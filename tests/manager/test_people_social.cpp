@@ -59,34 +59,43 @@ TEST(PeopleSocial, BatchedKernelGivesTheScalarFormBitForBit) {
   }
 }
 
-TEST(PeopleSocial, ManagersOnSeveralThreadsGetTheSameBits) {
-  // From 256 people the later grid cells go to a helper thread; callers on other threads meanwhile
-  // compute on their own thread. Every caller gets the bits of a lone caller, whatever the timing.
+TEST(PeopleSocial, AnyPoolAndAnyCallersGetTheBitsOfOneThread) {
+  // From 256 people the cells are shared out in chunks over a pool's slots; pools of 1, 2 and 4
+  // threads, and three callers sharing one pool (whoever finds its helpers busy computes alone),
+  // all get the bits of one thread without a pool, whatever the timing.
   StepSnapshot reference;
   reference.agents = randomCrowd(1000, 40.0, 9);
   reference.index();
   NeighborGrid reference_grid;
   reference_grid.build(reference.agents, reference.by_id, kDefaultSocialCutoff);
   computePeopleSocial(reference, reference_grid, kDefaultSocialCutoff);
+  auto mismatches = [&](ThreadPool* threads, int rounds) {
+    StepSnapshot snap;
+    snap.agents = reference.agents;
+    snap.index();
+    NeighborGrid grid;
+    grid.build(snap.agents, snap.by_id, kDefaultSocialCutoff);
+    PeopleSocialForces forces;
+    int wrong = 0;
+    for (int r = 0; r < rounds; ++r) {
+      forces.compute(snap, grid, kDefaultSocialCutoff, threads);
+      for (std::size_t i = 0; i < snap.agents.size(); ++i)
+        wrong += snap.people_social[i] != reference.people_social[i] ? 1 : 0;
+    }
+    return wrong;
+  };
+  for (int helpers : {0, 1, 3}) {
+    ThreadPool pool(ThreadPool::Size{helpers, 0, {}});
+    EXPECT_EQ(mismatches(&pool, 10), 0) << helpers << " helpers";
+  }
 
+  ThreadPool shared(ThreadPool::Size{1, 0, {}});
   constexpr int kThreads = 3, kRounds = 20;
-  std::vector<int> mismatches(kThreads, 0);
+  std::vector<int> wrong(kThreads, 0);
   std::vector<std::thread> threads;
-  for (int t = 0; t < kThreads; ++t)
-    threads.emplace_back([&, t] {
-      StepSnapshot snap;
-      snap.agents = reference.agents;
-      snap.index();
-      NeighborGrid grid;
-      grid.build(snap.agents, snap.by_id, kDefaultSocialCutoff);
-      for (int r = 0; r < kRounds; ++r) {
-        computePeopleSocial(snap, grid, kDefaultSocialCutoff);
-        for (std::size_t i = 0; i < snap.agents.size(); ++i)
-          mismatches[t] += snap.people_social[i] != reference.people_social[i] ? 1 : 0;
-      }
-    });
+  for (int t = 0; t < kThreads; ++t) threads.emplace_back([&, t] { wrong[t] = mismatches(&shared, kRounds); });
   for (std::thread& th : threads) th.join();
-  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(mismatches[t], 0) << "thread " << t;
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(wrong[t], 0) << "thread " << t;
 }
 
 TEST(PeopleSocial, PolynomialFormFollowsSocialForceFrom) {

@@ -2,6 +2,8 @@
 // The social force model of lightsfm as HuNavSim uses it (docs/metrics.md and manager/README.md).
 // Forces are accelerations (unit mass). One implementation serves the manager (moving people), the
 // evaluator (social work metrics) and the SFW planner (predicting people).
+#include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "hunav/geometry.hpp"
@@ -63,6 +65,11 @@ struct GroupForces {
 // Group forces (Moussaid 2010, section 1.6). `mates` are the other members of me's group.
 GroupForces groupForces(const SfmBody& me, const std::vector<const SfmBody*>& mates, const Vec2& desired_direction,
                         const SfmParams& p);
+// The same with the `mates` others given by forEachMate(f), which calls f(const SfmBody&) for each in
+// a fixed order (twice per call): no list to build while a crowd is ticked on several threads.
+template <class ForEachMate>
+GroupForces groupForcesOf(const SfmBody& me, std::size_t mates, const ForEachMate& forEachMate,
+                          const Vec2& desired_direction, const SfmParams& p);
 
 struct ForceSet {
   Vec2 desired = Vec2::Zero();
@@ -85,5 +92,37 @@ struct SfmMotion {
 // comes to rest keeps its heading instead of snapping to yaw 0.
 SfmMotion integrate(const Vec2& position, const Vec2& velocity, double yaw, const Vec2& force, double desired_speed,
                     double dt);
+
+template <class ForEachMate>
+GroupForces groupForcesOf(const SfmBody& me, std::size_t mates, const ForEachMate& forEachMate,
+                          const Vec2& desired_direction, const SfmParams& p) {
+  GroupForces g;
+  if (mates == 0) return g;
+  const double n = static_cast<double>(mates + 1);
+  Vec2 center = me.position;
+  forEachMate([&](const SfmBody& m) { center += m.position; });
+  center /= n;
+
+  // Gaze: turn back toward the others when they fall behind (more than 90 degrees off the heading).
+  const Vec2 others_center = (n * center - me.position) / (n - 1.0);
+  const Vec2 r = others_center - me.position;
+  const double e2 = desired_direction.squaredNorm();
+  if (e2 > 0.0 && r.squaredNorm() > 0.0 && desired_direction.dot(r) < 0.0) {
+    // angle > 90 degrees <=> e.R < 0; alpha = e.R / |e|^2 < 0 pulls the walker back.
+    g.gaze = p.group_gaze_weight * (desired_direction.dot(r) / e2) * desired_direction;
+  }
+
+  // Coherence: soft attraction to the centre beyond (n-1)/2 metres.
+  const Vec2 to_center = center - me.position;
+  const double threshold = (n - 1.0) / 2.0;
+  g.coherence = p.group_coherence_weight * ((std::tanh(to_center.norm() - threshold) + 1.0) / 2.0) * to_center;
+
+  // Repulsion between overlapping members.
+  forEachMate([&](const SfmBody& m) {
+    const Vec2 away = me.position - m.position;
+    if (away.norm() < me.radius + m.radius) g.repulsion += p.group_repulsion_weight * away;
+  });
+  return g;
+}
 
 }  // namespace hunav

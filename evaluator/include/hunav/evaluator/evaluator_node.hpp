@@ -18,8 +18,8 @@
 // that does not increase is dropped (the handler throws hunav::BadMessage) and counted in run.json's dropped_messages;
 // tick numbers that never arrived are counted in lost_ticks.
 //
-// Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (with
-// worker_thread the node also runs a worker thread of its own; the calls below stay on the caller's):
+// Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (given
+// a pool with a free lane, the per-sample work runs there; the calls below stay on the caller's):
 //   std::unique_ptr<hunav::Bus> bus = hunav::openBus(url);   // or an InProcessBus shared with others
 //   EvaluatorNode evaluator(bus, {out_dir, "default", "exp", 1});
 //   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
@@ -46,6 +46,7 @@
 #include "hunav/evaluator/sample_rate.hpp"
 #include "hunav/evaluator/states_csv.hpp"
 #include "hunav/fingerprint.hpp"
+#include "hunav/thread_pool.hpp"
 
 namespace hunav::evaluator {
 
@@ -70,14 +71,13 @@ struct EvaluatorOptions {
   // Record and evaluate at most this many samples per second of simulation time (sample_rate.hpp);
   // 0 = every world state.
   double sample_rate = 0.0;
-  // Do the per-sample work (the fingerprint, the sample, states.csv rows, metrics, per-tick rows,
-  // flushes) on a worker thread fed through a lock-free ring by the bus handler, which keeps only the
-  // checks and writes the message's LCM encoding into the ring (the worker hashes it and reads the
-  // sample back from it; a copy of the message when the encoding cannot stand for it). The files
-  // are byte for byte those of the synchronous mode.
-  bool worker_thread = false;
-  // With worker_thread, the worker takes over from the first world state with at least this many
-  // people (0: from the start).
+  // Given a pool (the constructor's `threads`) with a free lane, the per-sample work (the
+  // fingerprint, the sample, states.csv rows, metrics, per-tick rows, flushes) moves to that lane
+  // from the first world state with at least this many people (0: from the start). It is fed through
+  // a lock-free ring by the bus handler, which keeps only the checks and writes the message's LCM
+  // encoding into the ring (the worker hashes it and reads the sample back from it; a copy of the
+  // message when the encoding cannot stand for it). The files are byte for byte those of the
+  // synchronous mode.
   std::size_t worker_min_people = kWorkerMinPeople;
   // --counterfactual: at the end of each episode, run its robot-free episode at the sample times of
   // its states.csv, write <run dir>/counterfactual.csv and append the counterfactual_* metrics to its
@@ -94,10 +94,11 @@ struct EvaluatorOptions {
 class EvaluatorNode {
  public:
   // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus` until it is destroyed.
-  // Throws std::invalid_argument for an unknown profile, a negative episode count or a bad sample
-  // rate.
-  EvaluatorNode(Bus& bus, EvaluatorOptions options);
-  // Closes states.csv of an episode still open without computing anything (with worker_thread:
+  // `threads`: the process's pool (outliving the node), whose lane takes the per-sample work
+  // (worker_min_people); null: all on the caller's thread. Throws std::invalid_argument for an
+  // unknown profile, a negative episode count or a bad sample rate.
+  EvaluatorNode(Bus& bus, EvaluatorOptions options, ThreadPool* threads = nullptr);
+  // Closes states.csv of an episode still open without computing anything (with a worker:
   // after the worker wrote every sample received): call finishIncomplete() first to keep its results.
   ~EvaluatorNode();
   EvaluatorNode(const EvaluatorNode&) = delete;
@@ -118,10 +119,10 @@ class EvaluatorNode {
   bool finishIncomplete(const std::string& reason, const std::string& status = "incomplete");
 
   // Hands buffered rows to the files when the oldest is a second old (call it when the bus is quiet;
-  // world states call it themselves). With worker_thread the worker does it after the samples
+  // world states call it themselves). With a worker, the worker does it after the samples
   // already queued.
   void flushIfDue();
-  // With worker_thread: returns once the worker has done the work of every message received (at
+  // With a worker: returns once the worker has done the work of every message received (at
   // once without a worker). Rethrows an error of the worker (I/O, a non-finite per-tick value),
   // which the synchronous mode would have thrown from the bus handler.
   void drain();
@@ -173,9 +174,10 @@ class EvaluatorNode {
   std::vector<std::uint8_t> encode_buffer_;
   std::vector<EntityState> agents_scratch_;
   std::vector<Vec2> points_scratch_;
-  std::chrono::steady_clock::time_point last_flush_request_;  // worker_thread: flushIfDue()'s last request
+  std::chrono::steady_clock::time_point last_flush_request_;  // with a worker: flushIfDue()'s last request
   std::set<std::string> used_run_dirs_;                       // folders of episodes 2, 3, ...
-  std::unique_ptr<Worker> worker_;                            // with worker_thread; stopped before the rest
+  ThreadPool* threads_ = nullptr;   // whose lane the worker takes; null: none given, or no lane was free
+  std::unique_ptr<Worker> worker_;  // on a lane; stopped before the rest
   // Last, so that they end first: no message reaches a node being destroyed.
   Subscription event_sub_;
   Subscription state_sub_;

@@ -4,8 +4,8 @@
 // An agent's goal queue and parameters travel in its agent_state_t; the behavior-tree memory
 // (timers, once flags, running nodes) lives here, keyed by (episode, agent id), and evolves with
 // each computed step. A new episode number resets it.
-// The people's forces, the neighbour grid and the threads a step may share live inside the manager
-// (manager/src/); what a behavior-tree node sees is tick_context.hpp.
+// The people's forces and the neighbour grid live inside the manager (manager/src/); what a
+// behavior-tree node sees is tick_context.hpp.
 #include <cstdint>
 #include <hunav/agent_state_t.hpp>
 #include <hunav/people_social_t.hpp>
@@ -21,6 +21,7 @@
 #include "hunav/manager/behavior_tree.hpp"
 #include "hunav/manager/tick_context.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/thread_pool.hpp"
 
 namespace hunav::manager {
 
@@ -29,10 +30,14 @@ namespace hunav::manager {
 inline constexpr double kDefaultSocialCutoff = 8.0;
 
 class NeighborGrid;
+class PeopleSocialForces;
 
 class AgentManager {
  public:
-  AgentManager();
+  // `threads` (the process's, outliving the manager; null: none): a step of a large crowd shares its
+  // pair forces and its trees' ticks with the pool's helpers. The results are the same bits with
+  // any pool or none.
+  explicit AgentManager(ThreadPool* threads = nullptr);
   ~AgentManager();
   AgentManager(const AgentManager&) = delete;
   AgentManager& operator=(const AgentManager&) = delete;
@@ -89,6 +94,7 @@ class AgentManager {
   AgentMemory& memoryAt(std::size_t index, const agent_state_t& a);
   void clearMemory();
 
+  ThreadPool* threads_ = nullptr;
   NodeLibrary lib_;
   double cutoff_ = kDefaultSocialCutoff;
   std::map<std::string, std::shared_ptr<const TreeDefinition>> definitions_;
@@ -98,6 +104,7 @@ class AgentManager {
   std::unordered_map<int, AgentMemory> memory_;  // node pointers stay valid while it grows
   std::vector<AgentMemory*> memory_at_;          // per request index: the memory found last step
   std::unique_ptr<NeighborGrid> grid_;           // cut-off mode's pairs (people_social.hpp)
+  std::unique_ptr<PeopleSocialForces> people_social_;
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
   std::shared_ptr<const RouteMap> routes_;

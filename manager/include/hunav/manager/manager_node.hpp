@@ -14,7 +14,8 @@ class ManagerNode {
   // count_episodes: listen to EPISODE_EVENT to count ended episodes (episodesEnded()). Without it the
   // manager hears only STEP_REQUEST: with channel_ports=1 (channels.hpp) it then opens no receive
   // socket on the URL's port, where every WORLD_STATE would otherwise wake it each tick.
-  explicit ManagerNode(Bus& bus, bool count_episodes = true);
+  // threads: the process's pool for large crowds (AgentManager); null: none.
+  explicit ManagerNode(Bus& bus, ThreadPool* threads = nullptr, bool count_episodes = true);
 
   AgentManager& manager() { return manager_; }
   std::uint64_t stepsComputed() const { return steps_computed_; }

@@ -8,6 +8,7 @@
 
 #include "hunav/evaluator/results.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/thread_pool.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
 namespace hunav::runner {
@@ -28,8 +29,12 @@ struct RunOptions {
   bool use_memq = false;    // run on LCM's memq:// instead of the Bus's own in-process queue
                             // (same messages and results; memq costs a pipe round trip each)
   const std::atomic<bool>* stop = nullptr;
-  // The evaluator's worker thread takes over from this many people (EvaluatorOptions::
-  // worker_min_people); -1: the evaluator's default.
+  // The caller's threads (outliving the run): the manager's helpers for large crowds and the
+  // evaluator's lane for its per-sample work. Null: everything on the caller's thread, the same
+  // results.
+  ThreadPool* threads = nullptr;
+  // The evaluator's worker (on a lane of `threads`) takes over from this many people
+  // (EvaluatorOptions::worker_min_people); -1: the evaluator's default.
   int evaluator_worker_min_people = -1;
   // Also run the episode without the robot and write the robot's effect on people (counterfactual.csv,
   // the counterfactual_* metrics: docs/metrics.md); off: the files exactly as before.
