@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <exception>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -70,19 +71,23 @@ struct ThreadPool::Impl {
         index = t & 0xffffffffu;
         if ((t >> 32) != (gen & 0xffffffffu) || index >= static_cast<std::uint64_t>(items)) return;
       } while (!ticket.compare_exchange_weak(t, t + 1));
-      if (!failed.load(std::memory_order_relaxed)) {
-        try {
-          job(static_cast<int>(index), slot);
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!error) error = std::current_exception();
-          failed.store(true);
-        }
-      }
-      if (done.fetch_add(1, std::memory_order_acq_rel) + 1 == items) {
+      runItem(job, static_cast<int>(index), slot, items);
+    }
+  }
+
+  void runItem(const std::function<void(int, int)>& job, int index, int slot, int items) {
+    if (!failed.load(std::memory_order_relaxed)) {
+      try {
+        job(index, slot);
+      } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
-        if (caller_waiting) finished.notify_one();
+        if (!error) error = std::current_exception();
+        failed.store(true);
       }
+    }
+    if (done.fetch_add(1, std::memory_order_acq_rel) + 1 == items) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (caller_waiting) finished.notify_one();
     }
   }
 
@@ -129,12 +134,16 @@ ThreadPool::ThreadPool(const Size& size) : impl_(std::make_unique<Impl>()) {
   // A helper's first generation is taken here, not when it first runs: one that starts late (a
   // loaded machine) must still see the jobs and the stop that came before it ran.
   const std::uint64_t start = impl_->generation.load();
-  for (int slot = 1; slot <= size.helpers; ++slot)
+  // Named for top -H, perf and gdb.
+  for (int slot = 1; slot <= size.helpers; ++slot) {
     impl_->helpers.emplace_back([impl = impl_.get(), slot, start] { impl->helperLoop(slot, start); });
+    pthread_setname_np(impl_->helpers.back().native_handle(), ("hunav-helper" + std::to_string(slot)).c_str());
+  }
   for (int k = 0; k < size.lanes; ++k) {
     impl_->lanes.push_back(std::make_unique<LongJob::Lane>());
     LongJob::Lane* lane = impl_->lanes.back().get();
     lane->thread = std::thread([lane] { lane->loop(); });
+    pthread_setname_np(lane->thread.native_handle(), ("hunav-lane" + std::to_string(k + 1)).c_str());
   }
   pthread_sigmask(SIG_SETMASK, &previous, nullptr);
 }
@@ -179,11 +188,12 @@ void ThreadPool::run(int count, const std::function<void(int, int)>& work) {
     p.error = nullptr;
     p.failed.store(false);
     p.done.store(0);
-    p.ticket.store(gen << 32);
+    p.ticket.store((gen << 32) | 1);  // item 0 is the caller's
     p.generation.store(gen);
     sleeping = p.sleepers > 0;
   }
   if (sleeping) p.wake.notify_all();
+  p.runItem(work, 0, 0, count);
   p.take(gen, work, count, 0);
   // The items the helpers took: often done by now, or nearly.
   constexpr int kCallerSpins = 200;

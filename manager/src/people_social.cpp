@@ -461,8 +461,8 @@ void PeopleSocialForces::compute(StepSnapshot& snap, const NeighborGrid& grid, d
     PairBatch* batch = ws.batches.data();
     pairsOfCells(g, 0, cells, r2, kp, batch, sink);
   } else {
-    // Item 0: the first cells, summed at once. It is first in the caller's queue, and the caller
-    // adds the chunks afterwards, so it is a little less than a thread's part (0.42 with two).
+    // Item 0 (the caller's, run first): the first cells, summed at once; the caller also adds the
+    // chunks afterwards, so it is a little less than a thread's part (0.42 with two).
     // Items 1..: the later cells' chunks, added after it in chunk order.
     const double own_share = 0.84 / static_cast<double>(slots);
     const int split = splitCells(g, own_share, ws.cell_cost, ws.chunk_start);

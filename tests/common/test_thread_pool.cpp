@@ -66,6 +66,22 @@ TEST(ThreadPool, EveryItemOnceOnAValidSlot) {
   checkEveryItemOnce(spinning, 300, 9);
 }
 
+TEST(ThreadPool, ItemZeroRunsOnTheCaller) {
+  ThreadPool pool(sized(3, 0, 200));  // spinning helpers: the quickest to grab an item
+  const std::thread::id caller = std::this_thread::get_id();
+  for (int job = 0; job < 500; ++job) {
+    std::atomic<bool> on_caller{false};
+    std::atomic<int> slot_of_zero{-1};
+    pool.run(8, [&](int item, int slot) {
+      if (item != 0) return;
+      on_caller = std::this_thread::get_id() == caller;
+      slot_of_zero = slot;
+    });
+    ASSERT_TRUE(on_caller.load()) << "job " << job;
+    ASSERT_EQ(slot_of_zero.load(), 0) << "job " << job;
+  }
+}
+
 TEST(ThreadPool, HelpersTakeItemsWhenTheCallerIsBusy) {
   // Item 0 holds the caller until another slot has run an item: with one helper, the rest must go
   // there, so run() returns only because a helper took part.

@@ -40,9 +40,11 @@ class ThreadPool {
   int slots() const;
   int lanes() const;
 
-  // Calls work(item, slot) once for every item in [0, count), on the calling thread (slot 0) and the
-  // helpers (slots 1..helpers), in no fixed order, and returns when all are done. The slot says
-  // which of the caller's per-thread scratch the item may use: no two items run on one slot at once.
+  // Calls work(item, slot) once for every item in [0, count) and returns when all are done: item 0
+  // first on the calling thread (slot 0; a caller's own share of the work goes there), the others
+  // on whichever thread takes them next, the caller's or a helper's (slots 1..helpers). The slot
+  // says which of the caller's per-thread scratch the item may use: no two items run on one slot
+  // at once.
   // After an item throws, the items not started are skipped and the first exception is rethrown.
   // While another thread's run() has the helpers (or from inside an item), every item runs on the
   // calling thread, slot 0.
