@@ -14,7 +14,8 @@
 
 namespace hunav::runner {
 
-evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector<double>& sample_times) {
+evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector<double>& sample_times,
+                                  ThreadPool* threads) {
   evaluator::Recording rec;
   if (sample_times.empty()) return rec;
   Scenario scenario = scenario_in;
@@ -23,7 +24,7 @@ evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector
 
   // Built in the order runInProcess() builds a run (manager, then world) on a bus of its own.
   InProcessBus bus;
-  manager::ManagerNode manager(bus);
+  manager::ManagerNode manager(bus, threads);
   manager.manager().useScenario(scenario);
   manager.manager().setRobotAbsent(true);
   worldsim::WorldOptions options;
@@ -57,9 +58,9 @@ evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector
   return rec;
 }
 
-evaluator::RobotFreeRun robotFreeRunOf(Scenario scenario) {
-  return [scenario = std::move(scenario)](const evaluator::RunInfo&, const std::vector<double>& times) {
-    return runRobotFree(scenario, times);
+evaluator::RobotFreeRun robotFreeRunOf(Scenario scenario, ThreadPool* threads) {
+  return [scenario = std::move(scenario), threads](const evaluator::RunInfo&, const std::vector<double>& times) {
+    return runRobotFree(scenario, times, threads);
   };
 }
 

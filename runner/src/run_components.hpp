@@ -22,7 +22,7 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   e.hunav_txt = options.hunav_txt;
   if (options.evaluator_worker_min_people >= 0)
     e.worker_min_people = static_cast<std::size_t>(options.evaluator_worker_min_people);
-  if (options.counterfactual) e.robot_free_run = robotFreeRunOf(scenario);
+  if (options.counterfactual) e.robot_free_run = robotFreeRunOf(scenario, options.threads);
   e.states_csv = options.states_csv;
   e.per_tick_files = options.per_tick_files;
   return e;
