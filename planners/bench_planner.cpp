@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "dwb_planner.hpp"  // internal: what a costmap planner did each cycle (A* runs, expansions)
 #include "hunav/channels.hpp"
 #include "hunav/lcm_log_reader.hpp"
-#include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/testing/sim_tools.hpp"
 

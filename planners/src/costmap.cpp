@@ -1,4 +1,4 @@
-#include "hunav/planners/costmap.hpp"
+#include "costmap.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "hunav/planners/critics.hpp"
+#include "critics.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,9 @@
-#include "hunav/planners/dwb_planner.hpp"
+#include "dwb_planner.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include "hunav/planners/params.hpp"
 
 namespace hunav::planners {
 
@@ -20,65 +18,8 @@ constexpr std::size_t kUnknownIndex = std::numeric_limits<std::size_t>::max();
 constexpr double kStandingSpeed = 0.05;
 }  // namespace
 
-CostmapParams readCostmapParams(const YamlReader* config) {
-  CostmapParams p;
-  ParamSection s(config, "costmap");
-  s.read("resolution", p.resolution, 0.005, 1.0);
-  s.read("inflation_radius", p.inflation_radius, 0.0, 10.0);
-  s.read("cost_scaling_factor", p.cost_scaling_factor, 0.0, 100.0);
-  s.read("margin", p.margin, 0.0, 100.0);
-  s.finish();
-  return p;
-}
-
-GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config, const GlobalPlannerParams& defaults) {
-  GlobalPlannerParams p = defaults;
-  ParamSection s(config, "global_planner");
-  s.read("cost_weight", p.cost_weight, 0.0, 1000.0);
-  s.read("heuristic_weight", p.heuristic_weight, 1.0, 10.0);
-  s.finish();
-  return p;
-}
-
-void DwbParams::readDwbSection(const YamlReader* config) {
-  constexpr double kBig = 1e6;
-  ParamSection s(config, "dwb");
-  s.read("sim_time", sim_time, 0.1, 10.0);
-  s.read("sim_step", sim_step, 0.005, 1.0);
-  s.read("v_samples", v_samples, 1, 100);
-  s.read("w_samples", w_samples, 1, 200);
-  s.read("obstacle_weight", obstacle_weight, 0.0, kBig);
-  s.read("people_weight", people_weight, 0.0, kBig);
-  s.read("path_distance_weight", path_distance_weight, 0.0, kBig);
-  s.read("path_align_weight", path_align_weight, 0.0, kBig);
-  s.read("goal_distance_weight", goal_distance_weight, 0.0, kBig);
-  s.read("oscillation_weight", oscillation_weight, 0.0, kBig);
-  s.read("forward_point_distance", forward_point_distance, 0.0, 10.0);
-  s.read("people_safety_margin", people_safety_margin, 0.0, 10.0);
-  s.read("people_sigma", people_sigma, 0.01, 10.0);
-  s.read("oscillation_reset_distance", oscillation_reset_distance, 0.0, 10.0);
-  s.read("oscillation_reset_angle", oscillation_reset_angle, 0.0, 4.0);
-  s.read("lookahead_distance", lookahead_distance, 0.0, 10.0);
-  s.read("rotate_in_place_angle", rotate_in_place_angle, 0.0, 4.0);
-  s.read("stopped_rotate_angle", stopped_rotate_angle, 0.0, 4.0);
-  s.read("rotate_gain", rotate_gain, 0.0, 100.0);
-  s.read("replan_period", replan_period, 0.0, 3600.0);
-  s.read("replan_cost_rise", replan_cost_rise, 0, 253);
-  s.read("evade_people", evade_people);
-  s.read("mark_scan", mark_scan);
-  s.read("mark_people", mark_people);
-  s.read("people_prediction_time", people_prediction_time, 0.0, 10.0);
-  s.finish();
-}
-
-DwbParams DwbParams::fromConfig(const YamlReader* config) {
-  checkSections(config, {"costmap", "global_planner", "dwb", "recovery"});
-  DwbParams p;
-  p.costmap = readCostmapParams(config);
-  p.global_planner = readGlobalPlannerParams(config);
-  p.readDwbSection(config);
-  p.recovery = readRecoveryParams(config);
-  return p;
+std::unique_ptr<Planner> DwbPlanner::create(const Scenario& scenario, const YamlReader* config) {
+  return std::make_unique<DwbPlanner>(scenario, DwbParams::fromConfig(config));
 }
 
 DwbPlanner::DwbPlanner(const Scenario& scenario, const DwbParams& params)

@@ -1,4 +1,4 @@
-#include "hunav/planners/global_planner.hpp"
+#include "global_planner.hpp"
 
 #include <algorithm>
 #include <cmath>

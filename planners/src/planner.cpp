@@ -3,9 +3,9 @@
 #include <map>
 #include <stdexcept>
 
-#include "hunav/planners/dwb_planner.hpp"
-#include "hunav/planners/scl_planner.hpp"
-#include "hunav/planners/sfw_planner.hpp"
+#include "dwb_planner.hpp"
+#include "scl_planner.hpp"
+#include "sfw_planner.hpp"
 
 namespace hunav::planners {
 
@@ -15,10 +15,7 @@ namespace {
 // The built-in planners; another one is a line here (or a registerPlanner() call before use).
 std::map<std::string, PlannerFactory>& registry() {
   static std::map<std::string, PlannerFactory> planners = {
-      {"dwb",
-       [](const Scenario& scenario, const YamlReader* config) -> std::unique_ptr<Planner> {
-         return std::make_unique<DwbPlanner>(scenario, DwbParams::fromConfig(config));
-       }},
+      {"dwb", &DwbPlanner::create},
       {"scl", &SclPlanner::create},
       {"sfw", &SfwPlanner::create},
   };

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "dwb_planner.hpp"
 #include "hunav/channels.hpp"
-#include "hunav/planners/dwb_planner.hpp"
 
 namespace hunav::planners {
 

@@ -1,11 +1,9 @@
-#include "hunav/planners/recovery.hpp"
+#include "recovery.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
-
-#include "hunav/planners/params.hpp"
 
 namespace hunav::planners {
 
@@ -17,23 +15,6 @@ constexpr double kSpinTolerance = 0.02;  // rad short of spin_angle that counts 
 constexpr std::size_t kMaxStuckPlaces = 64;
 constexpr double kMinMotionTime = 0.1;  // s, shortest motion a safety check looks along
 }  // namespace
-
-RecoveryParams readRecoveryParams(const YamlReader* config) {
-  RecoveryParams p;
-  ParamSection s(config, "recovery");
-  s.read("enabled", p.enabled);
-  s.read("progress_distance", p.progress_distance, 0.01, 100.0);
-  s.read("progress_timeout", p.progress_timeout, 0.1, 3600.0);
-  s.read("spin_angle", p.spin_angle, 0.0, 2.0 * kPi);
-  s.read("spin_speed", p.spin_speed, 0.01, 100.0);
-  s.read("backup_distance", p.backup_distance, 0.0, 10.0);
-  s.read("backup_speed", p.backup_speed, 0.01, 10.0);
-  s.read("wait_duration", p.wait_duration, 0.0, 3600.0);
-  s.read("time_allowance", p.time_allowance, 0.1, 3600.0);
-  s.read("impatience", p.impatience, 0.0, 100.0);
-  s.finish();
-  return p;
-}
 
 const char* recoveryName(RecoveryBehavior behavior) {
   switch (behavior) {

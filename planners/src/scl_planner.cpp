@@ -1,24 +1,12 @@
-#include "hunav/planners/scl_planner.hpp"
+#include "scl_planner.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "hunav/planners/params.hpp"
+#include "param_section.hpp"
 
 namespace hunav::planners {
-
-void SclParams::readSection(const YamlReader* config) {
-  ParamSection s(config, "scl");
-  s.read("amplitude", amplitude, 0.0, Costmap::kMaxInflated);
-  s.read("sigma_front", sigma_front, 0.01, 10.0);
-  s.read("sigma_rear", sigma_rear, 0.01, 10.0);
-  s.read("sigma_side", sigma_side, 0.01, 10.0);
-  s.read("speed_factor", speed_factor, 0.0, 10.0);
-  s.read("cutoff", cutoff, 1.0, Costmap::kMaxInflated);
-  s.read("moving_speed", moving_speed, 0.0, 10.0);
-  s.finish();
-}
 
 namespace {
 // The exponent -log(cost / amplitude) of the social cost at p (0 inside the body).

@@ -1,35 +1,15 @@
-#include "hunav/planners/sfw_planner.hpp"
+#include "sfw_planner.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "hunav/planners/params.hpp"
+#include "param_section.hpp"
 
 namespace hunav::planners {
 
 namespace {
 constexpr double kGoalAhead = 10.0;  // s: a person's assumed goal lies this far along its walk
-}
-
-void SfwParams::readSection(const YamlReader* config) {
-  constexpr double kBig = 1e6;
-  ParamSection s(config, "sfw");
-  s.read("social_work_weight", social_work_weight, 0.0, kBig);
-  s.read("prediction_step", prediction_step, 0.01, 2.0);
-  s.read("people_forces", people_forces, 0.0, kBig);
-  s.read("obstacle_forces", obstacle_forces, 0.0, kBig);
-  s.read("people_react", people_react, 0.0, kBig);
-  s.read("goal_weight", sfm.goal_weight, 0.0, kBig);
-  s.read("obstacle_weight", sfm.obstacle_weight, 0.0, kBig);
-  s.read("obstacle_sigma", sfm.obstacle_sigma, 0.001, 10.0);
-  s.read("social_weight", sfm.social_weight, 0.0, kBig);
-  s.read("lambda", sfm.lambda, 0.0, 100.0);
-  s.read("gamma", sfm.gamma, 0.001, 100.0);
-  s.read("n", sfm.n, 0.0, 100.0);
-  s.read("n_prime", sfm.n_prime, 0.0, 100.0);
-  s.read("relaxation_time", sfm.relaxation_time, 0.01, 100.0);
-  s.finish();
 }
 
 void SocialWorkCritic::prepare(const PlanningContext& ctx) {

@@ -1,4 +1,4 @@
-#include "hunav/planners/trajectory.hpp"
+#include "trajectory.hpp"
 
 #include <algorithm>
 #include <cmath>

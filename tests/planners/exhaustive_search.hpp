@@ -3,7 +3,7 @@
 // planners' branch and bound against.
 #include <gtest/gtest.h>
 
-#include "hunav/planners/dwb_planner.hpp"
+#include "dwb_planner.hpp"
 #include "hunav/testing/sim_tools.hpp"
 
 namespace hunav::planners {

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "costmap.hpp"
 #include "hunav/config_error.hpp"
-#include "hunav/planners/costmap.hpp"
 #include "hunav/testing/scenarios.hpp"
 
 using namespace hunav;

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "dwb_planner.hpp"
 #include "exhaustive_search.hpp"
-#include "hunav/planners/dwb_planner.hpp"
 #include "hunav/testing/scenarios.hpp"
 #include "hunav/testing/sim_tools.hpp"
 

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "hunav/planners/global_planner.hpp"
+#include "global_planner.hpp"
 #include "hunav/testing/scenarios.hpp"
 
 using namespace hunav;

@@ -4,8 +4,9 @@
 #include <fstream>
 #include <iterator>
 
+#include "dwb_planner.hpp"
 #include "hunav/config_error.hpp"
-#include "hunav/planners/dwb_planner.hpp"
+#include "hunav/planners/params.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/testing/files.hpp"
 #include "hunav/testing/scenarios.hpp"

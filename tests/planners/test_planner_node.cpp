@@ -5,9 +5,9 @@
 #include <limits>
 #include <memory>
 
+#include "dwb_planner.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/lcm_bus.hpp"
-#include "hunav/planners/dwb_planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/testing/scenarios.hpp"
 #include "hunav/testing/sim_tools.hpp"

@@ -1,4 +1,4 @@
-// Recovery behaviours (planners/include/hunav/planners/recovery.hpp): the sequence, its timing, what
+// Recovery behaviours (planners/src/recovery.hpp): the sequence, its timing, what
 // counts as progress, the safety of each motion, and the root causes of the planners' freezes.
 #include <gtest/gtest.h>
 
@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "hunav/planners/dwb_planner.hpp"
+#include "dwb_planner.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/planners/recovery.hpp"
-#include "hunav/planners/sfw_planner.hpp"
 #include "hunav/testing/scenarios.hpp"
 #include "hunav/testing/sim_tools.hpp"
+#include "recovery.hpp"
+#include "sfw_planner.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;

@@ -9,12 +9,12 @@
 #include "exhaustive_search.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/planners/scl_planner.hpp"
-#include "hunav/planners/sfw_planner.hpp"
 #include "hunav/testing/files.hpp"
 #include "hunav/testing/scenarios.hpp"
 #include "hunav/testing/sim_tools.hpp"
 #include "hunav/testing/temp_dir.hpp"
+#include "scl_planner.hpp"
+#include "sfw_planner.hpp"
 
 using namespace hunav;
 using namespace hunav::planners;

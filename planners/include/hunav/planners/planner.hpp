@@ -1,6 +1,11 @@
 #pragma once
-// The planner interface and the registry the hunav_planner process picks planners from by name
-// (Menge style). A planner turns one observation into one velocity command.
+// The robot's planners. A planner turns one observation of the robot (its state and limits, goal,
+// laser scan and detected people) into one velocity command. The hunav_planner process (and
+// hunav_run in one process) creates one by name from the registry below and puts it on the bus
+// with a PlannerNode (planner_node.hpp); its parameters come from the --config file (params.hpp).
+// The built-in planners (planners/README.md): `dwb` (a DWB-like local planner on a costmap, with an
+// A* global path and recovery behaviours), `scl` (dwb plus a social costmap layer) and `sfw` (dwb
+// plus a social-work critic). Their parts live in planners/src/.
 #include <functional>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
@@ -13,6 +18,7 @@
 
 namespace hunav::planners {
 
+// What a planner implements.
 class Planner {
  public:
   virtual ~Planner() = default;
@@ -22,6 +28,10 @@ class Planner {
   // Forgets everything learnt in the episode (a new episode starts). The static map stays.
   virtual void reset();
 };
+
+// The registry (Menge style): planners are created by name (--planner dwb|scl|sfw). A new planner
+// is a class deriving from Planner plus one line in the registry in src/planner.cpp (or a
+// registerPlanner() call before use).
 
 // Builds a planner for a scenario's static map. `config` is the --config file (null: defaults);
 // a factory reads its own sections from it and throws ConfigError on bad values.

@@ -26,8 +26,6 @@
 
 namespace hunav::planners {
 
-// The optional monitoring channel of planned paths (lcmtypes/README.md, docs/planner_contract.md).
-
 class PlannerNode {
  public:
   static constexpr int kMaxRanges = 100000;  // the scenario loader's limit on laser beams

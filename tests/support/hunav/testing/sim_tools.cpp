@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hunav/planners/trajectory.hpp"
+#include "trajectory.hpp"
 
 namespace hunav::testing {
 

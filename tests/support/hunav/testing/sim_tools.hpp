@@ -7,8 +7,8 @@
 #include <hunav/robot_observation_t.hpp>
 #include <vector>
 
+#include "costmap.hpp"
 #include "hunav/geometry.hpp"
-#include "hunav/planners/costmap.hpp"
 #include "hunav/scenario.hpp"
 
 namespace hunav::testing {

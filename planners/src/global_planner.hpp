@@ -5,8 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "costmap.hpp"
 #include "hunav/geometry.hpp"
-#include "hunav/planners/costmap.hpp"
 
 namespace hunav::planners {
 
@@ -34,15 +34,6 @@ class GlobalPath {
  private:
   std::vector<Vec2> points_;
   std::vector<double> remaining_;
-};
-
-struct GlobalPlannerParams {
-  // A step into a cell of cost c costs its length times (1 + cost_weight * c / 252): how far the
-  // path is willing to detour to stay away from obstacles.
-  double cost_weight = 3.0;
-  // Factor on the A* heuristic (octile distance): 1 finds the cheapest path; above 1 (weighted A*)
-  // the search expands far fewer cells on costly maps, for a path at most that factor costlier.
-  double heuristic_weight = 1.0;
 };
 
 class AStarPlanner {

@@ -17,16 +17,10 @@
 #include <vector>
 
 #include "hunav/geometry.hpp"
+#include "hunav/planners/params.hpp"
 #include "hunav/scenario.hpp"
 
 namespace hunav::planners {
-
-struct CostmapParams {
-  double resolution = 0.05;          // m, cell side
-  double inflation_radius = 1.0;     // m, distance from an obstacle beyond which the cost is 0
-  double cost_scaling_factor = 3.0;  // 1/m, decay rate of the cost beyond the robot radius
-  double margin = 1.0;               // m, added around Scenario::bounds()
-};
 
 struct Circle {
   Vec2 center = Vec2::Zero();

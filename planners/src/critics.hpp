@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "costmap.hpp"
+#include "global_planner.hpp"
 #include "hunav/geometry.hpp"
-#include "hunav/planners/costmap.hpp"
-#include "hunav/planners/global_planner.hpp"
-#include "hunav/planners/trajectory.hpp"
+#include "trajectory.hpp"
 
 namespace hunav::planners {
 

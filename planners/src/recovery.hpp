@@ -20,31 +20,10 @@
 #include <vector>
 
 #include "hunav/geometry.hpp"
-#include "hunav/planners/trajectory.hpp"
-#include "hunav/yaml_reader.hpp"
+#include "hunav/planners/params.hpp"
+#include "trajectory.hpp"
 
 namespace hunav::planners {
-
-// Section `recovery:` of --config (the same keys and defaults for dwb, scl and sfw).
-struct RecoveryParams {
-  bool enabled = true;             // false: never recover (the planner as it was before recoveries)
-  double progress_distance = 0.5;  // m the robot must get from where it last progressed (nav2: 0.5)
-  double progress_timeout = 5.0;   // s without progress before the next recovery starts
-  double spin_angle = 1.57;        // rad turned on the spot (nav2's default spin_dist)
-  double spin_speed = 1.0;         // rad/s, at most; capped by the robot's max_w
-  double backup_distance = 0.3;    // m driven backwards (nav2's default backup_dist)
-  double backup_speed = 0.1;       // m/s, at most; capped by -min_v
-  double wait_duration = 5.0;      // s standing still (nav2's default wait)
-  double time_allowance = 10.0;    // s a spin or a back-up may take at most (nav2's default)
-  // 1/s: while the robot is stuck (a recovery has started since its last progress), the weight of
-  // the goal_distance critic grows by this fraction of itself per second since that first recovery
-  // (0: never). A robot held by costs (people standing by its path, sfw's social work) accepts
-  // them in the end rather than waiting forever.
-  double impatience = 0.2;
-};
-
-// Reads the `recovery:` section (null: defaults).
-RecoveryParams readRecoveryParams(const YamlReader* config);
 
 enum class RecoveryBehavior { None, ClearAndReplan, Spin, BackUp, Wait };
 const char* recoveryName(RecoveryBehavior behavior);

@@ -26,89 +26,21 @@
 #include <optional>
 #include <vector>
 
-#include "hunav/planners/costmap.hpp"
-#include "hunav/planners/critics.hpp"
-#include "hunav/planners/global_planner.hpp"
+#include "costmap.hpp"
+#include "critics.hpp"
+#include "global_planner.hpp"
+#include "hunav/planners/params.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/planners/recovery.hpp"
-#include "hunav/planners/trajectory.hpp"
+#include "recovery.hpp"
+#include "trajectory.hpp"
 
 namespace hunav::planners {
-
-// Defaults suit a 0.3 m robot at 0.6 m/s in corridors and rooms, planning at 10 Hz. Section `dwb:`
-// of --config.
-struct DwbParams {
-  // Sampling and rollout.
-  double sim_time = 1.7;   // s, horizon each (v, w) is rolled out over
-  double sim_step = 0.05;  // s, time between the poses checked along a rollout
-  // The window spans one control period of acceleration (+-0.1 m/s, +-0.25 rad/s with the scenario
-  // limits): 0.05 m/s and 0.05 rad/s between samples; neighbouring yaw rates end a horizon less
-  // than a costmap cell apart at full speed. The window is sampled again 0.1 s later.
-  int v_samples = 5;   // forward speeds sampled across the window (ends included)
-  int w_samples = 11;  // yaw rates sampled across the window (ends included)
-
-  // Critic weights: total cost = sum of weight * critic score (scores documented in critics.hpp).
-  double obstacle_weight = 0.5;       // costmap cost in [0, 1]
-  double people_weight = 1.0;         // closeness to people in [0, 1]
-  double path_distance_weight = 1.0;  // m from the path
-  double path_align_weight = 0.6;     // m from the path, of a point ahead of the robot
-  double goal_distance_weight = 1.0;  // m still to travel
-  double oscillation_weight = 0.3;    // 1 when reversing the turn too soon
-
-  // Critic shapes.
-  double forward_point_distance = 0.3;      // m, the point ahead judged by path_align
-  double people_safety_margin = 0.1;        // m added to the radii before a trajectory counts as touching a person
-  double people_sigma = 0.3;                // m, decay length of the closeness-to-people score
-  double oscillation_reset_distance = 0.1;  // m the robot must travel before reversing its turn is free again
-  double oscillation_reset_angle = 0.2;     // rad it may turn instead (nav2's default)
-
-  // Behaviour around the samples.
-  double lookahead_distance = 0.6;     // m along the path to the point the heading error is measured to
-  double rotate_in_place_angle = 1.0;  // rad, heading error beyond which the robot turns on the spot
-  double stopped_rotate_angle = 0.1;   // rad, heading error worth turning for while nothing is admissible
-  double rotate_gain = 1.5;            // 1/s, yaw rate per rad of heading error when turning on the spot
-  // s of simulation time between A* replans (nav2's default rate); 0 = every cycle. A periodic
-  // replan is skipped when nothing transient is marked now nor was when the path was planned (the
-  // same map: the same path). In between, the path is replanned early when it is blocked, when the
-  // robot strays 0.5 m from it, or when it rises in cost near the robot (replan_cost_rise). After
-  // a search that found no path A* waits 1 s before trying again (that search visited every
-  // reachable cell).
-  double replan_period = 1.0;
-  // Cost (of 252) by which a path point within a rollout's reach of the robot may rise above its
-  // cost when the path was planned before the path is replanned; 0 = never. Below the lowest
-  // inflated cost (252 exp(-cost_scaling_factor (inflation_radius - robot radius)), 31 by
-  // default): someone's inflated footprint reaching the path near the robot triggers a replan.
-  int replan_cost_rise = 20;
-  // When no sample is admissible, instead of braking take the sample (clear of obstacles) whose
-  // closest approach to the predicted people is largest: a robot standing in a person's way steps
-  // aside. Turning on the spot is then also checked with the critics first (a person walking into
-  // the turning robot makes it sample instead). Off for dwb (its recorded behaviour); the scl and sfw planners switch
-  // it on.
-  bool evade_people = false;
-  bool mark_scan = true;    // laser hits go into the transient costmap layer
-  bool mark_people = true;  // detected people go into the transient costmap layer
-  // s: where a moving person will be over this time is marked too, with costs capped below lethal,
-  // so the global path steps aside early instead of brushing past the person's current place.
-  double people_prediction_time = 1.5;
-
-  CostmapParams costmap;               // section `costmap:`
-  GlobalPlannerParams global_planner;  // section `global_planner:`
-  RecoveryParams recovery;             // section `recovery:`
-
-  // Reads sections costmap, global_planner, dwb and recovery of the --config file (null: defaults).
-  static DwbParams fromConfig(const YamlReader* config);
-  // Reads only the `dwb:` section into this (planners that extend dwb call it on their params).
-  void readDwbSection(const YamlReader* config);
-};
-
-// Reads the `costmap:` and `global_planner:` sections (shared by every costmap-based planner); a
-// key left out keeps its value in `defaults`.
-CostmapParams readCostmapParams(const YamlReader* config);
-GlobalPlannerParams readGlobalPlannerParams(const YamlReader* config, const GlobalPlannerParams& defaults = {});
 
 class DwbPlanner : public Planner {
  public:
   explicit DwbPlanner(const Scenario& scenario, const DwbParams& params = {});
+  // Reads sections costmap, global_planner, dwb and recovery (the registry's `dwb`).
+  static std::unique_ptr<Planner> create(const Scenario& scenario, const YamlReader* config);
 
   robot_command_t plan(const robot_observation_t& obs) override;
   void reset() override;
