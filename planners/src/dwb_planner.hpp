@@ -50,6 +50,7 @@ class DwbPlanner : public Planner {
   const DwbParams& params() const { return params_; }
   const Costmap& costmap() const { return costmap_; }
   const GlobalPath& globalPath() const { return path_; }
+  const std::vector<Vec2>* plannedPath() const override { return &path_.points(); }
   const AStarPlanner& globalPlanner() const { return astar_; }
   // The critics and the context of the last plan() (for tests and diagnostics; the context points
   // at the observation passed to it).

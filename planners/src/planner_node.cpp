@@ -3,7 +3,6 @@
 #include <cmath>
 #include <string>
 
-#include "dwb_planner.hpp"
 #include "hunav/channels.hpp"
 
 namespace hunav::planners {
@@ -104,9 +103,9 @@ void PlannerNode::onObservation(const robot_observation_t& obs) {
 
 void PlannerNode::publishPath(const robot_observation_t& obs) {
   // After the command, so the world never waits for it; a message only monitors read.
-  const auto* dwb = dynamic_cast<const DwbPlanner*>(planner_.get());
-  if (dwb == nullptr) return;
-  const auto& points = dwb->globalPath().points();
+  const std::vector<Vec2>* path = planner_->plannedPath();
+  if (path == nullptr) return;
+  const std::vector<Vec2>& points = *path;
   path_msg_.utime = obs.utime;
   path_msg_.seq = obs.seq;
   path_msg_.episode = obs.episode;

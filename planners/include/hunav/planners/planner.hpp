@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "hunav/geometry.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/yaml_reader.hpp"
 
@@ -27,6 +28,9 @@ class Planner {
   virtual robot_command_t plan(const robot_observation_t& obs) = 0;
   // Forgets everything learnt in the episode (a new episode starts). The static map stays.
   virtual void reset();
+  // The path the planner follows after its last plan() (from near the robot to the goal), which the
+  // node publishes on ROBOT_PATH for monitors (hunav_view draws it); null: none (the default).
+  virtual const std::vector<Vec2>* plannedPath() const { return nullptr; }
 };
 
 // The registry (Menge style): planners are created by name (--planner dwb|scl|sfw). A new planner
