@@ -37,12 +37,13 @@
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
-#include "hunav/evaluator/states_csv.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_log_reader.hpp"
+#include "hunav/results/states_csv.hpp"
 #include "hunav/thread_pool.hpp"
 
 using namespace hunav::evaluator;
+using hunav::results::StatesCsvWriter;
 namespace fs = std::filesystem;
 
 namespace {

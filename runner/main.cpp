@@ -9,7 +9,7 @@
 #include "hunav/config_error.hpp"
 #include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/sample_rate.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/episode_list.hpp"
 #include "hunav/runner/expectations.hpp"

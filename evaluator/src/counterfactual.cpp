@@ -6,8 +6,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "hunav/evaluator/results.hpp"
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/results/states_csv.hpp"
 
 namespace hunav::evaluator {
 
@@ -108,10 +107,11 @@ std::vector<PersonCounterfactual> compareWithRobotFree(const Recording& with_rob
 }
 
 const std::vector<std::string>& counterfactualMetricNames() {
-  static const std::vector<std::string> names = {"counterfactual_people_affected", "counterfactual_delay",
-                                                 "counterfactual_goals_missed",    "counterfactual_path_added",
-                                                 "counterfactual_mean_deviation",  "counterfactual_max_deviation",
-                                                 "counterfactual_extra_effort"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& s : results::counterfactualCatalog()) n.push_back(s.name);
+    return n;
+  }();
   return names;
 }
 
@@ -127,11 +127,13 @@ std::vector<MetricValue> counterfactualMetrics(const std::vector<PersonCounterfa
     effort += p.extra_effort;
   }
   if (!people.empty()) mean_dev /= static_cast<double>(people.size());
-  const auto& n = counterfactualMetricNames();
-  return {MetricValue{n[0], "people", MetricKind::Real, affected}, MetricValue{n[1], "s", MetricKind::Real, delay},
-          MetricValue{n[2], "goals", MetricKind::Real, missed},    MetricValue{n[3], "m", MetricKind::Real, path},
-          MetricValue{n[4], "m", MetricKind::Real, mean_dev},      MetricValue{n[5], "m", MetricKind::Real, max_dev},
-          MetricValue{n[6], "m/s", MetricKind::Real, effort}};
+  // In the catalogue's order (metric_catalog.hpp).
+  const double values[] = {affected, delay, missed, path, mean_dev, max_dev, effort};
+  const auto& specs = results::counterfactualCatalog();
+  std::vector<MetricValue> out;
+  for (std::size_t i = 0; i < specs.size(); ++i)
+    out.push_back({specs[i].name, specs[i].unit, specs[i].kind, values[i]});
+  return out;
 }
 
 void writeCounterfactualCsv(const fs::path& file, const std::vector<PersonCounterfactual>& people) {
@@ -153,7 +155,7 @@ void writeCounterfactualCsv(const fs::path& file, const std::vector<PersonCounte
 
 std::vector<MetricValue> evaluateCounterfactual(const fs::path& states_csv, const RunInfo& info,
                                                 const RobotFreeRun& robot_free, const fs::path& counterfactual_csv) {
-  const Recording with_robot = readStatesCsv(states_csv);
+  const Recording with_robot = results::readStatesCsv(states_csv);
   std::vector<double> times;
   times.reserve(with_robot.size());
   for (const Sample& s : with_robot.samples()) times.push_back(s.t);

@@ -16,6 +16,7 @@
 #include "hunav/channels.hpp"
 #include "hunav/episode_status.hpp"
 #include "hunav/message_checks.hpp"
+#include "run_outputs.hpp"
 
 namespace hunav::evaluator {
 

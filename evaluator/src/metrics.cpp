@@ -14,11 +14,6 @@ namespace hunav::evaluator {
 // ---------------------------------------------------------------------------------------------
 // Registry
 
-std::string formatMetricValue(const MetricValue& m) {
-  if (m.kind == MetricKind::Bool) return m.value != 0.0 ? "true" : "false";
-  return fmt::format("{}", m.value);
-}
-
 namespace {
 
 // A metric of the whole recording as an accumulator: it keeps a copy of every sample it sees.
@@ -147,16 +142,6 @@ std::vector<MetricValue> MetricSet::values() const {
     out.push_back(MetricValue{d.name, d.unit, d.kind, v + 0.0});
   }
   return out;
-}
-
-const std::vector<std::string>& knownProfiles() {
-  static const std::vector<std::string> profiles{"default", "hunav_v1"};
-  return profiles;
-}
-
-bool isKnownProfile(const std::string& profile) {
-  const auto& p = knownProfiles();
-  return std::find(p.begin(), p.end(), profile) != p.end();
 }
 
 const MetricRegistry& metricsForProfile(const std::string& profile) {
@@ -557,92 +542,115 @@ template <class State>
 std::unique_ptr<MetricAccumulator> make(State initial = State()) {
   return std::make_unique<AccumulatorOf<State>>(std::move(initial));
 }
+
+// Adds each metric of a profile with its catalogue entry's unit, kind and per-tick column
+// (metric_catalog.hpp), in the catalogue's order: a name out of order or left out is a bug here.
+class CatalogueRegistrar {
+ public:
+  CatalogueRegistrar(MetricRegistry& registry, const std::string& profile)
+      : registry_(registry), profile_(profile), specs_(results::metricCatalog(profile)) {}
+  ~CatalogueRegistrar() noexcept(false) {
+    if (next_ != specs_.size())
+      throw std::logic_error("profile " + profile_ + ": no accumulator for " + specs_[next_].name);
+  }
+  CatalogueRegistrar(const CatalogueRegistrar&) = delete;
+  CatalogueRegistrar& operator=(const CatalogueRegistrar&) = delete;
+
+  void operator()(const std::string& name, std::unique_ptr<MetricAccumulator> prototype) {
+    if (next_ >= specs_.size() || specs_[next_].name != name)
+      throw std::logic_error("profile " + profile_ + ": " + name + " is not the catalogue's next metric");
+    const results::MetricSpec& s = specs_[next_++];
+    registry_.add(s.name, s.unit, s.kind, std::move(prototype), s.per_tick ? Column::PerTick : Column::None);
+  }
+
+ private:
+  MetricRegistry& registry_;
+  std::string profile_;
+  const std::vector<results::MetricSpec>& specs_;
+  std::size_t next_ = 0;
+};
 }  // namespace
 
 // One line per metric: the order here is the column order of metrics.csv.
 void registerDefaultMetrics(MetricRegistry& r) {
-  using K = MetricKind;
   namespace a = accumulators;
-  const Column tick = Column::PerTick;
-  const Column none = Column::None;
-  r.add("time_to_reach_goal", "s", K::Real, make<TimeToReachGoal>(), none);
-  r.add("path_length", "m", K::Real, make<PathLength>(), none);
-  r.add("cumulative_heading_changes", "rad", K::Real, make<CumulativeHeadingChanges>(), tick);
-  r.add("avg_distance_to_closest_person", "m", K::Real, make<AvgDistanceToClosestPerson>(), tick);
-  r.add("minimum_distance_to_people", "m", K::Real, make<ExtremeDistanceToPeople<false>>(), none);
-  r.add("maximum_distance_to_people", "m", K::Real, make<ExtremeDistanceToPeople<true>>(), none);
-  r.add("intimate_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Intimate}), tick);
-  r.add("personal_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Personal}), tick);
-  r.add("social_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Social}), tick);
-  r.add("group_intimate_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Intimate}), tick);
-  r.add("group_personal_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Personal}), tick);
-  r.add("group_social_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Social}), tick);
-  r.add("completed", "bool", K::Bool, make<Completed>(), none);
-  r.add("minimum_distance_to_target", "m", K::Real, make<MinimumDistanceToTarget>(), none);
-  r.add("final_distance_to_target", "m", K::Real, make<FinalDistanceToTarget>(), none);
-  r.add("robot_on_person_collision", "count", K::Real, a::robotOnPersonCollision(), tick);
-  r.add("person_on_robot_collision", "count", K::Real, a::personOnRobotCollision(), tick);
-  r.add("time_not_moving", "s", K::Real, make<TimeNotMoving>(), tick);
-  r.add("avg_robot_linear_speed", "m/s", K::Real, make<AvgRobotLinearSpeed>(), tick);
-  r.add("avg_robot_angular_speed", "rad/s", K::Real, make<AvgRobotAngularSpeed>(), tick);
-  r.add("avg_acceleration", "m/s^2", K::Real, make<AvgAcceleration>(), tick);
-  r.add("avg_overacceleration", "m/s^3", K::Real, make<AvgOveracceleration>(), tick);
-  r.add("avg_pedestrian_velocity", "m/s", K::Real, make<AvgPedestrianVelocity>(), tick);
-  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, make<AvgClosestPedestrianVelocity>(), tick);
-  r.add("social_force_on_agents", "m/s", K::Real, a::socialForceOnAgents(), tick);
-  r.add("social_force_on_robot", "m/s", K::Real, a::socialForceOnRobot(), tick);
-  r.add("social_work", "m/s", K::Real, a::socialWork(), tick);
-  r.add("obstacle_force_on_robot", "m/s", K::Real, a::obstacleForceOnRobot(), tick);
-  r.add("obstacle_force_on_agents", "m/s", K::Real, a::obstacleForceOnAgents(), tick);
-  r.add("danger_fear_cost", "1", K::Real, a::dangerFearCost(), tick);
-  r.add("danger_panic_cost", "1", K::Real, a::dangerPanicCost(), tick);
-  r.add("surprise_visibility_cost", "rad*s/m", K::Real, a::surpriseVisibilityCost(), tick);
-  r.add("surprise_shock_cost", "s/m", K::Real, a::surpriseShockCost(), tick);
-  r.add("surprise_react_cost", "s/m", K::Real, a::surpriseReactCost(), tick);
+  CatalogueRegistrar add(r, "default");
+  add("time_to_reach_goal", make<TimeToReachGoal>());
+  add("path_length", make<PathLength>());
+  add("cumulative_heading_changes", make<CumulativeHeadingChanges>());
+  add("avg_distance_to_closest_person", make<AvgDistanceToClosestPerson>());
+  add("minimum_distance_to_people", make<ExtremeDistanceToPeople<false>>());
+  add("maximum_distance_to_people", make<ExtremeDistanceToPeople<true>>());
+  add("intimate_space_intrusions", make(SpaceIntrusions{Band::Intimate}));
+  add("personal_space_intrusions", make(SpaceIntrusions{Band::Personal}));
+  add("social_space_intrusions", make(SpaceIntrusions{Band::Social}));
+  add("group_intimate_space_intrusions", make(GroupSpaceIntrusions{Band::Intimate}));
+  add("group_personal_space_intrusions", make(GroupSpaceIntrusions{Band::Personal}));
+  add("group_social_space_intrusions", make(GroupSpaceIntrusions{Band::Social}));
+  add("completed", make<Completed>());
+  add("minimum_distance_to_target", make<MinimumDistanceToTarget>());
+  add("final_distance_to_target", make<FinalDistanceToTarget>());
+  add("robot_on_person_collision", a::robotOnPersonCollision());
+  add("person_on_robot_collision", a::personOnRobotCollision());
+  add("time_not_moving", make<TimeNotMoving>());
+  add("avg_robot_linear_speed", make<AvgRobotLinearSpeed>());
+  add("avg_robot_angular_speed", make<AvgRobotAngularSpeed>());
+  add("avg_acceleration", make<AvgAcceleration>());
+  add("avg_overacceleration", make<AvgOveracceleration>());
+  add("avg_pedestrian_velocity", make<AvgPedestrianVelocity>());
+  add("avg_closest_pedestrian_velocity", make<AvgClosestPedestrianVelocity>());
+  add("social_force_on_agents", a::socialForceOnAgents());
+  add("social_force_on_robot", a::socialForceOnRobot());
+  add("social_work", a::socialWork());
+  add("obstacle_force_on_robot", a::obstacleForceOnRobot());
+  add("obstacle_force_on_agents", a::obstacleForceOnAgents());
+  add("danger_fear_cost", a::dangerFearCost());
+  add("danger_panic_cost", a::dangerPanicCost());
+  add("surprise_visibility_cost", a::surpriseVisibilityCost());
+  add("surprise_shock_cost", a::surpriseShockCost());
+  add("surprise_react_cost", a::surpriseReactCost());
 }
 
 // HuNavSim v1's evaluator: same keys and order, its definitions (metrics_v1.cpp). Sum-type metrics
 // are sums over the recorded samples (units: the per-sample unit, summed). Where v1's per-step list
 // is the same quantity, the per-tick column is the default profile's.
 void registerHunavV1Metrics(MetricRegistry& r) {
-  using K = MetricKind;
   namespace v1 = accumulators_v1;
-  const Column tick = Column::PerTick;
-  const Column none = Column::None;
-  r.add("time_to_reach_goal", "s", K::Real, make<TimeToReachGoal>(), none);
-  r.add("path_length", "m", K::Real, make<PathLength>(), none);
-  r.add("cumulative_heading_changes", "rad", K::Real, make<CumulativeHeadingChanges>(), tick);
-  r.add("avg_distance_to_closest_person", "m", K::Real, v1::avgDistanceToClosestPerson(), tick);
-  r.add("minimum_distance_to_people", "m", K::Real, make<ExtremeDistanceToPeople<false>>(), none);
-  r.add("maximum_distance_to_people", "m", K::Real, v1::maximumDistanceToPeople(), none);
-  r.add("intimate_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Intimate}), tick);
-  r.add("personal_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Personal}), tick);
-  r.add("social_space_intrusions", "%", K::Real, make(SpaceIntrusions{Band::Social}), tick);
-  r.add("group_intimate_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Intimate}), tick);
-  r.add("group_personal_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Personal}), tick);
-  r.add("group_social_space_intrusions", "%", K::Real, make(GroupSpaceIntrusions{Band::Social}), tick);
-  r.add("completed", "bool", K::Bool, v1::completed(), none);
-  r.add("minimum_distance_to_target", "m", K::Real, make<MinimumDistanceToTarget>(), none);
-  r.add("final_distance_to_target", "m", K::Real, make<FinalDistanceToTarget>(), none);
-  r.add("robot_on_person_collision", "count", K::Real, v1::robotOnPersonCollision(), tick);
-  r.add("person_on_robot_collision", "count", K::Real, v1::personOnRobotCollision(), tick);
-  r.add("time_not_moving", "s", K::Real, v1::timeNotMoving(), tick);
-  r.add("avg_robot_linear_speed", "m/s", K::Real, v1::avgRobotLinearSpeed(), tick);
-  r.add("avg_robot_angular_speed", "rad/s", K::Real, v1::avgRobotAngularSpeed(), tick);
-  r.add("avg_acceleration", "m/s^2", K::Real, v1::avgAcceleration(), tick);
-  r.add("avg_overacceleration", "m/s^3", K::Real, v1::avgOveracceleration(), tick);
-  r.add("avg_pedestrian_velocity", "m/s", K::Real, v1::avgPedestrianVelocity(), tick);
-  r.add("avg_closest_pedestrian_velocity", "m/s", K::Real, v1::avgClosestPedestrianVelocity(), tick);
-  r.add("social_force_on_agents", "m/s^2", K::Real, v1::socialForceOnAgents(), tick);
-  r.add("social_force_on_robot", "m/s^2", K::Real, v1::socialForceOnRobot(), tick);
-  r.add("social_work", "m/s^2", K::Real, v1::socialWork(), tick);
-  r.add("obstacle_force_on_robot", "m/s^2", K::Real, v1::obstacleForceOnRobot(), tick);
-  r.add("obstacle_force_on_agents", "m/s^2", K::Real, v1::obstacleForceOnAgents(), tick);
-  r.add("danger_fear_cost", "1/s", K::Real, v1::dangerFearCost(), tick);
-  r.add("danger_panic_cost", "1/s", K::Real, v1::dangerPanicCost(), tick);
-  r.add("surprise_visibility_cost", "rad/m", K::Real, v1::surpriseVisibilityCost(), tick);
-  r.add("surprise_shock_cost", "1/m", K::Real, v1::surpriseShockCost(), tick);
-  r.add("surprise_react_cost", "1/m", K::Real, v1::surpriseReactCost(), tick);
+  CatalogueRegistrar add(r, "hunav_v1");
+  add("time_to_reach_goal", make<TimeToReachGoal>());
+  add("path_length", make<PathLength>());
+  add("cumulative_heading_changes", make<CumulativeHeadingChanges>());
+  add("avg_distance_to_closest_person", v1::avgDistanceToClosestPerson());
+  add("minimum_distance_to_people", make<ExtremeDistanceToPeople<false>>());
+  add("maximum_distance_to_people", v1::maximumDistanceToPeople());
+  add("intimate_space_intrusions", make(SpaceIntrusions{Band::Intimate}));
+  add("personal_space_intrusions", make(SpaceIntrusions{Band::Personal}));
+  add("social_space_intrusions", make(SpaceIntrusions{Band::Social}));
+  add("group_intimate_space_intrusions", make(GroupSpaceIntrusions{Band::Intimate}));
+  add("group_personal_space_intrusions", make(GroupSpaceIntrusions{Band::Personal}));
+  add("group_social_space_intrusions", make(GroupSpaceIntrusions{Band::Social}));
+  add("completed", v1::completed());
+  add("minimum_distance_to_target", make<MinimumDistanceToTarget>());
+  add("final_distance_to_target", make<FinalDistanceToTarget>());
+  add("robot_on_person_collision", v1::robotOnPersonCollision());
+  add("person_on_robot_collision", v1::personOnRobotCollision());
+  add("time_not_moving", v1::timeNotMoving());
+  add("avg_robot_linear_speed", v1::avgRobotLinearSpeed());
+  add("avg_robot_angular_speed", v1::avgRobotAngularSpeed());
+  add("avg_acceleration", v1::avgAcceleration());
+  add("avg_overacceleration", v1::avgOveracceleration());
+  add("avg_pedestrian_velocity", v1::avgPedestrianVelocity());
+  add("avg_closest_pedestrian_velocity", v1::avgClosestPedestrianVelocity());
+  add("social_force_on_agents", v1::socialForceOnAgents());
+  add("social_force_on_robot", v1::socialForceOnRobot());
+  add("social_work", v1::socialWork());
+  add("obstacle_force_on_robot", v1::obstacleForceOnRobot());
+  add("obstacle_force_on_agents", v1::obstacleForceOnAgents());
+  add("danger_fear_cost", v1::dangerFearCost());
+  add("danger_panic_cost", v1::dangerPanicCost());
+  add("surprise_visibility_cost", v1::surpriseVisibilityCost());
+  add("surprise_shock_cost", v1::surpriseShockCost());
+  add("surprise_react_cost", v1::surpriseReactCost());
 }
 
 }  // namespace hunav::evaluator

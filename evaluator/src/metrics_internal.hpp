@@ -1,9 +1,8 @@
 #pragma once
 // Helpers shared by the metric files (not installed, not part of the library's interface).
 #include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/sample_view.hpp"
 #include "hunav/social_force.hpp"
+#include "sample_view.hpp"
 
 namespace hunav::evaluator {
 

@@ -9,10 +9,9 @@
 
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/run_outputs.hpp"
-#include "hunav/evaluator/states_csv.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_log_reader.hpp"
+#include "run_outputs.hpp"
 
 namespace hunav::evaluator {
 

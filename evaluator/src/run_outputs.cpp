@@ -1,4 +1,4 @@
-#include "hunav/evaluator/run_outputs.hpp"
+#include "run_outputs.hpp"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,7 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "hunav/evaluator/number_text.hpp"
+#include "sample_view.hpp"
 
 namespace hunav::evaluator {
 

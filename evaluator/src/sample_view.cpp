@@ -1,4 +1,4 @@
-#include "hunav/evaluator/sample_view.hpp"
+#include "sample_view.hpp"
 
 #include <algorithm>
 #include <cmath>

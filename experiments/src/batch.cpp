@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <tuple>
 
 #include "hunav/config_error.hpp"
-#include "hunav/evaluator/results.hpp"
+#include "hunav/results/expect_json.hpp"
+#include "hunav/results/metrics_csv.hpp"
+#include "hunav/results/number_text.hpp"
+#include "hunav/results/run_json.hpp"
 #include "hunav/scenario.hpp"
 
 namespace hunav::experiments {
@@ -50,31 +52,6 @@ std::optional<RunKey> parseRunFolderName(const std::string& name) {
   return RunKey{parts[0], parts[1], std::stoll(seed.substr(4))};
 }
 
-std::vector<std::string> splitCsvLine(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        fields.back().push_back('"');
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        fields.back().push_back(c);
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.emplace_back();
-    } else if (c != '\r') {
-      fields.back().push_back(c);
-    }
-  }
-  return fields;
-}
-
 std::optional<double> metricNumber(const std::string& text) {
   if (text == "true" || text == "True") return 1.0;
   if (text == "false" || text == "False") return 0.0;
@@ -88,10 +65,6 @@ std::optional<double> metricNumber(const std::string& text) {
 
 namespace {
 
-// The metrics files written by the evaluator start with these columns; the metrics follow.
-const std::vector<std::string> kProvenanceColumns = {"experiment_tag", "run_id", "scenario",
-                                                     "planner",        "seed",   "profile"};
-
 // A metrics CSV: the header's metric names, the last row's metric values and its profile column.
 struct MetricsCsv {
   std::vector<std::string> names;
@@ -99,79 +72,17 @@ struct MetricsCsv {
   std::string profile;
 };
 
-// Throws std::runtime_error.
+// Throws ConfigError (file:line: key: what).
 MetricsCsv readMetricsCsv(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the file");
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(file.string() + ":1: the file is empty");
-  const std::vector<std::string> header = splitCsvLine(line);
-  if (header.size() < kProvenanceColumns.size() ||
-      !std::equal(kProvenanceColumns.begin(), kProvenanceColumns.end(), header.begin()))
-    throw std::runtime_error(
-        file.string() + ":1: header: expected it to start with experiment_tag,run_id,scenario,planner,seed,profile");
-  // A repeated metric name would leave one of its values unread (the row keeps the last one).
-  for (std::size_t i = kProvenanceColumns.size(); i < header.size(); ++i)
-    if (std::find(header.begin(), header.begin() + static_cast<std::ptrdiff_t>(i), header[i]) !=
-        header.begin() + static_cast<std::ptrdiff_t>(i))
-      throw std::runtime_error(file.string() + ":1: " + header[i] + ": duplicate column");
-  std::vector<std::string> last;
-  int line_no = 1, last_line = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line == "\r") continue;
-    last = splitCsvLine(line);
-    last_line = line_no;
-  }
-  if (last.empty()) throw std::runtime_error(file.string() + ": no row after the header");
-  if (last.size() != header.size())
-    throw std::runtime_error(
-        fmt::format("{}:{}: expected {} fields, found {}", file.string(), last_line, header.size(), last.size()));
-  std::vector<std::string> names(header.begin() + static_cast<std::ptrdiff_t>(kProvenanceColumns.size()), header.end());
-  MetricRow row;
-  for (std::size_t i = kProvenanceColumns.size(); i < header.size(); ++i) row[header[i]] = last[i];
-  return {names, row, last[5]};  // kProvenanceColumns[5]
+  const auto csv = results::MetricsCsv::read(file);
+  auto last = csv.lastRow();
+  if (!last) throw ConfigError(file.string(), 0, "", "no row after the header");
+  return {csv.metricNames(), std::move(last->values), std::move(last->profile)};
 }
 
 void mergeNames(std::vector<std::string>& into, const std::vector<std::string>& names) {
   for (const std::string& n : names)
     if (std::find(into.begin(), into.end(), n) == into.end()) into.push_back(n);
-}
-
-// expect.json (runner/src/expectations.cpp, writeExpectJson): {"run_id", "status", "passed",
-// "conditions": [{metric, condition, value, pass}]}. Throws std::runtime_error naming the file and key.
-std::vector<ExpectVerdict> readExpectJson(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
-  }
-  const auto conditions = j.find("conditions");
-  if (!j.is_object() || conditions == j.end() || !conditions->is_array())
-    throw std::runtime_error(file.string() + ": conditions: expected an array");
-  std::vector<ExpectVerdict> out;
-  for (std::size_t i = 0; i < conditions->size(); ++i) {
-    const nlohmann::json& c = (*conditions)[i];
-    const std::string where = file.string() + ": conditions[" + std::to_string(i) + "]";
-    if (!c.is_object()) throw std::runtime_error(where + ": expected an object");
-    auto text = [&](const char* key) {
-      const auto it = c.find(key);
-      if (it == c.end() || !it->is_string()) throw std::runtime_error(where + "." + key + ": expected a string");
-      return it->get<std::string>();
-    };
-    ExpectVerdict v;
-    v.metric = text("metric");
-    v.condition = text("condition");
-    v.value = text("value");
-    const auto pass = c.find("pass");
-    if (pass == c.end() || !pass->is_boolean()) throw std::runtime_error(where + ".pass: expected true or false");
-    v.pass = pass->get<bool>();
-    out.push_back(std::move(v));
-  }
-  return out;
 }
 
 }  // namespace
@@ -205,10 +116,10 @@ Batch loadBatch(const fs::path& dir) {
     const fs::path json = folder / "run.json";
     if (fs::exists(json)) {
       try {
-        const evaluator::RunInfo info = evaluator::readRunJson(json);
+        const results::RunInfo info = results::readRunJson(json);
         run.status = info.status.empty() ? "unknown" : info.status;
-        run.sim_time = fmt::format("{}", info.sim_time);
-        run.wall_time = fmt::format("{}", info.wall_time);
+        run.sim_time = results::numberText(info.sim_time);
+        run.wall_time = results::numberText(info.wall_time);
       } catch (const std::exception& e) {
         batch.warnings.push_back(e.what());
       }
@@ -236,7 +147,7 @@ Batch loadBatch(const fs::path& dir) {
     const fs::path expect = folder / "expect.json";
     if (fs::exists(expect)) {
       try {
-        run.expectations = readExpectJson(expect);
+        run.expectations = results::readExpectJson(expect);
         run.judged = true;
       } catch (const std::exception& e) {
         batch.warnings.push_back(e.what());

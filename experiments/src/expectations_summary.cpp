@@ -7,7 +7,7 @@
 #include <set>
 #include <utility>
 
-#include "hunav/evaluator/results.hpp"
+#include "hunav/results/csv.hpp"
 
 namespace hunav::experiments {
 
@@ -22,7 +22,7 @@ bool anyJudged(const Batch& batch) {
 }
 
 std::string expectationsCsv(const Batch& batch) {
-  using evaluator::csvField;
+  using results::csvField;
   std::string s = "scenario,planner,seed,metric,condition,value,pass\n";
   for (const BatchRun& r : batch.runs)
     for (const ExpectVerdict& v : r.expectations)

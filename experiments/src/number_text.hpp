@@ -5,10 +5,12 @@
 #include <cmath>
 #include <string>
 
+#include "hunav/results/number_text.hpp"
+
 namespace hunav::experiments {
 
 // Shortest text that reads back as the same double; empty when undefined.
-inline std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
+inline std::string num(double v) { return std::isfinite(v) ? results::numberText(v) : std::string(); }
 
 // For people: about three significant figures, no exponent for the values metrics take.
 inline std::string show(double v) {

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "hunav/config_error.hpp"
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/results.hpp"
+#include "hunav/results/csv.hpp"
+#include "hunav/results/metric_catalog.hpp"
 #include "hunav/yaml_reader.hpp"
 #include "number_text.hpp"
 
@@ -23,17 +23,19 @@ namespace {
 
 const char* const kBuiltinName = "experiments/data/hunav_paper_means.yaml (built in)";
 
-std::string unitOf(const std::string& metric) {
-  for (const auto& d : evaluator::metricsForProfile("default").definitions())
-    if (d.name == metric) return d.unit;
-  return "";
+// The paper's metrics are the default profile's.
+const results::MetricSpec* findMetric(const std::string& metric) {
+  for (const auto& s : results::metricCatalog("default"))
+    if (s.name == metric) return &s;
+  return nullptr;
 }
 
-bool knownMetric(const std::string& metric) {
-  for (const auto& d : evaluator::metricsForProfile("default").definitions())
-    if (d.name == metric) return true;
-  return false;
+std::string unitOf(const std::string& metric) {
+  const results::MetricSpec* s = findMetric(metric);
+  return s == nullptr ? std::string() : s->unit;
 }
+
+bool knownMetric(const std::string& metric) { return findMetric(metric) != nullptr; }
 
 const Estimate* findStat(const std::vector<StatRow>& stats, const std::string& scenario, const std::string& planner,
                          const std::string& behavior, const std::string& metric) {
@@ -201,10 +203,9 @@ std::string paperComparisonCsv(const std::vector<ComparisonRow>& rows) {
       std::string in_ci;
       if (std::isfinite(e.ci_low) && std::isfinite(e.ci_high))
         in_ci = pv >= e.ci_low && pv <= e.ci_high ? "true" : "false";
-      s +=
-          fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario),
-                      evaluator::csvField(r.behavior), evaluator::csvField(r.metric), evaluator::csvField(r.paper_name),
-                      evaluator::csvField(p), num(pv), e.n, num(e.mean), num(e.ci_low), num(e.ci_high), in_ci);
+      s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", results::csvField(r.scenario),
+                       results::csvField(r.behavior), results::csvField(r.metric), results::csvField(r.paper_name),
+                       results::csvField(p), num(pv), e.n, num(e.mean), num(e.ci_low), num(e.ci_high), in_ci);
     }
   return s;
 }
@@ -213,10 +214,10 @@ std::string paperOrderingsCsv(const std::vector<ComparisonRow>& rows) {
   std::string s = "scenario,behavior,metric,planner_a,planner_b,paper,ours,verdict,significant\n";
   for (const auto& r : rows)
     for (const auto& c : r.orderings)
-      s += fmt::format("{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario), evaluator::csvField(r.behavior),
-                       evaluator::csvField(r.metric), evaluator::csvField(c.planner_a),
-                       evaluator::csvField(c.planner_b), c.paper, c.ours == 0 ? std::string() : std::string(1, c.ours),
-                       verdictName(c.verdict), c.has_paired ? (c.significant ? "true" : "false") : "");
+      s += fmt::format("{},{},{},{},{},{},{},{},{}\n", results::csvField(r.scenario), results::csvField(r.behavior),
+                       results::csvField(r.metric), results::csvField(c.planner_a), results::csvField(c.planner_b),
+                       c.paper, c.ours == 0 ? std::string() : std::string(1, c.ours), verdictName(c.verdict),
+                       c.has_paired ? (c.significant ? "true" : "false") : "");
   return s;
 }
 

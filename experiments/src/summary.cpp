@@ -12,12 +12,11 @@
 #include <tuple>
 
 #include "hunav/episode_status.hpp"
-#include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/expectations_summary.hpp"
 #include "hunav/experiments/metric_scales.hpp"
 #include "hunav/experiments/paper_comparison.hpp"
+#include "hunav/results/csv.hpp"
+#include "hunav/results/metric_catalog.hpp"
 #include "hunav/scenario.hpp"
 #include "number_text.hpp"
 
@@ -119,13 +118,7 @@ void writeAtomically(const fs::path& file, const std::string& text) {
   fs::rename(tmp, file);
 }
 
-std::string unitOf(const std::string& metric) {
-  for (const auto& d : evaluator::metricsForProfile("default").definitions())
-    if (d.name == metric) return d.unit;
-  for (const auto& m : evaluator::counterfactualMetrics({}))
-    if (m.name == metric) return m.unit;
-  return "";
-}
+std::string unitOf(const std::string& metric) { return results::metricUnit(metric, "default"); }
 
 // The estimate of a metric for a scenario, planner and behavior, when the statistics hold one.
 const Estimate* findEstimate(const std::vector<StatRow>& stats, const std::string& scenario, const std::string& planner,
@@ -142,11 +135,10 @@ const Estimate* findEstimate(const std::vector<StatRow>& stats, const std::strin
 std::string counterfactualMarkdown(const Batch& batch, const std::vector<StatRow>& stats, const std::string& scenario,
                                    const std::vector<std::string>& planners) {
   auto find = [&](const std::string& pl, const std::string& m) { return findEstimate(stats, scenario, pl, "all", m); };
-  const auto& names = evaluator::counterfactualMetricNames();
   std::vector<std::string> shown;
-  for (const auto& m : names)
-    if (std::find(batch.metric_names.begin(), batch.metric_names.end(), m) != batch.metric_names.end())
-      shown.push_back(m);
+  for (const auto& s : results::counterfactualCatalog())
+    if (std::find(batch.metric_names.begin(), batch.metric_names.end(), s.name) != batch.metric_names.end())
+      shown.push_back(s.name);
   std::vector<std::string> with;  // planners with counterfactual values
   for (const auto& p : planners)
     if (find(p, "counterfactual_mean_deviation") != nullptr) with.push_back(p);
@@ -258,15 +250,14 @@ std::vector<PairedRow> pairedComparisons(const Batch& batch) {
 
 std::string summaryCsv(const Batch& batch) {
   std::string s = "scenario,planner,seed,status,sim_time,wall_time,run_dir";
-  for (const auto& m : batch.metric_names) s += "," + evaluator::csvField(m);
+  for (const auto& m : batch.metric_names) s += "," + results::csvField(m);
   s += "\n";
   for (const auto& r : batch.runs) {
-    s += evaluator::csvField(r.key.scenario) + "," + evaluator::csvField(r.key.planner) + "," +
-         std::to_string(r.key.seed) + "," + evaluator::csvField(r.status) + "," + r.sim_time + "," + r.wall_time + "," +
-         evaluator::csvField(r.run_dir);
+    s += results::csvField(r.key.scenario) + "," + results::csvField(r.key.planner) + "," + std::to_string(r.key.seed) +
+         "," + results::csvField(r.status) + "," + r.sim_time + "," + r.wall_time + "," + results::csvField(r.run_dir);
     for (const auto& m : batch.metric_names) {
       const auto it = r.metrics.find(m);
-      s += "," + (it == r.metrics.end() ? std::string() : evaluator::csvField(it->second));
+      s += "," + (it == r.metrics.end() ? std::string() : results::csvField(it->second));
     }
     s += "\n";
   }
@@ -277,8 +268,8 @@ std::string statsCsv(const std::vector<StatRow>& stats) {
   std::string s = "scenario,planner,behavior,metric,n,mean,std,ci95_low,ci95_high\n";
   for (const auto& r : stats) {
     const Estimate& e = r.estimate;
-    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario), evaluator::csvField(r.planner),
-                     evaluator::csvField(r.behavior), evaluator::csvField(r.metric), e.n, num(e.mean), num(e.std),
+    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", results::csvField(r.scenario), results::csvField(r.planner),
+                     results::csvField(r.behavior), results::csvField(r.metric), e.n, num(e.mean), num(e.std),
                      num(e.ci_low), num(e.ci_high));
   }
   return s;
@@ -288,8 +279,8 @@ std::string pairedCsv(const std::vector<PairedRow>& paired) {
   std::string s = "scenario,planner_a,planner_b,metric,n,mean_diff,ci95_low,ci95_high,significant\n";
   for (const auto& r : paired) {
     const Estimate& e = r.difference.diff;
-    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", evaluator::csvField(r.scenario), evaluator::csvField(r.planner_a),
-                     evaluator::csvField(r.planner_b), evaluator::csvField(r.metric), e.n, num(e.mean), num(e.ci_low),
+    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", results::csvField(r.scenario), results::csvField(r.planner_a),
+                     results::csvField(r.planner_b), results::csvField(r.metric), e.n, num(e.mean), num(e.ci_low),
                      num(e.ci_high),
                      !r.difference.testable     ? ""
                      : r.difference.significant ? "true"

@@ -7,11 +7,12 @@
 #include <limits>
 
 #include "hunav/config_error.hpp"
-#include "hunav/report/csv_table.hpp"
+#include "hunav/results/csv.hpp"
 
 namespace hunav::report {
 
 namespace fs = std::filesystem;
+using results::CsvTable;
 
 namespace {
 
@@ -210,7 +211,7 @@ bool parseOptionalNumber(const std::string& text, double& value) {
     value = kNaN;
     return true;
   }
-  return parseNumber(text, value);
+  return results::parseNumber(text, value);
 }
 
 std::string normalizeBehavior(const std::string& text) {

@@ -5,10 +5,9 @@
 #include <cmath>
 
 #include "hunav/episode_status.hpp"
-#include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/metrics.hpp"
 #include "hunav/report/assets.hpp"
 #include "hunav/report/json_writer.hpp"
+#include "hunav/results/metric_catalog.hpp"
 
 namespace hunav::report {
 
@@ -76,7 +75,7 @@ window.addEventListener('error', function (e) { window.hunavRecordError(e.messag
   return html;
 }
 
-void writeInfo(JsonWriter& j, const evaluator::RunInfo& info) {
+void writeInfo(JsonWriter& j, const results::RunInfo& info) {
   j.key("info").beginObject();
   j.key("run_id").value(info.run_id);
   j.key("experiment_tag").value(info.experiment_tag);
@@ -245,8 +244,8 @@ namespace {
 
 void writeUnits(JsonWriter& j) {
   j.key("units").beginObject();
-  for (const auto& def : evaluator::metricsForProfile("default").definitions()) j.key(def.name).value(def.unit);
-  for (const auto& m : evaluator::counterfactualMetrics({})) j.key(m.name).value(m.unit);
+  for (const auto& s : results::metricCatalog("default")) j.key(s.name).value(s.unit);
+  for (const auto& s : results::counterfactualCatalog()) j.key(s.name).value(s.unit);
   j.endObject();
 }
 

@@ -4,11 +4,11 @@
 
 #include <cmath>
 
-#include "hunav/evaluator/json_text.hpp"
+#include "hunav/results/json_text.hpp"
 
 namespace hunav::report {
 
-std::string jsonQuote(std::string_view s) { return evaluator::jsonString(s, /*html_safe=*/true); }
+std::string jsonQuote(std::string_view s) { return results::jsonString(s, /*html_safe=*/true); }
 
 std::string formatFixed(double v, int decimals) {
   if (!std::isfinite(v)) return "null";

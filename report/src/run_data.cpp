@@ -11,17 +11,18 @@
 #include <unordered_set>
 
 #include "hunav/config_error.hpp"
-#include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/states_csv.hpp"
-#include "hunav/report/csv_table.hpp"
+#include "hunav/evaluator/metrics.hpp"  // the per-tick columns recomputed when metrics_steps.csv lacks them
+#include "hunav/results/csv.hpp"
+#include "hunav/results/metric_catalog.hpp"
+#include "hunav/results/metrics_csv.hpp"
+#include "hunav/results/states_csv.hpp"
 #include "hunav/scenario.hpp"
-#include "hunav/yaml_reader.hpp"
 
 namespace hunav::report {
 
 namespace fs = std::filesystem;
-using evaluator::Recording;
+using results::CsvTable;
+using results::Recording;
 
 namespace {
 
@@ -42,36 +43,11 @@ void requireFile(const fs::path& file) {
   if (!fs::is_regular_file(file, ec)) throw ConfigError(file.string(), 0, "", "not a regular file");
 }
 
-// The metric values of run.json ("metrics": {name: value}), in file order, as text.
-std::vector<MetricEntry> readRunJsonMetrics(const fs::path& file, const std::string& profile) {
-  const YamlReader reader(file.string());
-  const YAML::Node metrics = reader.child(reader.root(), "metrics", "", false);
+// The metric values of run.json ("metrics": {name: value}), in file order, as text, with their units.
+std::vector<MetricEntry> readMetricEntries(const fs::path& file, const std::string& profile) {
   std::vector<MetricEntry> out;
-  if (!metrics) return out;
-  if (!metrics.IsMap()) reader.fail(metrics, "metrics", "expected a mapping of metric name to value");
-  std::unordered_map<std::string, std::string> units;
-  try {
-    for (const auto& d : evaluator::metricsForProfile(profile.empty() ? "default" : profile).definitions())
-      units[d.name] = d.unit;
-  } catch (const std::invalid_argument&) {
-    // An unknown profile: the values are still shown, without units.
-  }
-  for (const auto& m : evaluator::counterfactualMetrics({})) units[m.name] = m.unit;
-  for (const auto& kv : metrics) {
-    const std::string name = kv.first.as<std::string>();
-    if (!kv.second.IsScalar()) reader.fail(kv.second, "metrics." + name, "expected a number or true/false");
-    MetricEntry e;
-    e.name = name;
-    e.value = kv.second.Scalar();
-    if (e.value != "true" && e.value != "false") {
-      double v = 0.0;
-      if (!parseNumber(e.value, v))
-        reader.fail(kv.second, "metrics." + name, "expected a number or true/false, got '" + e.value + "'");
-    }
-    const auto u = units.find(name);
-    if (u != units.end()) e.unit = u->second;
-    out.push_back(std::move(e));
-  }
+  for (auto& m : results::readRunJsonMetrics(file))
+    out.push_back({m.name, results::metricUnit(m.name, profile.empty() ? "default" : profile), std::move(m.value)});
   return out;
 }
 
@@ -81,20 +57,13 @@ void readBehaviorMetrics(RunData& data) {
     const fs::path file = data.dir / fmt::format("metrics_beh_{}.csv", b);
     std::error_code ec;
     if (!fs::exists(file, ec)) continue;
-    const CsvTable table = CsvTable::read(file);
-    table.requireLeadingColumns({"experiment_tag", "run_id", "scenario", "planner", "seed", "profile"});
-    const int run_id = table.column("run_id");
-    std::size_t found = table.rows();
-    for (std::size_t r = 0; r < table.rows(); ++r)
-      if (table.text(r, run_id) == data.info.run_id) found = r;
-    if (found == table.rows()) {
+    auto row = results::MetricsCsv::read(file).lastRowOf(data.info.run_id);
+    if (!row) {
       data.notes.push_back(
           fmt::format("{} has no row of run {}: its behavior metrics are not shown", file.string(), data.info.run_id));
       continue;
     }
-    auto& values = data.behavior_metrics[b];
-    for (std::size_t c = 6; c < table.header().size(); ++c)
-      values[table.header()[c]] = table.text(found, static_cast<int>(c));
+    data.behavior_metrics[b] = std::move(row->values);
   }
 }
 
@@ -162,7 +131,7 @@ void loadMap(RunData& data, const Recording& rec, const RunDataOptions& options)
   // The obstacle points the social force used, on a 5 cm grid: the walls near where anyone walked.
   std::unordered_set<std::int64_t> seen;
   bool truncated = false;
-  auto add = [&](const evaluator::EntityState& e) {
+  auto add = [&](const results::EntityState& e) {
     for (const Vec2& p : rec.obstacles(e)) {
       const auto gx = static_cast<std::int64_t>(std::llround(p.x() / 0.05));
       const auto gy = static_cast<std::int64_t>(std::llround(p.y() / 0.05));
@@ -185,7 +154,7 @@ void loadMap(RunData& data, const Recording& rec, const RunDataOptions& options)
         fmt::format("only the first {} obstacle points are drawn", options.limits.max_obstacle_points));
 }
 
-void addGoal(Track& t, const evaluator::EntityState& e, std::size_t max_goals) {
+void addGoal(Track& t, const results::EntityState& e, std::size_t max_goals) {
   if (!e.has_goal || t.goals.size() >= max_goals) return;
   const Vec2 g = e.goal();
   for (const Vec2& known : t.goals)
@@ -213,7 +182,7 @@ std::unordered_map<int, std::size_t> createTracks(RunData& data, const Recording
   robot.radius = rec.front().robot.radius;
   data.tracks.push_back(robot);
   std::unordered_map<int, std::size_t> index_of;  // person id -> track
-  auto trackOf = [&](const evaluator::EntityState& a) -> Track& {
+  auto trackOf = [&](const results::EntityState& a) -> Track& {
     auto it = index_of.find(a.id);
     if (it == index_of.end()) {
       Track t;
@@ -246,7 +215,7 @@ void fillFramePoses(RunData& data, const Recording& rec, const std::vector<std::
   for (std::size_t f = 0; f < n; ++f) {
     const auto& s = rec[frames[f]];
     data.frame_t[f] = s.t;
-    auto put = [f](Track& t, const evaluator::EntityState& e) {
+    auto put = [f](Track& t, const results::EntityState& e) {
       t.x[f] = e.x;
       t.y[f] = e.y;
       t.yaw[f] = e.yaw;
@@ -349,7 +318,7 @@ void extractSeries(RunData& data, const Recording& rec) {
   }
   if (columns.empty()) {
     std::string profile = data.info.profile.empty() ? "default" : data.info.profile;
-    if (!evaluator::isKnownProfile(profile)) profile = "default";
+    if (!results::isKnownProfile(profile)) profile = "default";
     const std::set<std::string> wanted(needed.begin(), needed.end());
     const auto registry =
         evaluator::metricsForProfile(profile).selected([&](const std::string& name) { return wanted.count(name) > 0; });
@@ -462,9 +431,9 @@ RunData loadRunData(const fs::path& dir, const RunDataOptions& options) {
   const fs::path states = dir / "states.csv";
   requireFile(run_json);
   requireFile(states);
-  data.info = evaluator::readRunJson(run_json);
-  data.metrics = readRunJsonMetrics(run_json, data.info.profile);
-  const Recording rec = evaluator::readStatesCsv(states);
+  data.info = results::readRunJson(run_json);
+  data.metrics = readMetricEntries(run_json, data.info.profile);
+  const Recording rec = results::readStatesCsv(states);
   if (rec.empty()) throw ConfigError(states.string(), 0, "", "no samples (only a header): nothing to show");
   data.samples = rec.size();
   readBehaviorMetrics(data);

@@ -7,7 +7,7 @@
 
 #include "hunav/cli.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
 #include "hunav/worldsim/world_sim.hpp"

@@ -12,14 +12,22 @@
 #include <string>
 #include <vector>
 
-#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/result_files.hpp"
+#include "hunav/results/number_text.hpp"
+#include "hunav/results/states_csv.hpp"
 #include "hunav/testing/files.hpp"
 #include "hunav/testing/temp_dir.hpp"
 
 namespace evaluator_test {
 
 using hunav::evaluator::EntityState;
+// states.csv and numbers, as the result files library writes and reads them.
 using hunav::evaluator::Recording;
+using hunav::results::kStatesCsvHeader;
+using hunav::results::NumberText;
+using hunav::results::readStatesCsv;
+using hunav::results::StatesCsvReader;
+using hunav::results::StatesCsvWriter;
 
 inline EntityState robot(double x, double y, double yaw = 0.0, double radius = 0.3) {
   EntityState e;

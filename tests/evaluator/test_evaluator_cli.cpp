@@ -14,8 +14,7 @@
 #include "evaluator_test_helpers.hpp"
 #include "hunav/bus.hpp"
 #include "hunav/channels.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/lcm_bus.hpp"
 
 using namespace hunav::evaluator;

@@ -12,9 +12,9 @@
 #include "hunav/config_error.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
-#include "hunav/evaluator/run_outputs.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/lcm_bus.hpp"
+#include "run_outputs.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;

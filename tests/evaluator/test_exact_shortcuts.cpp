@@ -19,11 +19,11 @@
 #include "hunav/channels.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/number_text.hpp"
-#include "hunav/evaluator/run_outputs.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/thread_pool.hpp"
+#include "run_outputs.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;

@@ -8,7 +8,7 @@
 
 #include "evaluator_test_helpers.hpp"
 #include "hunav/config_error.hpp"
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/evaluator/result_files.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;

@@ -15,12 +15,11 @@
 #include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/number_text.hpp"
 #include "hunav/evaluator/offline.hpp"
-#include "hunav/evaluator/sample_rate.hpp"
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/lcm_bus.hpp"
+#include "sample_view.hpp"
 
 using namespace hunav::evaluator;
 using namespace evaluator_test;

@@ -7,15 +7,17 @@
 #include <map>
 #include <sstream>
 
-#include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/summary.hpp"
+#include "hunav/results/csv.hpp"
+#include "hunav/results/metrics_csv.hpp"
+#include "hunav/results/run_json.hpp"
 #include "hunav/testing/files.hpp"
 #include "hunav/testing/temp_dir.hpp"
 
 using namespace hunav;
 using namespace hunav::experiments;
+using hunav::results::splitCsvLine;
 namespace fs = std::filesystem;
 
 namespace {
@@ -36,10 +38,10 @@ fs::path batchDir(const std::string& name) {
   return d;
 }
 
-std::vector<evaluator::MetricValue> values(double time, double min_dist, bool completed) {
-  return {{"time_to_reach_goal", "s", evaluator::MetricKind::Real, time},
-          {"minimum_distance_to_people", "m", evaluator::MetricKind::Real, min_dist},
-          {"completed", "bool", evaluator::MetricKind::Bool, completed ? 1.0 : 0.0}};
+std::vector<results::MetricValue> values(double time, double min_dist, bool completed) {
+  return {{"time_to_reach_goal", "s", results::MetricKind::Real, time},
+          {"minimum_distance_to_people", "m", results::MetricKind::Real, min_dist},
+          {"completed", "bool", results::MetricKind::Bool, completed ? 1.0 : 0.0}};
 }
 
 // One run folder as run_experiment.sh leaves it: metrics.csv, run.json and per-behavior files
@@ -50,7 +52,7 @@ void makeRun(const fs::path& batch, const std::string& scenario, const std::stri
              const std::string& status = "") {
   const fs::path dir = batch / "runs" / runFolderName({scenario, planner, seed});
   fs::create_directories(dir);
-  evaluator::RunInfo info;
+  results::RunInfo info;
   info.run_id = scenario + "_" + planner + "_s" + std::to_string(seed);
   info.experiment_tag = "exp";
   info.profile = "default";
@@ -61,11 +63,10 @@ void makeRun(const fs::path& batch, const std::string& scenario, const std::stri
   info.sim_time = time;
   info.wall_time = 0.5;
   info.complete = true;
-  evaluator::appendMetricsRow(dir / "metrics.csv", info, values(time, min_dist, completed));
+  results::appendMetricsRow(dir / "metrics.csv", info, values(time, min_dist, completed));
   for (const auto& [code, d] : behaviors)
-    evaluator::appendMetricsRow(dir / ("metrics_beh_" + std::to_string(code) + ".csv"), info,
-                                values(time, d, completed));
-  evaluator::writeRunJson(dir / "run.json", info, values(time, min_dist, completed));
+    results::appendMetricsRow(dir / ("metrics_beh_" + std::to_string(code) + ".csv"), info, values(time, d, completed));
+  results::writeRunJson(dir / "run.json", info, values(time, min_dist, completed));
 }
 
 }  // namespace
@@ -301,7 +302,7 @@ TEST(BatchSummary, CounterfactualSection) {
       const double d = seed == 1 ? dev.first : dev.second;
       const fs::path dir = batch / "runs" / runFolderName({"passing", planner, seed});
       fs::create_directories(dir);
-      evaluator::RunInfo info;
+      results::RunInfo info;
       info.run_id = "passing_" + planner + "_s" + std::to_string(seed);
       info.profile = "default";
       info.scenario = "passing";
@@ -311,13 +312,14 @@ TEST(BatchSummary, CounterfactualSection) {
       info.sim_time = 20.0;
       info.complete = true;
       auto metrics = values(20.0, 1.0, true);
-      for (auto m : evaluator::counterfactualMetrics({})) {
+      for (const auto& s : results::counterfactualCatalog()) {
+        results::MetricValue m{s.name, s.unit, s.kind, 0.0};
         if (m.name == "counterfactual_mean_deviation") m.value = d;
         if (m.name == "counterfactual_people_affected") m.value = 1.0;
         metrics.push_back(m);
       }
-      evaluator::appendMetricsRow(dir / "metrics.csv", info, metrics);
-      evaluator::writeRunJson(dir / "run.json", info, metrics);
+      results::appendMetricsRow(dir / "metrics.csv", info, metrics);
+      results::writeRunJson(dir / "run.json", info, metrics);
     }
   writeBatchSummary(batch);
   const std::string md = readFile(batch / "summary.md");

@@ -7,10 +7,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "hunav/evaluator/results.hpp"
 #include "hunav/experiments/batch.hpp"
 #include "hunav/experiments/expectations_summary.hpp"
 #include "hunav/experiments/summary.hpp"
+#include "hunav/results/metrics_csv.hpp"
+#include "hunav/results/run_json.hpp"
 #include "hunav/testing/files.hpp"
 #include "hunav/testing/temp_dir.hpp"
 
@@ -35,7 +36,7 @@ fs::path makeRun(const fs::path& batch, const std::string& scenario, const std::
                  bool completed, double min_dist) {
   const fs::path dir = batch / "runs" / runFolderName({scenario, planner, seed});
   fs::create_directories(dir);
-  hunav::evaluator::RunInfo info;
+  hunav::results::RunInfo info;
   info.run_id = scenario + "_" + planner + "_s" + std::to_string(seed);
   info.experiment_tag = "exp";
   info.profile = "default";
@@ -46,11 +47,11 @@ fs::path makeRun(const fs::path& batch, const std::string& scenario, const std::
   info.sim_time = 20.0;
   info.wall_time = 0.5;
   info.complete = true;
-  const std::vector<hunav::evaluator::MetricValue> values = {
-      {"completed", "bool", hunav::evaluator::MetricKind::Bool, completed ? 1.0 : 0.0},
-      {"minimum_distance_to_people", "m", hunav::evaluator::MetricKind::Real, min_dist}};
-  hunav::evaluator::appendMetricsRow(dir / "metrics.csv", info, values);
-  hunav::evaluator::writeRunJson(dir / "run.json", info, values);
+  const std::vector<hunav::results::MetricValue> values = {
+      {"completed", "bool", hunav::results::MetricKind::Bool, completed ? 1.0 : 0.0},
+      {"minimum_distance_to_people", "m", hunav::results::MetricKind::Real, min_dist}};
+  hunav::results::appendMetricsRow(dir / "metrics.csv", info, values);
+  hunav::results::writeRunJson(dir / "run.json", info, values);
   return dir;
 }
 
@@ -146,10 +147,10 @@ TEST(ExpectationsSummary, AMalformedExpectJsonIsAWarningNamingFileAndKey) {
             R"({"conditions": [{"metric": "completed", "condition": "== true", "value": "true"}]})");
   const Batch batch = writeBatchSummary(dir);
   ASSERT_EQ(batch.warnings.size(), 1u);
-  EXPECT_NE(batch.warnings[0].find("expect.json: conditions[0].pass: expected true or false"), std::string::npos)
+  EXPECT_NE(batch.warnings[0].find("expect.json:1: conditions[0].pass: missing"), std::string::npos)
       << batch.warnings[0];
   EXPECT_FALSE(batch.runs.at(0).judged);
   EXPECT_FALSE(fs::exists(dir / "expectations.csv"));
   writeFile(run / "expect.json", "{not json");
-  EXPECT_NE(loadBatch(dir).warnings.at(0).find("expect.json: not valid JSON"), std::string::npos);
+  EXPECT_NE(loadBatch(dir).warnings.at(0).find("expect.json:1: not valid JSON"), std::string::npos);
 }

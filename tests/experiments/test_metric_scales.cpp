@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "hunav/evaluator/metrics.hpp"
 #include "hunav/experiments/metric_scales.hpp"
+#include "hunav/results/metric_catalog.hpp"
 
 using namespace hunav::experiments;
 
@@ -45,7 +45,7 @@ TEST(MetricScales, DistancesPercentagesAndOutcomes) {
 TEST(MetricScales, EveryEvaluatorMetricHasAScale) {
   // A metric added to the evaluator without a scale here would get the unbounded t interval again.
   for (const char* profile : {"default", "hunav_v1"}) {
-    for (const auto& def : hunav::evaluator::metricsForProfile(profile).definitions()) {
+    for (const auto& def : hunav::results::metricCatalog(profile)) {
       const MetricScale s = metricScale(def.name, profile);
       const bool v1_signed =
           std::string(profile) == "hunav_v1" &&

@@ -17,14 +17,14 @@
 #include <vector>
 
 #include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/results/states_csv.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/runner/robot_free_run.hpp"
 #include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
-using hunav::evaluator::readStatesCsv;
 using hunav::evaluator::Recording;
+using hunav::results::readStatesCsv;
 
 namespace {
 

@@ -2,7 +2,6 @@
 #include <cmath>
 
 #include "hunav/config_error.hpp"
-#include "hunav/report/csv_table.hpp"
 #include "hunav/report/json_writer.hpp"
 #include "hunav/report/run_data.hpp"
 #include "report_test_helpers.hpp"
@@ -252,27 +251,6 @@ TEST(Decimation, CumulativePercentAndFrameStride) {
   EXPECT_EQ(frameStride(1000, 3, limits), 1u);
   EXPECT_EQ(frameStride(6001, 3, limits), 5u);      // ceil(6001 / 1500) = 5
   EXPECT_EQ(frameStride(6001, 1001, limits), 25u);  // ceil(6001 * 1001 / 250000) = ceil(24.03) = 25
-}
-
-TEST(CsvTable, QuotedFieldsAndErrors) {
-  const fs::path dir = testDir().subdir("csv");
-  writeFile(dir / "a.csv", "a,b\n\"x, \"\"y\"\"\",2\n\n\"multi\nline\",3\n");
-  const CsvTable t = CsvTable::read(dir / "a.csv");
-  ASSERT_EQ(t.rows(), 2u);
-  EXPECT_EQ(t.text(0, 0), "x, \"y\"");
-  EXPECT_DOUBLE_EQ(t.number(0, 1), 2.0);
-  EXPECT_EQ(t.text(1, 0), "multi\nline");
-  EXPECT_EQ(t.line(1), 4);
-  writeFile(dir / "b.csv", "a,b\n1,2\n3\n");
-  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "b.csv"); }).find("b.csv:3: expected 2 fields (as the header), got 1"),
-            std::string::npos);
-  writeFile(dir / "c.csv", "a,a\n");
-  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "c.csv"); }).find("c.csv:1: a: duplicate column"), std::string::npos);
-  writeFile(dir / "d.csv", "a\n\"open\n");
-  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "d.csv"); }).find("unterminated"), std::string::npos);
-  writeFile(dir / "e.csv", "");
-  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "e.csv"); }).find("empty file"), std::string::npos);
-  EXPECT_NE(errorOf([&] { CsvTable::read(dir / "none.csv"); }).find("none.csv: missing file"), std::string::npos);
 }
 
 TEST(Json, EscapesAndNumbers) {

@@ -1,23 +1,21 @@
 #include "hunav/view/replay.hpp"
 
-#include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/wire_checks.hpp>
-#include <sstream>
+#include <optional>
 
 #include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/evaluator/states_csv.hpp"
 #include "hunav/lcm_log_reader.hpp"
+#include "hunav/results/csv.hpp"
+#include "hunav/results/run_json.hpp"
+#include "hunav/results/states_csv.hpp"
 
 namespace hunav::view {
 
 namespace {
 
-Json entityRobot(const evaluator::EntityState& e) {
+Json entityRobot(const results::EntityState& e) {
   return {
       {"id", e.id},
       {"x", round3(e.x)},
@@ -29,44 +27,33 @@ Json entityRobot(const evaluator::EntityState& e) {
       {"goal", e.has_goal ? Json::array({round3(e.goal_x), round3(e.goal_y), round3(e.goal_radius)}) : Json(nullptr)}};
 }
 
-Json entityPerson(const evaluator::EntityState& e) {
+Json entityPerson(const results::EntityState& e) {
   return Json::array({e.id, round3(e.x), round3(e.y), round3(e.yaw), round3(e.linear_vel), static_cast<int>(e.behavior),
                       static_cast<int>(e.behavior_state), e.group, round3(e.radius),
                       e.has_goal ? Json(round3(e.goal_x)) : Json(nullptr),
                       e.has_goal ? Json(round3(e.goal_y)) : Json(nullptr)});
 }
 
-// metrics_steps.csv: t, then one column per metric. Malformed lines are skipped (it only feeds the panel).
+// metrics_steps.csv: t, then one column per metric. A file that does not read as a table is left
+// out and a cell that is not a number is null (it only feeds the panel).
 Json readMetricSteps(const std::filesystem::path& file, std::size_t stride) {
   Json out = Json::array();
-  std::ifstream in(file);
-  if (!in) return out;
-  std::string line;
-  if (!std::getline(in, line)) return out;
-  std::vector<std::string> names;
-  {
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) names.push_back(cell);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) return out;
+  std::optional<results::CsvTable> table;
+  try {
+    table = results::CsvTable::read(file);
+  } catch (const ConfigError&) {
+    return out;
   }
-  std::size_t k = 0;
-  while (std::getline(in, line)) {
-    if (k++ % stride != 0) continue;
-    std::stringstream ss(line);
-    std::string cell;
-    Json values = Json::object();
+  const std::vector<std::string>& names = table->header();
+  for (std::size_t r = 0; r < table->rows(); r += stride) {
     double t = 0.0;
-    for (std::size_t i = 0; std::getline(ss, cell, ','); ++i) {
-      if (i >= names.size()) break;
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      const bool ok = !cell.empty() && end != nullptr && *end == '\0' && std::isfinite(v);
-      if (i == 0) {
-        if (!ok) break;
-        t = v;
-      } else {
-        values[names[i]] = ok ? Json(v) : Json(nullptr);
-      }
+    if (!results::parseNumber(table->text(r, 0), t)) continue;
+    Json values = Json::object();
+    for (std::size_t i = 1; i < names.size(); ++i) {
+      double v = 0.0;
+      values[names[i]] = results::parseNumber(table->text(r, static_cast<int>(i)), v) ? Json(v) : Json(nullptr);
     }
     if (!values.empty()) out.push_back({{"t", t}, {"values", std::move(values)}});
   }
@@ -79,13 +66,13 @@ Replay loadResults(const std::filesystem::path& dir, std::size_t max_rows) {
   const auto states = dir / "states.csv";
   if (!std::filesystem::is_regular_file(states))
     throw ConfigError(states.string(), 0, "states.csv", "no such file (a results folder holds states.csv)");
-  const evaluator::Recording rec = evaluator::readStatesCsv(states);
+  const results::Recording rec = results::readStatesCsv(states);
   if (rec.empty()) throw ConfigError(states.string(), 2, "t", "the file holds no sample");
   Replay replay;
   Json info = Json::object();
   const auto run_json = dir / "run.json";
   if (std::filesystem::is_regular_file(run_json)) {
-    const evaluator::RunInfo ri = evaluator::readRunJson(run_json);
+    const results::RunInfo ri = results::readRunJson(run_json);
     info = {{"run_id", ri.run_id}, {"scenario", ri.scenario}, {"planner", ri.planner}, {"seed", ri.seed},
             {"mode", ri.mode},     {"status", ri.status},     {"reason", ri.reason},   {"fingerprint", ri.fingerprint}};
     replay.scenario_file = ri.scenario_file;

@@ -10,11 +10,9 @@
 #include <vector>
 
 #include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/result_files.hpp"
 
 namespace hunav::evaluator {
-
-struct RunInfo;
 
 // A person counts as affected when its deviation from its robot-free path exceeds this at some
 // sample (m): well above the numerical noise of a disturbed run (0) and below a step aside (~0.3 m).

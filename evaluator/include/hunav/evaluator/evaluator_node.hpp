@@ -40,11 +40,7 @@
 #include "hunav/bus.hpp"
 #include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/results.hpp"
-#include "hunav/evaluator/run_outputs.hpp"
-#include "hunav/evaluator/sample_rate.hpp"
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/thread_pool.hpp"
 

@@ -5,14 +5,16 @@
 // only what it needs of the past (a sum, the previous sample's speed, the people in contact...), so
 // evaluating a run costs one pass and memory independent of its length. A metric is a small copyable
 // struct with two functions, added to the registry with one line in registerDefaultMetrics() or
-// registerHunavV1Metrics() (metrics.cpp):
+// registerHunavV1Metrics() (metrics.cpp), under a name of the profile's catalogue, which gives its
+// unit, kind and per-tick column (result_files/include/hunav/results/metric_catalog.hpp):
 //
 //   struct PathLength {
 //     bool any = false;  Vec2 previous;  double sum = 0.0;
 //     double add(const SampleView& s) { ...; return per_tick_value; }  // each sample, in order
 //     double value() const { return sum; }                              // the metric so far
 //   };
-//   r.add<PathLength>("path_length", "m", MetricKind::Real);
+//   add("path_length", make<PathLength>());               // metrics.cpp, in the catalogue's order
+//   r.add<PathLength>("path_length", "m", MetricKind::Real);  // any other registry
 //
 // Metrics are evaluated and written in registration order, which follows HuNavSim's evaluation order
 // (docs/metrics.md). Every definition, including the value of each edge case
@@ -26,15 +28,12 @@
 #include <utility>
 #include <vector>
 
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/sample_view.hpp"
+#include "hunav/evaluator/result_files.hpp"
 
 namespace hunav::evaluator {
 
-enum class MetricKind {
-  Real,  // a finite double, written with the shortest round-trip representation
-  Bool,  // 1.0 = true, 0.0 = false; written as true/false
-};
+// One sample as the metrics see it (src/sample_view.hpp: internal to the evaluator's metrics).
+class SampleView;
 
 // Whether a metric has a column in the per-tick files (HuNavSim's per-step list).
 enum class Column { None, PerTick };
@@ -82,17 +81,6 @@ struct MetricColumn {
   std::string name;
   std::vector<double> values;  // one per sample
 };
-
-struct MetricValue {
-  std::string name;
-  std::string unit;
-  MetricKind kind = MetricKind::Real;
-  double value = 0.0;
-};
-
-// Text of a value as written in metrics.csv and run.json: true/false for booleans, else the
-// shortest representation that reads back as the same double (fmt "{}").
-std::string formatMetricValue(const MetricValue& m);
 
 class MetricRegistry {
  public:
@@ -154,11 +142,9 @@ class MetricSet {
   std::size_t samples_ = 0;
 };
 
-// Profiles the evaluator knows: "default" (our definitions, docs/metrics.md) and "hunav_v1"
-// (HuNavSim v1's evaluator reproduced, quirks included).
-const std::vector<std::string>& knownProfiles();
-bool isKnownProfile(const std::string& profile);
-// The registry of a profile; throws std::invalid_argument for an unknown profile.
+// Profiles: knownProfiles() and isKnownProfile() (results::, metric_catalog.hpp).
+// The registry of a profile: one accumulator per metric of its catalogue (metric_catalog.hpp), in
+// that order. Throws std::invalid_argument for an unknown profile.
 const MetricRegistry& metricsForProfile(const std::string& profile);
 
 // Metric selection (YAML), all metrics on by default:

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "hunav/evaluator/evaluator_node.hpp"
-#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/result_files.hpp"
 
 namespace hunav::evaluator {
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hunav/episode_status.hpp"
+#include "hunav/results/expect_json.hpp"
 
 namespace hunav::experiments {
 
@@ -30,14 +31,8 @@ std::optional<RunKey> parseRunFolderName(const std::string& name);
 // Metric values as written in the CSV files (numbers, true/false), by metric name.
 using MetricRow = std::map<std::string, std::string>;
 
-// One condition of a scenario's `expect:` as judged in a run's expect.json (written by hunav_run and
-// hunav_expect: runner/include/hunav/runner/expectations.hpp).
-struct ExpectVerdict {
-  std::string metric;     // metric name, or "status"
-  std::string condition;  // e.g. ">= 0.5", "== true", "in [1, 2]", "== goal_reached"
-  std::string value;      // the run's value as in metrics.csv ("missing" when the run had none)
-  bool pass = false;
-};
+// One condition of a scenario's `expect:` as judged in a run's expect.json (results/expect_json.hpp).
+using ExpectVerdict = results::ExpectVerdict;
 
 struct BatchRun {
   RunKey key;
@@ -73,8 +68,5 @@ Batch loadBatch(const std::filesystem::path& dir);
 // A metric value as a number: numbers as written, true/false as 1/0; nullopt for empty or anything
 // else (so a missing value is left out of the statistics rather than counted as 0).
 std::optional<double> metricNumber(const std::string& text);
-
-// Splits one CSV line into fields (RFC 4180 quotes: "a,b" and "say ""hi""").
-std::vector<std::string> splitCsvLine(const std::string& line);
 
 }  // namespace hunav::experiments

@@ -8,9 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/results.hpp"
 #include "hunav/geometry.hpp"
+#include "hunav/results/run_json.hpp"
 
 namespace hunav::report {
 
@@ -26,7 +25,7 @@ struct ReportLimits {
 
 struct MetricEntry {
   std::string name;
-  std::string unit;   // from the profile's metric registry; empty when unknown
+  std::string unit;   // from the profile's metric catalogue; empty when unknown
   std::string value;  // as run.json holds it: a number, or true/false
 };
 
@@ -60,7 +59,7 @@ struct TimeSeries {
 
 struct RunData {
   std::filesystem::path dir;
-  evaluator::RunInfo info;
+  results::RunInfo info;
   std::vector<MetricEntry> metrics;                                    // run.json "metrics", in order
   std::map<int, std::map<std::string, std::string>> behavior_metrics;  // behavior -> metric -> value
   // counterfactual.csv (runs with --counterfactual): its header and rows as written; empty without.

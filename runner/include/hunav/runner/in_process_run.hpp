@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/thread_pool.hpp"
 #include "hunav/worldsim/world_sim.hpp"

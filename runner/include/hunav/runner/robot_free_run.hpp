@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "hunav/evaluator/counterfactual.hpp"
-#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/result_files.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/thread_pool.hpp"
 

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/result_files.hpp"
 
 namespace hunav::runner {
 

@@ -1,14 +1,14 @@
 #pragma once
-// Result files of a run (evaluator/README.md, "Files"): the metrics.csv row, run.json, and the text table
-// the in-process runner prints.
+// run.json (evaluator/README.md, "Files"): a run's provenance and its metric values, written by the
+// evaluator, read by the offline tools (hunav_report, hunav_summary, hunav_view's replay).
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "hunav/evaluator/metrics.hpp"
+#include "hunav/results/metric_catalog.hpp"
 
-namespace hunav::evaluator {
+namespace hunav::results {
 
 // Provenance and bookkeeping of one run: everything run.json holds besides the metric values.
 struct RunInfo {
@@ -42,6 +42,7 @@ struct RunInfo {
   std::string states_file;  // states.csv the metrics were computed from
 };
 
+// The results of one run: what run.json holds and where its files are.
 struct RunResult {
   RunInfo info;
   std::vector<MetricValue> metrics;
@@ -52,21 +53,10 @@ struct RunResult {
   std::string formatTable() const;
 };
 
-// The commit the evaluator was built from: $HUNAV_GIT_COMMIT when set and not empty, else
+// The commit the results come from: $HUNAV_GIT_COMMIT when set and not empty, else
 // `git rev-parse --short HEAD` of the last build, with "-dirty" when tracked files had changes then
 // (cmake/GitCommit.cmake), else "unknown".
 std::string gitCommit();
-
-// The metrics.csv header for these metric names.
-std::string metricsCsvHeader(const std::vector<std::string>& metric_names);
-
-// Appends one row to `file`, writing the header first when the file is new or empty. The file is
-// locked (flock) while it is checked and written, so parallel runs can share one metrics.csv.
-// A file whose header differs (other metrics or profile) is left alone: the row goes, with its own
-// header, to `<stem>-<run_id>.csv` beside it. Returns the file written. Throws std::runtime_error
-// on I/O errors.
-std::filesystem::path appendMetricsRow(const std::filesystem::path& file, const RunInfo& info,
-                                       const std::vector<MetricValue>& metrics);
 
 // Writes run.json atomically (temporary file + rename): every RunInfo field plus a "metrics"
 // object (name -> value). Throws std::runtime_error on I/O errors.
@@ -76,18 +66,13 @@ void writeRunJson(const std::filesystem::path& file, const RunInfo& info, const 
 // keys keep their RunInfo defaults. Throws ConfigError (file:line: key: what) on a malformed file.
 RunInfo readRunJson(const std::filesystem::path& file);
 
-// A human-readable table, one metric per line: name, value (6 significant digits, true/false for
-// booleans), unit; with a header line. For the in-process runner's summary on stdout. Example:
-//   metric                value  unit
-//   time_to_reach_goal     12.3  s
-//   completed              true
-std::string formatMetricsTable(const std::vector<MetricValue>& metrics);
+// One value of run.json's "metrics", as text: the number as the evaluator writes it, or true/false.
+struct RunJsonMetric {
+  std::string name;
+  std::string value;
+};
+// run.json's "metrics" in file order (empty when it has none). Throws ConfigError on a malformed
+// file or a value that is neither a number nor true/false.
+std::vector<RunJsonMetric> readRunJsonMetrics(const std::filesystem::path& file);
 
-// `s` with every character but [A-Za-z0-9._-] replaced by '_' ("run" when empty): a run id made
-// safe to use as a file or folder name.
-std::string safeFileName(const std::string& s);
-
-// Quotes a CSV field when it holds a comma, a quote or a line break (RFC 4180).
-std::string csvField(const std::string& s);
-
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

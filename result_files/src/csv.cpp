@@ -1,4 +1,4 @@
-#include "hunav/report/csv_table.hpp"
+#include "hunav/results/csv.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "hunav/config_error.hpp"
 
-namespace hunav::report {
+namespace hunav::results {
 
 namespace fs = std::filesystem;
 
@@ -112,10 +112,27 @@ void checkHeader(const std::vector<std::string>& header, const std::string& file
 
 }  // namespace
 
-CsvTable CsvTable::read(const fs::path& file) {
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::vector<std::string> splitCsvLine(const std::string& line, const std::string& name) {
+  std::vector<std::string> fields{std::string()};
+  splitRecords(line, name, [&fields](const std::vector<std::string>& record, int) { fields = record; });
+  return fields;
+}
+
+CsvTable CsvTable::read(const fs::path& file) { return parse(readWholeFile(file, file.string()), file.string()); }
+
+CsvTable CsvTable::parse(const std::string& text, const std::string& name) {
   CsvTable t;
-  t.file_ = file.string();
-  const std::string text = readWholeFile(file, t.file_);
+  t.file_ = name;
   splitRecords(text, t.file_, [&t](const std::vector<std::string>& record, int record_line) {
     if (t.header_.empty()) {
       t.header_ = record;
@@ -182,4 +199,4 @@ bool CsvTable::boolean(std::size_t r, int column) const {
   fail(r, header_[static_cast<std::size_t>(column)], "expected true or false, got '" + s + "'");
 }
 
-}  // namespace hunav::report
+}  // namespace hunav::results

@@ -8,8 +8,13 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
-namespace hunav::evaluator {
+namespace hunav::results {
+
+// A double as every result file writes it: fmt "{}", the shortest text that reads back as the
+// same double ("25.87", "3", "1e-07"). For one value; NumberText below for many.
+std::string numberText(double v);
 
 class NumberText {
  public:
@@ -43,4 +48,4 @@ class NumberText {
   std::array<Entry, std::size_t{1} << kIndexBits> entries_{};
 };
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <stdexcept>
 
-namespace hunav::evaluator {
+namespace hunav::results {
 
 class SampleRate {
  public:
@@ -47,4 +47,4 @@ class SampleRate {
   std::int64_t next_us_ = 0;
 };
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

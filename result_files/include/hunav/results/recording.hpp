@@ -12,7 +12,7 @@
 
 #include "hunav/geometry.hpp"
 
-namespace hunav::evaluator {
+namespace hunav::results {
 
 // A read-only view of consecutive elements (std::span is C++20).
 template <class T>
@@ -102,4 +102,4 @@ class Recording {
   std::vector<Vec2> obstacles_;
 };
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

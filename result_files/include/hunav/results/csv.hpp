@@ -1,4 +1,8 @@
 #pragma once
+// CSV as the result files hold it: the one reader of every tool (metrics.csv, the summaries,
+// metrics_steps.csv...; states.csv has its own streaming reader, states_csv.hpp) and the quoting
+// of fields written.
+//
 // A CSV file read whole (RFC 4180: fields quoted with "..." may hold commas, quotes and line
 // breaks), with every problem reported as a ConfigError naming file, line and column.
 #include <cstddef>
@@ -6,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace hunav::report {
+namespace hunav::results {
 
 class CsvTable {
  public:
@@ -14,6 +18,8 @@ class CsvTable {
   // Blank lines are skipped. Throws ConfigError when the file is missing, unreadable, empty, has a
   // duplicate or empty column name, a ragged row or an unterminated quote.
   static CsvTable read(const std::filesystem::path& file);
+  // The same from text; `name` is the file name used in messages.
+  static CsvTable parse(const std::string& text, const std::string& name);
 
   const std::string& file() const { return file_; }
   const std::vector<std::string>& header() const { return header_; }
@@ -45,8 +51,16 @@ class CsvTable {
   std::vector<int> lines_;
 };
 
+// Quotes a CSV field when it holds a comma, a quote or a line break (RFC 4180).
+std::string csvField(const std::string& s);
+
+// Splits one CSV line into fields (RFC 4180 quotes: "a,b" and "say ""hi"""), with CsvTable's
+// rules; `name` names the text in a ConfigError (a quote inside an unquoted field, an unterminated
+// quote).
+std::vector<std::string> splitCsvLine(const std::string& line, const std::string& name = "CSV line");
+
 // Parses a finite number written as text (the whole text, surrounding spaces allowed); false when
 // it is not one.
 bool parseNumber(const std::string& text, double& value);
 
-}  // namespace hunav::report
+}  // namespace hunav::results

@@ -1,4 +1,4 @@
-#include "hunav/evaluator/states_csv.hpp"
+#include "hunav/results/states_csv.hpp"
 
 #include <fcntl.h>
 #include <fmt/compile.h>
@@ -19,7 +19,7 @@
 #include "hunav/bounds.hpp"
 #include "hunav/config_error.hpp"
 
-namespace hunav::evaluator {
+namespace hunav::results {
 
 namespace fs = std::filesystem;
 
@@ -584,4 +584,4 @@ Recording readStatesCsv(const fs::path& file) {
   return rec;
 }
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

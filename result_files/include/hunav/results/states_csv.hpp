@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "hunav/evaluator/number_text.hpp"
-#include "hunav/evaluator/recording.hpp"
-#include "hunav/evaluator/sample_rate.hpp"
+#include "hunav/results/number_text.hpp"
+#include "hunav/results/recording.hpp"
+#include "hunav/results/sample_rate.hpp"
 
-namespace hunav::evaluator {
+namespace hunav::results {
 
 inline constexpr const char* kStatesCsvHeader =
     "t,kind,id,x,y,yaw,vx,vy,vyaw,linear_vel,angular_vel,radius,behavior,behavior_state,group,goal_x,goal_y,"
@@ -132,4 +132,4 @@ class StatesCsvReader {
 // Reads a whole states.csv into a Recording (StatesCsvReader, every sample kept).
 Recording readStatesCsv(const std::filesystem::path& file);
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

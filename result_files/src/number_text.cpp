@@ -1,4 +1,4 @@
-#include "hunav/evaluator/number_text.hpp"
+#include "hunav/results/number_text.hpp"
 
 #include <fmt/compile.h>
 
@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <cstring>
 
-namespace hunav::evaluator {
+namespace hunav::results {
+
+std::string numberText(double v) { return fmt::format("{}", v); }
 
 namespace {
 // Two digits of 0..99 as text.
@@ -119,4 +121,4 @@ char* NumberText::format(char* out, double v) {
   return out + size;
 }
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

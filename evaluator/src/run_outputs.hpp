@@ -20,9 +20,16 @@
 #include <vector>
 
 #include "hunav/evaluator/metrics.hpp"
-#include "hunav/evaluator/results.hpp"
+#include "hunav/evaluator/result_files.hpp"
+#include "hunav/results/number_text.hpp"
+#include "hunav/results/states_csv.hpp"
 
 namespace hunav::evaluator {
+
+// The writers the evaluator's sources use (evaluator_node.cpp, offline.cpp, run_outputs.cpp).
+using results::NumberText;
+using results::StatesCsvReader;
+using results::StatesCsvWriter;
 
 struct OutputOptions {
   std::filesystem::path out_dir;  // metrics.csv and the per-behavior summaries

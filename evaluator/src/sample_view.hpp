@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "hunav/evaluator/recording.hpp"
+#include "hunav/evaluator/result_files.hpp"
 
 namespace hunav::evaluator {
 

@@ -1,10 +1,10 @@
-#include "hunav/evaluator/recording.hpp"
+#include "hunav/results/recording.hpp"
 
 #include <limits>
 #include <stdexcept>
 #include <string>
 
-namespace hunav::evaluator {
+namespace hunav::results {
 
 void Recording::addSample(double t, const EntityState& robot, const std::vector<EntityState>& agents) {
   // Metrics divide by time steps: the recording guarantees they are all positive.
@@ -36,4 +36,4 @@ void Recording::clear() {
   obstacles_.clear();
 }
 
-}  // namespace hunav::evaluator
+}  // namespace hunav::results

@@ -1,0 +1,61 @@
+#pragma once
+// JSON text of the result files: strings written as JSON (run.json, the report's pages), and JSON
+// files read through nlohmann-json with every problem reported as a ConfigError naming file, line
+// and key (run.json, expect.json). Objects keep the order of the file (nlohmann::ordered_json).
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+namespace hunav::results {
+
+// `s` as a JSON string literal, quotes included. Escapes '"', '\\' and control characters (\n, \r,
+// \t, else \u00XX); html_safe: also '<', '>' and '&' (as \u003c, \u003e, \u0026), so that no
+// "</script>" or "<!--" can end a <script> element embedding the text early. Written here rather
+// than by nlohmann's serializer, which writes \b and \f differently, throws on invalid UTF-8 and has
+// no HTML-safe mode: the files keep their bytes.
+std::string jsonString(std::string_view s, bool html_safe = false);
+
+// A JSON file parsed with nlohmann-json, which remembers the line of every key so that errors about
+// a value name the line it is on. Keys are named by their path: "seed", "metrics.completed",
+// "conditions[0].pass".
+class JsonDocument {
+ public:
+  // Throws ConfigError: file missing or unreadable, or not JSON (with the line of the problem).
+  static JsonDocument read(const std::filesystem::path& file);
+  // The same from text; `name` is the file name used in messages.
+  static JsonDocument parse(const std::string& text, const std::string& name);
+
+  const nlohmann::ordered_json& root() const { return root_; }
+  const std::string& file() const { return file_; }
+  // The line of the key at `path` (1-based), 0 when the file has no such key.
+  int lineOf(const std::string& path) const;
+  // Throws ConfigError(file, line, path, what): the line of `path`, or for a key the file lacks, of
+  // the closest enclosing key or array element it has.
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const;
+
+  // The value of `key` in `object` (at `where`, the object's path, "" for the root) as a string,
+  // integer, number or boolean; `fallback` when the key is absent. A value of another type throws
+  // ConfigError naming its line and path.
+  std::string text(const nlohmann::ordered_json& object, const std::string& where, const char* key,
+                   const std::string& fallback) const;
+  std::int64_t integer(const nlohmann::ordered_json& object, const std::string& where, const char* key,
+                       std::int64_t fallback) const;
+  double number(const nlohmann::ordered_json& object, const std::string& where, const char* key, double fallback) const;
+  bool boolean(const nlohmann::ordered_json& object, const std::string& where, const char* key, bool fallback) const;
+
+  // "where.key" ("key" at the root); "where[index]".
+  static std::string join(const std::string& where, const std::string& key);
+  static std::string element(const std::string& where, std::size_t index);
+
+ private:
+  const nlohmann::ordered_json* find(const nlohmann::ordered_json& object, const std::string& where,
+                                     const char* key) const;
+
+  std::string file_;
+  nlohmann::ordered_json root_;
+  std::map<std::string, int> lines_;  // key path -> line
+};
+
+}  // namespace hunav::results

@@ -1,0 +1,231 @@
+// run.json and metrics.csv: rows, run.json written and read back, the git commit, the text table, and
+// malformed files named by file, line and key.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "config_error_of.hpp"
+#include "hunav/config_error.hpp"
+#include "hunav/results/expect_json.hpp"
+#include "hunav/results/metrics_csv.hpp"
+#include "hunav/results/run_json.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/temp_dir.hpp"
+
+using namespace hunav::results;
+using hunav::testing::readFile;
+using hunav::testing::readLines;
+using hunav::testing::testDir;
+using hunav::testing::writeFile;
+using result_files_test::configErrorOf;
+
+namespace {
+std::vector<MetricValue> twoMetrics() {
+  return {MetricValue{"path_length", "m", MetricKind::Real, 0.1 + 0.2},
+          MetricValue{"completed", "bool", MetricKind::Bool, 1.0}};
+}
+}  // namespace
+
+TEST(Results, SafeFileNames) {
+  EXPECT_EQ(safeFileName("run/../x y"), "run_.._x_y");
+  EXPECT_EQ(safeFileName(""), "run");
+}
+
+TEST(Results, GitCommitCanBeOverriddenByTheEnvironment) {
+  ASSERT_EQ(setenv("HUNAV_GIT_COMMIT", "cafe123", 1), 0);
+  EXPECT_EQ(gitCommit(), "cafe123");
+  ASSERT_EQ(unsetenv("HUNAV_GIT_COMMIT"), 0);
+  EXPECT_FALSE(gitCommit().empty());
+  EXPECT_NE(gitCommit(), "cafe123");
+}
+
+TEST(Results, MetricsRowsShareOneHeaderAndAnotherHeaderGetsItsOwnFile) {
+  const auto dir = testDir().path();
+  RunInfo info;
+  info.experiment_tag = "exp,1";
+  info.run_id = "r1";
+  info.scenario = "passing";
+  info.planner = "dwb";
+  info.seed = 3;
+  info.profile = "default";
+  EXPECT_EQ(appendMetricsRow(dir / "metrics.csv", info, twoMetrics()), dir / "metrics.csv");
+  info.run_id = "r2";
+  EXPECT_EQ(appendMetricsRow(dir / "metrics.csv", info, twoMetrics()), dir / "metrics.csv");
+  EXPECT_EQ(readLines(dir / "metrics.csv"),
+            (std::vector<std::string>{"experiment_tag,run_id,scenario,planner,seed,profile,path_length,completed",
+                                      "\"exp,1\",r1,passing,dwb,3,default,0.30000000000000004,true",
+                                      "\"exp,1\",r2,passing,dwb,3,default,0.30000000000000004,true"}));
+  // Another metric set must not be appended under this header: it goes beside, with its own.
+  info.run_id = "r3";
+  const auto other = appendMetricsRow(dir / "metrics.csv", info, {twoMetrics()[1]});
+  EXPECT_EQ(other, dir / "metrics-r3.csv");
+  EXPECT_EQ(readLines(other).size(), 2u);
+  EXPECT_EQ(readLines(dir / "metrics.csv").size(), 3u);
+}
+
+TEST(Results, RunJsonReadsBackAndEscapesStrings) {
+  const auto dir = testDir().path();
+  RunInfo info;
+  info.run_id = "r1";
+  info.scenario = "a \"quoted\"\\ name\twith\ncontrol \x01 chars";
+  info.seed = -5;
+  info.sim_time = 12.5;
+  info.wall_time = 0.1;
+  info.ticks = 1251;
+  info.complete = true;
+  info.fingerprint = "0123456789abcdef";
+  writeRunJson(dir / "run.json", info, twoMetrics());
+  const RunInfo back = readRunJson(dir / "run.json");
+  EXPECT_EQ(back.scenario, info.scenario);
+  EXPECT_EQ(back.seed, -5);
+  EXPECT_EQ(back.sim_time, 12.5);
+  EXPECT_EQ(back.wall_time, 0.1);
+  EXPECT_EQ(back.ticks, 1251);
+  EXPECT_TRUE(back.complete);
+  EXPECT_EQ(back.fingerprint, info.fingerprint);
+  const std::string json = readFile(dir / "run.json");
+  EXPECT_NE(json.find("\"path_length\": 0.30000000000000004"), std::string::npos);
+  EXPECT_NE(json.find("\"completed\": true"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "run.json.tmp"));
+  // Python's json module must accept it too.
+  EXPECT_EQ(
+      std::system(
+          ("python3 -c 'import json,sys; json.load(open(sys.argv[1]))' '" + (dir / "run.json").string() + "'").c_str()),
+      0);
+}
+
+TEST(Results, TableListsNameValueAndUnit) {
+  const std::string table = formatMetricsTable(twoMetrics());
+  EXPECT_EQ(table,
+            "metric              value  unit\n"
+            "path_length           0.3  m\n"
+            "completed            true\n");
+}
+
+TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
+  const auto dir = testDir().path();
+  RunInfo info;
+  info.run_id = "passing_dwb_s1";
+  info.experiment_tag = "exp";
+  info.profile = "hunav_v1";
+  info.scenario = "passing";
+  info.scenario_file = "scenarios/passing.yaml";
+  info.planner = "dwb";
+  info.seed = 7;
+  info.mode = "lockstep";
+  info.episode = 2;
+  info.status = "goal_reached";
+  info.reason = "the robot is within its goal radius";
+  info.sim_time = 26.0;  // integral: written "26", as fmt writes it
+  info.wall_time = 1e-07;
+  info.ticks = 2601;
+  info.recorded_ticks = 261;
+  info.sample_rate = 10.0;
+  info.lost_ticks = 1;
+  info.dropped_messages = 2;
+  info.world_dropped_messages = 3;
+  info.manager_dropped_messages = -1;
+  info.planner_dropped_messages = 4;
+  info.fingerprint = "0efeb9d775cf1036";
+  info.recorded_fingerprint = "1234";
+  info.git_commit = "abc-dirty";
+  info.complete = true;
+  info.states_file = "/tmp/x/states.csv";
+  const std::vector<MetricValue> metrics = {{"path_length", "m", MetricKind::Real, 14.853800000000001},
+                                            {"time_to_reach_goal", "s", MetricKind::Real, 3.0},
+                                            {"completed", "bool", MetricKind::Bool, 0.0}};
+  writeRunJson(dir / "a.json", info, metrics);
+  const RunInfo back = readRunJson(dir / "a.json");
+  writeRunJson(dir / "b.json", back, metrics);
+  EXPECT_EQ(readFile(dir / "a.json"), readFile(dir / "b.json"));
+  EXPECT_NE(readFile(dir / "a.json").find("  \"sim_time\": 26,\n  \"wall_time\": 1e-07,\n"), std::string::npos);
+  EXPECT_EQ(back.manager_dropped_messages, -1);
+  EXPECT_EQ(back.git_commit, "abc-dirty");
+  // The metrics read back as the text they were written with, in file order.
+  const auto values = readRunJsonMetrics(dir / "a.json");
+  ASSERT_EQ(values.size(), 3u);
+  EXPECT_EQ(values[0].name, "path_length");
+  EXPECT_EQ(values[0].value, "14.853800000000001");
+  EXPECT_EQ(values[1].value, "3");
+  EXPECT_EQ(values[2].value, "false");
+}
+
+TEST(Results, MalformedRunJsonNamesFileLineAndKey) {
+  const auto dir = testDir().path();
+  const std::string file = (dir / "run.json").string();
+  writeFile(dir / "run.json", "{\n  \"run_id\": \"r\",\n  \"seed\": \"seven\"\n}\n");
+  EXPECT_EQ(configErrorOf([&] { readRunJson(file); }).rfind(file + ":3: seed: expected an integer", 0), 0u);
+  writeFile(dir / "run.json", "{\n  \"complete\": 1\n}\n");
+  EXPECT_EQ(configErrorOf([&] { readRunJson(file); }).rfind(file + ":2: complete: expected true or false", 0), 0u);
+  writeFile(dir / "run.json", "{\n  \"metrics\": {\n    \"a\": 1,\n    \"b\": \"x\"\n  }\n}\n");
+  EXPECT_EQ(configErrorOf([&] {
+              readRunJsonMetrics(file);
+            }).rfind(file + ":4: metrics.b: expected a number or true/false", 0),
+            0u);
+  // Not JSON: the line of the problem.
+  writeFile(dir / "run.json", "{\n  \"run_id\": \"r\",\n  \"seed\": 7,,\n}\n");
+  EXPECT_EQ(configErrorOf([&] { readRunJson(file); }).rfind(file + ":3: not valid JSON", 0), 0u)
+      << configErrorOf([&] { readRunJson(file); });
+  EXPECT_EQ(configErrorOf([&] { readRunJson(dir / "none.json"); }), (dir / "none.json").string() + ": missing file");
+}
+
+TEST(Results, ExpectJsonNamesTheConditionItCannotRead) {
+  const auto dir = testDir().path();
+  const std::string file = (dir / "expect.json").string();
+  writeFile(dir / "expect.json",
+            "{\"run_id\": \"r\", \"passed\": false, \"conditions\": [\n"
+            "  {\"metric\": \"completed\", \"condition\": \"== true\", \"value\": \"true\", \"pass\": true},\n"
+            "  {\"metric\": \"status\", \"condition\": \"== goal_reached\", \"value\": \"stuck\", \"pass\": false}\n"
+            "]}\n");
+  const auto verdicts = readExpectJson(file);
+  ASSERT_EQ(verdicts.size(), 2u);
+  EXPECT_EQ(verdicts[1].metric, "status");
+  EXPECT_EQ(verdicts[1].value, "stuck");
+  EXPECT_TRUE(verdicts[0].pass);
+  EXPECT_FALSE(verdicts[1].pass);
+  writeFile(dir / "expect.json",
+            "{\"conditions\": [\n  {\"metric\": \"a\", \"condition\": \"> 1\", \"value\": \"2\", \"pass\": true},\n"
+            "  {\"metric\": \"a\", \"condition\": \"> 1\", \"value\": \"0\",\n   \"pass\": \"no\"}\n]}\n");
+  EXPECT_EQ(
+      configErrorOf([&] { readExpectJson(file); }).rfind(file + ":4: conditions[1].pass: expected true or false", 0),
+      0u)
+      << configErrorOf([&] { readExpectJson(file); });
+  writeFile(dir / "expect.json", "{\"conditions\": [{\"metric\": \"a\"}]}");
+  EXPECT_EQ(configErrorOf([&] { readExpectJson(file); }).rfind(file + ":1: conditions[0].condition: missing", 0), 0u);
+}
+
+TEST(Results, MetricsCsvReadsTheRowsOfARun) {
+  const auto dir = testDir().path();
+  RunInfo info;
+  info.experiment_tag = "exp";
+  info.profile = "default";
+  info.run_id = "a,1";  // quoted in the file
+  appendMetricsRow(dir / "metrics.csv", info, twoMetrics());
+  info.run_id = "b";
+  auto second = twoMetrics();
+  second[0].value = 2.5;
+  appendMetricsRow(dir / "metrics.csv", info, second);
+  const MetricsCsv csv = MetricsCsv::read(dir / "metrics.csv");
+  EXPECT_EQ(csv.metricNames(), (std::vector<std::string>{"path_length", "completed"}));
+  EXPECT_EQ(csv.lastRow()->run_id, "b");
+  EXPECT_EQ(csv.lastRow()->values.at("path_length"), "2.5");
+  EXPECT_EQ(csv.lastRowOf("a,1")->values.at("path_length"), "0.30000000000000004");
+  EXPECT_EQ(csv.lastRowOf("a,1")->profile, "default");
+  EXPECT_FALSE(csv.lastRowOf("c").has_value());
+  // A file that is not a metrics file: the column named.
+  writeFile(dir / "other.csv", "run_id,experiment_tag\nx,y\n");
+  EXPECT_EQ(configErrorOf([&] {
+              MetricsCsv::read(dir / "other.csv");
+            }).rfind((dir / "other.csv").string() + ":1: experiment_tag: expected column 1 to be 'experiment_tag'", 0),
+            0u);
+}
+
+TEST(Results, CatalogueUnitsAndOrder) {
+  EXPECT_EQ(metricCatalog("default").front().name, "time_to_reach_goal");
+  EXPECT_EQ(metricCatalog("default").size(), metricCatalog("hunav_v1").size());
+  EXPECT_EQ(metricUnit("social_work"), "m/s");
+  EXPECT_EQ(metricUnit("social_work", "hunav_v1"), "m/s^2");
+  EXPECT_EQ(metricUnit("counterfactual_delay", "no_such_profile"), "s");
+  EXPECT_EQ(metricUnit("no_such_metric"), "");
+  EXPECT_THROW(metricCatalog("no_such_profile"), std::invalid_argument);
+}
