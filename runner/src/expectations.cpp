@@ -131,19 +131,6 @@ void writeExpectJson(const fs::path& file, const std::string& run_id, const std:
   if (ec) throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
 }
 
-std::vector<Verdict> readExpectJson(const fs::path& file) {
-  const json j = parseJsonFile(file);
-  std::vector<Verdict> out;
-  try {
-    for (const json& c : j.at("conditions"))
-      out.push_back(Verdict{c.at("metric").get<std::string>(), c.at("condition").get<std::string>(),
-                            c.at("value").get<std::string>(), c.at("pass").get<bool>()});
-  } catch (const json::exception& e) {
-    throw ConfigError(file.string(), 0, "conditions", e.what());
-  }
-  return out;
-}
-
 RunJsonResult readRunResult(const fs::path& run_json) {
   const json j = parseJsonFile(run_json);
   RunJsonResult r;

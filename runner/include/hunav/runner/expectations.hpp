@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hunav/evaluator/metrics.hpp"
+#include "hunav/results/expect_json.hpp"
 #include "hunav/scenario.hpp"
 
 namespace hunav::runner {
@@ -15,12 +16,8 @@ namespace hunav::runner {
 // condition failed (0 ran to an end, 1 aborted or error, 2 bad input).
 inline constexpr int kExitExpectationsFailed = 3;
 
-struct Verdict {
-  std::string metric;     // metric name, or "status"
-  std::string condition;  // e.g. "== true", ">= 0.5", "<= 40", "in [1, 2]", "== goal_reached"
-  std::string value;      // the run's value as in metrics.csv ("missing" when the run has none)
-  bool pass = false;
-};
+// One condition as judged (what expect.json holds: result_files/).
+using Verdict = results::ExpectVerdict;
 
 // Checks that every condition names a metric of `registry` (the metrics the run computes: profile and
 // selection) and has the metric's type: true/false for a boolean metric, a number or {min, max} for the
@@ -44,7 +41,7 @@ std::string formatVerdicts(const std::vector<Verdict>& verdicts);
 // value, pass}]}. Written atomically (temporary file + rename). Throws std::runtime_error on I/O errors.
 void writeExpectJson(const std::filesystem::path& file, const std::string& run_id, const std::string& status,
                      const std::vector<Verdict>& verdicts);
-std::vector<Verdict> readExpectJson(const std::filesystem::path& file);  // throws ConfigError
+using results::readExpectJson;  // throws ConfigError naming file, line and key
 
 // The end status and metric values of a run.json (booleans as MetricKind::Bool). Throws ConfigError.
 struct RunJsonResult {
