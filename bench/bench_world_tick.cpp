@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
-#include "hunav/worldsim/physics_world.hpp"
-#include "hunav/worldsim/sensors.hpp"
+#include "physics_world.hpp"
+#include "sensors.hpp"
 
 using namespace hunav;
 using hunav::worldsim::PhysicsWorld;

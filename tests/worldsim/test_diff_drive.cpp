@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "hunav/worldsim/diff_drive.hpp"
+#include "diff_drive.hpp"
 
 using hunav::kPi;
 using hunav::worldsim::applyHolonomicLimits;

@@ -8,8 +8,8 @@
 #include "hunav/channels.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
-#include "hunav/worldsim/physics_world.hpp"
 #include "hunav/worldsim/world_sim.hpp"
+#include "physics_world.hpp"
 
 using namespace hunav;
 

@@ -12,7 +12,7 @@
 #include "hunav/config_error.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/testing/temp_dir.hpp"
-#include "hunav/worldsim/physics_world.hpp"
+#include "physics_world.hpp"
 
 using namespace hunav;
 namespace fs = std::filesystem;

@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "hunav/worldsim/physics_world.hpp"
+#include "physics_world.hpp"
 
 using namespace hunav;
 using hunav::worldsim::PhysicsWorld;

@@ -6,7 +6,7 @@
 #include <functional>
 #include <optional>
 
-#include "hunav/worldsim/stuck_detector.hpp"
+#include "stuck_detector.hpp"
 
 using hunav::Vec2;
 using hunav::worldsim::StuckDetector;

@@ -1,4 +1,4 @@
-#include "hunav/worldsim/diff_drive.hpp"
+#include "diff_drive.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "hunav/worldsim/physics_world.hpp"
+#include "physics_world.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "hunav/worldsim/sensors.hpp"
+#include "sensors.hpp"
 
 #include <algorithm>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "hunav/worldsim/stuck_detector.hpp"
+#include "stuck_detector.hpp"
 
 #include <fmt/format.h>
 

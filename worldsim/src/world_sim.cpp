@@ -9,10 +9,12 @@
 #include <string_view>
 #include <thread>
 
+#include "diff_drive.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/message_checks.hpp"
-#include "hunav/worldsim/diff_drive.hpp"
-#include "hunav/worldsim/sensors.hpp"
+#include "physics_world.hpp"
+#include "sensors.hpp"
+#include "stuck_detector.hpp"
 
 namespace hunav::worldsim {
 
@@ -130,7 +132,7 @@ void WorldSim::reset() {
   const std::int64_t stuck_us = rc.has_goal && !options_.robot_absent
                                     ? static_cast<std::int64_t>(std::llround(scenario_.stuck_timeout * 1e6))
                                     : 0;
-  stuck_ = StuckDetector(stuck_us, scenario_.stuck_distance, rc.goal);
+  stuck_ = std::make_unique<StuckDetector>(stuck_us, scenario_.stuck_distance, rc.goal);
   fingerprint_ = Fingerprint();
   robot_state_ = robotState();
 }
@@ -551,10 +553,10 @@ bool WorldSim::endReached(EpisodeResult& result) {
     result.status = episode_status::kTimeLimit;
     // The limit in force (the scenario's, or --duration's), in the shortest text of its value.
     result.reason = fmt::format("the time limit of {} s was reached", scenario_.time_limit);
-  } else if (stuck_.update(time_us_, Vec2(robot_state_.x, robot_state_.y))) {
+  } else if (stuck_->update(time_us_, Vec2(robot_state_.x, robot_state_.y))) {
     // After the time limit: a tick that is both ends the episode as time_limit, as without stuck_timeout.
     result.status = episode_status::kStuck;
-    result.reason = stuck_.reason();
+    result.reason = stuck_->reason();
   }
   return !result.status.empty();
 }

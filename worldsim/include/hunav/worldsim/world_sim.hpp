@@ -20,10 +20,11 @@
 #include "hunav/episode_status.hpp"
 #include "hunav/fingerprint.hpp"
 #include "hunav/scenario.hpp"
-#include "hunav/worldsim/physics_world.hpp"
-#include "hunav/worldsim/stuck_detector.hpp"
 
 namespace hunav::worldsim {
+
+class PhysicsWorld;   // the Box2D world (src/physics_world.hpp)
+class StuckDetector;  // src/stuck_detector.hpp
 
 struct WorldOptions {
   std::string planner = "dwb";                     // reported in events; "none" runs without a planner (robot stands)
@@ -212,7 +213,7 @@ class WorldSim {
   };
   PeerDrops manager_drops_;
   PeerDrops planner_drops_;
-  StuckDetector stuck_;  // of the current episode (reset())
+  std::unique_ptr<StuckDetector> stuck_;  // of the current episode (reset())
   Fingerprint fingerprint_;
   // Last, so that they end first: the handlers use the members above. Their drop counts are this
   // component's own (a bus in process is shared).

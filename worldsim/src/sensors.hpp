@@ -4,7 +4,7 @@
 #include <random>
 
 #include "hunav/scenario.hpp"
-#include "hunav/worldsim/physics_world.hpp"
+#include "physics_world.hpp"
 
 namespace hunav::worldsim {
 
