@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "hunav/config_error.hpp"
+#include "hunav/results/json_text.hpp"
 
 namespace hunav::runner {
 
@@ -21,16 +22,6 @@ using nlohmann::json;
 namespace {
 
 std::string number(double v) { return fmt::format("{}", v + 0.0); }  // shortest round trip, no -0
-
-json parseJsonFile(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw ConfigError(file.string(), 0, "", "cannot open the file");
-  try {
-    return json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw ConfigError(file.string(), 0, "", std::string("not valid JSON: ") + e.what());
-  }
-}
 
 }  // namespace
 
@@ -132,19 +123,21 @@ void writeExpectJson(const fs::path& file, const std::string& run_id, const std:
 }
 
 RunJsonResult readRunResult(const fs::path& run_json) {
-  const json j = parseJsonFile(run_json);
+  const results::JsonDocument doc = results::JsonDocument::read(run_json);
+  const nlohmann::ordered_json& root = doc.root();
+  if (!root.is_object()) doc.fail("", "expected an object");
   RunJsonResult r;
+  // hunav_expect judges what the run says of itself: these keys must be there.
   auto text = [&](const char* key) -> std::string {
-    const auto it = j.find(key);
-    if (it == j.end() || !it->is_string()) throw ConfigError(run_json.string(), 0, key, "expected a string");
+    const auto it = root.find(key);
+    if (it == root.end() || !it->is_string()) doc.fail(key, "expected a string");
     return it->get<std::string>();
   };
   r.run_id = text("run_id");
   r.status = text("status");
   r.profile = text("profile");
-  const auto metrics = j.find("metrics");
-  if (metrics == j.end() || !metrics->is_object())
-    throw ConfigError(run_json.string(), 0, "metrics", "expected an object name -> value");
+  const auto metrics = root.find("metrics");
+  if (metrics == root.end() || !metrics->is_object()) doc.fail("metrics", "expected an object name -> value");
   for (const auto& [name, value] : metrics->items()) {
     evaluator::MetricValue m;
     m.name = name;
@@ -154,7 +147,7 @@ RunJsonResult readRunResult(const fs::path& run_json) {
     } else if (value.is_number()) {
       m.value = value.get<double>();
     } else {
-      throw ConfigError(run_json.string(), 0, "metrics." + name, "expected a number or true/false");
+      doc.fail(results::JsonDocument::join("metrics", name), "expected a number or true/false");
     }
     r.metrics.push_back(std::move(m));
   }

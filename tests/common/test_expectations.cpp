@@ -172,3 +172,47 @@ TEST(Expect, VerdictArithmetic) {
     EXPECT_EQ(back[i].pass, v[i].pass);
   }
 }
+
+TEST(Expect, RunJsonOfHunavExpectNamesLineAndKey) {
+  // What hunav_expect judges: the status and metric values; booleans as 1/0 of kind Bool.
+  const std::string good = writeFile("good_run.json", R"({
+  "run_id": "r1",
+  "status": "goal_reached",
+  "profile": "default",
+  "metrics": {"time_to_goal": 25.87, "completed": true}
+})");
+  const runner::RunJsonResult r = runner::readRunResult(good);
+  EXPECT_EQ(r.run_id, "r1");
+  EXPECT_EQ(r.status, "goal_reached");
+  ASSERT_EQ(r.metrics.size(), 2u);
+  EXPECT_EQ(r.metrics[0].name, "time_to_goal");
+  EXPECT_EQ(r.metrics[0].value, 25.87);
+  EXPECT_EQ(r.metrics[1].kind, evaluator::MetricKind::Bool);
+  EXPECT_EQ(r.metrics[1].value, 1.0);
+
+  auto errorOf = [](const std::string& file) {
+    try {
+      runner::readRunResult(file);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string bad_value = writeFile("bad_value_run.json", R"({
+  "run_id": "r1",
+  "status": "goal_reached",
+  "profile": "default",
+  "metrics": {"time_to_goal": "fast"}
+})");
+  EXPECT_NE(errorOf(bad_value).find("bad_value_run.json:5: metrics.time_to_goal: expected a number or true/false"),
+            std::string::npos)
+      << errorOf(bad_value);
+  const std::string no_status = writeFile("no_status_run.json", R"({
+  "run_id": "r1",
+  "profile": "default",
+  "metrics": {}
+})");
+  EXPECT_NE(errorOf(no_status).find("status: expected a string"), std::string::npos) << errorOf(no_status);
+  const std::string not_json = writeFile("not_json_run.json", "{\n  \"run_id\": \n");
+  EXPECT_NE(errorOf(not_json).find("not_json_run.json"), std::string::npos) << errorOf(not_json);
+}
