@@ -34,6 +34,8 @@ class SclPlanner : public DwbPlanner {
   double bins_per_exponent_ = 0.0;
   std::vector<double> cost_threshold_;  // [c]: the largest exponent whose cost is still >= c
   std::vector<std::uint8_t> bin_cost_;  // the cost at the start of each bin of exponents
+  std::vector<double> column_x_;        // scratch: the x of the costmap's column centres
+  std::vector<double> row_exponent_;    // scratch: the exponents of a row's cells
 };
 
 }  // namespace hunav::planners
