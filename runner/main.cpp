@@ -198,11 +198,13 @@ int runSeries(const Options& o, const hunav::Scenario& first, const std::vector<
   if (seeds.empty()) seeds.push_back(static_cast<long long>(first.seed));
   const std::string out_root = options.out_dir.empty() ? "results" : options.out_dir;
   EpisodeTally tally;
+  hunav::runner::KeptPlanner kept;  // one planner per static map and planner, reset between episodes
   for (const auto& planner : planners) {
     for (long long episode_seed : seeds) {
       if (options.stop->load()) break;
       hunav::runner::RunOptions episode = options;
       episode.planner = planner;
+      episode.kept_planner = &kept;
       episode.run_id =
           options.run_id.empty() ? "" : options.run_id + "_" + planner + "_s" + std::to_string(episode_seed);
       int code;

@@ -33,6 +33,14 @@ Costmap::Costmap(std::vector<Shape> shapes, const Vec2& lo, const Vec2& hi, doub
   clearMarkingWindow();
 }
 
+bool Costmap::builtFor(const Scenario& scenario, double robot_radius) const {
+  if (robot_radius != robot_radius_ || scenario.shapes != shapes_) return false;
+  Vec2 lo, hi;
+  scenario.bounds(lo, hi, params_.margin);
+  const double res = params_.resolution;
+  return lo == origin_ && std::ceil((hi.x() - lo.x()) / res) == width_ && std::ceil((hi.y() - lo.y()) / res) == height_;
+}
+
 void Costmap::sizeGrid(const Vec2& lo, const Vec2& hi, const std::string& file, const std::string& key) {
   const double res = params_.resolution;
   // In double first: a huge map must give a clear error, not an overflowing int.

@@ -111,6 +111,9 @@ class Costmap {
 
   // Rebuilds the inflation when the robot radius changes (the observation carries it).
   void setRobotRadius(double robot_radius);
+  // True when Costmap(scenario, robot_radius, params()) would build this very grid and static layer:
+  // the same shapes, robot radius, origin and size.
+  bool builtFor(const Scenario& scenario, double robot_radius) const;
 
   // Transient layer: cleared each cycle, then marked.
   void clearTransient();

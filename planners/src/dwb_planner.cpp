@@ -44,9 +44,18 @@ DwbPlanner::DwbPlanner(const Scenario& scenario, const DwbParams& params)
   addCritic(std::make_unique<PeopleCritic>(params_.people_weight, params_.people_safety_margin, params_.people_sigma));
 }
 
+bool DwbPlanner::servesScenario(const Scenario& scenario) const {
+  return costmap_.builtFor(scenario, scenario.robot.radius);
+}
+
 void DwbPlanner::reset() {
   path_ = GlobalPath();
+  path_utime_ = 0;
   path_goal_.reset();
+  path_map_static_ = false;
+  path_costs_.clear();
+  last_best_cost_ = 0.0;
+  last_replanned_ = false;
   costmap_.clearTransient();
   for (auto& critic : critics_) critic->reset();
   last_decision_ = Decision::Idle;

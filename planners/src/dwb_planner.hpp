@@ -44,6 +44,7 @@ class DwbPlanner : public Planner {
 
   robot_command_t plan(const robot_observation_t& obs) override;
   void reset() override;
+  bool servesScenario(const Scenario& scenario) const override;
 
   void addCritic(std::unique_ptr<TrajectoryCritic> critic) { critics_.push_back(std::move(critic)); }
 

@@ -13,9 +13,24 @@
 
 namespace hunav::runner {
 
+namespace {
+// The planner the series kept, when it serves this episode; else a new one.
+std::unique_ptr<planners::Planner> plannerFor(const Scenario& scenario, const RunOptions& options) {
+  KeptPlanner* kept = options.kept_planner;
+  if (kept != nullptr && kept->planner && kept->name == options.planner && kept->config == options.planner_config &&
+      kept->planner->servesScenario(scenario))
+    return std::move(kept->planner);
+  if (kept != nullptr) kept->planner.reset();  // the new planner takes its place after the episode
+  const std::unique_ptr<YamlReader> planner_config = plannerConfig(options);
+  return planners::createPlanner(options.planner, scenario, planner_config.get());
+}
+}  // namespace
+
 RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts
-  const std::unique_ptr<YamlReader> planner_config = plannerConfig(options);
+  // A bad planner configuration too.
+  std::unique_ptr<planners::Planner> planner_object;
+  if (options.planner != "none") planner_object = plannerFor(scenario, options);
 
   std::unique_ptr<Bus> bus_storage;
   if (options.use_memq)
@@ -31,9 +46,7 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   manager::ManagerNode manager(bus, options.threads);
   manager.manager().useScenario(scenario);
   std::unique_ptr<planners::PlannerNode> planner;
-  if (options.planner != "none")
-    planner = std::make_unique<planners::PlannerNode>(
-        bus, planners::createPlanner(options.planner, scenario, planner_config.get()));
+  if (planner_object) planner = std::make_unique<planners::PlannerNode>(bus, std::move(planner_object));
 
   worldsim::WorldSim world(bus, scenario, worldOptions(options));
 
@@ -43,6 +56,8 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   if (!evaluator.finished()) evaluator.finishIncomplete("the runner stopped before the episode END was recorded");
   outcome.result = evaluator.lastResult();
   outcome.dropped_messages = bus.droppedMessages();
+  if (planner && options.kept_planner != nullptr)
+    *options.kept_planner = KeptPlanner{options.planner, options.planner_config, planner->releasePlanner()};
   return outcome;
 }
 

@@ -226,3 +226,45 @@ TEST(PlannerNodeDwb, AnswersWithACommandWithinTheLimits) {
   EXPECT_LE(commands[0].v, s.robot.limits.max_v);
   EXPECT_LE(std::abs(commands[0].w), s.robot.limits.max_w);
 }
+
+// hunav_run --seeds keeps a planner between episodes when it serves the next scenario: the same
+// static map. HuNavSim's cafe with another seed draws other people on the same map: served; a moved
+// wall, another robot radius or a grid the people's goals stretch are not.
+TEST(PlannerReuse, ServesTheSameStaticMapOnly) {
+  const Scenario cafe = shippedScenario("cafe", 1);
+  for (const char* name : {"dwb", "scl", "sfw"}) {
+    SCOPED_TRACE(name);
+    const std::unique_ptr<Planner> planner = createPlanner(name, cafe);
+    EXPECT_TRUE(planner->servesScenario(cafe));
+    EXPECT_TRUE(planner->servesScenario(shippedScenario("cafe", 7)));
+
+    Scenario moved = cafe;
+    ASSERT_FALSE(moved.shapes.empty());
+    Shape& last = moved.shapes.back();
+    if (last.points.empty())
+      last.center.x() += 0.01;
+    else
+      last.points.front().x() += 0.01;
+    EXPECT_FALSE(planner->servesScenario(moved));
+
+    Scenario wider_robot = cafe;
+    wider_robot.robot.radius += 0.05;
+    EXPECT_FALSE(planner->servesScenario(wider_robot));
+
+    Scenario far_goal = cafe;  // the grid covers every goal: this one makes it larger
+    ASSERT_FALSE(far_goal.agents.empty());
+    far_goal.agents.front().goals.push_back(Vec2(500.0, 500.0));
+    EXPECT_FALSE(planner->servesScenario(far_goal));
+
+    EXPECT_FALSE(planner->servesScenario(shippedScenario("warehouse")));
+  }
+}
+
+// A planner that does not say it can serve another scenario is never kept (the default).
+TEST(PlannerReuse, APlannerServesNoOtherScenarioByDefault) {
+  class Standing : public Planner {
+   public:
+    robot_command_t plan(const robot_observation_t& obs) override { return stopCommand(obs); }
+  };
+  EXPECT_FALSE(Standing().servesScenario(passing()));
+}

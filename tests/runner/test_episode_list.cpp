@@ -1,9 +1,14 @@
-// The seed and planner lists of hunav_run --seeds/--planners (and run_batch.sh's chunks).
+// The seed and planner lists of hunav_run --seeds/--planners (and run_batch.sh's chunks), and the
+// planner such a list keeps from one episode to the next.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
 #include "hunav/runner/episode_list.hpp"
+#include "hunav/runner/in_process_run.hpp"
+#include "hunav/testing/files.hpp"
+#include "hunav/testing/scenarios.hpp"
+#include "hunav/testing/temp_dir.hpp"
 
 using hunav::runner::batchRunFolder;
 using hunav::runner::parseNameList;
@@ -43,4 +48,61 @@ TEST(EpisodeList, PlannerNames) {
   EXPECT_THROW(parseNameList("dwb,,sfw"), std::invalid_argument);
   EXPECT_THROW(parseNameList("dwb,dwb"), std::invalid_argument);
   EXPECT_EQ(batchRunFolder("passing", "dwb", 3), "passing__dwb__seed3");  // run_batch.sh's runs/ layout
+}
+
+// One process, many episodes: the planner built for the first episode on HuNavSim's cafe map serves
+// the next seeds (after reset(), no second static layer), and each whole episode's fingerprint and
+// metrics are those of an episode with a planner of its own (whole episodes: a planner that kept
+// what it learnt in the previous one would diverge only late in some, e.g. scl's seed 3).
+TEST(KeptPlanner, ServesTheNextEpisodesWithTheResultsOfANewPlanner) {
+  for (const char* planner : {"dwb", "scl"}) {
+    hunav::runner::KeptPlanner kept;
+    const hunav::planners::Planner* first = nullptr;
+    for (long long seed : {1, 2, 3}) {
+      SCOPED_TRACE(std::string(planner) + " seed " + std::to_string(seed));
+      const hunav::Scenario scenario = hunav::testing::shippedScenario("cafe", seed);
+      hunav::testing::TempDir dir;
+      hunav::runner::RunOptions options;
+      options.planner = planner;
+      options.states_csv = false;
+      options.per_tick_files = false;
+      options.out_dir = (dir / "kept").string();
+      options.kept_planner = &kept;
+      const auto with_kept = hunav::runner::runInProcess(scenario, options);
+      ASSERT_TRUE(kept.planner);
+      EXPECT_EQ(kept.name, planner);
+      if (first == nullptr) first = kept.planner.get();
+      EXPECT_EQ(kept.planner.get(), first) << "a new planner was built";
+
+      options.kept_planner = nullptr;
+      options.out_dir = (dir / "new").string();
+      const auto with_new = hunav::runner::runInProcess(scenario, options);
+      EXPECT_EQ(with_kept.episode.fingerprint, with_new.episode.fingerprint);
+      EXPECT_EQ(with_kept.episode.ticks, with_new.episode.ticks);
+      EXPECT_EQ(hunav::testing::readFile(dir / "kept" / "metrics.csv"),
+                hunav::testing::readFile(dir / "new" / "metrics.csv"));
+    }
+  }
+}
+
+// Another planner, or the same planner on another map: a new one is built (and kept afterwards).
+TEST(KeptPlanner, IsReplacedForAnotherPlannerOrMap) {
+  hunav::runner::KeptPlanner kept;
+  const auto run = [&](const std::string& planner, const std::string& scenario_name) {
+    hunav::Scenario scenario = hunav::testing::shippedScenario(scenario_name);
+    scenario.time_limit = 1.0;
+    hunav::testing::TempDir dir;
+    hunav::runner::RunOptions options;
+    options.planner = planner;
+    options.out_dir = dir.string();
+    options.kept_planner = &kept;
+    hunav::runner::runInProcess(scenario, options);
+    EXPECT_EQ(kept.name, planner);
+    EXPECT_TRUE(kept.planner && kept.planner->servesScenario(scenario));
+  };
+  run("dwb", "cafe");
+  run("scl", "cafe");
+  run("scl", "passing");
+  EXPECT_FALSE(kept.planner->servesScenario(hunav::testing::shippedScenario("cafe")));
+  run("dwb", "passing");
 }

@@ -46,6 +46,12 @@ struct Shape {
   double distance(const Vec2& p) const;
   // Axis-aligned bounds.
   void bounds(Vec2& lo, Vec2& hi) const;
+
+  // The same shape, coordinate for coordinate.
+  bool operator==(const Shape& other) const {
+    return kind == other.kind && points == other.points && center == other.center && radius == other.radius;
+  }
+  bool operator!=(const Shape& other) const { return !(*this == other); }
 };
 
 }  // namespace hunav

@@ -28,6 +28,11 @@ class Planner {
   virtual robot_command_t plan(const robot_observation_t& obs) = 0;
   // Forgets everything learnt in the episode (a new episode starts). The static map stays.
   virtual void reset();
+  // True when this planner, after reset(), plans for an episode of `scenario` exactly as a planner
+  // created for it would (it was built for the same static map). hunav_run --seeds then keeps it for
+  // the next episode instead of building another (on a real map the costmap's static layer is most
+  // of an episode's set-up). The default, false, always builds a new one.
+  virtual bool servesScenario(const Scenario& /*scenario*/) const { return false; }
   // The path the planner follows after its last plan() (from near the robot to the goal), which the
   // node publishes on ROBOT_PATH for monitors (hunav_view draws it); null: none (the default).
   virtual const std::vector<Vec2>* plannedPath() const { return nullptr; }

@@ -47,6 +47,9 @@ class PlannerNode {
   std::uint64_t repliesResent() const { return replies_resent_; }  // cached answers to resent observations
   std::uint64_t staleIgnored() const { return stale_ignored_; }    // observations older than the last answered
   Planner& planner() { return *planner_; }
+  // Gives the planner back, to serve another node later (hunav_run --seeds keeps it between episodes);
+  // this node must then be destroyed without handling another message.
+  std::unique_ptr<Planner> releasePlanner() { return std::move(planner_); }
 
   // Throws BadMessage when the observation cannot be planned on.
   static void validate(const robot_observation_t& obs);

@@ -3,15 +3,26 @@
 // in-process bus (or LCM's memq://): the same code and the same messages as separate processes in
 // lockstep, so the same fingerprint, without a network.
 #include <atomic>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "hunav/evaluator/result_files.hpp"
+#include "hunav/planners/planner.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/thread_pool.hpp"
 #include "hunav/worldsim/world_sim.hpp"
 
 namespace hunav::runner {
+
+// The planner handed from one episode to the next of a series (hunav_run --seeds): after an episode
+// the runner leaves its planner here; the next episode with the same planner and configuration takes
+// it when it serves that episode's scenario (Planner::servesScenario: the same static map) instead of
+// building another. The results are those of a new planner (test runner_seed_list_matches_single_runs).
+struct KeptPlanner {
+  std::string name, config;  // the planner and its configuration file
+  std::unique_ptr<planners::Planner> planner;
+};
 
 struct RunOptions {
   std::string planner = "dwb";  // a registered planner name, or "none" (the robot stands still)
@@ -29,6 +40,8 @@ struct RunOptions {
   bool use_memq = false;    // run on LCM's memq:// instead of the Bus's own in-process queue
                             // (same messages and results; memq costs a pipe round trip each)
   const std::atomic<bool>* stop = nullptr;
+  // Where the previous episode of a series left its planner (null: always a new planner).
+  KeptPlanner* kept_planner = nullptr;
   // The caller's threads (outliving the run): the manager's helpers for large crowds and the
   // evaluator's lane for its per-sample work. Null: everything on the caller's thread, the same
   // results.
