@@ -81,27 +81,51 @@ EOF
 # finished RUN_DIR: the episode ended on its own (goal reached, time limit or stuck; not aborted by a
 # signal or a silent component) and its results were written. The statuses of episode_status.hpp.
 finished() {
-  [ -s "$1/metrics.csv" ] && [ -s "$1/run.json" ] &&
-    { [ "${HUNAV_BATCH_COUNTERFACTUAL:-0}" -eq 0 ] || [ -s "$1/counterfactual.csv" ]; } &&
-    grep -q -E '"complete"[[:space:]]*:[[:space:]]*true' "$1/run.json" &&
-    grep -q -E '"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit|stuck)"' "$1/run.json"
+  local done
+  IFS=$'\t' read -r _ done _ < <(run_states "$1")
+  [ "$done" = 1 ]
+}
+
+# run_states RUN_DIR...: one line per folder, in the order given, tab-separated: the folder, 1 when
+# finished() holds for it (else 0), its run.json's status, reason and sim_time (- for none), and 1
+# when its expect.json has a failed condition. One awk for a whole chunk or batch: a grep per
+# question and per run was most of a batch's shell time.
+run_states() {
+  awk -v counterfactual="${HUNAV_BATCH_COUNTERFACTUAL:-0}" '
+    function nonempty(f,   line, r) { r = (getline line <f) > 0; close(f); return r }
+    function field(line, k,   m) { if (match(line, "\"" k "\"[[:space:]]*:[[:space:]]*\"?[^\",}]*")) { m = substr(line, RSTART, RLENGTH); sub(/^"[^"]*"[[:space:]]*:[[:space:]]*"?/, "", m); return m } return "" }
+    BEGIN {
+      for (i = 1; i < ARGC; i++) {
+        d = ARGV[i]; json = d "/run.json"; s = ""; r = ""; t = ""; complete = 0; ended = 0; failed = 0
+        while ((getline line <json) > 0) {
+          if (line ~ /"complete"[[:space:]]*:[[:space:]]*true/) complete = 1
+          if (line ~ /"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit|stuck)"/) ended = 1
+          if (s == "") s = field(line, "status"); if (r == "") r = field(line, "reason"); if (t == "") t = field(line, "sim_time")
+        }
+        close(json)
+        expect = d "/expect.json"
+        while ((getline line <expect) > 0) if (line ~ /"passed"[[:space:]]*:[[:space:]]*false/) failed = 1
+        close(expect)
+        done = complete && ended && nonempty(d "/metrics.csv") && (counterfactual == 0 || nonempty(d "/counterfactual.csv"))
+        printf "%s\t%d\t%s\t%s\t%s\t%d\n", d, done, (s == "" ? "-" : s), (r == "" ? "-" : r), (t == "" ? "-" : t), failed
+      }
+    }' "$@"
 }
 
 # judge_run RUN_DIR RC LOG: what became of a run that exited RC: sets `result` (the progress line's
 # text) and `rc` (0 for a finished run, as a failed expect: condition is a result, not an error).
+# Reads the run's state from `states` (run_states' lines by folder) when it holds it.
+declare -A states=()
 judge_run() {
-  local run_dir=$1 log=$3 done=0 status="" reason="" sim=""
+  local run_dir=$1 log=$3 done=0 status="" reason="" sim="" expect_failed=0 line
   rc=$2
-  finished "$run_dir" && done=1
-  # status, reason and sim_time of run.json in one read.
-  if [ -s "$run_dir/run.json" ]; then
-    IFS=$'\t' read -r status reason sim < <(awk '
-      function field(k,   m) { if (match($0, "\"" k "\"[[:space:]]*:[[:space:]]*\"?[^\",}]*")) { m = substr($0, RSTART, RLENGTH); sub(/^"[^"]*"[[:space:]]*:[[:space:]]*"?/, "", m); return m } return "" }
-      { if (s == "") s = field("status"); if (r == "") r = field("reason"); if (t == "") t = field("sim_time") }
-      END { printf "%s\t%s\t%s\n", s, (r == "" ? "-" : r), t }' "$run_dir/run.json")
-    [ "$reason" != - ] || reason=""
-  fi
-  if [ "$done" -eq 1 ] && { [ "$rc" -eq 3 ] || grep -q -E '"passed"[[:space:]]*:[[:space:]]*false' "$run_dir/expect.json" 2>/dev/null; }; then
+  line=${states[$run_dir]-}
+  [ -n "$line" ] || line=$(run_states "$run_dir")
+  IFS=$'\t' read -r _ done status reason sim expect_failed <<<"$line"
+  [ "$status" != - ] || status=""
+  [ "$reason" != - ] || reason=""
+  [ "$sim" != - ] || sim=""
+  if [ "$done" -eq 1 ] && { [ "$rc" -eq 3 ] || [ "$expect_failed" -eq 1 ]; }; then
     # A finished run that failed its scenario's expect: conditions: a result (junit.xml), not an error.
     result="$status, expectations FAILED (see $run_dir/expect.json)"
     rc=0
@@ -121,17 +145,37 @@ judge_run() {
   fi
 }
 
-# progress LABEL RESULT: one line per run, counted across the parallel jobs of this host.
+# finished_among RUN_DIR...: sets `finished_dirs` (the finished ones among them, as keys).
+declare -A finished_dirs=()
+finished_among() {
+  local dir done
+  finished_dirs=()
+  [ "$#" -gt 0 ] || return 0
+  while IFS=$'\t' read -r dir done _; do
+    [ "$done" -eq 0 ] || finished_dirs[$dir]=1
+  done < <(run_states "$@")
+}
+
+# progress LABEL RESULT [LABEL RESULT...]: one line per run, counted across the parallel jobs of this
+# host (a chunk's runs under one lock).
 progress() {
   if [ -n "${HUNAV_BATCH_TOTAL:-}" ]; then
     {
       flock 9
-      done_count=$(($(cat "$out/.progress" 2>/dev/null || echo 0) + 1))
+      done_count=0
+      [ ! -s "$out/.progress" ] || read -r done_count <"$out/.progress"
+      while [ "$#" -ge 2 ]; do
+        done_count=$((done_count + 1))
+        printf 'run_batch: [%d/%s] %s: %s\n' "$done_count" "$HUNAV_BATCH_TOTAL" "$1" "$2"
+        shift 2
+      done
       echo "$done_count" >"$out/.progress"
-      printf 'run_batch: [%d/%s] %s: %s\n' "$done_count" "$HUNAV_BATCH_TOTAL" "$1" "$2"
     } 9>"$out/.progress.lock"
   else
-    printf 'run_batch: %s: %s\n' "$1" "$2"
+    while [ "$#" -ge 2 ]; do
+      printf 'run_batch: %s: %s\n' "$1" "$2"
+      shift 2
+    done
   fi
 }
 
@@ -203,14 +247,21 @@ if [ "${1:-}" = --run-chunk ]; then
   shift 5
   planner_options "$planner" "$@"
   IFS=',' read -r -a given_seeds <<<"$seed_csv"
-  chunk_seeds=()
+  run_dir_of() { printf '%s' "$out/runs/${scenario}__${planner}__seed$1"; }
+  given_dirs=()
+  for seed in "${given_seeds[@]}"; do given_dirs+=("$(run_dir_of "$seed")"); done
+  finished_among "${given_dirs[@]}"
+  chunk_seeds=() chunk_dirs=() skipped=()
   for seed in "${given_seeds[@]}"; do
-    if finished "$out/runs/${scenario}__${planner}__seed${seed}"; then
-      progress "$scenario $planner seed $seed" "skipped (finished before)"
+    run_dir=$(run_dir_of "$seed")
+    if [ -n "${finished_dirs[$run_dir]-}" ]; then
+      skipped+=("$scenario $planner seed $seed" "skipped (finished before)")
     else
       chunk_seeds+=("$seed")
+      chunk_dirs+=("$run_dir")
     fi
   done
+  [ "${#skipped[@]}" -eq 0 ] || progress "${skipped[@]}"
   [ "${#chunk_seeds[@]}" -gt 0 ] || exit 0
   seed_csv=$(IFS=','; echo "${chunk_seeds[*]}")
   run_args=()
@@ -222,7 +273,7 @@ if [ "${1:-}" = --run-chunk ]; then
   done
   # The wall-clock limit applies to the chunk: the sum of its runs' limits.
   limit=$((${#chunk_seeds[@]} * ${given_timeout:-$(run_limit "$file" "$given_duration")}))
-  for seed in "${chunk_seeds[@]}"; do rm -rf "$out/runs/${scenario}__${planner}__seed${seed}"; done
+  rm -rf "${chunk_dirs[@]}"
   mkdir -p "$out/logs"
   chunk_log="$out/logs/${scenario}__${planner}__seeds${chunk_seeds[0]}-${chunk_seeds[${#chunk_seeds[@]} - 1]}.log"
   reason_file="$chunk_log.stop"
@@ -243,21 +294,29 @@ if [ "${1:-}" = --run-chunk ]; then
   collect hunav_run
   end_watchdog
   rc=${code_of[hunav_run]}
-  # Each run's part of the chunk's console output (up to its "results in" line), in its folder.
-  awk '{ buf = buf $0 "\n" } /^results in / { dir = substr($0, 12); if (system("test -d \"" dir "\"") == 0) {
-         system("mkdir -p \"" dir "/logs\""); printf "%s", buf >(dir "/logs/hunav_run.log"); close(dir "/logs/hunav_run.log") } buf = "" }' \
-    "$chunk_log"
-  hunav_rc=$rc chunk_rc=0
-  for seed in "${chunk_seeds[@]}"; do
-    run_dir="$out/runs/${scenario}__${planner}__seed${seed}"
+  # Each run's part of the chunk's console output (up to its "results in" line), in its folder (the
+  # folders hunav_run made; their logs/ made here in one go).
+  made=()
+  for run_dir in "${chunk_dirs[@]}"; do [ ! -d "$run_dir" ] || made+=("$run_dir/logs"); done
+  [ "${#made[@]}" -eq 0 ] || mkdir -p "${made[@]}"
+  awk -v made="$(printf '%s\n' "${made[@]}")" 'BEGIN { n = split(made, m, "\n"); for (i = 1; i <= n; i++) has[m[i]] = 1 }
+       { buf = buf $0 "\n" } /^results in / { log_file = substr($0, 12) "/logs"; if (log_file in has) {
+         log_file = log_file "/hunav_run.log"; printf "%s", buf >log_file; close(log_file) } buf = "" }' "$chunk_log"
+  states=()
+  while IFS= read -r line; do states[${line%%$'\t'*}]=$line; done < <(run_states "${chunk_dirs[@]}")
+  hunav_rc=$rc chunk_rc=0 lines=()
+  for k in "${!chunk_seeds[@]}"; do
+    run_dir=${chunk_dirs[k]}
     # hunav_run's exit code covers the chunk: judge each run by its files (a run that did not finish
     # counts as failed whatever the code).
     run_rc=0
-    finished "$run_dir" || run_rc=$((hunav_rc == 0 ? 1 : hunav_rc))
+    IFS=$'\t' read -r _ done _ <<<"${states[$run_dir]}"
+    [ "$done" = 1 ] || run_rc=$((hunav_rc == 0 ? 1 : hunav_rc))
     judge_run "$run_dir" "$run_rc" "$chunk_log"
-    progress "$scenario $planner seed $seed" "$result"
+    lines+=("$scenario $planner seed ${chunk_seeds[k]}" "$result")
     [ "$rc" -eq 0 ] || chunk_rc=$rc
   done
+  progress "${lines[@]}"
   rm -f "$reason_file"
   exit "$chunk_rc"
 fi
@@ -430,10 +489,13 @@ mkdir -p "$out/runs" || die "cannot create the batch folder '$out'"
 out=$(cd "$out" && pwd)
 matrix >"$out/matrix.tsv"
 total=$(wc -l <"$out/matrix.tsv")
-already=0
+# The matrix's run folders, and which are finished already.
+matrix_dirs=()
 while IFS=$'\t' read -r _ _ label planner seed; do
-  if finished "$out/runs/${label}__${planner}__seed${seed}"; then already=$((already + 1)); fi
+  matrix_dirs+=("$out/runs/${label}__${planner}__seed${seed}")
 done <"$out/matrix.tsv"
+finished_among "${matrix_dirs[@]}"
+already=${#finished_dirs[@]}
 
 run_args=(--mode "$mode")
 [ -z "$duration" ] || run_args+=(--duration "$duration")
@@ -461,9 +523,10 @@ if [ "$mode" = inprocess ]; then
   export HUNAV_BATCH_TOTAL=$total
   : >"$out/.chunks"
   current="" seeds_csv="" count=0
+  skipped=()
   while IFS=$'\t' read -r _ file label planner seed; do
-    if finished "$out/runs/${label}__${planner}__seed${seed}"; then
-      progress "$label $planner seed $seed" "skipped (finished before)"
+    if [ -n "${finished_dirs[$out/runs/${label}__${planner}__seed${seed}]-}" ]; then
+      skipped+=("$label $planner seed $seed" "skipped (finished before)")
       continue
     fi
     if [ "$file"$'\t'"$label"$'\t'"$planner" != "$current" ] || [ "$count" -eq "$chunk_size" ]; then
@@ -474,6 +537,7 @@ if [ "$mode" = inprocess ]; then
     count=$((count + 1))
   done <"$out/matrix.tsv"
   [ -z "$seeds_csv" ] || printf '%s\t%s\n' "$current" "$seeds_csv" >>"$out/.chunks"
+  [ "${#skipped[@]}" -eq 0 ] || progress "${skipped[@]}"
   # parallel hands the command to a shell and quotes the fields it substitutes ({1}...{4}); the rest
   # is quoted here. Ctrl-C reaches every hunav_run, which ends its episode and writes what it recorded;
   # the interrupted runs are not finished and run again next time.
@@ -497,15 +561,12 @@ exited_nonzero=()
 if [ -f "$out/.exited_nonzero" ]; then mapfile -t exited_nonzero <"$out/.exited_nonzero"; fi
 rm -f "$out/.exited_nonzero"
 
-done_now=0
+finished_among "${matrix_dirs[@]}"
+done_now=${#finished_dirs[@]}
 failed=()
-while IFS=$'\t' read -r _ _ label planner seed; do
-  if finished "$out/runs/${label}__${planner}__seed${seed}"; then
-    done_now=$((done_now + 1))
-  else
-    failed+=("${label}__${planner}__seed${seed}")
-  fi
-done <"$out/matrix.tsv"
+for run_dir in "${matrix_dirs[@]}"; do
+  [ -n "${finished_dirs[$run_dir]-}" ] || failed+=("${run_dir##*/}")
+done
 
 summary_rc=0
 "$bin_dir/hunav_summary" "$out" || summary_rc=$?
