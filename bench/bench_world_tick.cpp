@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
   for (double& h : heading) h = std::uniform_real_distribution<double>(-kPi, kPi)(rng);
   std::vector<Vec2> obstacles, positions(scenario.agents.size());
   std::vector<char> in_sight;
+  std::vector<double> ranges;
   laser_scan_t scan;
 
   struct Parts {
@@ -131,7 +132,7 @@ int main(int argc, char** argv) {
     std::size_t seen = 0;
     for (const char v : in_sight) seen += v ? 1 : 0;
     const double t3 = threadCpuSeconds();
-    worldsim::laserScan(world, robot, world.robot().GetAngle(), scenario.robot.laser, laser_rng, scan);
+    worldsim::laserScan(world, robot, world.robot().GetAngle(), scenario.robot.laser, laser_rng, scan, ranges);
     const double t4 = threadCpuSeconds();
     if (t < warmup) continue;
     total.step += t1 - t0;

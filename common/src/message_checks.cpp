@@ -101,24 +101,29 @@ void checkAgentState(const agent_state_t& a, const char* what) {
   }
 }
 
-void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what) {
+void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what,
+                      std::vector<int32_t>& ids) {
   if (declared_count < 0 || declared_count > kMaxAgentsPerMessage ||
       static_cast<std::size_t>(declared_count) != agents.size())
     throw BadMessage(std::string(what) + ": impossible number of agents");
   // Duplicate ids: messages list agents in increasing id order as a rule, which one pass confirms;
-  // otherwise the ids are sorted in a reused buffer (no allocation per message either way).
+  // otherwise the ids are sorted in the caller's buffer.
   bool increasing = true;
   for (std::size_t i = 0; i < agents.size(); ++i) {
     checkAgentState(agents[i], what);
     increasing = increasing && (i == 0 || agents[i - 1].id < agents[i].id);
   }
   if (increasing) return;
-  static thread_local std::vector<int32_t> ids;
   ids.clear();
   for (const agent_state_t& a : agents) ids.push_back(a.id);
   std::sort(ids.begin(), ids.end());
   const auto dup = std::adjacent_find(ids.begin(), ids.end());
   if (dup != ids.end()) throw BadMessage(std::string(what) + ": duplicate agent id " + std::to_string(*dup));
+}
+
+void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what) {
+  std::vector<int32_t> ids;
+  checkAgentStates(agents, declared_count, what, ids);
 }
 
 }  // namespace hunav

@@ -1,5 +1,10 @@
 #pragma once
 // Helpers shared by the metric files (not installed, not part of the library's interface).
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/social_force.hpp"
 #include "sample_view.hpp"
@@ -22,16 +27,24 @@ double visibilityAt(const EntityState& robot, const EntityState& h);
 // when visible (it is not computed for a robot clearly outside the field of view).
 bool visibleAngle(const EntityState& robot, const EntityState& h, double& theta, double& dist);
 
-// The metric of accumulator `state` over a whole recording.
+// A fresh accumulator of the copyable struct `State` (metrics.hpp, top).
 template <class State>
-double evaluateOn(const Recording& r, State state = State()) {
-  SampleCache cache;
-  for (const auto& s : r.samples()) {
-    cache.reset(s.agents_count);
-    state.add(SampleView(r, s, cache));
-  }
-  return state.value();
+std::unique_ptr<MetricAccumulator> make() {
+  return std::make_unique<AccumulatorOf<State>>(State());
 }
+
+// A metric's accumulator under its catalogue name (metric_catalog.hpp): a row of the tables from
+// which metrics.cpp registers each profile.
+struct NamedAccumulator {
+  const char* name;
+  std::unique_ptr<MetricAccumulator> (*make)();
+};
+// Metrics 16-17 and 25-34 of the default profile (metrics_social.cpp).
+std::vector<NamedAccumulator> socialAccumulators();
+// The metrics of the hunav_v1 profile that differ from the default ones (metrics_v1.cpp).
+std::vector<NamedAccumulator> v1Accumulators();
+
+inline double flag(bool b) { return b ? 1.0 : 0.0; }
 
 // Generic accumulators of a per-sample quantity f (the per-tick column is f itself).
 using PerSampleFn = double (*)(const SampleView&);
@@ -87,46 +100,100 @@ struct SumOf {
   double value() const { return sum; }
 };
 
+// (1/N) sum_k f_k. N = 0: 0. Per tick: column_k (f_k itself unless another function is given).
+template <PerSampleFn F, PerSampleFn ColumnF = F>
+struct MeanOf {
+  double sum = 0.0;
+  std::size_t n = 0;
+  double add(const SampleView& s) {
+    const double f = F(s);
+    sum += f;
+    ++n;
+    if constexpr (ColumnF == F) {
+      return f;
+    } else {
+      return ColumnF(s);
+    }
+  }
+  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
+};
+
+// The robot's speed and yaw rate at a sample, as recorded (signed) and as magnitudes.
+inline double linearSpeedAt(const SampleView& s) { return s.robot().linear_vel; }
+inline double absLinearSpeedAt(const SampleView& s) { return std::abs(s.robot().linear_vel); }
+inline double angularSpeedAt(const SampleView& s) { return s.robot().angular_vel; }
+inline double absAngularSpeedAt(const SampleView& s) { return std::abs(s.robot().angular_vel); }
+
+// The smallest (Max = false) or largest (Max = true) value seen; kNoneDistance before any.
+template <bool Max>
+struct ExtremeOf {
+  bool any = false;
+  double best = kNoneDistance;
+  void see(double d) {
+    best = any ? (Max ? std::max(best, d) : std::min(best, d)) : d;
+    any = true;
+  }
+  double value() const { return best; }
+};
+
+// The robot's navigation goal at the end of the recording: the goal of the last sample, or, when
+// the last sample has none (a world that clears a reached goal), of the latest sample that has one;
+// with the robot's final position. The metrics of the final goal add value() (no per-tick column).
+struct FinalGoal {
+  Vec2 last_position = Vec2::Zero();
+  bool has_goal = false;
+  Vec2 goal = Vec2::Zero();
+  double goal_radius = 0.0;
+  double add(const SampleView& s) {
+    last_position = s.robot().position();
+    if (s.robot().has_goal) {
+      has_goal = true;
+      goal = s.robot().goal();
+      goal_radius = s.robot().goal_radius;
+    }
+    return 0.0;
+  }
+};
+
+// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) (signed linear_vel) over the interval that ends at the
+// newest sample (t strictly increasing: never a zero step); the history the acceleration metrics
+// keep.
+struct RobotAcceleration {
+  std::size_t n = 0;  // samples seen
+  double v = 0.0;     // speed and time of the newest sample
+  double t = 0.0;
+  double a = 0.0;          // acceleration of the interval ending at the newest sample (n >= 2)
+  double a_before = 0.0;   // of the interval before it (n >= 3)
+  double t_before = 0.0;   // time of the sample before the newest
+  double t_before2 = 0.0;  // and of the one before that
+  void add(const SampleView& s) {
+    const double v_new = s.robot().linear_vel;
+    if (n >= 1) {
+      a_before = a;
+      a = (v_new - v) / (s.t() - t);
+    }
+    t_before2 = t_before;
+    t_before = t;
+    v = v_new;
+    t = s.t();
+    ++n;
+  }
+};
+
+// sum |x_k| of a quantity x of the acceleration history (the acceleration, the jerk), from the
+// MinSamples-th sample on; the metrics add value(). Per tick: the signed x, 0 before.
+template <double (*X)(const RobotAcceleration&), std::size_t MinSamples>
+struct AbsSumOf {
+  RobotAcceleration acc;
+  double sum = 0.0;
+  double add(const SampleView& s) {
+    acc.add(s);
+    if (acc.n < MinSamples) return 0.0;
+    const double x = X(acc);
+    sum += std::abs(x);
+    return x;
+  }
+};
+inline double accelerationOf(const RobotAcceleration& acc) { return acc.a; }
+
 }  // namespace hunav::evaluator
-
-// Accumulators of the metrics defined in metrics_social.cpp (default profile, 16-17 and 25-34) and
-// metrics_v1.cpp (hunav_v1 profile), for the registration lines in metrics.cpp.
-namespace hunav::evaluator::accumulators {
-std::unique_ptr<MetricAccumulator> robotOnPersonCollision();
-std::unique_ptr<MetricAccumulator> personOnRobotCollision();
-std::unique_ptr<MetricAccumulator> socialForceOnAgents();
-std::unique_ptr<MetricAccumulator> socialForceOnRobot();
-std::unique_ptr<MetricAccumulator> socialWork();
-std::unique_ptr<MetricAccumulator> obstacleForceOnRobot();
-std::unique_ptr<MetricAccumulator> obstacleForceOnAgents();
-std::unique_ptr<MetricAccumulator> dangerFearCost();
-std::unique_ptr<MetricAccumulator> dangerPanicCost();
-std::unique_ptr<MetricAccumulator> surpriseVisibilityCost();
-std::unique_ptr<MetricAccumulator> surpriseShockCost();
-std::unique_ptr<MetricAccumulator> surpriseReactCost();
-}  // namespace hunav::evaluator::accumulators
-
-namespace hunav::evaluator::accumulators_v1 {
-std::unique_ptr<MetricAccumulator> avgDistanceToClosestPerson();
-std::unique_ptr<MetricAccumulator> maximumDistanceToPeople();
-std::unique_ptr<MetricAccumulator> completed();
-std::unique_ptr<MetricAccumulator> robotOnPersonCollision();
-std::unique_ptr<MetricAccumulator> personOnRobotCollision();
-std::unique_ptr<MetricAccumulator> timeNotMoving();
-std::unique_ptr<MetricAccumulator> avgRobotLinearSpeed();
-std::unique_ptr<MetricAccumulator> avgRobotAngularSpeed();
-std::unique_ptr<MetricAccumulator> avgAcceleration();
-std::unique_ptr<MetricAccumulator> avgOveracceleration();
-std::unique_ptr<MetricAccumulator> avgPedestrianVelocity();
-std::unique_ptr<MetricAccumulator> avgClosestPedestrianVelocity();
-std::unique_ptr<MetricAccumulator> socialForceOnAgents();
-std::unique_ptr<MetricAccumulator> socialForceOnRobot();
-std::unique_ptr<MetricAccumulator> socialWork();
-std::unique_ptr<MetricAccumulator> obstacleForceOnRobot();
-std::unique_ptr<MetricAccumulator> obstacleForceOnAgents();
-std::unique_ptr<MetricAccumulator> dangerFearCost();
-std::unique_ptr<MetricAccumulator> dangerPanicCost();
-std::unique_ptr<MetricAccumulator> surpriseVisibilityCost();
-std::unique_ptr<MetricAccumulator> surpriseShockCost();
-std::unique_ptr<MetricAccumulator> surpriseReactCost();
-}  // namespace hunav::evaluator::accumulators_v1

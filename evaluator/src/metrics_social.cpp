@@ -236,52 +236,34 @@ double obstacleOnAgentsAt(const SampleView& s) {
   return f / static_cast<double>(s.size());
 }
 
-template <class State>
-std::unique_ptr<MetricAccumulator> make() {
-  return std::make_unique<AccumulatorOf<State>>(State());
-}
-
 }  // namespace
 
-namespace accumulators {
-// [count] contact events the robot caused (see CollisionEvents). Both: counted in both.
-std::unique_ptr<MetricAccumulator> robotOnPersonCollision() { return make<CollisionEvents<true>>(); }
-// [count] contact events a person caused.
-std::unique_ptr<MetricAccumulator> personOnRobotCollision() { return make<CollisionEvents<false>>(); }
-// [m/s] integral over time of onAgentsAt (omega_s = 5).
-std::unique_ptr<MetricAccumulator> socialForceOnAgents() { return make<TimeIntegralOf<&onAgentsAt>>(); }
-// [m/s] integral over time of onRobotAt.
-std::unique_ptr<MetricAccumulator> socialForceOnRobot() { return make<TimeIntegralOf<&onRobotAt>>(); }
-// [m/s] integral over time of workAt (HuNavSim's social work, per sample).
-std::unique_ptr<MetricAccumulator> socialWork() { return make<TimeIntegralOf<&workAt>>(); }
-// [m/s] integral over time of obstacleOnRobotAt.
-std::unique_ptr<MetricAccumulator> obstacleForceOnRobot() { return make<TimeIntegralOf<&obstacleOnRobotAt>>(); }
-// [m/s] integral over time of obstacleOnAgentsAt.
-std::unique_ptr<MetricAccumulator> obstacleForceOnAgents() { return make<TimeIntegralOf<&obstacleOnAgentsAt>>(); }
-// [1] (cost in 1/s times s) integral over time of fearAt.
-std::unique_ptr<MetricAccumulator> dangerFearCost() { return make<TimeIntegralOf<&fearAt>>(); }
-// [1] integral over time of panicAt.
-std::unique_ptr<MetricAccumulator> dangerPanicCost() { return make<TimeIntegralOf<&panicAt>>(); }
-// [rad s/m] integral over time of visibilitySumAt.
-std::unique_ptr<MetricAccumulator> surpriseVisibilityCost() { return make<TimeIntegralOf<&visibilitySumAt>>(); }
-// [s/m] see SurpriseCost.
-std::unique_ptr<MetricAccumulator> surpriseShockCost() { return make<SurpriseCost<false>>(); }
-std::unique_ptr<MetricAccumulator> surpriseReactCost() { return make<SurpriseCost<true>>(); }
-}  // namespace accumulators
-
-namespace metrics {
-double robotOnPersonCollision(const Recording& r) { return evaluateOn<CollisionEvents<true>>(r); }
-double personOnRobotCollision(const Recording& r) { return evaluateOn<CollisionEvents<false>>(r); }
-double socialForceOnAgents(const Recording& r) { return evaluateOn<TimeIntegralOf<&onAgentsAt>>(r); }
-double socialForceOnRobot(const Recording& r) { return evaluateOn<TimeIntegralOf<&onRobotAt>>(r); }
-double socialWork(const Recording& r) { return evaluateOn<TimeIntegralOf<&workAt>>(r); }
-double obstacleForceOnRobot(const Recording& r) { return evaluateOn<TimeIntegralOf<&obstacleOnRobotAt>>(r); }
-double obstacleForceOnAgents(const Recording& r) { return evaluateOn<TimeIntegralOf<&obstacleOnAgentsAt>>(r); }
-double dangerFearCost(const Recording& r) { return evaluateOn<TimeIntegralOf<&fearAt>>(r); }
-double dangerPanicCost(const Recording& r) { return evaluateOn<TimeIntegralOf<&panicAt>>(r); }
-double surpriseVisibilityCost(const Recording& r) { return evaluateOn<TimeIntegralOf<&visibilitySumAt>>(r); }
-double surpriseShockCost(const Recording& r) { return evaluateOn<SurpriseCost<false>>(r); }
-double surpriseReactCost(const Recording& r) { return evaluateOn<SurpriseCost<true>>(r); }
-}  // namespace metrics
+std::vector<NamedAccumulator> socialAccumulators() {
+  return {
+      // [count] contact events the robot caused (see CollisionEvents). Both: counted in both.
+      {"robot_on_person_collision", make<CollisionEvents<true>>},
+      // [count] contact events a person caused.
+      {"person_on_robot_collision", make<CollisionEvents<false>>},
+      // [m/s] integral over time of onAgentsAt (omega_s = 5).
+      {"social_force_on_agents", make<TimeIntegralOf<&onAgentsAt>>},
+      // [m/s] integral over time of onRobotAt.
+      {"social_force_on_robot", make<TimeIntegralOf<&onRobotAt>>},
+      // [m/s] integral over time of workAt (HuNavSim's social work, per sample).
+      {"social_work", make<TimeIntegralOf<&workAt>>},
+      // [m/s] integral over time of obstacleOnRobotAt.
+      {"obstacle_force_on_robot", make<TimeIntegralOf<&obstacleOnRobotAt>>},
+      // [m/s] integral over time of obstacleOnAgentsAt.
+      {"obstacle_force_on_agents", make<TimeIntegralOf<&obstacleOnAgentsAt>>},
+      // [1] (cost in 1/s times s) integral over time of fearAt.
+      {"danger_fear_cost", make<TimeIntegralOf<&fearAt>>},
+      // [1] integral over time of panicAt.
+      {"danger_panic_cost", make<TimeIntegralOf<&panicAt>>},
+      // [rad s/m] integral over time of visibilitySumAt.
+      {"surprise_visibility_cost", make<TimeIntegralOf<&visibilitySumAt>>},
+      // [s/m] see SurpriseCost.
+      {"surprise_shock_cost", make<SurpriseCost<false>>},
+      {"surprise_react_cost", make<SurpriseCost<true>>},
+  };
+}
 
 }  // namespace hunav::evaluator

@@ -10,7 +10,7 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "metrics_internal.hpp"
 
-namespace hunav::evaluator {
+namespace hunav::evaluator::metrics_v1 {
 
 namespace {
 
@@ -20,8 +20,6 @@ double wrapOnce(double theta) {
   if (theta < -kPi) return theta + 2.0 * kPi;
   return theta;
 }
-
-double flag(bool b) { return b ? 1.0 : 0.0; }
 
 // [m] (sum over samples with people of m_k) / N. N = 0 or nobody ever: 10000 (the original
 // divides 0 by N, or crashes for N = 0; 10000 keeps "nobody to be close to" as in the default).
@@ -45,38 +43,18 @@ struct AvgDistanceToClosestPerson {
 
 // [m] max over k, j of |p_k - q_kj| - r (the agent radius forgotten, not clamped). Nobody: 10000
 // (the original crashes on max of an empty list).
-struct MaximumDistanceToPeople {
-  bool any = false;
-  double best = kNoneDistance;
+struct MaximumDistanceToPeople : ExtremeOf<true> {
   double add(const SampleView& s) {
-    for (std::size_t j = 0; j < s.size(); ++j) {
-      const double d = (s.robot().position() - s.agent(j).position()).norm() - s.robot().radius;
-      best = any ? std::max(best, d) : d;
-      any = true;
-    }
+    for (std::size_t j = 0; j < s.size(); ++j)
+      see((s.robot().position() - s.agent(j).position()).norm() - s.robot().radius);
     return 0.0;
   }
-  double value() const { return best; }
 };
 
 // [bool] |p_N - g| - 0.2 < 0: the goal radius forced to 0.2 m. Goal as in the default profile (the
 // latest sample's that has one).
-struct Completed {
-  Vec2 last_position = Vec2::Zero();
-  bool has_goal = false;
-  Vec2 goal = Vec2::Zero();
-  double add(const SampleView& s) {
-    last_position = s.robot().position();
-    if (s.robot().has_goal) {
-      has_goal = true;
-      goal = s.robot().goal();
-    }
-    return 0.0;
-  }
-  double value() const {
-    if (!has_goal) return 0.0;
-    return (last_position - goal).norm() - kV1GoalRadius < 0.0 ? 1.0 : 0.0;
-  }
+struct Completed : FinalGoal {
+  double value() const { return flag(has_goal && (last_position - goal).norm() - kV1GoalRadius < 0.0); }
 };
 
 // [count] Collision counts (reference 5.2, items 16-17): every (sample, person) pair with surface
@@ -131,74 +109,22 @@ struct TimeNotMoving {
 };
 
 // [m/s] (1/N) sum_k v_k (the field as recorded, no abs). N = 0: 0. Per tick: |v_k| (the default's).
-struct AvgRobotLinearSpeed {
-  double sum = 0.0;
-  std::size_t n = 0;
-  double add(const SampleView& s) {
-    sum += s.robot().linear_vel;
-    ++n;
-    return std::abs(s.robot().linear_vel);
-  }
-  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
-};
+using AvgRobotLinearSpeed = MeanOf<&linearSpeedAt, &absLinearSpeedAt>;
 
 // [rad/s] (1/N) sum_k |w_k| as the default; per tick the signed w_k (v1's per-step list).
-struct AvgRobotAngularSpeed {
-  double sum = 0.0;
-  std::size_t n = 0;
-  double add(const SampleView& s) {
-    sum += std::abs(s.robot().angular_vel);
-    ++n;
-    return s.robot().angular_vel;
-  }
-  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
-};
+using AvgRobotAngularSpeed = MeanOf<&absAngularSpeedAt, &angularSpeedAt>;
 
-// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) with the signed linear_vel, for the interval ending at
-// the newest sample.
-struct LastAcceleration {
-  std::size_t n = 0;
-  double v = 0.0;
-  double t = 0.0;
-  double a = 0.0;   // valid when n >= 2
-  double dt = 0.0;  // of that interval
-  void add(const SampleView& s) {
-    if (n >= 1) {
-      a = (s.robot().linear_vel - v) / (s.t() - t);
-      dt = s.t() - t;
-    }
-    v = s.robot().linear_vel;
-    t = s.t();
-    ++n;
-  }
-};
-
+// a_k = (v_{k+1} - v_k) / (t_{k+1} - t_k) with the signed linear_vel (see RobotAcceleration).
 // [m/s^2] (1/N) sum_{k<N} |a_k|. N = 0: 0. Per tick: the signed a of the interval ending at k, 0
 // first (the default's column).
-struct AvgAcceleration {
-  LastAcceleration acc;
-  double sum = 0.0;
-  double add(const SampleView& s) {
-    acc.add(s);
-    if (acc.n < 2) return 0.0;
-    sum += std::abs(acc.a);
-    return acc.a;
-  }
+struct AvgAcceleration : AbsSumOf<&accelerationOf, 2> {
   double value() const { return acc.n == 0 ? 0.0 : sum / static_cast<double>(acc.n); }
 };
 
 // [m/s^3] (1/N) sum_{k<N} |a_k / (t_{k+1} - t_k)| ("jerk": acceleration divided by dt). N = 0: 0.
 // Per tick: a/dt of the interval ending at k, 0 first.
-struct AvgOveracceleration {
-  LastAcceleration acc;
-  double sum = 0.0;
-  double add(const SampleView& s) {
-    acc.add(s);
-    if (acc.n < 2) return 0.0;
-    const double over = acc.a / acc.dt;
-    sum += std::abs(over);
-    return over;
-  }
+double overOf(const RobotAcceleration& acc) { return acc.a / (acc.t - acc.t_before); }
+struct AvgOveracceleration : AbsSumOf<&overOf, 2> {
   double value() const { return acc.n == 0 ? 0.0 : sum / static_cast<double>(acc.n); }
 };
 
@@ -226,25 +152,19 @@ struct AvgPedestrianVelocity {
 
 // [m/s] (1/N) sum_k v of the person with the smallest centre distance (first on ties, below 10000 m
 // as the original's initial value; 0 for a sample without people). N = 0: 0. Per tick: that v.
-struct AvgClosestPedestrianVelocity {
-  double sum = 0.0;
-  std::size_t n = 0;
-  double add(const SampleView& s) {
-    double best = kNoneDistance;
-    double v = 0.0;
-    for (std::size_t j = 0; j < s.size(); ++j) {
-      const double d = (s.robot().position() - s.agent(j).position()).norm();
-      if (d < best) {
-        best = d;
-        v = s.agent(j).linear_vel;
-      }
+double closestByCentreSpeedAt(const SampleView& s) {
+  double best = kNoneDistance;
+  double v = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    const double d = (s.robot().position() - s.agent(j).position()).norm();
+    if (d < best) {
+      best = d;
+      v = s.agent(j).linear_vel;
     }
-    sum += v;
-    ++n;
-    return v;
   }
-  double value() const { return n == 0 ? 0.0 : sum / static_cast<double>(n); }
-};
+  return v;
+}
+using AvgClosestPedestrianVelocity = MeanOf<&closestByCentreSpeedAt>;
 
 // Per-sample quantities of the force metrics (the per-tick columns; the metrics sum them). As
 // sfm.py, a person with the robot's id is skipped in the social forces.
@@ -299,14 +219,7 @@ struct AlwaysZero {
   double value() const { return 0.0; }
 };
 
-template <class State>
-std::unique_ptr<MetricAccumulator> make() {
-  return std::make_unique<AccumulatorOf<State>>(State());
-}
-
 }  // namespace
-
-namespace metrics_v1 {
 
 Vec2 socialForceV1(const Vec2& me_pos, const Vec2& me_vel, const Vec2& other_pos, const Vec2& other_vel) {
   const Vec2 diff = other_pos - me_pos;
@@ -325,55 +238,38 @@ Vec2 socialForceV1(const Vec2& me_pos, const Vec2& me_vel, const Vec2& other_pos
   return kV1SocialWeight * (fv * t + fth * leftNormal(t));
 }
 
-double avgDistanceToClosestPerson(const Recording& r) { return evaluateOn<AvgDistanceToClosestPerson>(r); }
-double maximumDistanceToPeople(const Recording& r) { return evaluateOn<MaximumDistanceToPeople>(r); }
-double completed(const Recording& r) { return evaluateOn<Completed>(r); }
-double robotOnPersonCollision(const Recording& r) { return evaluateOn<Collisions<true>>(r); }
-double personOnRobotCollision(const Recording& r) { return evaluateOn<Collisions<false>>(r); }
-double timeNotMoving(const Recording& r) { return evaluateOn<TimeNotMoving>(r); }
-double avgRobotLinearSpeed(const Recording& r) { return evaluateOn<AvgRobotLinearSpeed>(r); }
-double avgAcceleration(const Recording& r) { return evaluateOn<AvgAcceleration>(r); }
-double avgOveracceleration(const Recording& r) { return evaluateOn<AvgOveracceleration>(r); }
-double avgPedestrianVelocity(const Recording& r) { return evaluateOn<AvgPedestrianVelocity>(r); }
-double avgClosestPedestrianVelocity(const Recording& r) { return evaluateOn<AvgClosestPedestrianVelocity>(r); }
-// [m/s^2 summed over samples] sum_k onAgentsAt, onRobotAt, workAt, obstacleOnRobotAt,
-// obstacleOnAgentsAt; the v2 costs summed over samples and people.
-double socialForceOnAgents(const Recording& r) { return evaluateOn<SumOf<&onAgentsAt>>(r); }
-double socialForceOnRobot(const Recording& r) { return evaluateOn<SumOf<&onRobotAt>>(r); }
-double socialWork(const Recording& r) { return evaluateOn<SumOf<&workAt>>(r); }
-double obstacleForceOnRobot(const Recording& r) { return evaluateOn<SumOf<&obstacleOnRobotAt>>(r); }
-double obstacleForceOnAgents(const Recording& r) { return evaluateOn<SumOf<&obstacleOnAgentsAt>>(r); }
-double dangerFearCost(const Recording& r) { return evaluateOn<SumOf<&fearAt>>(r); }
-double dangerPanicCost(const Recording& r) { return evaluateOn<SumOf<&panicAt>>(r); }
-double surpriseVisibilityCost(const Recording& r) { return evaluateOn<SumOf<&visibilitySumAt>>(r); }
-double surpriseShockCost(const Recording&) { return 0.0; }
-double surpriseReactCost(const Recording&) { return 0.0; }
+}  // namespace hunav::evaluator::metrics_v1
 
-}  // namespace metrics_v1
+namespace hunav::evaluator {
 
-namespace accumulators_v1 {
-std::unique_ptr<MetricAccumulator> avgDistanceToClosestPerson() { return make<AvgDistanceToClosestPerson>(); }
-std::unique_ptr<MetricAccumulator> maximumDistanceToPeople() { return make<MaximumDistanceToPeople>(); }
-std::unique_ptr<MetricAccumulator> completed() { return make<Completed>(); }
-std::unique_ptr<MetricAccumulator> robotOnPersonCollision() { return make<Collisions<true>>(); }
-std::unique_ptr<MetricAccumulator> personOnRobotCollision() { return make<Collisions<false>>(); }
-std::unique_ptr<MetricAccumulator> timeNotMoving() { return make<TimeNotMoving>(); }
-std::unique_ptr<MetricAccumulator> avgRobotLinearSpeed() { return make<AvgRobotLinearSpeed>(); }
-std::unique_ptr<MetricAccumulator> avgRobotAngularSpeed() { return make<AvgRobotAngularSpeed>(); }
-std::unique_ptr<MetricAccumulator> avgAcceleration() { return make<AvgAcceleration>(); }
-std::unique_ptr<MetricAccumulator> avgOveracceleration() { return make<AvgOveracceleration>(); }
-std::unique_ptr<MetricAccumulator> avgPedestrianVelocity() { return make<AvgPedestrianVelocity>(); }
-std::unique_ptr<MetricAccumulator> avgClosestPedestrianVelocity() { return make<AvgClosestPedestrianVelocity>(); }
-std::unique_ptr<MetricAccumulator> socialForceOnAgents() { return make<SumOf<&onAgentsAt>>(); }
-std::unique_ptr<MetricAccumulator> socialForceOnRobot() { return make<SumOf<&onRobotAt>>(); }
-std::unique_ptr<MetricAccumulator> socialWork() { return make<SumOf<&workAt>>(); }
-std::unique_ptr<MetricAccumulator> obstacleForceOnRobot() { return make<SumOf<&obstacleOnRobotAt>>(); }
-std::unique_ptr<MetricAccumulator> obstacleForceOnAgents() { return make<SumOf<&obstacleOnAgentsAt>>(); }
-std::unique_ptr<MetricAccumulator> dangerFearCost() { return make<SumOf<&fearAt>>(); }
-std::unique_ptr<MetricAccumulator> dangerPanicCost() { return make<SumOf<&panicAt>>(); }
-std::unique_ptr<MetricAccumulator> surpriseVisibilityCost() { return make<SumOf<&visibilitySumAt>>(); }
-std::unique_ptr<MetricAccumulator> surpriseShockCost() { return make<AlwaysZero>(); }
-std::unique_ptr<MetricAccumulator> surpriseReactCost() { return make<AlwaysZero>(); }
-}  // namespace accumulators_v1
+std::vector<NamedAccumulator> v1Accumulators() {
+  namespace v1 = metrics_v1;
+  return {
+      {"avg_distance_to_closest_person", make<v1::AvgDistanceToClosestPerson>},
+      {"maximum_distance_to_people", make<v1::MaximumDistanceToPeople>},
+      {"completed", make<v1::Completed>},
+      {"robot_on_person_collision", make<v1::Collisions<true>>},
+      {"person_on_robot_collision", make<v1::Collisions<false>>},
+      {"time_not_moving", make<v1::TimeNotMoving>},
+      {"avg_robot_linear_speed", make<v1::AvgRobotLinearSpeed>},
+      {"avg_robot_angular_speed", make<v1::AvgRobotAngularSpeed>},
+      {"avg_acceleration", make<v1::AvgAcceleration>},
+      {"avg_overacceleration", make<v1::AvgOveracceleration>},
+      {"avg_pedestrian_velocity", make<v1::AvgPedestrianVelocity>},
+      {"avg_closest_pedestrian_velocity", make<v1::AvgClosestPedestrianVelocity>},
+      // [m/s^2 summed over samples] sum_k of the per-sample forces above; the v2 costs summed over
+      // samples and people.
+      {"social_force_on_agents", make<SumOf<&v1::onAgentsAt>>},
+      {"social_force_on_robot", make<SumOf<&v1::onRobotAt>>},
+      {"social_work", make<SumOf<&v1::workAt>>},
+      {"obstacle_force_on_robot", make<SumOf<&v1::obstacleOnRobotAt>>},
+      {"obstacle_force_on_agents", make<SumOf<&v1::obstacleOnAgentsAt>>},
+      {"danger_fear_cost", make<SumOf<&fearAt>>},
+      {"danger_panic_cost", make<SumOf<&panicAt>>},
+      {"surprise_visibility_cost", make<SumOf<&visibilitySumAt>>},
+      {"surprise_shock_cost", make<v1::AlwaysZero>},
+      {"surprise_react_cost", make<v1::AlwaysZero>},
+  };
+}
 
 }  // namespace hunav::evaluator

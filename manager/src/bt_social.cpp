@@ -39,11 +39,24 @@ Vec2 here(const TickContext& c) { return posOf(c.in); }
 std::int64_t now(const TickContext& c) { return c.snap.request->utime; }
 std::int64_t usOf(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e6)); }
 
+// Writes an output port's value: to the blackboard for the nodes after it this tick, and to the
+// person's memory, from which the next tick's blackboard starts.
+void setOutput(TickContext& c, BbKey key, int value) {
+  c.bb[static_cast<std::size_t>(key)] = value;
+  c.memory.outputs[static_cast<std::size_t>(static_cast<int>(key) - kFirstOutputKey)] = value;
+}
+
 // The person (or the robot) with this id at time t; nullptr when there is none.
 const agent_state_t* stateOf(const TickContext& c, int id) {
   if (id == c.snap.request->robot.id) return c.snap.robotState();
   const int i = c.snap.indexOf(id);
   return i < 0 ? nullptr : &c.snap.request->agents[static_cast<std::size_t>(i)];
+}
+
+// Stands, turning toward `target` at kTurnRate.
+void standFacing(TickContext& c, const Vec2& target) {
+  standStill(c);
+  turnToward(c, target, kTurnRate * c.dt);
 }
 
 // Turns toward `target` at kTurnRate; a person not yet moved this tick stands while it turns.
@@ -102,10 +115,29 @@ std::string pointCheck(const std::vector<PortSpec>& specs, const std::vector<Por
 // ---------------------------------------------------------------------------------------------------
 // Base classes
 
+// A node of this library: a BtNode that may read a point given by goal_id (HuNavSim 2's global
+// goals) or by x and y.
+class SocialNode : public BtNode {
+ public:
+  // The point of the goal_id / x / y ports first, first + 1, first + 2; false when goal_id names no
+  // global goal (a manager without the scenario).
+  bool pointAt(const TickContext& c, std::size_t first, Vec2& p) const {
+    if (!port(first).given) {
+      p = Vec2(number(first + 1, c), number(first + 2, c));
+      return true;
+    }
+    if (c.snap.global_goals == nullptr) return false;
+    const auto it = c.snap.global_goals->find(static_cast<int>(number(first, c)));
+    if (it == c.snap.global_goals->end()) return false;
+    p = it->second;
+    return true;
+  }
+};
+
 // A node that may run over several ticks: it starts when ticked while not running, and measures
 // the simulation time since then, the current tick's step included (so a 3 s wait at dt 0.01 holds
 // for exactly 300 ticks).
-class TimedNode : public BtNode {
+class TimedNode : public SocialNode {
  protected:
   Status onTick(TickContext& c) override {
     if (!running()) {
@@ -120,14 +152,73 @@ class TimedNode : public BtNode {
   std::int64_t startUs() const { return start_; }
   // duration <= 0: never.
   bool expired(const TickContext& c, double duration) const { return duration > 0.0 && elapsedUs(c) >= usOf(duration); }
+  // The end of a stateful action's tick: it shows as active, RUNNING until `duration` s have passed.
+  Status activeFor(TickContext& c, double duration) const {
+    c.out.behavior_state = agent_state_t::STATE_ACTIVE_1;
+    return expired(c, duration) ? Status::Success : Status::Running;
+  }
 
  private:
   std::int64_t start_ = 0;
 };
 
+// Most stateful nodes come in two variants (IsAnyoneSpeaking / IsSpeaking, ApproachRobot /
+// ApproachAgent, ...): one about anyone or the robot, with no port for it, and one about the person
+// named by its first port. The ports after that are the same in both, read with arg(i).
+enum class TargetPort { None, First };
+class TargetedNode : public TimedNode {
+ public:
+  explicit TargetedNode(TargetPort target) : named_(target == TargetPort::First) {}
+
+ protected:
+  bool named() const { return named_; }
+  int targetId(const TickContext& c) const { return static_cast<int>(number(0, c)); }
+  double arg(std::size_t i, const TickContext& c) const { return number(named_ ? i + 1 : i, c); }
+  // The named person, or the robot; nullptr when absent or when it is this person.
+  const agent_state_t* target(const TickContext& c) const {
+    const agent_state_t* t = named_ ? stateOf(c, targetId(c)) : c.snap.robotState();
+    return t == nullptr || t->id == c.in.id ? nullptr : t;
+  }
+
+  // The end of a condition's tick: SUCCESS when someone was found (IsAnyone... writes who to its
+  // output `key`); FAILURE when the time is up; otherwise it walks on, RUNNING.
+  Status awaited(TickContext& c, int found, BbKey key, double duration) {
+    if (found >= 0) {
+      if (!named_) setOutput(c, key, found);
+      return Status::Success;
+    }
+    if (expired(c, duration) || duration <= 0.0) return Status::Failure;
+    walkOn(c);
+    return Status::Running;
+  }
+
+ private:
+  bool named_;
+};
+
+// A stateful action about its target: FAILURE when the target is absent (or is this person);
+// otherwise it acts, shown as active, RUNNING until the `duration` port's time has passed (then
+// SUCCESS; for ever when <= 0).
+class TargetedAction : public TargetedNode {
+ public:
+  TargetedAction(TargetPort target, std::size_t duration_arg) : TargetedNode(target), duration_arg_(duration_arg) {}
+
+ protected:
+  Status onRunning(TickContext& c) final {
+    const agent_state_t* t = target(c);
+    if (t == nullptr) return Status::Failure;
+    act(c, *t);
+    return activeFor(c, arg(duration_arg_, c));
+  }
+  virtual void act(TickContext& c, const agent_state_t& target) = 0;
+
+ private:
+  std::size_t duration_arg_;
+};
+
 // A leaf defined by a lambda (SUCCESS or FAILURE in one tick).
 template <class F>
-class Leaf : public BtNode {
+class Leaf : public SocialNode {
  public:
   explicit Leaf(F f) : f_(std::move(f)) {}
   double value(std::size_t i, const TickContext& c) const { return number(i, c); }
@@ -145,60 +236,32 @@ void addLeaf(NodeLibrary& lib, const std::string& name, std::vector<PortSpec> po
   lib.addNode<Leaf<F>>(name, Kind::Leaf, std::move(ports), f);
 }
 
-// The point of a goal_id / x / y triple at ports (first, first + 1, first + 2); false when goal_id
-// names no global goal (a manager without the scenario).
-bool pointAt(const BtNode& n, const TickContext& c, double goal_id, double x, double y, bool by_id, Vec2& p) {
-  (void)n;
-  if (!by_id) {
-    p = Vec2(x, y);
-    return true;
-  }
-  if (c.snap.global_goals == nullptr) return false;
-  const auto it = c.snap.global_goals->find(static_cast<int>(goal_id));
-  if (it == c.snap.global_goals->end()) return false;
-  p = it->second;
-  return true;
-}
-
 // ---------------------------------------------------------------------------------------------------
 // Stateful conditions: listen (or watch) for up to `duration` s while walking on; SUCCESS as soon
 // as the awaited person speaks (looks) within distance_threshold, FAILURE when the time is up.
 
 // IsAnyoneSpeaking(distance_threshold, duration, speaker_id) / IsSpeaking(target_id, ...).
-class SpeakingCondition : public TimedNode {
+class SpeakingCondition : public TargetedNode {
  public:
-  explicit SpeakingCondition(bool anyone) : anyone_(anyone) {}
+  using TargetedNode::TargetedNode;
 
  protected:
   Status onRunning(TickContext& c) override {
-    const std::size_t base = anyone_ ? 0 : 1;
-    const double range = number(base, c), duration = number(base + 1, c);
+    const double range = arg(0, c), duration = arg(1, c);
     int found = -1;
     double best = std::numeric_limits<double>::infinity();
     if (c.snap.social != nullptr) {
       for (const PersonSocial& p : *c.snap.social) {
         if (p.id == c.in.id || !p.speaking(now(c))) continue;
-        if (!anyone_ && p.id != static_cast<int>(number(0, c))) continue;
+        if (named() && p.id != targetId(c)) continue;
         const agent_state_t* s = stateOf(c, p.id);
         if (s == nullptr) continue;
         const double d = (posOf(*s) - here(c)).norm();
         if (d <= range && d < best) best = d, found = p.id;  // the nearest speaker
       }
     }
-    if (found >= 0) {
-      if (anyone_) {
-        c.bb[static_cast<std::size_t>(BbKey::SpeakerId)] = found;
-        c.memory.outputs[static_cast<std::size_t>(static_cast<int>(BbKey::SpeakerId) - kFirstOutputKey)] = found;
-      }
-      return Status::Success;
-    }
-    if (expired(c, duration) || duration <= 0.0) return Status::Failure;
-    walkOn(c);
-    return Status::Running;
+    return awaited(c, found, BbKey::SpeakerId, duration);
   }
-
- private:
-  bool anyone_;
 };
 
 // Whether `watcher` (a person or the robot) within `range` looks at p: the bearing of p from its
@@ -211,16 +274,15 @@ bool looksAt(const agent_state_t& watcher, const Vec2& p, double range, double a
 
 // IsAnyoneLookingAtMe(distance_threshold, angle_threshold, duration, observer_id) /
 // IsLookingAtMe(target_id, ...): geometry of time t (people and the robot), nearest watcher first.
-class LookingCondition : public TimedNode {
+class LookingCondition : public TargetedNode {
  public:
-  explicit LookingCondition(bool anyone) : anyone_(anyone) {}
+  using TargetedNode::TargetedNode;
 
  protected:
   Status onRunning(TickContext& c) override {
-    const std::size_t base = anyone_ ? 0 : 1;
-    const double range = number(base, c), angle = number(base + 1, c), duration = number(base + 2, c);
+    const double range = arg(0, c), angle = arg(1, c), duration = arg(2, c);
     int found = -1;
-    if (anyone_) {
+    if (!named()) {
       double best = std::numeric_limits<double>::infinity();
       auto consider = [&](const agent_state_t& w) {
         if (w.id == c.in.id || !looksAt(w, here(c), range, angle)) return;
@@ -230,23 +292,11 @@ class LookingCondition : public TimedNode {
       for (int j : c.snap.by_id) consider(c.snap.request->agents[static_cast<std::size_t>(j)]);
       if (const agent_state_t* robot = c.snap.robotState()) consider(*robot);
     } else {
-      const agent_state_t* w = stateOf(c, static_cast<int>(number(0, c)));
-      if (w != nullptr && w->id != c.in.id && looksAt(*w, here(c), range, angle)) found = w->id;
+      const agent_state_t* w = target(c);
+      if (w != nullptr && looksAt(*w, here(c), range, angle)) found = w->id;
     }
-    if (found >= 0) {
-      if (anyone_) {
-        c.bb[static_cast<std::size_t>(BbKey::ObserverId)] = found;
-        c.memory.outputs[static_cast<std::size_t>(static_cast<int>(BbKey::ObserverId) - kFirstOutputKey)] = found;
-      }
-      return Status::Success;
-    }
-    if (expired(c, duration) || duration <= 0.0) return Status::Failure;
-    walkOn(c);
-    return Status::Running;
+    return awaited(c, found, BbKey::ObserverId, duration);
   }
-
- private:
-  bool anyone_;
 };
 
 // ---------------------------------------------------------------------------------------------------
@@ -268,63 +318,45 @@ class StopAndWait : public TimedNode {
 // approach; slower as it comes near), stops within closest_dist and turns to face it. The robot is
 // left out of the approacher's social force (it walks up to it on purpose); a person target pushes
 // as any person does.
-class Approach : public TimedNode {
+class Approach : public TargetedAction {
  public:
-  explicit Approach(bool robot) : robot_(robot) {}
+  explicit Approach(TargetPort target) : TargetedAction(target, 2) {}
 
  protected:
-  Status onRunning(TickContext& c) override {
-    const std::size_t base = robot_ ? 0 : 1;
-    const agent_state_t* t = robot_ ? c.snap.robotState() : stateOf(c, static_cast<int>(number(0, c)));
-    if (t == nullptr || t->id == c.in.id) return Status::Failure;
-    const double stop = number(base, c), vel = number(base + 1, c), duration = number(base + 2, c);
-    const Vec2 target = posOf(*t);
+  void act(TickContext& c, const agent_state_t& t) override {
+    const double stop = arg(0, c), vel = arg(1, c);
+    const Vec2 target = posOf(t);
     const double d = (target - here(c)).norm();
     if (d <= stop) {
-      standStill(c);
-      turnToward(c, target, kTurnRate * c.dt);
+      standFacing(c, target);
     } else {
-      sfmMove(c, robot_ ? RobotAs::Ignored : RobotAs::Person, vel * d / (d + stop), &target, Vec2::Zero(), t->radius);
+      sfmMove(c, named() ? RobotAs::Person : RobotAs::Ignored, vel * d / (d + stop), &target, Vec2::Zero(), t.radius);
     }
-    c.out.behavior_state = agent_state_t::STATE_ACTIVE_1;
-    return expired(c, duration) ? Status::Success : Status::Running;
   }
-
- private:
-  bool robot_;
 };
 
 // BlockRobot(front_dist, duration) / BlockAgent(target_agent_id, front_dist, duration): stands in
 // the target's way, front_dist ahead of it along its heading (HuNavSim 2: 1.5 m when front_dist
 // <= 0.5); runs there at up to 2.5 m/s, slowing as it arrives, and once in place stands facing it.
-class Block : public TimedNode {
+class Block : public TargetedAction {
  public:
-  explicit Block(bool robot) : robot_(robot) {}
+  explicit Block(TargetPort target) : TargetedAction(target, 1) {}
 
  protected:
-  Status onRunning(TickContext& c) override {
-    const std::size_t base = robot_ ? 0 : 1;
-    const agent_state_t* t = robot_ ? c.snap.robotState() : stateOf(c, static_cast<int>(number(0, c)));
-    if (t == nullptr || t->id == c.in.id) return Status::Failure;
-    double front = number(base, c);
+  void act(TickContext& c, const agent_state_t& t) override {
+    double front = arg(0, c);
     if (front <= 0.5) front = 1.5;
-    const double duration = number(base + 1, c);
-    const Vec2 target = posOf(*t);
-    const Vec2 spot = target + front * Vec2(std::cos(t->yaw), std::sin(t->yaw));
+    const Vec2 target = posOf(t);
+    const Vec2 spot = target + front * Vec2(std::cos(t.yaw), std::sin(t.yaw));
     const double e = (spot - here(c)).norm();
     if (e <= kBlockInPlace) {
-      standStill(c);
-      turnToward(c, target, kTurnRate * c.dt);
+      standFacing(c, target);
     } else {
       // The target is left out of the blocker's social force: it wants to be in its way.
-      sfmMove(c, robot_ ? RobotAs::Ignored : RobotAs::Person, std::min(kBlockSpeed, 2.0 * e), &spot, Vec2::Zero(), 0.0);
+      sfmMove(c, named() ? RobotAs::Person : RobotAs::Ignored, std::min(kBlockSpeed, 2.0 * e), &spot, Vec2::Zero(),
+              0.0);
     }
-    c.out.behavior_state = agent_state_t::STATE_ACTIVE_1;
-    return expired(c, duration) ? Status::Success : Status::Running;
   }
-
- private:
-  bool robot_;
 };
 
 // AvoidRobot(safe_distance, runaway_vel, duration): HuNavSim 2's later scared person: within
@@ -339,15 +371,13 @@ class AvoidRobot : public TimedNode {
     Vec2 away = here(c) - r;
     const double d = away.norm();
     if (d >= safe) {
-      standStill(c);
-      turnToward(c, r, kTurnRate * c.dt);
+      standFacing(c, r);
     } else {
       away = d > 0.0 ? Vec2(away / d) : Vec2(-std::cos(c.in.yaw), -std::sin(c.in.yaw));
       const Vec2 spot = r + safe * away;
       sfmMove(c, RobotAs::Ignored, vel, &spot, Vec2::Zero(), 0.3);
     }
-    c.out.behavior_state = agent_state_t::STATE_ACTIVE_1;
-    return expired(c, duration) ? Status::Success : Status::Running;
+    return activeFor(c, duration);
   }
 };
 
@@ -357,21 +387,20 @@ class AvoidRobot : public TimedNode {
 // catches up when left behind, walks at the leader's pace on the spot, and stops when the leader
 // stops. (HuNavSim 2 walks at the leader itself and scales its speed by (d/closest_dist)^2 inside
 // closest_dist, which lets the follower keep less than closest_dist.)
-class FollowAgent : public TimedNode {
+class FollowAgent : public TargetedAction {
+ public:
+  FollowAgent() : TargetedAction(TargetPort::First, 2) {}
+
  protected:
-  Status onRunning(TickContext& c) override {
-    const agent_state_t* l = stateOf(c, static_cast<int>(number(0, c)));
-    if (l == nullptr || l->id == c.in.id) return Status::Failure;
-    const double gap = number(1, c), max_vel = number(2, c), duration = number(3, c);
-    const Vec2 lv(l->vx, l->vy);
+  void act(TickContext& c, const agent_state_t& l) override {
+    const double gap = arg(0, c), max_vel = arg(1, c);
+    const Vec2 lv(l.vx, l.vy);
     const double speed = lv.norm();
-    const Vec2 dir = speed > kMovingSpeed ? Vec2(lv / speed) : Vec2(std::cos(l->yaw), std::sin(l->yaw));
-    const Vec2 spot = posOf(*l) - gap * dir;
+    const Vec2 dir = speed > kMovingSpeed ? Vec2(lv / speed) : Vec2(std::cos(l.yaw), std::sin(l.yaw));
+    const Vec2 spot = posOf(l) - gap * dir;
     const double e = (spot - here(c)).norm();
-    sfmMove(c, l->type == agent_state_t::TYPE_ROBOT ? RobotAs::Ignored : RobotAs::Person,
+    sfmMove(c, l.type == agent_state_t::TYPE_ROBOT ? RobotAs::Ignored : RobotAs::Person,
             std::clamp(speed + e, 0.0, max_vel), &spot, Vec2::Zero(), 0.0);
-    c.out.behavior_state = agent_state_t::STATE_ACTIVE_1;
-    return expired(c, duration) ? Status::Success : Status::Running;
   }
 };
 
@@ -433,8 +462,7 @@ class ConversationFormation : public TimedNode {
     const std::vector<int>& others = port(1).ids;
     const int k = memberIndex(c.in.id, main_id, others);
     Vec2 centre;
-    if (k < 0 || !pointAt(*this, c, number(3, c), number(4, c), number(5, c), port(3).given, centre))
-      return Status::Failure;
+    if (k < 0 || !pointAt(c, 3, centre)) return Status::Failure;
     const int n = static_cast<int>(others.size()) + 1;
     const double radius = number(6, c) > 0.0 ? number(6, c) : 0.5 + 0.2 * static_cast<double>(n - 1);
     auto slot = [&](int i) {
@@ -446,8 +474,7 @@ class ConversationFormation : public TimedNode {
     if ((mine - here(c)).norm() > kSlotReached) {
       sfmMove(c, RobotAs::Person, c.in.desired_speed, &mine, Vec2::Zero(), 0.0);
     } else {
-      standStill(c);
-      turnToward(c, centre, kTurnRate * c.dt);
+      standFacing(c, centre);
     }
     if (!talking_) {  // every member in place at time t: the same tick for all of them
       bool formed = true;
@@ -478,11 +505,11 @@ class ConversationFormation : public TimedNode {
 
 // GoTo(goal_id | x y, tolerance): walks to the point (routes, social forces, robot as a person);
 // SUCCESS once within tolerance (standing there that tick).
-class GoTo : public BtNode {
+class GoTo : public SocialNode {
  protected:
   Status onTick(TickContext& c) override {
     Vec2 g;
-    if (!pointAt(*this, c, number(0, c), number(1, c), number(2, c), port(0).given, g)) return Status::Failure;
+    if (!pointAt(c, 0, g)) return Status::Failure;
     if ((g - here(c)).norm() <= number(3, c)) {
       standStill(c);
       return Status::Success;
@@ -492,11 +519,27 @@ class GoTo : public BtNode {
   }
 };
 
+// SetGoal(goal_id | x y): makes the point the current goal (put in front of the queue unless already
+// there; HuNavSim 2 appends it with radius 0.1: here it is the goal now, with the person's radius).
+class SetGoalNode : public SocialNode {
+ protected:
+  Status onTick(TickContext& c) override {
+    Vec2 p;
+    if (!pointAt(c, 0, p)) return Status::Failure;
+    const point2d_t g{p.x(), p.y()};
+    if (c.out.goals.empty() || c.out.goals.front().x != g.x || c.out.goals.front().y != g.y) {
+      c.out.goals.insert(c.out.goals.begin(), g);
+      c.out.num_goals = static_cast<int32_t>(c.out.goals.size());
+    }
+    return Status::Success;
+  }
+};
+
 // LookAtAgent(observer_id, target_id) / LookAtRobot / LookAtPoint(goal_id | x y): turns toward
 // the target at pi rad/s, standing unless a motion node already moved the person this tick (then it
 // looks while it walks); SUCCESS once it faces the target, RUNNING while it turns.
 enum class LookTarget { Agent, Robot, Point };
-class LookAt : public BtNode {
+class LookAt : public SocialNode {
  public:
   explicit LookAt(LookTarget what) : what_(what) {}
 
@@ -505,7 +548,7 @@ class LookAt : public BtNode {
     Vec2 target;
     int id = -1;
     if (what_ == LookTarget::Point) {
-      if (!pointAt(*this, c, number(0, c), number(1, c), number(2, c), port(0).given, target)) return Status::Failure;
+      if (!pointAt(c, 0, target)) return Status::Failure;
     } else {
       const agent_state_t* t =
           what_ == LookTarget::Robot ? c.snap.robotState() : stateOf(c, static_cast<int>(number(1, c)));
@@ -546,20 +589,6 @@ class TimeDelay : public BtNode {
  private:
   bool started_ = false;
   std::int64_t start_ = 0;
-};
-
-class SetGoalNode : public BtNode {
- protected:
-  Status onTick(TickContext& c) override {
-    Vec2 p;
-    if (!pointAt(*this, c, number(0, c), number(1, c), number(2, c), port(0).given, p)) return Status::Failure;
-    const point2d_t g{p.x(), p.y()};
-    if (c.out.goals.empty() || c.out.goals.front().x != g.x || c.out.goals.front().y != g.y) {
-      c.out.goals.insert(c.out.goals.begin(), g);
-      c.out.num_goals = static_cast<int32_t>(c.out.goals.size());
-    }
-    return Status::Success;
-  }
 };
 
 template <class T, class... Args>
@@ -609,22 +638,24 @@ void registerSocialNodes(NodeLibrary& lib) {
           {num("goal_id", "-1"), num("target_x", "1.0"), num("target_y", "1.0"), num("tolerance", "0.1")},
           [](auto& n, TickContext& c) {
             Vec2 g;
-            if (!pointAt(n, c, n.value(0, c), n.value(1, c), n.value(2, c), n.portValue(0).given, g)) return false;
+            if (!n.pointAt(c, 0, g)) return false;
             return (g - here(c)).norm() <= n.value(3, c);
           });
   addStateful<SpeakingCondition>(
       lib, "IsAnyoneSpeaking",
-      {num("distance_threshold", "5.0"), num("duration", "5.0"), out("speaker_id", BbKey::SpeakerId)}, true);
+      {num("distance_threshold", "5.0"), num("duration", "5.0"), out("speaker_id", BbKey::SpeakerId)},
+      TargetPort::None);
   addStateful<SpeakingCondition>(lib, "IsSpeaking",
-                                 {req("target_id"), num("distance_threshold", "5.0"), num("duration", "5.0")}, false);
+                                 {req("target_id"), num("distance_threshold", "5.0"), num("duration", "5.0")},
+                                 TargetPort::First);
   addStateful<LookingCondition>(lib, "IsAnyoneLookingAtMe",
                                 {num("distance_threshold", "5.0"), num("angle_threshold", "0.2"),
                                  num("duration", "5.0"), out("observer_id", BbKey::ObserverId)},
-                                true);
+                                TargetPort::None);
   addStateful<LookingCondition>(
       lib, "IsLookingAtMe",
       {req("target_id"), num("distance_threshold", "5.0"), num("angle_threshold", "0.2"), num("duration", "5.0")},
-      false);
+      TargetPort::First);
 
   // --- simple actions
   addLeaf(lib, "FindNearestAgent", {out("target_agent_id", BbKey::TargetAgentId)}, [](auto&, TickContext& c) {
@@ -637,8 +668,7 @@ void registerSocialNodes(NodeLibrary& lib) {
       if (d < best) best = d, found = o.id;
     }
     if (found < 0) return false;
-    c.bb[static_cast<std::size_t>(BbKey::TargetAgentId)] = found;
-    c.memory.outputs[0] = found;
+    setOutput(c, BbKey::TargetAgentId, found);
     return true;
   });
   addLeaf(lib, "SaySomething", {text("message", "Hello, I am here!"), num("speak_duration", "2.0")},
@@ -653,21 +683,20 @@ void registerSocialNodes(NodeLibrary& lib) {
     return true;
   });
 
-  // SetGoal(goal_id | x y): makes the point the current goal (put in front of the queue unless already
-  // there; HuNavSim 2 appends it with radius 0.1: here it is the goal now, with the person's radius).
   lib.addNode<SetGoalNode>("SetGoal", Kind::Leaf, {num("goal_id", "-1"), num("x", "0.0"), num("y", "0.0")});
   setPointCheck(lib, "SetGoal", "goal_id", "x", "y");
 
   // --- stateful actions
   addStateful<StopAndWait>(lib, "StopAndWaitTimerAction", {num("wait_duration", "3.0")});
   addStateful<Approach>(lib, "ApproachRobot",
-                        {num("closest_dist", "1.5"), num("max_vel", "1.8"), num("duration", "5.0")}, true);
+                        {num("closest_dist", "1.5"), num("max_vel", "1.8"), num("duration", "5.0")}, TargetPort::None);
   addStateful<Approach>(
       lib, "ApproachAgent",
-      {req("target_agent_id"), num("closest_dist", "0.5"), num("max_vel", "1.0"), num("duration", "5.0")}, false);
-  addStateful<Block>(lib, "BlockRobot", {num("front_dist", "1.0"), num("duration", "5.0")}, true);
+      {req("target_agent_id"), num("closest_dist", "0.5"), num("max_vel", "1.0"), num("duration", "5.0")},
+      TargetPort::First);
+  addStateful<Block>(lib, "BlockRobot", {num("front_dist", "1.0"), num("duration", "5.0")}, TargetPort::None);
   addStateful<Block>(lib, "BlockAgent", {req("target_agent_id"), num("front_dist", "1.0"), num("duration", "5.0")},
-                     false);
+                     TargetPort::First);
   addStateful<AvoidRobot>(lib, "AvoidRobot",
                           {num("safe_distance", "5.0"), num("runaway_vel", "1.0"), num("duration", "0.0")});
   addStateful<FollowAgent>(

@@ -21,7 +21,7 @@ std::uint64_t ManagerNode::droppedMessages() const {
 void ManagerNode::onRequest(const step_request_t& request) {
   checkFinite(request.dt, "dt", "step request");
   if (request.dt < 0.0 || request.dt > 1.0) throw BadMessage("step request: dt out of range");
-  checkAgentStates(request.agents, request.num_agents, "step request");
+  checkAgentStates(request.agents, request.num_agents, "step request", request_ids_);
   checkAgentState(request.robot, "step request robot");
 
   if (have_answered_ && request.episode == answered_episode_) {

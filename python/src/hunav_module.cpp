@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -116,9 +117,11 @@ fs::path makeTempDir() {
 // hunav.gym's observation of one world (python/hunav/gym.py): robot [v, w]; goal relative to the
 // robot in its frame (x ahead, y left); the scan clipped to [0, range_max]; the perceived people
 // nearest first as [dx, dy, vx, vy, radius, 1] in the robot frame, then rows of 0. Done here: the
-// same arithmetic in numpy on arrays of a few elements took ~50 us a step.
+// same arithmetic in numpy on arrays of a few elements took ~50 us a step. `order` is the caller's
+// scratch (kept between steps, so that sorting the people allocates nothing).
+using NearestFirst = std::vector<std::pair<double, std::size_t>>;
 void robotFrame(const hunav::robot_observation_t& o, std::size_t max_people, float range_max, float* robot, float* goal,
-                float* scan, std::size_t beams, float* people) {
+                float* scan, std::size_t beams, float* people, NearestFirst& order) {
   const double c = std::cos(o.yaw), s = std::sin(o.yaw);
   robot[0] = static_cast<float>(o.v);
   robot[1] = static_cast<float>(o.w);
@@ -128,7 +131,6 @@ void robotFrame(const hunav::robot_observation_t& o, std::size_t max_people, flo
   const auto& r = o.scan.ranges;
   for (std::size_t i = 0; i < beams; ++i) scan[i] = i < r.size() ? std::min(std::max(r[i], 0.0f), range_max) : 0.0f;
   const std::size_t k = o.people.size();
-  thread_local std::vector<std::pair<double, std::size_t>> order;
   order.clear();
   for (std::size_t i = 0; i < k; ++i) {
     const double dx = o.people[i].x - o.x, dy = o.people[i].y - o.y;
@@ -148,6 +150,45 @@ void robotFrame(const hunav::robot_observation_t& o, std::size_t max_people, flo
     row[5] = 1.0f;
   }
 }
+
+// hunav.gym's observation (robotFrame) as float32 arrays robot (2,), goal (2,), scan (beams,) and
+// people (max_people, 6): of one world, or of `worlds` worlds stacked on a leading axis.
+class RobotFrameArrays {
+ public:
+  RobotFrameArrays(std::optional<std::size_t> worlds, std::size_t beams, std::size_t max_people)
+      : beams_(beams),
+        max_people_(max_people),
+        robot_(shape(worlds, {2})),
+        goal_(shape(worlds, {2})),
+        scan_(shape(worlds, {beams})),
+        people_(shape(worlds, {max_people, 6})) {}
+
+  // Writes world i's observation (i = 0 for one world).
+  void fill(std::size_t i, const hunav::robot_observation_t& o, float range_max, NearestFirst& order) {
+    robotFrame(o, max_people_, range_max, robot_.mutable_data() + 2 * i, goal_.mutable_data() + 2 * i,
+               scan_.mutable_data() + beams_ * i, beams_, people_.mutable_data() + max_people_ * 6 * i, order);
+  }
+
+  py::dict dict() const {
+    py::dict d;
+    d["robot"] = robot_;
+    d["goal"] = goal_;
+    d["scan"] = scan_;
+    d["people"] = people_;
+    return d;
+  }
+
+ private:
+  static std::vector<py::ssize_t> shape(std::optional<std::size_t> worlds, std::initializer_list<std::size_t> dims) {
+    std::vector<py::ssize_t> s;
+    if (worlds) s.push_back(static_cast<py::ssize_t>(*worlds));
+    for (std::size_t d : dims) s.push_back(static_cast<py::ssize_t>(d));
+    return s;
+  }
+
+  std::size_t beams_, max_people_;
+  py::array_t<float> robot_, goal_, scan_, people_;
+};
 
 }  // namespace
 
@@ -290,19 +331,15 @@ class Simulation {
 
   // hunav.gym's observation (robotFrame) as a dict of float32 arrays.
   py::dict robotFrameObservation(std::size_t max_people, float range_max) const {
-    const auto& o = started().observation();
-    const std::size_t beams = static_cast<std::size_t>(std::max(0, scenario_.robot.laser.beams));
-    py::array_t<float> robot(2), goal(2), scan(static_cast<py::ssize_t>(beams));
-    py::array_t<float> people({static_cast<py::ssize_t>(max_people), py::ssize_t{6}});
-    robotFrame(o, max_people, range_max, robot.mutable_data(), goal.mutable_data(), scan.mutable_data(), beams,
-               people.mutable_data());
-    py::dict d;
-    d["robot"] = robot;
-    d["goal"] = goal;
-    d["scan"] = scan;
-    d["people"] = people;
-    return d;
+    RobotFrameArrays a(std::nullopt, beams(), max_people);
+    fillRobotFrame(a, 0, range_max);
+    return a.dict();
   }
+  // Writes this world's robotFrame observation as world i of `a`.
+  void fillRobotFrame(RobotFrameArrays& a, std::size_t i, float range_max) const {
+    a.fill(i, started().observation(), range_max, people_order_);
+  }
+  std::size_t beams() const { return static_cast<std::size_t>(std::max(0, scenario_.robot.laser.beams)); }
 
   // The terms of hunav.gym's default reward after the step: the robot's distance to its goal,
   // sum_i max(0, (personal_distance - d_i) / personal_distance) over every person i (d_i centre to
@@ -445,6 +482,7 @@ class Simulation {
   hunav::Scenario scenario_;
   fs::path temp_dir_;
   std::unique_ptr<SteppedRun> run_;
+  mutable NearestFirst people_order_;  // robotFrame's scratch
 };
 
 // Python's hunav.VectorSimulation: n Simulations of one scenario, each with its own seed, reset and
@@ -612,22 +650,9 @@ class VectorSimulation {
   // hunav.gym's observation (robotFrame) of every world, stacked.
   py::dict robotFrameObservation(std::size_t max_people, float range_max) const {
     requireEpisodes();
-    const std::size_t n = sims_.size();
-    const auto beams = static_cast<std::size_t>(std::max(0, sims_[0]->scenario().robot.laser.beams));
-    const auto sn = static_cast<py::ssize_t>(n);
-    py::array_t<float> robot({sn, py::ssize_t{2}}), goal({sn, py::ssize_t{2}});
-    py::array_t<float> scan({sn, static_cast<py::ssize_t>(beams)});
-    py::array_t<float> people({sn, static_cast<py::ssize_t>(max_people), py::ssize_t{6}});
-    for (std::size_t i = 0; i < n; ++i)
-      robotFrame(sims_[i]->rawObservation(), max_people, range_max, robot.mutable_data() + 2 * i,
-                 goal.mutable_data() + 2 * i, scan.mutable_data() + beams * i, beams,
-                 people.mutable_data() + max_people * 6 * i);
-    py::dict d;
-    d["robot"] = robot;
-    d["goal"] = goal;
-    d["scan"] = scan;
-    d["people"] = people;
-    return d;
+    RobotFrameArrays a(sims_.size(), sims_[0]->beams(), max_people);
+    for (std::size_t i = 0; i < sims_.size(); ++i) sims_[i]->fillRobotFrame(a, i, range_max);
+    return a.dict();
   }
 
   // Simulation.reward_terms of every world: (distance to goal (n,), intrusion (n,), robot collisions (n,)).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <initializer_list>
 #include <limits>
 
 #include "hunav/config_error.hpp"
@@ -28,6 +29,20 @@ double optionalNumber(const CsvTable& t, std::size_t r, int c) {
   if (!parseOptionalNumber(t.text(r, c), v))
     t.fail(r, t.header()[static_cast<std::size_t>(c)], "expected a number or nothing, got '" + t.text(r, c) + "'");
   return v;
+}
+
+// Fails row r unless `value` (column c's text, maybe lower-cased) is one of `allowed`, "" meaning
+// an empty cell: "expected a, b or nothing, got '...'".
+void requireOneOf(const CsvTable& t, std::size_t r, int c, const std::string& value,
+                  std::initializer_list<const char*> allowed) {
+  std::string list;
+  std::size_t i = 0;
+  for (const char* a : allowed) {
+    if (a == value) return;
+    list += (i == 0 ? "" : i + 1 == allowed.size() ? " or " : ", ") + std::string(*a ? a : "nothing");
+    ++i;
+  }
+  t.fail(r, t.header()[static_cast<std::size_t>(c)], "expected " + list + ", got '" + t.text(r, c) + "'");
 }
 
 void readSummary(BatchData& data) {
@@ -146,8 +161,7 @@ void readPaper(BatchData& data) {
       p.ci_low = optionalNumber(t, r, 8);
       p.ci_high = optionalNumber(t, r, 9);
       p.paper_in_ci = lower(t.text(r, 10));
-      if (p.paper_in_ci != "true" && p.paper_in_ci != "false" && !p.paper_in_ci.empty())
-        t.fail(r, "paper_in_ci", "expected true, false or nothing, got '" + t.text(r, 10) + "'");
+      requireOneOf(t, r, 10, p.paper_in_ci, {"true", "false", ""});
       data.paper.push_back(std::move(p));
     }
   }
@@ -156,7 +170,6 @@ void readPaper(BatchData& data) {
     const CsvTable t = CsvTable::read(orderings_file);
     t.requireLeadingColumns(
         {"scenario", "behavior", "metric", "planner_a", "planner_b", "paper", "ours", "verdict", "significant"});
-    const auto isRelation = [](const std::string& s) { return s == "<" || s == ">" || s == "="; };
     for (std::size_t r = 0; r < t.rows(); ++r) {
       PaperOrdering o;
       o.scenario = t.text(r, 0);
@@ -168,13 +181,10 @@ void readPaper(BatchData& data) {
       o.ours = t.text(r, 6);
       o.verdict = t.text(r, 7);
       o.significant = lower(t.text(r, 8));
-      if (!isRelation(o.paper)) t.fail(r, "paper", "expected <, > or =, got '" + o.paper + "'");
-      if (!o.ours.empty() && !isRelation(o.ours))
-        t.fail(r, "ours", "expected <, >, = or nothing, got '" + o.ours + "'");
-      if (o.verdict != "agree" && o.verdict != "disagree" && o.verdict != "paper_tie" && o.verdict != "missing")
-        t.fail(r, "verdict", "expected agree, disagree, paper_tie or missing, got '" + o.verdict + "'");
-      if (o.significant != "true" && o.significant != "false" && !o.significant.empty())
-        t.fail(r, "significant", "expected true, false or nothing, got '" + t.text(r, 8) + "'");
+      requireOneOf(t, r, 5, o.paper, {"<", ">", "="});
+      requireOneOf(t, r, 6, o.ours, {"<", ">", "=", ""});
+      requireOneOf(t, r, 7, o.verdict, {"agree", "disagree", "paper_tie", "missing"});
+      requireOneOf(t, r, 8, o.significant, {"true", "false", ""});
       data.paper_orderings.push_back(std::move(o));
     }
   }
@@ -196,7 +206,7 @@ void readExpectations(BatchData& data) {
     e.condition = t.text(r, 4);
     e.value = t.text(r, 5);
     const std::string pass = lower(t.text(r, 6));
-    if (pass != "true" && pass != "false") t.fail(r, "pass", "expected true or false, got '" + t.text(r, 6) + "'");
+    requireOneOf(t, r, 6, pass, {"true", "false"});
     e.pass = pass == "true";
     if (e.metric.empty()) t.fail(r, "metric", "empty");
     data.expectations.push_back(std::move(e));

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "hunav/fingerprint.hpp"
 #include "hunav/message_checks.hpp"
@@ -41,6 +42,24 @@ TEST(MessageChecks, DuplicateIdsAreRejectedInAnyOrder) {
   EXPECT_NO_THROW(checkAgentStates(far, 1, "test"));
   far[0].desired_speed = -0.5;
   EXPECT_THROW(checkAgentStates(far, 1, "test"), BadMessage);
+}
+
+TEST(MessageChecks, UnorderedIdsAreSortedInTheCallersScratch) {
+  // A caller that checks every tick keeps the scratch: the ids of an unordered list land there
+  // sorted, and the next check reuses its storage.
+  std::vector<int32_t> scratch;
+  EXPECT_NO_THROW(checkAgentStates(withIds({1, 2, 5}), 3, "test", scratch));
+  EXPECT_TRUE(scratch.empty());  // increasing: one pass, the scratch untouched
+  EXPECT_NO_THROW(checkAgentStates(withIds({5, 1, 2}), 3, "test", scratch));
+  EXPECT_EQ(scratch, (std::vector<int32_t>{1, 2, 5}));
+  const int32_t* storage = scratch.data();
+  try {
+    checkAgentStates(withIds({4, 9, 4}), 3, "test", scratch);
+    ADD_FAILURE() << "duplicate id 4 accepted";
+  } catch (const BadMessage& e) {
+    EXPECT_EQ(std::string(e.what()), "test: duplicate agent id 4");
+  }
+  EXPECT_EQ(scratch.data(), storage);  // same size: no new storage
 }
 
 TEST(MessageChecks, NumbersBeyondAMillionAreRejected) {

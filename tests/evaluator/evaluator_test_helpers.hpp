@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/result_files.hpp"
 #include "hunav/results/number_text.hpp"
 #include "hunav/results/states_csv.hpp"
@@ -19,6 +20,11 @@
 #include "hunav/testing/temp_dir.hpp"
 
 namespace evaluator_test {
+
+// A metric of the default profile over a whole recording.
+inline double metric(const std::string& name, const hunav::evaluator::Recording& r) {
+  return hunav::evaluator::evaluateMetric("default", name, r);
+}
 
 using hunav::evaluator::EntityState;
 // states.csv and numbers, as the result files library writes and reads them.

@@ -216,14 +216,14 @@ TEST(SurpriseCostIds, AnyIdsGiveTheSameValues) {
   };
   const Recording small = recording(1, 2);
   const Recording large = recording(-3, 5000000);
-  EXPECT_EQ(metrics::surpriseShockCost(small), metrics::surpriseShockCost(large));
-  EXPECT_EQ(metrics::surpriseReactCost(small), metrics::surpriseReactCost(large));
+  EXPECT_EQ(metric("surprise_shock_cost", small), metric("surprise_shock_cost", large));
+  EXPECT_EQ(metric("surprise_react_cost", small), metric("surprise_react_cost", large));
   // Person a visible at every sample: t_vis = 0, 0.1, 0.2, 0.3, 0.4, SR = 1, 1/6, 1/3, 1/2, 2/3,
   // d = 2: react c = 0.225 (1 - SR) = 0, 0.1875, 0.15, 0.1125, (0.075 last, not integrated).
   // Person b visible from k = 2 (theta = |-1.4 - (-pi/2)| = 0.1708 rad): t_vis = 0, 0.1, 0.2,
   // SR = 1, 1/6, 1/3, d = 1: c = 0, (0.375 at k = 3), (0.3 at k = 4, not integrated).
   // React = 0.1 (0 + 0.1875 + 0.15 + (0.1125 + 0.375)) = 0.0825.
-  EXPECT_NEAR(metrics::surpriseReactCost(small), 0.0825, 1e-12);
+  EXPECT_NEAR(metric("surprise_react_cost", small), 0.0825, 1e-12);
 }
 
 // worker_min_people: the worker takes over at tick 150, when the crowd grows from 50 to 60 people.

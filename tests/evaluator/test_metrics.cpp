@@ -100,17 +100,17 @@ TEST(Metrics, TimeToReachGoal) {
   RecordingBuilder b;
   b.sample(1.25, robot(0, 0)).sample(2.0, robot(1, 0)).sample(4.5, robot(2, 0));
   // t_N - t_1 = 4.5 - 1.25 = 3.25
-  EXPECT_NEAR(metrics::timeToReachGoal(b.get()), 3.25, kTol);
+  EXPECT_NEAR(metric("time_to_reach_goal", b.get()), 3.25, kTol);
   RecordingBuilder one;
   one.sample(7.0, robot(0, 0));
-  EXPECT_EQ(metrics::timeToReachGoal(one.get()), 0.0);  // 7 - 7
+  EXPECT_EQ(metric("time_to_reach_goal", one.get()), 0.0);  // 7 - 7
 }
 
 TEST(Metrics, PathLength) {
   RecordingBuilder b;
   b.sample(0, robot(0, 0)).sample(1, robot(3, 4)).sample(2, robot(3, 4)).sample(3, robot(6, 8));
   // |(3,4)| + 0 + |(3,4)| = 5 + 0 + 5 = 10
-  EXPECT_NEAR(metrics::pathLength(b.get()), 10.0, kTol);
+  EXPECT_NEAR(metric("path_length", b.get()), 10.0, kTol);
 }
 
 TEST(Metrics, CumulativeHeadingChanges) {
@@ -119,7 +119,7 @@ TEST(Metrics, CumulativeHeadingChanges) {
   // -3 - 3 = -6 wraps to -6 + 2pi (0.2832, the short way across pi); -2.5 - (-3) = 0.5;
   // 2.5 - (-2.5) = 5 wraps to 5 - 2pi (-1.2832). Sum of magnitudes:
   // (2pi - 6) + 0.5 + (2pi - 5) = 4pi - 10.5 = 2.066370614359172
-  EXPECT_NEAR(metrics::cumulativeHeadingChanges(b.get()), 4 * kPi - 10.5, kTol);
+  EXPECT_NEAR(metric("cumulative_heading_changes", b.get()), 4 * kPi - 10.5, kTol);
 }
 
 namespace {
@@ -140,21 +140,21 @@ Recording peopleDistances() {
 
 TEST(Metrics, AvgDistanceToClosestPerson) {
   // Mean of m_k over the 3 samples with agents: (0.5 + 1.0 + 0) / 3 = 0.5
-  EXPECT_NEAR(metrics::avgDistanceToClosestPerson(peopleDistances()), 0.5, kTol);
+  EXPECT_NEAR(metric("avg_distance_to_closest_person", peopleDistances()), 0.5, kTol);
 }
 
 TEST(Metrics, MinimumDistanceToPeople) {
   // Clamped surface distances 1.5, 0.5, 4.5, 1.0, 0 -> min 0
-  EXPECT_NEAR(metrics::minimumDistanceToPeople(peopleDistances()), 0.0, kTol);
+  EXPECT_NEAR(metric("minimum_distance_to_people", peopleDistances()), 0.0, kTol);
   RecordingBuilder b;
   b.sample(0, robot(0, 0), {agent(1, 2, 0, 0.2), agent(2, 0, 1, 0.2)}).sample(1, robot(1, 0), {agent(1, 2, 0, 0.2)});
   // 1.5, 0.5, then |(1,0)| - 0.5 = 0.5 -> min 0.5
-  EXPECT_NEAR(metrics::minimumDistanceToPeople(b.get()), 0.5, kTol);
+  EXPECT_NEAR(metric("minimum_distance_to_people", b.get()), 0.5, kTol);
 }
 
 TEST(Metrics, MaximumDistanceToPeople) {
   // Clamped surface distances 1.5, 0.5, 4.5, 1.0, 0 -> max 4.5 (agent radius subtracted, as v2)
-  EXPECT_NEAR(metrics::maximumDistanceToPeople(peopleDistances()), 4.5, kTol);
+  EXPECT_NEAR(metric("maximum_distance_to_people", peopleDistances()), 4.5, kTol);
 }
 
 namespace {
@@ -178,15 +178,15 @@ Recording proxemics() {
 
 TEST(Metrics, IntimateSpaceIntrusions) {
   // 1 sample of 5 -> 100 * 1/5 = 20
-  EXPECT_NEAR(metrics::intimateSpaceIntrusions(proxemics()), 20.0, kTol);
+  EXPECT_NEAR(metric("intimate_space_intrusions", proxemics()), 20.0, kTol);
 }
 
 TEST(Metrics, PersonalSpaceIntrusions) {
-  EXPECT_NEAR(metrics::personalSpaceIntrusions(proxemics()), 20.0, kTol);  // s2 only: 100/5
+  EXPECT_NEAR(metric("personal_space_intrusions", proxemics()), 20.0, kTol);  // s2 only: 100/5
 }
 
 TEST(Metrics, SocialSpaceIntrusions) {
-  EXPECT_NEAR(metrics::socialSpaceIntrusions(proxemics()), 20.0, kTol);  // s3 only: 100/5
+  EXPECT_NEAR(metric("social_space_intrusions", proxemics()), 20.0, kTol);  // s3 only: 100/5
 }
 
 TEST(Metrics, SpaceIntrusionBandsAreHalfOpen) {
@@ -199,9 +199,9 @@ TEST(Metrics, SpaceIntrusionBandsAreHalfOpen) {
       .sample(1, r, {agent(1, 1.2, 0, 0.0)})
       .sample(2, r, {agent(1, 3.6, 0, 0.0)})
       .sample(3, r, {agent(1, 0.44, 0, 0.0)});
-  EXPECT_NEAR(metrics::intimateSpaceIntrusions(b.get()), 25.0, kTol);  // 100 * 1/4
-  EXPECT_NEAR(metrics::personalSpaceIntrusions(b.get()), 25.0, kTol);
-  EXPECT_NEAR(metrics::socialSpaceIntrusions(b.get()), 25.0, kTol);
+  EXPECT_NEAR(metric("intimate_space_intrusions", b.get()), 25.0, kTol);  // 100 * 1/4
+  EXPECT_NEAR(metric("personal_space_intrusions", b.get()), 25.0, kTol);
+  EXPECT_NEAR(metric("social_space_intrusions", b.get()), 25.0, kTol);
 }
 
 namespace {
@@ -227,40 +227,40 @@ Recording groups() {
 }  // namespace
 
 TEST(Metrics, GroupIntimateSpaceIntrusions) {
-  EXPECT_NEAR(metrics::groupIntimateSpaceIntrusions(groups()), 20.0, kTol);  // s1: 100/5
+  EXPECT_NEAR(metric("group_intimate_space_intrusions", groups()), 20.0, kTol);  // s1: 100/5
 }
 
 TEST(Metrics, GroupPersonalSpaceIntrusions) {
-  EXPECT_NEAR(metrics::groupPersonalSpaceIntrusions(groups()), 20.0, kTol);  // s2: 100/5
+  EXPECT_NEAR(metric("group_personal_space_intrusions", groups()), 20.0, kTol);  // s2: 100/5
 }
 
 TEST(Metrics, GroupSocialSpaceIntrusions) {
-  EXPECT_NEAR(metrics::groupSocialSpaceIntrusions(groups()), 20.0, kTol);  // s3: 100/5
+  EXPECT_NEAR(metric("group_social_space_intrusions", groups()), 20.0, kTol);  // s3: 100/5
 }
 
 TEST(Metrics, GroupIntrusionsWithoutGroupsAreZero) {
-  EXPECT_EQ(metrics::groupIntimateSpaceIntrusions(proxemics()), 0.0);
-  EXPECT_EQ(metrics::groupPersonalSpaceIntrusions(proxemics()), 0.0);
-  EXPECT_EQ(metrics::groupSocialSpaceIntrusions(proxemics()), 0.0);
+  EXPECT_EQ(metric("group_intimate_space_intrusions", proxemics()), 0.0);
+  EXPECT_EQ(metric("group_personal_space_intrusions", proxemics()), 0.0);
+  EXPECT_EQ(metric("group_social_space_intrusions", proxemics()), 0.0);
 }
 
 TEST(Metrics, Completed) {
   // Goal (0,0) radius 0.5: the last sample at (0.5,0) is exactly on the circle -> within -> true.
   RecordingBuilder on;
   on.sample(0, robotWithGoal(3, 0, 0, 0, 0.5)).sample(1, robotWithGoal(0.5, 0, 0, 0, 0.5));
-  EXPECT_EQ(metrics::completed(on.get()), 1.0);
+  EXPECT_EQ(metric("completed", on.get()), 1.0);
   // Last sample at (0.75,0): 0.75 > 0.5 -> false, even though an earlier sample was at the goal.
   RecordingBuilder off;
   off.sample(0, robotWithGoal(0, 0, 0, 0, 0.5)).sample(1, robotWithGoal(0.75, 0, 0, 0, 0.5));
-  EXPECT_EQ(metrics::completed(off.get()), 0.0);
+  EXPECT_EQ(metric("completed", off.get()), 0.0);
   // The world cleared the goal in the last sample: the latest goal seen counts; (0.25,0) -> true.
   RecordingBuilder cleared;
   cleared.sample(0, robotWithGoal(2, 0, 0, 0, 0.5)).sample(1, robot(0.25, 0));
-  EXPECT_EQ(metrics::completed(cleared.get()), 1.0);
+  EXPECT_EQ(metric("completed", cleared.get()), 1.0);
   // No goal at all -> false.
   RecordingBuilder none;
   none.sample(0, robot(0, 0));
-  EXPECT_EQ(metrics::completed(none.get()), 0.0);
+  EXPECT_EQ(metric("completed", none.get()), 0.0);
 }
 
 namespace {
@@ -279,12 +279,12 @@ Recording targets() {
 
 TEST(Metrics, MinimumDistanceToTarget) {
   // min(10, 4, 1.5, 3) = 1.5 (the sample without goal is not measured)
-  EXPECT_NEAR(metrics::minimumDistanceToTarget(targets()), 1.5, kTol);
+  EXPECT_NEAR(metric("minimum_distance_to_target", targets()), 1.5, kTol);
 }
 
 TEST(Metrics, FinalDistanceToTarget) {
   // |(7,0) - (10,0)| = 3
-  EXPECT_NEAR(metrics::finalDistanceToTarget(targets()), 3.0, kTol);
+  EXPECT_NEAR(metric("final_distance_to_target", targets()), 3.0, kTol);
 }
 
 TEST(Metrics, TimeNotMoving) {
@@ -301,7 +301,7 @@ TEST(Metrics, TimeNotMoving) {
       .sample(1.5, robotMoving(0.009, -0.019))
       .sample(2.0, robotMoving(0.2, 0))
       .sample(3.0, robotMoving(0, 0));
-  EXPECT_NEAR(metrics::timeNotMoving(b.get()), 1.0, kTol);
+  EXPECT_NEAR(metric("time_not_moving", b.get()), 1.0, kTol);
 }
 
 TEST(Metrics, AvgRobotLinearSpeed) {
@@ -311,7 +311,7 @@ TEST(Metrics, AvgRobotLinearSpeed) {
       .sample(2, robotMoving(0.25, 0))
       .sample(3, robotMoving(0.75, 0));
   // (0.5 + 1.0 + 0.25 + 0.75) / 4 = 2.5 / 4 = 0.625
-  EXPECT_NEAR(metrics::avgRobotLinearSpeed(b.get()), 0.625, kTol);
+  EXPECT_NEAR(metric("avg_robot_linear_speed", b.get()), 0.625, kTol);
 }
 
 TEST(Metrics, AvgRobotAngularSpeed) {
@@ -321,7 +321,7 @@ TEST(Metrics, AvgRobotAngularSpeed) {
       .sample(2, robotMoving(0, 0))
       .sample(3, robotMoving(0, -0.4));
   // (|0.2| + |-0.6| + 0 + |-0.4|) / 4 = 1.2 / 4 = 0.3
-  EXPECT_NEAR(metrics::avgRobotAngularSpeed(b.get()), 0.3, kTol);
+  EXPECT_NEAR(metric("avg_robot_angular_speed", b.get()), 0.3, kTol);
 }
 
 namespace {
@@ -339,7 +339,7 @@ Recording accelerations() {
 
 TEST(Metrics, AvgAcceleration) {
   // (|1| + |-0.5| + |1|) / 3 intervals = 2.5 / 3 = 0.8333333333
-  EXPECT_NEAR(metrics::avgAcceleration(accelerations()), 2.5 / 3.0, kTol);
+  EXPECT_NEAR(metric("avg_acceleration", accelerations()), 2.5 / 3.0, kTol);
 }
 
 TEST(Metrics, AvgOveracceleration) {
@@ -347,10 +347,10 @@ TEST(Metrics, AvgOveracceleration) {
   //  j1 = (-0.5 - 1) / ((1 - 0)/2) = -1.5 / 0.5 = -3
   //  j2 = (1 - (-0.5)) / ((2 - 0.5)/2) = 1.5 / 0.75 = 2
   // (|-3| + |2|) / 2 = 2.5
-  EXPECT_NEAR(metrics::avgOveracceleration(accelerations()), 2.5, kTol);
+  EXPECT_NEAR(metric("avg_overacceleration", accelerations()), 2.5, kTol);
   RecordingBuilder two;
   two.sample(0, robotMoving(0, 0)).sample(1, robotMoving(1, 0));
-  EXPECT_EQ(metrics::avgOveracceleration(two.get()), 0.0);  // one acceleration: no jerk
+  EXPECT_EQ(metric("avg_overacceleration", two.get()), 0.0);  // one acceleration: no jerk
 }
 
 TEST(Metrics, AvgPedestrianVelocity) {
@@ -360,7 +360,7 @@ TEST(Metrics, AvgPedestrianVelocity) {
       .sample(2, robot(0, 0));
   // Over the 3 (sample, agent) pairs: (0.5 + 1.5 + 1.0) / 3 = 1.0
   // (HuNavSim's sum / (N * agents of the first sample) would give 3.0 / 6 = 0.5.)
-  EXPECT_NEAR(metrics::avgPedestrianVelocity(b.get()), 1.0, kTol);
+  EXPECT_NEAR(metric("avg_pedestrian_velocity", b.get()), 1.0, kTol);
 }
 
 TEST(Metrics, AvgClosestPedestrianVelocity) {
@@ -374,7 +374,7 @@ TEST(Metrics, AvgClosestPedestrianVelocity) {
   b.sample(0, robot(0, 0), {agent(1, 1, 0, 0.2, 0, -1, 0.5), agent(2, 0, 1.2, 0.8, 0, -1, 1.5)})
       .sample(1, robot(0, 0), {agent(1, 2, 0, 0.2, 0, -1, 1.0)})
       .sample(2, robot(0, 0));
-  EXPECT_NEAR(metrics::avgClosestPedestrianVelocity(b.get()), 1.25, kTol);
+  EXPECT_NEAR(metric("avg_closest_pedestrian_velocity", b.get()), 1.25, kTol);
 }
 
 // ---------------------------------------------------------------------------------------------

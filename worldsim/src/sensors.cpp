@@ -6,7 +6,7 @@
 namespace hunav::worldsim {
 
 void laserScan(const PhysicsWorld& physics, const Vec2& position, double yaw, const LaserConfig& laser,
-               std::mt19937_64& rng, laser_scan_t& scan) {
+               std::mt19937_64& rng, laser_scan_t& scan, std::vector<double>& ranges) {
   scan.sensor_x = position.x();
   scan.sensor_y = position.y();
   scan.sensor_yaw = yaw;
@@ -17,7 +17,6 @@ void laserScan(const PhysicsWorld& physics, const Vec2& position, double yaw, co
   scan.range_max = laser.range_max;
   scan.num_ranges = laser.beams;
   scan.ranges.resize(static_cast<std::size_t>(laser.beams));
-  thread_local std::vector<double> ranges;
   physics.rayFan(position, yaw + scan.angle_min, scan.angle_increment, laser.beams, laser.range_max, ranges);
   std::normal_distribution<double> noise(0.0, laser.noise_std);
   for (std::size_t i = 0; i < ranges.size(); ++i) {

@@ -22,6 +22,20 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The pose and velocity of a body as an agent state carries them (yaw wrapped into (-pi, pi]).
+void setMotion(agent_state_t& s, const b2Body& body) {
+  const Vec2 p = toVec(body.GetPosition());
+  const Vec2 v = toVec(body.GetLinearVelocity());
+  s.x = p.x();
+  s.y = p.y();
+  s.yaw = normalizeAngle(body.GetAngle());
+  s.vx = v.x();
+  s.vy = v.y();
+  s.vyaw = body.GetAngularVelocity();
+  s.linear_vel = v.norm();
+  s.angular_vel = s.vyaw;
+}
+
 double threadCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
@@ -148,19 +162,9 @@ void WorldSim::sense() {
     in_sight_.assign(agents_.size(), 0);
   for (std::size_t i = 0; i < agents_.size(); ++i) {
     agent_state_t& s = agents_[i];
-    const b2Body& body = physics_->person(i);
-    const Vec2 p = toVec(body.GetPosition());
-    const Vec2 v = toVec(body.GetLinearVelocity());
     s.utime = time_us_;
-    s.x = p.x();
-    s.y = p.y();
-    s.yaw = normalizeAngle(body.GetAngle());
-    s.vx = v.x();
-    s.vy = v.y();
-    s.vyaw = body.GetAngularVelocity();
-    s.linear_vel = v.norm();
-    s.angular_vel = s.vyaw;
-    obstaclePoints(p, obstacle_scratch_);
+    setMotion(s, physics_->person(i));
+    obstaclePoints(positions_[i], obstacle_scratch_);
     setObstacles(s, obstacle_scratch_);
     s.robot_in_sight = in_sight_[i] != 0;
   }
@@ -208,17 +212,7 @@ void WorldSim::setRobotMotion(agent_state_t& r) const {
     setObstacles(r, robot_obstacles_);
     return;
   }
-  const b2Body& body = physics_->robot();
-  const Vec2 p = toVec(body.GetPosition());
-  const Vec2 v = toVec(body.GetLinearVelocity());
-  r.x = p.x();
-  r.y = p.y();
-  r.yaw = normalizeAngle(body.GetAngle());
-  r.vx = v.x();
-  r.vy = v.y();
-  r.vyaw = body.GetAngularVelocity();
-  r.linear_vel = v.norm();
-  r.angular_vel = r.vyaw;
+  setMotion(r, physics_->robot());
   setObstacles(r, robot_obstacles_);
 }
 
@@ -244,7 +238,7 @@ void WorldSim::publishWorldState() {
 
 void WorldSim::onStepReply(const step_reply_t& reply) {
   if (reply.episode != episode_ || reply.seq != step_seq_ || reply_arrived_) return;  // stale or duplicate
-  checkAgentStates(reply.agents, reply.num_agents, "step reply");
+  checkAgentStates(reply.agents, reply.num_agents, "step reply", reply_ids_);
   if (reply.agents.size() != agents_.size()) throw BadMessage("step reply: wrong number of agents");
   if (reply.dropped_messages < 0) throw BadMessage("step reply: negative dropped_messages");
   for (std::size_t i = 0; i < agents_.size(); ++i)
@@ -378,7 +372,7 @@ robot_observation_t WorldSim::observation() {
   obs.goal.radius = rc.goal_radius;
 
   obs.scan.utime = time_us_;
-  laserScan(*physics_, p, yaw, rc.laser, laser_rng_, obs.scan);
+  laserScan(*physics_, p, yaw, rc.laser, laser_rng_, obs.scan, laser_ranges_);
 
   // People within range and field of view, and not hidden behind static geometry (the line of sight
   // sensed this tick between the person and the robot).

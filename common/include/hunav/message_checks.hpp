@@ -19,6 +19,11 @@ inline constexpr int kMaxPointsPerAgent = 10000;
 // its bound (kRadiusBound, forEachBehaviorNumber: the bounds the loaders enforce), or inconsistent
 // array sizes.
 void checkAgentState(const agent_state_t& a, const char* what);
+// checkAgentState for each, the count against declared_count, and no id twice. Ids in increasing
+// order (the rule) take one pass; others are sorted in `id_scratch`, which a caller that checks
+// every tick keeps so that checking allocates nothing once warm. Without it, one allocation.
+void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what,
+                      std::vector<int32_t>& id_scratch);
 void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what);
 
 inline void checkFinite(double v, const char* field, const char* what) {

@@ -4,16 +4,17 @@
 // Metrics stream: each one is an accumulator that sees every sample once, in time order, and keeps
 // only what it needs of the past (a sum, the previous sample's speed, the people in contact...), so
 // evaluating a run costs one pass and memory independent of its length. A metric is a small copyable
-// struct with two functions, added to the registry with one line in registerDefaultMetrics() or
-// registerHunavV1Metrics() (metrics.cpp), under a name of the profile's catalogue, which gives its
-// unit, kind and per-tick column (result_files/include/hunav/results/metric_catalog.hpp):
+// struct with two functions, added with one row to a table of accumulators by name (coreAccumulators()
+// in metrics.cpp, or those of metrics_social.cpp and metrics_v1.cpp) under a name of the profile's
+// catalogue, which gives its unit, kind, per-tick column and place
+// (result_files/include/hunav/results/metric_catalog.hpp):
 //
 //   struct PathLength {
 //     bool any = false;  Vec2 previous;  double sum = 0.0;
 //     double add(const SampleView& s) { ...; return per_tick_value; }  // each sample, in order
 //     double value() const { return sum; }                              // the metric so far
 //   };
-//   add("path_length", make<PathLength>());               // metrics.cpp, in the catalogue's order
+//   {"path_length", make<PathLength>},                    // a row of a profile's table (metrics.cpp)
 //   r.add<PathLength>("path_length", "m", MetricKind::Real);  // any other registry
 //
 // Metrics are evaluated and written in registration order, which follows HuNavSim's evaluation order
@@ -189,69 +190,11 @@ inline constexpr double kReactTime = 0.6;                                       
 inline constexpr double kShockGamma = 4.0;                                       // t_react / t_recognise = 0.6 / 0.15
 inline constexpr double kShockDistance = 0.45;  // m, numerator of the shock/react costs
 
-// Each metric of the default profile over a whole recording (its accumulator fed every sample), for
-// tests and tools.
-namespace metrics {
-double timeToReachGoal(const Recording& r);
-double pathLength(const Recording& r);
-double cumulativeHeadingChanges(const Recording& r);
-double avgDistanceToClosestPerson(const Recording& r);
-double minimumDistanceToPeople(const Recording& r);
-double maximumDistanceToPeople(const Recording& r);
-double intimateSpaceIntrusions(const Recording& r);
-double personalSpaceIntrusions(const Recording& r);
-double socialSpaceIntrusions(const Recording& r);
-double groupIntimateSpaceIntrusions(const Recording& r);
-double groupPersonalSpaceIntrusions(const Recording& r);
-double groupSocialSpaceIntrusions(const Recording& r);
-double completed(const Recording& r);
-double minimumDistanceToTarget(const Recording& r);
-double finalDistanceToTarget(const Recording& r);
-double timeNotMoving(const Recording& r);
-double avgRobotLinearSpeed(const Recording& r);
-double avgRobotAngularSpeed(const Recording& r);
-double avgAcceleration(const Recording& r);
-double avgOveracceleration(const Recording& r);
-double avgPedestrianVelocity(const Recording& r);
-double avgClosestPedestrianVelocity(const Recording& r);
-double robotOnPersonCollision(const Recording& r);
-double personOnRobotCollision(const Recording& r);
-double socialForceOnAgents(const Recording& r);
-double socialForceOnRobot(const Recording& r);
-double socialWork(const Recording& r);
-double obstacleForceOnRobot(const Recording& r);
-double obstacleForceOnAgents(const Recording& r);
-double dangerFearCost(const Recording& r);
-double dangerPanicCost(const Recording& r);
-double surpriseVisibilityCost(const Recording& r);
-double surpriseShockCost(const Recording& r);
-double surpriseReactCost(const Recording& r);
-}  // namespace metrics
+// One metric of a profile over a whole recording (its accumulator fed every sample), for tests and
+// tools. Throws std::invalid_argument for an unknown profile or metric name.
+double evaluateMetric(const std::string& profile, const std::string& name, const Recording& recording);
 
-// The same for the metrics of the hunav_v1 profile that differ from the default ones (HuNavSim v1's
-// evaluator; docs/metrics.md lists every difference).
 namespace metrics_v1 {
-double avgDistanceToClosestPerson(const Recording& r);
-double maximumDistanceToPeople(const Recording& r);
-double completed(const Recording& r);
-double robotOnPersonCollision(const Recording& r);
-double personOnRobotCollision(const Recording& r);
-double timeNotMoving(const Recording& r);
-double avgRobotLinearSpeed(const Recording& r);
-double avgAcceleration(const Recording& r);
-double avgOveracceleration(const Recording& r);
-double avgPedestrianVelocity(const Recording& r);
-double avgClosestPedestrianVelocity(const Recording& r);
-double socialForceOnAgents(const Recording& r);
-double socialForceOnRobot(const Recording& r);
-double socialWork(const Recording& r);
-double obstacleForceOnRobot(const Recording& r);
-double obstacleForceOnAgents(const Recording& r);
-double dangerFearCost(const Recording& r);
-double dangerPanicCost(const Recording& r);
-double surpriseVisibilityCost(const Recording& r);
-double surpriseShockCost(const Recording& r);
-double surpriseReactCost(const Recording& r);
 // The social force of HuNavSim's evaluator (sfm.py): omega_s = 2.1 and the angle computed with the
 // atan2 arguments swapped, theta = angle(e) - atan2(t_x, t_y), wrapped once.
 Vec2 socialForceV1(const Vec2& me_pos, const Vec2& me_vel, const Vec2& other_pos, const Vec2& other_vel);

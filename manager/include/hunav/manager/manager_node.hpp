@@ -3,6 +3,7 @@
 // messages the node dropped so far (the world puts the episode's share into its END event).
 #include <cstdint>
 #include <hunav/episode_event_t.hpp>
+#include <vector>
 
 #include "hunav/bus.hpp"
 #include "hunav/manager/agent_manager.hpp"
@@ -35,8 +36,9 @@ class ManagerNode {
   bool have_answered_ = false;  // answered_seq_ and answered_episode_ are set
   std::int64_t answered_seq_ = 0;
   std::int64_t answered_episode_ = 0;
-  step_reply_t last_reply_;  // the answer to answered_seq_, kept for resends
-  people_social_t social_;   // PEOPLE_SOCIAL, reused
+  step_reply_t last_reply_;           // the answer to answered_seq_, kept for resends
+  people_social_t social_;            // PEOPLE_SOCIAL, reused
+  std::vector<int32_t> request_ids_;  // checkAgentStates' sort, for a request out of id order
   std::uint64_t steps_computed_ = 0;
   std::uint64_t replies_resent_ = 0;
   std::uint64_t episodes_ended_ = 0;

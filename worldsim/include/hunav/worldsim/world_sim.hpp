@@ -169,6 +169,8 @@ class WorldSim {
   std::vector<Vec2> obstacle_scratch_;
   std::vector<Vec2> positions_;  // of the people, this tick
   std::vector<char> in_sight_;
+  std::vector<double> laser_ranges_;  // laserScan's ray casts
+  std::vector<int32_t> reply_ids_;    // checkAgentStates' sort, for a reply out of id order
   std::mt19937_64 laser_rng_;
   std::mt19937_64 perception_rng_;
 
