@@ -487,7 +487,7 @@ void EvaluatorNode::onWorldState(const world_state_t& ws) {
   // Non-finite numbers, negative radii, impossible sizes, duplicate ids (common checks).
   try {
     checkAgentState(ws.robot, "world state robot");
-    checkAgentStates(ws.agents, ws.num_agents, "world state agents");
+    checkAgentStates(ws.agents, ws.num_agents, "world state agents", ids_scratch_);
   } catch (const BadMessage& e) {
     reject(fmt::format("tick {}: {}", ws.tick, e.what()));
   }
