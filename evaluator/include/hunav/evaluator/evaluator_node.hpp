@@ -170,7 +170,7 @@ class EvaluatorNode {
   std::vector<std::uint8_t> encode_buffer_;
   std::vector<EntityState> agents_scratch_;
   std::vector<Vec2> points_scratch_;
-  std::vector<std::int32_t> ids_scratch_;  // checkAgentStates' sort of ids out of order
+  std::vector<std::int32_t> ids_scratch_;                     // checkAgentStates' sort of ids out of order
   std::chrono::steady_clock::time_point last_flush_request_;  // with a worker: flushIfDue()'s last request
   std::set<std::string> used_run_dirs_;                       // folders of episodes 2, 3, ...
   ThreadPool* threads_ = nullptr;   // whose lane the worker takes; null: none given, or no lane was free
