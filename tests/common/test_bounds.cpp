@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "hunav/agent_state.hpp"
 #include "hunav/agents_file.hpp"
 #include "hunav/bounds.hpp"
 #include "hunav/config_error.hpp"
@@ -42,31 +43,15 @@ std::string agentsFileWith(const std::string& key, const std::string& value) {
   return hunav::testing::writeFile(hunav::testing::testDir() / ("agents_" + key + ".yaml"), text);
 }
 
-// agent1 of the loaded file as the world puts it into its messages (worldsim's initialAgentState).
-agent_state_t asMessage(const AgentConfig& a) {
-  agent_state_t s{};
-  s.id = a.id;
-  s.x = a.position.x();
-  s.y = a.position.y();
-  s.radius = a.radius;
-  s.desired_speed = a.max_vel;
-  s.goal_radius = a.goal_radius;
-  s.behavior_params.duration = a.params.duration;
-  s.behavior_params.vel = a.params.vel;
-  s.behavior_params.dist = a.params.dist;
-  s.behavior_params.goal_force_factor = a.params.goal_force_factor;
-  s.behavior_params.obstacle_force_factor = a.params.obstacle_force_factor;
-  s.behavior_params.social_force_factor = a.params.social_force_factor;
-  s.behavior_params.other_force_factor = a.params.other_force_factor;
-  return s;
-}
-
 }  // namespace
 
 TEST(Bounds, HunavAgentsFileLoadsUnchangedAndItsAgentsPassTheMessageChecks) {
   const auto agents = loadAgentsFile(std::string(HUNAV_SOURCE_DIR) + "/tests/data/hunav_files/agents.yaml", 1);
   ASSERT_EQ(agents.size(), 5u);
-  for (const AgentConfig& a : agents) EXPECT_NO_THROW(checkAgentState(asMessage(a), "test")) << a.name;
+  for (const AgentConfig& a : agents)
+    EXPECT_NO_THROW(checkAgentState(
+        startingAgentState(a, std::string(HUNAV_SOURCE_DIR) + "/tests/data/hunav_files/agents.yaml"), "test"))
+        << a.name;
 }
 
 TEST(Bounds, AParameterOf1e6IsALoadErrorAtItsLineWhenTheMessagesWouldBeDropped) {
@@ -85,9 +70,9 @@ TEST(Bounds, AParameterOf1e6IsALoadErrorAtItsLineWhenTheMessagesWouldBeDropped) 
   for (const Case& c : cases) {
     // At the bound: loads, and the world's message with it passes every receiver's check.
     const auto ok = loadAgentsFile(agentsFileWith(c.key, c.at_bound), 1);
-    EXPECT_NO_THROW(checkAgentState(asMessage(ok.at(0)), "test")) << c.key;
+    EXPECT_NO_THROW(checkAgentState(startingAgentState(ok.at(0), "agents.yaml"), "test")) << c.key;
     // Beyond: the message would be dropped by every receiver, so the file is refused where it says it.
-    agent_state_t beyond = asMessage(ok.at(0));
+    agent_state_t beyond = startingAgentState(ok.at(0), "agents.yaml");
     const double v = std::stod(c.beyond);
     const std::string key = c.key;
     if (key == "duration") beyond.behavior_params.duration = v;

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "diff_drive.hpp"
+#include "hunav/agent_state.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/message_checks.hpp"
 #include "physics_world.hpp"
@@ -40,36 +41,6 @@ double threadCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
-}
-
-agent_state_t initialAgentState(const AgentConfig& a, const std::string& scenario_file) {
-  agent_state_t s{};
-  s.id = a.id;
-  s.type = agent_state_t::TYPE_PERSON;
-  s.name = a.name;
-  s.behavior = static_cast<int8_t>(a.behavior);
-  s.behavior_state = agent_state_t::STATE_INACTIVE;
-  s.behavior_params.configuration = static_cast<int8_t>(a.params.configuration);
-  s.behavior_params.duration = a.params.duration;
-  s.behavior_params.once = a.params.once;
-  s.behavior_params.vel = a.params.vel;
-  s.behavior_params.dist = a.params.dist;
-  s.behavior_params.goal_force_factor = a.params.goal_force_factor;
-  s.behavior_params.obstacle_force_factor = a.params.obstacle_force_factor;
-  s.behavior_params.social_force_factor = a.params.social_force_factor;
-  s.behavior_params.other_force_factor = a.params.other_force_factor;
-  s.behavior_tree = behaviorTreeReference(scenario_file, a.behavior_tree);  // independent of the working directory
-  s.group_id = a.group_id;
-  s.x = a.position.x();
-  s.y = a.position.y();
-  s.yaw = normalizeAngle(a.yaw);
-  s.radius = a.radius;
-  s.desired_speed = a.max_vel;
-  for (const Vec2& g : a.goals) s.goals.push_back(point2d_t{g.x(), g.y()});
-  s.num_goals = static_cast<int32_t>(s.goals.size());
-  s.goal_radius = a.goal_radius;
-  s.cyclic_goals = a.cyclic_goals;
-  return s;
 }
 
 void setObstacles(agent_state_t& s, const std::vector<Vec2>& points) {
@@ -130,7 +101,7 @@ void WorldSim::reset() {
   physics_ = std::make_unique<PhysicsWorld>(scenario_, !options_.robot_absent);
   robot_obstacles_.clear();
   agents_.clear();
-  for (const AgentConfig& a : scenario_.agents) agents_.push_back(initialAgentState(a, scenario_.file));
+  for (const AgentConfig& a : scenario_.agents) agents_.push_back(startingAgentState(a, scenario_.file));
   robot_v_ = robot_vy_ = robot_w_ = cmd_v_ = cmd_vy_ = cmd_w_ = 0.0;
   seedStream(laser_rng_, scenario_.seed, 0x6c61u /* "la": laser noise */);
   seedStream(perception_rng_, scenario_.seed, 0x7065u /* "pe": people detection noise */);
