@@ -95,11 +95,22 @@ void Costmap::buildStaticLayer() {
     int x0, y0, x1, y1;
     worldToCell(lo - Vec2(inflation_, inflation_), x0, y0);
     worldToCell(hi + Vec2(inflation_, inflation_), x1, y1);
-    for (int cy = y0; cy <= y1; ++cy)
+    for (int cy = y0; cy <= y1; ++cy) {
+      const double y = cellCenter(0, cy).y();
+      const double dy = std::max({lo.y() - y, 0.0, y - hi.y()});
       for (int cx = x0; cx <= x1; ++cx) {
         float& d = static_distance_[static_cast<std::size_t>(index(cx, cy))];
-        d = std::min(d, static_cast<float>(shape.distance(cellCenter(cx, cy))));
+        const Vec2 center = cellCenter(cx, cy);
+        // The distance to the shape's bounds is a lower bound of the distance to the shape: a cell
+        // already that close to another shape (or beyond the inflation) keeps its distance, and the
+        // shape's exact distance, the costly part of a real map's layer, is not computed. The margin
+        // covers the rounding of the exact distance, so d is what the unpruned minimum gives.
+        const double dx = std::max({lo.x() - center.x(), 0.0, center.x() - hi.x()});
+        const double bound = static_cast<double>(d) * (1.0 + 1e-6) + 1e-9;
+        if (dx * dx + dy * dy > bound * bound) continue;
+        d = std::min(d, static_cast<float>(shape.distance(center)));
       }
+    }
   }
   static_.resize(cells);
   for (std::size_t i = 0; i < cells; ++i) static_[i] = costFromDistance(static_distance_[i]);

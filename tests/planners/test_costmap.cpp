@@ -371,3 +371,37 @@ TEST(Costmap, RowSquaredDistancesAreThePerCellArithmeticBitForBit) {
   }
   EXPECT_GT(compared, 5000);
 }
+
+// The static layer skips a shape's exact distance where the distance to the shape's bounds already
+// shows it cannot lower the cell's. On HuNavSim's maps (hundreds of rectangles) every cell must hold
+// what the plain loop gives: for each shape, each cell of its inflated bounds, the minimum of the
+// distances as floats.
+TEST(Costmap, StaticLayerOnRealMapsIsThePlainMinimumOverTheShapes) {
+  for (const char* name : {"cafe", "house", "warehouse"}) {
+    SCOPED_TRACE(name);
+    const Scenario scenario = hunav::testing::shippedScenario(name);
+    ASSERT_GT(scenario.shapes.size(), 50u);
+    const Costmap map(scenario, scenario.robot.radius, CostmapParams{});
+    const double inflation = map.inflationRadius();
+    std::vector<float> plain(static_cast<std::size_t>(map.width()) * static_cast<std::size_t>(map.height()),
+                             static_cast<float>(inflation));
+    for (const Shape& shape : scenario.shapes) {
+      Vec2 lo, hi;
+      shape.bounds(lo, hi);
+      int x0, y0, x1, y1;
+      map.worldToCell(lo - Vec2(inflation, inflation), x0, y0);
+      map.worldToCell(hi + Vec2(inflation, inflation), x1, y1);
+      for (int cy = y0; cy <= y1; ++cy)
+        for (int cx = x0; cx <= x1; ++cx) {
+          float& d = plain[static_cast<std::size_t>(map.index(cx, cy))];
+          d = std::min(d, static_cast<float>(shape.distance(map.cellCenter(cx, cy))));
+        }
+    }
+    std::size_t differing = 0;
+    for (int cy = 0; cy < map.height(); ++cy)
+      for (int cx = 0; cx < map.width(); ++cx)
+        if (static_cast<float>(map.staticDistance(cx, cy)) != plain[static_cast<std::size_t>(map.index(cx, cy))])
+          ++differing;
+    EXPECT_EQ(differing, 0u);
+  }
+}
