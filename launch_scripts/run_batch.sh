@@ -280,6 +280,8 @@ if [ "${1:-}" = --run-chunk ]; then
   rm -f "$reason_file"
   # hunav_run stays in this job's process group (lib.sh's start without use_own_sessions), so a
   # terminal's Ctrl-C reaches it too.
+  # Every core busy with a chunk of its own (or a Slurm task's one CPU): each hunav_run on one thread.
+  [ "${HUNAV_BATCH_SINGLE_THREAD:-0}" -eq 0 ] || run_args+=(--single-thread)
   start hunav_run "$chunk_log" env HUNAV_STOP_REASON_FILE="$reason_file" "$bin_dir/hunav_run" --scenario "$file" \
     --planner "$planner" --seeds "$seed_csv" --folder-label "$scenario" --out "$out/runs" --quiet "${run_args[@]}"
   # Past the limit: the reason first (the run is then recorded as aborted with it), then SIGTERM.
@@ -521,6 +523,10 @@ if [ "$mode" = inprocess ]; then
   [ "$chunk_size" -ge 1 ] || chunk_size=1
   [ "$chunk_size" -le 10 ] || chunk_size=10
   export HUNAV_BATCH_TOTAL=$total
+  # As many jobs as cores: a hunav_run's own threads (the evaluator's lane) would only add the CPU
+  # of their hand-offs (14% of an episode), so each runs on one thread (the same results).
+  cores=$(nproc 2>/dev/null || echo 1)
+  export HUNAV_BATCH_SINGLE_THREAD=$((jobs >= cores ? 1 : 0))
   : >"$out/.chunks"
   current="" seeds_csv="" count=0
   skipped=()

@@ -95,7 +95,8 @@ case "${1:-}" in
     # A run finished without --counterfactual is not finished for a batch with it (run_batch.sh).
     cf=0
     for o in "${options[@]}"; do [ "$o" != --counterfactual ] || cf=1; done
-    export HUNAV_BATCH_COUNTERFACTUAL=$cf HUNAV_BIN_DIR=$bin_dir
+    # One CPU per task: each hunav_run on one thread (run_batch.sh --run-chunk passes --single-thread).
+    export HUNAV_BATCH_COUNTERFACTUAL=$cf HUNAV_BIN_DIR=$bin_dir HUNAV_BATCH_SINGLE_THREAD=1
     # Every command runs (a failed run does not stop the task's others); the task's exit code is the
     # last non-zero one.
     task_rc=0

@@ -1,6 +1,7 @@
 // hunav_run: one episode with every component in this process (no network), then a metrics table.
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -83,6 +84,7 @@ struct Options {
   bool quiet = false;
   bool no_states_csv = false;
   bool no_per_tick_files = false;
+  bool single_thread = false;
   CLI::Option* experiment_tag = nullptr;  // given on the command line when its count() > 0
 };
 
@@ -136,6 +138,11 @@ void addOptions(CLI::App& app, Options& o) {
                "do not write states.csv (the metrics and every other file are the same; saves formatting one row "
                "per entity per sample); not with --counterfactual, which reads it back")
       ->excludes("--counterfactual");
+  app.add_flag(
+      "--single-thread", o.single_thread,
+      "run everything on the main thread (no evaluator lane, no helper for large crowds): the same "
+      "results for the least CPU per run, for batches that keep every core busy with runs of their own "
+      "(run_batch.sh passes it when --jobs is at least the number of cores; slurm_batch.sh's tasks have one CPU)");
   app.add_flag("--no-per-tick-files", o.no_per_tick_files,
                "do not write the per-tick metric files (metrics_steps.csv, metrics_beh_<b>_steps.csv); the metrics "
                "and summaries are the same");
@@ -242,8 +249,11 @@ int run(Options& o) {
   o.run.stop = &hunav::installStopSignals();
   // The process's threads, for every episode of a series: a helper for large crowds, a lane for
   // the evaluator's per-sample work.
-  hunav::ThreadPool threads(hunav::ThreadPool::forThisMachine(1));
-  o.run.threads = &threads;
+  // With --single-thread none: the hand-offs to other threads cost CPU (14% of a combined episode's)
+  // that only pays when a core would otherwise be idle.
+  std::optional<hunav::ThreadPool> threads;
+  if (!o.single_thread) threads.emplace(hunav::ThreadPool::forThisMachine(1));
+  o.run.threads = threads ? &*threads : nullptr;
   if (seeds.empty() && o.planner_list.empty()) {
     if (o.run.out_dir.empty())
       o.run.out_dir = "results/" + scenario.name + "_" + o.run.planner + "_" + std::to_string(scenario.seed);

@@ -29,18 +29,36 @@ for c in "${cases[@]}"; do
 done
 
 # Same files in both trees, the same bytes (run.json: without wall_time and the states file's path).
+strip() { grep -v -E '"(wall_time|states_file)"' "$1"; }
 (cd "$work/list" && find . -type f | sort) >"$work/list.files"
 (cd "$work/single" && find . -type f | sort) >"$work/single.files"
 diff -u "$work/single.files" "$work/list.files" || fail "the list run wrote other files"
 [ "$(wc -l <"$work/list.files")" -ge 96 ] || fail "only $(wc -l <"$work/list.files") files"
 while read -r f; do
   if [ "${f##*/}" = run.json ]; then
-    strip() { grep -v -E '"(wall_time|states_file)"' "$1"; }
     diff <(strip "$work/single/$f") <(strip "$work/list/$f") >/dev/null || fail "$f differs"
   else
     cmp -s "$work/single/$f" "$work/list/$f" || fail "$f differs"
   fi
 done <"$work/list.files"
+# --single-thread (what run_batch.sh's chunks use when every core runs one): the same files again, for
+# the combined behaviors and the 300-person crowd (whose pair forces otherwise use the pool's helper).
+for scenario in combined crowd; do
+  dur=20
+  [ "$scenario" != crowd ] || dur=2
+  "$bin/hunav_run" --scenario "$repo/scenarios/$scenario.yaml" --planners dwb,scl,sfw --seeds 1-2 --duration "$dur" \
+    --single-thread --out "$work/single_thread" --quiet >/dev/null || fail "the --single-thread run of $scenario exited $?"
+done
+(cd "$work/single_thread" && find . -type f | sort) >"$work/single_thread.files"
+grep -E '^\./(combined|crowd)__' "$work/list.files" | diff -u - "$work/single_thread.files" || fail "--single-thread wrote other files"
+while read -r f; do
+  if [ "${f##*/}" = run.json ]; then
+    diff <(strip "$work/list/$f") <(strip "$work/single_thread/$f") >/dev/null || fail "--single-thread: $f differs"
+  else
+    cmp -s "$work/list/$f" "$work/single_thread/$f" || fail "--single-thread: $f differs"
+  fi
+done <"$work/single_thread.files"
+
 # The crowd is drawn from each seed: seed 1 and seed 2 start differently.
 cmp -s "$work/list/crowd__dwb__seed1/states.csv" "$work/list/crowd__dwb__seed2/states.csv" &&
   fail "the crowds of seeds 1 and 2 are the same"
@@ -65,4 +83,4 @@ expect_bad "'5-3' goes down" --seeds 1,5-3
 expect_bad "unknown planner 'nope'" --planners dwb,nope --seeds 1
 expect_bad "'dwb' is given twice" --planners dwb,dwb --seeds 1
 expect_bad "seed" --seeds 2 --seed 3
-echo "seed lists: every file of 24 episodes in one process equals one process per episode"
+echo "seed lists: every file of 24 episodes in one process equals one process per episode, and with --single-thread"
