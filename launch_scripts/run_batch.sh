@@ -301,7 +301,8 @@ if [ "${1:-}" = --run-chunk ]; then
   made=()
   for run_dir in "${chunk_dirs[@]}"; do [ ! -d "$run_dir" ] || made+=("$run_dir/logs"); done
   [ "${#made[@]}" -eq 0 ] || mkdir -p "${made[@]}"
-  awk -v made="$(printf '%s\n' "${made[@]}")" 'BEGIN { n = split(made, m, "\n"); for (i = 1; i <= n; i++) has[m[i]] = 1 }
+  # (The list through the environment: awk -v would read backslashes in the paths as escapes.)
+  HUNAV_LOG_DIRS="$(printf '%s\n' "${made[@]}")" awk 'BEGIN { n = split(ENVIRON["HUNAV_LOG_DIRS"], m, "\n"); for (i = 1; i <= n; i++) has[m[i]] = 1 }
        { buf = buf $0 "\n" } /^results in / { log_file = substr($0, 12) "/logs"; if (log_file in has) {
          log_file = log_file "/hunav_run.log"; printf "%s", buf >log_file; close(log_file) } buf = "" }' "$chunk_log"
   states=()
