@@ -28,19 +28,24 @@ for c in "${cases[@]}"; do
   grep -q "6 episodes: 6 ended on their own" "$work/list_$scenario.log" || fail "$(tail -n 1 "$work/list_$scenario.log")"
 done
 
-# Same files in both trees, the same bytes (run.json: without wall_time and the states file's path).
+# same_files A B FILES WHAT: every file listed (paths relative to both trees) has the same bytes in A
+# and B (run.json: without wall_time and the states file's path).
 strip() { grep -v -E '"(wall_time|states_file)"' "$1"; }
+same_files() {
+  local f
+  while read -r f; do
+    if [ "${f##*/}" = run.json ]; then
+      diff <(strip "$1/$f") <(strip "$2/$f") >/dev/null || fail "$4: $f differs"
+    else
+      cmp -s "$1/$f" "$2/$f" || fail "$4: $f differs"
+    fi
+  done <"$3"
+}
 (cd "$work/list" && find . -type f | sort) >"$work/list.files"
 (cd "$work/single" && find . -type f | sort) >"$work/single.files"
 diff -u "$work/single.files" "$work/list.files" || fail "the list run wrote other files"
 [ "$(wc -l <"$work/list.files")" -ge 96 ] || fail "only $(wc -l <"$work/list.files") files"
-while read -r f; do
-  if [ "${f##*/}" = run.json ]; then
-    diff <(strip "$work/single/$f") <(strip "$work/list/$f") >/dev/null || fail "$f differs"
-  else
-    cmp -s "$work/single/$f" "$work/list/$f" || fail "$f differs"
-  fi
-done <"$work/list.files"
+same_files "$work/single" "$work/list" "$work/list.files" "the list run"
 # --single-thread (what run_batch.sh's chunks use when every core runs one): the same files again, for
 # the combined behaviors and the 300-person crowd (whose pair forces otherwise use the pool's helper).
 for scenario in combined crowd; do
@@ -51,13 +56,7 @@ for scenario in combined crowd; do
 done
 (cd "$work/single_thread" && find . -type f | sort) >"$work/single_thread.files"
 grep -E '^\./(combined|crowd)__' "$work/list.files" | diff -u - "$work/single_thread.files" || fail "--single-thread wrote other files"
-while read -r f; do
-  if [ "${f##*/}" = run.json ]; then
-    diff <(strip "$work/list/$f") <(strip "$work/single_thread/$f") >/dev/null || fail "--single-thread: $f differs"
-  else
-    cmp -s "$work/list/$f" "$work/single_thread/$f" || fail "--single-thread: $f differs"
-  fi
-done <"$work/single_thread.files"
+same_files "$work/list" "$work/single_thread" "$work/single_thread.files" "--single-thread"
 
 # The crowd is drawn from each seed: seed 1 and seed 2 start differently.
 cmp -s "$work/list/crowd__dwb__seed1/states.csv" "$work/list/crowd__dwb__seed2/states.csv" &&
