@@ -29,6 +29,7 @@ Usage:
 
 Options of a submission (the matrix options are run_batch.sh's: --scenarios, --planners, --seeds,
 --mode, --duration, --timeout, --profile, --metrics FILE, --format F, --counterfactual,
+--no-states-csv, --no-per-tick-files,
 --planner-config NAME=FILE, --planner-cmd NAME=CMD):
   --runs-per-task N    runs per array task (default: 10 in the inprocess mode, where a task's runs
                        share a process; 1 in lockstep and realtime); the task's wall-clock need is
@@ -123,7 +124,7 @@ while [ "$#" -gt 0 ]; do
     -h | --help) usage; exit 0 ;;
     --print-matrix) print_matrix=1 ;;
     --dry-run) dry_run=1 ;;
-    --counterfactual) matrix_args+=("$opt"); run_options+=("$opt") ;;
+    --counterfactual | --no-states-csv | --no-per-tick-files) matrix_args+=("$opt"); run_options+=("$opt") ;;
     --scenarios | --planners | --seeds | --out | --mode | --duration | --timeout | --profile | --max-parallel | \
       --sbatch-args | --planner-cmd | --planner-config | --metrics | --format | --runs-per-task)
       # An empty value is passed on: run_batch.sh judges the matrix options, and --sbatch-args "" is no extra option.

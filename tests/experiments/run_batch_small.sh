@@ -3,7 +3,8 @@
 # in-process: no network): the batch folder's layout, then resumability (a second invocation runs
 # nothing, a third reruns only the run whose results were removed, a fourth only the run marked
 # aborted, which the summary's statistics leave out, a fifth nothing after a run is marked stuck,
-# which they keep), then bad arguments.
+# which they keep), then a batch without states.csv and per-tick files (the same metrics), then bad
+# arguments.
 # Expects REPO and BIN (ctest sets them).
 set -euo pipefail
 export HUNAV_BIN_DIR="$BIN"
@@ -17,6 +18,9 @@ args=(--scenarios passing --planners dwb,sfw --seeds 1-2 --jobs 2 --duration 5 -
 "$BATCH" "${args[@]}" >"$WORK/first.log" 2>&1 || { cat "$WORK/first.log"; fail "first invocation failed"; }
 grep -q 'run_batch: \[4/4\]' "$WORK/first.log" || { cat "$WORK/first.log"; fail "no progress line [4/4]"; }
 grep -q '^run_batch: 4 runs in ' "$WORK/first.log" || fail "the first invocation did not run 4 runs"
+mkdir -p "$WORK/first_metrics"
+for d in "$out"/runs/*; do cp "$d/metrics.csv" "$WORK/first_metrics/${d##*/}.csv"; done
+cp "$out/paired.csv" "$WORK/first_metrics/paired.csv"
 
 for f in matrix.tsv batch.log summary.csv summary_stats.csv paired.csv summary.md; do
   [ -s "$out/$f" ] || fail "missing $out/$f"
@@ -118,8 +122,21 @@ assert "| sfw | 2 | 0 | 1 | 1 | 0 |" in md, md
 assert "left out of every table" not in md, md
 PY
 
+# --no-states-csv --no-per-tick-files: the same metrics of every run (and so the same statistics)
+# without states.csv and the per-tick files.
+lean="$WORK/lean"
+"$BATCH" --scenarios passing --planners dwb,sfw --seeds 1-2 --jobs 2 --duration 5 --no-states-csv --no-per-tick-files \
+  --out "$lean" >"$WORK/lean.log" 2>&1 || { cat "$WORK/lean.log"; fail "the lean batch failed"; }
+for d in "$lean"/runs/*; do
+  [ ! -e "$d/states.csv" ] && [ -z "$(find "$d" -name '*_steps.csv')" ] || fail "$d holds states.csv or per-tick files"
+  cmp -s "$d/metrics.csv" "$WORK/first_metrics/${d##*/}.csv" || fail "${d##*/}: the metrics differ from the full batch's"
+done
+[ "$(find "$lean/runs" -name metrics.csv | wc -l)" -eq 4 ] || fail "the lean batch did not write 4 runs"
+cmp -s "$WORK/first_metrics/paired.csv" "$lean/paired.csv" || fail "the lean batch's paired.csv differs"
+
 # Bad arguments: exit 2 and nothing run.
-for bad in "--planners xyz" "--seeds 3-1" "--scenarios nowhere" "--jobs 0" "--mode fast"; do
+for bad in "--planners xyz" "--seeds 3-1" "--scenarios nowhere" "--jobs 0" "--mode fast" \
+  "--no-states-csv --counterfactual" "--no-per-tick-files --mode lockstep"; do
   rc=0
   # shellcheck disable=SC2086 # $bad holds an option and its value
   "$BATCH" --scenarios passing --planners dwb --seeds 1 --out "$WORK/bad" $bad >/dev/null 2>"$WORK/bad.err" || rc=$?
