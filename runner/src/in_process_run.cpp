@@ -1,6 +1,9 @@
 #include "hunav/runner/in_process_run.hpp"
 
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <string>
 
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/in_process_bus.hpp"
@@ -14,13 +17,24 @@
 namespace hunav::runner {
 
 namespace {
-// The planner the series kept, when it serves this episode; else a new one.
+// The text of the planner's configuration file (empty: none, or unreadable: the YAML reader reports it).
+std::string configText(const std::string& file) {
+  if (file.empty()) return "";
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The planner the series kept, when it serves this episode with the same configuration; else a new one.
 std::unique_ptr<planners::Planner> plannerFor(const Scenario& scenario, const RunOptions& options) {
   KeptPlanner* kept = options.kept_planner;
+  const std::string config_text = kept != nullptr ? configText(options.planner_config) : "";
   if (kept != nullptr && kept->planner && kept->name == options.planner && kept->config == options.planner_config &&
-      kept->planner->servesScenario(scenario))
+      kept->config_text == config_text && kept->planner->servesScenario(scenario))
     return std::move(kept->planner);
-  if (kept != nullptr) kept->planner.reset();  // the new planner takes its place after the episode
+  if (kept != nullptr) {  // the new planner takes its place after the episode
+    kept->planner.reset();
+    kept->config_text = config_text;
+  }
   const std::unique_ptr<YamlReader> planner_config = plannerConfig(options);
   return planners::createPlanner(options.planner, scenario, planner_config.get());
 }
@@ -57,7 +71,8 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   outcome.result = evaluator.lastResult();
   outcome.dropped_messages = bus.droppedMessages();
   if (planner && options.kept_planner != nullptr)
-    *options.kept_planner = KeptPlanner{options.planner, options.planner_config, planner->releasePlanner()};
+    *options.kept_planner = KeptPlanner{options.planner, options.planner_config, options.kept_planner->config_text,
+                                        planner->releasePlanner()};
   return outcome;
 }
 

@@ -106,3 +106,27 @@ TEST(KeptPlanner, IsReplacedForAnotherPlannerOrMap) {
   EXPECT_FALSE(kept.planner->servesScenario(hunav::testing::shippedScenario("cafe")));
   run("dwb", "passing");
 }
+
+// A configuration file edited between two episodes of a series: the next episode gets a planner built
+// from the new file (its fingerprint is that of a new planner with the new file, which differs from
+// one with the old file), not the one kept from the old.
+TEST(KeptPlanner, IsRebuiltWhenItsConfigurationFileChanges) {
+  hunav::testing::TempDir dir;
+  const std::string config = (dir / "dwb.yaml").string();
+  const auto run = [&](hunav::runner::KeptPlanner* kept, const char* folder) {
+    hunav::runner::RunOptions options;
+    options.planner = "dwb";
+    options.planner_config = config;
+    options.out_dir = (dir / folder).string();
+    options.kept_planner = kept;
+    return hunav::runner::runInProcess(hunav::testing::passing(), options).episode.fingerprint;
+  };
+  hunav::runner::KeptPlanner kept;
+  hunav::testing::writeFile(config, "dwb:\n  v_samples: 5\n");
+  const auto with_old = run(&kept, "old");
+  hunav::testing::writeFile(config, "dwb:\n  v_samples: 9\n");
+  const auto after_edit = run(&kept, "edited");
+  const auto with_new = run(nullptr, "new");
+  EXPECT_NE(with_old, with_new) << "the edit must change the episode for this test to mean anything";
+  EXPECT_EQ(after_edit, with_new);
+}

@@ -21,6 +21,7 @@ namespace hunav::runner {
 // building another. The results are those of a new planner (test runner_seed_list_matches_single_runs).
 struct KeptPlanner {
   std::string name, config;  // the planner and its configuration file
+  std::string config_text;   // that file's contents when the planner was built (edited since: not kept)
   std::unique_ptr<planners::Planner> planner;
 };
 
