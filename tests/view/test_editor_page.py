@@ -92,6 +92,12 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     if abs(gen["region"]["x"][0] - (4.0 + dx)) > 0.011 or abs(gen["region"]["x"][1] - (46.0 + dx)) > 0.011 \
             or gen["region"]["y"] != [1.0, 29.0]:
         problems.append("the region saved as %s, dragged by %s m in x from x [4, 46]" % (gen["region"], dx))
+    # The scene is checked again by the server after the save: wait for its answer (a busy machine
+    # can take longer than the save's own round trip), then look.
+    try:
+        browser.wait_for("window.hunavView.app.ed.scene && window.hunavView.app.ed.scene.agents.length === 40", 30)
+    except AssertionError:
+        pass
     drawn_people = browser.eval("window.hunavView.app.ed.scene.agents.length")
     if drawn_people != 40:
         problems.append("the checked scene holds %s generated people, not 40" % drawn_people)

@@ -724,14 +724,21 @@ function edResult(res, what) {
   app.dirty = true;
   return !!res.ok;
 }
+// Each check or save of the document is numbered: a check answered after a later request (the
+// server generates a large crowd slowly) describes an older document and is dropped.
+let edRequests = 0;
 async function edValidate() {
   if (!app.ed) return false;
+  const request = ++edRequests;
   const res = await edPost('/api/editor/validate', { path: edTarget(), doc: app.ed.doc, people_doc: app.ed.peopleDoc || null });
+  if (request !== edRequests) return false;
   return edResult(res, 'the scenario loads');
 }
 async function edSave() {
   if (!app.ed) return false;
   const path = edTarget();
+  clearTimeout(edTimer);  // the save checks the document itself
+  ++edRequests;
   const res = await edPost('/api/editor/save', { path, doc: app.ed.doc, people_doc: app.ed.peopleDoc || null });
   const ok = edResult(res, 'saved ' + path + (res.people_path ? ' and ' + res.people_path : ''));
   if (ok) { app.ed.path = path; app.ed.saved = (app.ed.saved || 0) + 1; }
