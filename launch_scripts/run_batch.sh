@@ -138,7 +138,8 @@ judge_run() {
     result="results complete, but the run exited $rc (see $log)"
     printf '%s\n' "${run_dir##*/}" >>"$out/.exited_nonzero"
   elif [ "$done" -eq 1 ]; then
-    result="$status after $(printf '%.2f' "$sim") s of simulation"
+    printf -v sim '%.2f' "$sim"
+    result="$status after $sim s of simulation"
   elif [ -s "$run_dir/run.json" ]; then
     # It ended, but not on its own (interrupted, a component gone silent): not a result.
     result="NOT FINISHED: ${status:-no status}${reason:+ ($reason)}, exit $rc; runs again next time (see $log)"
@@ -251,13 +252,13 @@ if [ "${1:-}" = --run-chunk ]; then
   shift 5
   planner_options "$planner" "$@"
   IFS=',' read -r -a given_seeds <<<"$seed_csv"
-  run_dir_of() { printf '%s' "$out/runs/${scenario}__${planner}__seed$1"; }
+  # The run folders, without a subshell per seed.
   given_dirs=()
-  for seed in "${given_seeds[@]}"; do given_dirs+=("$(run_dir_of "$seed")"); done
+  for seed in "${given_seeds[@]}"; do given_dirs+=("$out/runs/${scenario}__${planner}__seed$seed"); done
   finished_among "${given_dirs[@]}"
   chunk_seeds=() chunk_dirs=() skipped=()
-  for seed in "${given_seeds[@]}"; do
-    run_dir=$(run_dir_of "$seed")
+  for k in "${!given_seeds[@]}"; do
+    seed=${given_seeds[k]} run_dir=${given_dirs[k]}
     if [ -n "${finished_dirs[$run_dir]-}" ]; then
       skipped+=("$scenario $planner seed $seed" "skipped (finished before)")
     else
