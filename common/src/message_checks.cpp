@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "hunav/occupancy_grid.hpp"
+
 namespace hunav {
 
 namespace {
@@ -124,6 +126,22 @@ void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared
 void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what) {
   std::vector<int32_t> ids;
   checkAgentStates(agents, declared_count, what, ids);
+}
+
+void checkMap(const map_t& m) {
+  const char* what = "map";
+  checkFinite(m.resolution, "resolution", what);
+  if (!(m.resolution > 0.0 && m.resolution <= 1e3)) throw BadMessage("map: resolution is not in (0, 1e3] m");
+  checkNumber(m.origin_x, "origin_x", what);
+  checkNumber(m.origin_y, "origin_y", what);
+  checkNumber(m.origin_yaw, "origin_yaw", what);
+  if (m.width < 1 || m.height < 1) throw BadMessage("map: width and height must be at least 1");
+  const std::int64_t cells = std::int64_t{m.width} * std::int64_t{m.height};
+  if (cells != m.num_cells || static_cast<std::size_t>(m.num_cells) != m.cells.size())
+    throw BadMessage("map: num_cells is not width * height");
+  if (cells > kMaxOccupancyCells) throw BadMessage("map: more cells than " + std::to_string(kMaxOccupancyCells));
+  for (const std::int8_t c : m.cells)
+    if (c < -1 || c > 100) throw BadMessage("map: a cell value outside -1 (unknown) and 0..100");
 }
 
 }  // namespace hunav

@@ -221,9 +221,15 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
       const std::filesystem::path p = relativeTo(yr.path(), name);
       if (!std::filesystem::is_regular_file(p))
         yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'");
-      for (Shape& sh : loadOccupancyMap(p.string())) {
+      OccupancyMapFrame frame;
+      for (Shape& sh : loadOccupancyMap(p.string(), &frame)) {
         checkShapeExtent(yr, f, "map.map_server", sh);
         s.shapes.push_back(std::move(sh));
+      }
+      // The first map's cells are the published grid's (a turned map's cells cannot be).
+      if (&f == &files.front()) {
+        s.map_grid.resolution = frame.resolution;
+        s.map_grid.anchor = frame.yaw == 0.0 ? frame.origin : Vec2::Zero();
       }
     }
   }
@@ -413,7 +419,7 @@ void checkDurationOverride(double duration) {
     throw ConfigError("--duration", 0, "", "must be a number of seconds in (0, 1e7]");
 }
 
-std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
+std::vector<Shape> loadOccupancyMap(const std::string& yaml_path, OccupancyMapFrame* frame) {
   YamlReader yr(yaml_path);
   const YAML::Node& root = yr.root();
   const YAML::Node image_node = yr.child(root, "image", "", true);
@@ -439,6 +445,7 @@ std::vector<Shape> loadOccupancyMap(const std::string& yaml_path) {
     yr.fail(root["mode"], "mode", "expected trinary, scale or raw, got '" + mode + "'");
 
   const Image img = readPgm(relativeTo(yaml_path, image).string(), yaml_path, YamlReader::lineOf(image_node));
+  if (frame != nullptr) *frame = OccupancyMapFrame{resolution, origin, yaw};
   // map_server's rule: occupancy p = (maxval - value) / maxval (value / maxval with negate), occupied when
   // p > occupied_thresh. In raw mode the value is the occupancy in percent. Free and unknown cells are
   // both free space for the world.

@@ -6,6 +6,8 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <hunav/map_t.hpp>
+#include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 #include <hunav/step_reply_t.hpp>
@@ -18,6 +20,8 @@
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
+#include "hunav/message_checks.hpp"
+#include "hunav/occupancy_grid.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/testing/files.hpp"
@@ -752,4 +756,110 @@ TEST(WorldSimStuck, ProgressRestartsTheTimer) {
   EXPECT_EQ(r.sim_time, 6.97);
   EXPECT_EQ(r.reason.rfind("the robot made no progress for 5 s (stayed within 0.5 m of (1.0", 0), 0u) << r.reason;
   EXPECT_NE(r.reason.find("best distance to goal 13.80 m"), std::string::npos) << r.reason;  // 15 - 1.2
+}
+
+namespace {
+
+// Every MAP the world publishes, encoded.
+struct MapCollector {
+  std::vector<hunav::Subscription> subscriptions_;
+  explicit MapCollector(Bus& bus) {
+    subscriptions_.push_back(bus.subscribe<map_t>(channels::kMap, [this](const map_t& m) {
+      maps.push_back(m);
+      std::vector<std::uint8_t> bytes;
+      encodeMessage(m, bytes);
+      encoded.push_back(std::move(bytes));
+    }));
+    subscriptions_.push_back(bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
+      if (e.event == episode_event_t::START) starts_before_map.push_back(maps.size());
+    }));
+  }
+  std::vector<map_t> maps;
+  std::vector<std::vector<std::uint8_t>> encoded;
+  std::vector<std::size_t> starts_before_map;  // maps already heard at each START
+};
+
+}  // namespace
+
+TEST(WorldSimMap, EveryEpisodeStartsWithItsMapAfterStart) {
+  InProcessBus bus;
+  manager::ManagerNode manager(bus);
+  MapCollector seen(bus);
+  Scenario s = passing();
+  s.time_limit = 0.2;
+  WorldSim world(bus, s, fastOptions("none"));
+  world.runEpisode();
+  world.runEpisode();
+  ASSERT_EQ(seen.maps.size(), 2u);
+  EXPECT_EQ(seen.starts_before_map, (std::vector<std::size_t>{0, 1}));  // START, then its MAP
+  for (std::size_t k = 0; k < 2; ++k) {
+    const map_t& m = seen.maps[k];
+    EXPECT_EQ(m.episode, static_cast<std::int64_t>(k + 1));
+    EXPECT_EQ(m.seq, 1);
+    EXPECT_EQ(m.scenario, "passing");
+    EXPECT_NO_THROW(checkMap(m));
+    // The grid of the scenario's map, cell for cell.
+    const OccupancyGrid g = occupancyGrid(s);
+    EXPECT_EQ(m.width, g.width);
+    EXPECT_EQ(m.height, g.height);
+    EXPECT_EQ(m.resolution, g.resolution);
+    EXPECT_EQ(m.origin_x, g.origin.x());
+    EXPECT_EQ(m.origin_y, g.origin.y());
+    EXPECT_EQ(m.cells, g.cells);
+  }
+}
+
+TEST(WorldSimMap, APlannerThatAsksGetsTheSameMapAgainAtMostEveryFifthOfASecond) {
+  lcm::LCM lcm("memq://");
+  LcmBus bus(lcm);
+  manager::ManagerNode manager(bus);
+  MapCollector seen(bus);
+  // A planner that asks for the map with every command it sends (as one that lost it would).
+  int asked = 0;
+  Subscription asker =
+      bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&](const robot_observation_t& o) {
+        planner_ready_t ready{};
+        ready.name = "asker";
+        ready.wants_map = true;
+        bus.publish(channels::kPlannerReady, ready);
+        ++asked;
+        robot_command_t c{};
+        c.utime = o.utime;
+        c.seq = o.seq;
+        c.episode = o.episode;
+        bus.publish(channels::kRobotCommand, c);
+      });
+  Scenario s = passing();
+  s.time_limit = 3600.0;  // a bound: the loop below ends at the third map
+  s.stuck_timeout = 0.0;  // the robot stands still
+  WorldSim world(bus, s, fastOptions("asker"));
+  const auto start = std::chrono::steady_clock::now();
+  world.beginEpisode();
+  worldsim::EpisodeResult r;
+  while (seen.maps.size() < 3 && !world.tick(r)) {
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  world.endEpisode(r);
+  ASSERT_EQ(seen.maps.size(), 3u) << r.status << ": " << r.reason;  // the episode's map, and two re-sent
+  EXPECT_GT(asked, 3);
+  for (const auto& bytes : seen.encoded) EXPECT_EQ(bytes, seen.encoded.front());  // byte for byte
+  // Two re-sends, each at least 0.2 s of wall-clock time after the map before it.
+  EXPECT_GE(wall_s, 0.4);
+}
+
+TEST(WorldSimMap, ANewScenarioMapIsRebuiltAndTheSameOneKept) {
+  InProcessBus bus;
+  MapCollector seen(bus);
+  Scenario s = passing();
+  s.agents.clear();
+  s.time_limit = 0.05;
+  WorldSim world(bus, s, fastOptions("none"));
+  world.runEpisode();
+  Scenario other = s;
+  other.shapes.push_back(hunav::testing::wall(Vec2(5.0, -1.0), Vec2(5.0, 1.0)));  // a new wall across
+  world.runEpisode(other, "");
+  bus.handleAvailable();  // without people or a planner nothing else dispatched the queue
+  ASSERT_EQ(seen.maps.size(), 2u);
+  EXPECT_NE(seen.maps[0].cells, seen.maps[1].cells);
+  EXPECT_EQ(seen.maps[1].cells, occupancyGrid(other).cells);
 }

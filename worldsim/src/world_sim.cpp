@@ -13,6 +13,7 @@
 #include "hunav/agent_state.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/message_checks.hpp"
+#include "hunav/occupancy_grid.hpp"
 #include "physics_world.hpp"
 #include "sensors.hpp"
 #include "stuck_detector.hpp"
@@ -22,6 +23,9 @@ namespace hunav::worldsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A planner asking for the map again (planner_ready_t.wants_map) gets it at most this often.
+constexpr std::chrono::milliseconds kMapResendPeriod{200};
 
 // The pose and velocity of a body as an agent state carries them (yaw wrapped into (-pi, pi]).
 void setMotion(agent_state_t& s, const b2Body& body) {
@@ -69,6 +73,7 @@ WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
     ready_sub_ = bus_.subscribe<planner_ready_t>(channels::kPlannerReady, [this](const planner_ready_t& ready) {
       planner_drops_.tell(ready.dropped_messages);  // a negative count: dropped, not an announcement
       planner_ready_ = true;
+      if (ready.wants_map) map_requested_ = true;
     });
 }
 
@@ -289,6 +294,7 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
     const auto until_limit = limit - (now - start);
     const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(std::min(until_resend, until_limit));
     bus_.handleFor(std::max(wait, std::chrono::milliseconds(1)));
+    serveMapRequest();  // a planner without the map asks for it before it answers
   }
   return true;
 }
@@ -495,6 +501,7 @@ void WorldSim::beginEpisode() {
   ev.mode = options_.mode;
   ev.status = "running";
   bus_.publish(channels::kEpisodeEvent, ev);
+  publishMap();
 
   nav_goal_t goal{};
   goal.valid = scenario_.robot.has_goal;
@@ -526,8 +533,40 @@ bool WorldSim::endReached(EpisodeResult& result) {
   return !result.status.empty();
 }
 
+void WorldSim::publishMap() {
+  if (!map_built_ || map_shapes_ != scenario_.shapes || map_grid_.resolution != scenario_.map_grid.resolution ||
+      map_grid_.anchor != scenario_.map_grid.anchor) {
+    const OccupancyGrid grid = occupancyGrid(scenario_);
+    map_ = map_t{};
+    map_.resolution = grid.resolution;
+    map_.origin_x = grid.origin.x();
+    map_.origin_y = grid.origin.y();
+    map_.origin_yaw = 0.0;
+    map_.width = grid.width;
+    map_.height = grid.height;
+    map_.num_cells = static_cast<int32_t>(grid.cells.size());
+    map_.cells = grid.cells;
+    map_shapes_ = scenario_.shapes;
+    map_grid_ = scenario_.map_grid;
+    map_built_ = true;
+  }
+  map_.utime = 0;
+  map_.episode = episode_;
+  map_.seq = 1;
+  map_.scenario = scenario_.name;
+  bus_.publish(channels::kMap, map_);
+  map_requested_ = false;
+  map_sent_ = Clock::now();
+}
+
+void WorldSim::serveMapRequest() {
+  if (!map_requested_ || episode_ == 0 || Clock::now() - map_sent_ < kMapResendPeriod) return;
+  publishMap();
+}
+
 bool WorldSim::tick(EpisodeResult& result) {
   if (!result.status.empty()) return true;
+  serveMapRequest();
   // The second call of an external control tick resumes after its exchanges.
   if (!awaiting_command_) {
     if (endReached(result)) return true;

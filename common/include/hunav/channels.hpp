@@ -15,6 +15,7 @@ inline constexpr const char* kLiveMetrics = "LIVE_METRICS";            // live_m
 inline constexpr const char* kPeopleSocial = "PEOPLE_SOCIAL";          // people_social_t
 inline constexpr const char* kRobotPath = "ROBOT_PATH";                // planned_path_t (optional)
 inline constexpr const char* kPlannerReady = "PLANNER_READY";          // planner_ready_t (readiness heartbeat)
+inline constexpr const char* kMap = "MAP";                             // map_t (the static map, each episode)
 // A planner publishes PLANNER_READY at least this often (ms) once subscribed (docs/planner_contract.md).
 inline constexpr int kPlannerReadyPeriodMs = 500;
 

@@ -3,6 +3,7 @@
 // BadMessage (dropped and counted by the Bus), never allowed to crash or poison a run.
 #include <cmath>
 #include <hunav/agent_state_t.hpp>
+#include <hunav/map_t.hpp>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,12 @@ void checkAgentState(const agent_state_t& a, const char* what);
 void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what,
                       std::vector<int32_t>& id_scratch);
 void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared_count, const char* what);
+
+// Throws BadMessage when a MAP (map_t) is not a grid a planner can use: a resolution outside
+// (0, 1e3] m, an origin beyond +-kMaxMagnitude or not finite, a width or height below 1, a cell count
+// other than width * height or above kMaxOccupancyCells (occupancy_grid.hpp), a cell value other than
+// -1 (unknown) or 0..100.
+void checkMap(const map_t& m);
 
 inline void checkFinite(double v, const char* field, const char* what) {
   if (!std::isfinite(v)) throw BadMessage(std::string(what) + ": " + field + " is not finite");

@@ -130,6 +130,14 @@ struct Expectation {
   int line = 0;
 };
 
+// The grid the static map is published on (MAP; occupancy_grid.hpp): the cells of the scenario's
+// first map_server map (its resolution, and its origin as a corner of the lattice) when that map is
+// not turned, else `resolution`-sided cells with a corner at the world's origin.
+struct MapGrid {
+  double resolution = 0.05;  // m
+  Vec2 anchor = Vec2::Zero();
+};
+
 struct Scenario {
   std::string name;
   std::string file;          // path it was loaded from
@@ -144,6 +152,7 @@ struct Scenario {
   // folder; empty = every metric. A `--metrics` flag overrides it.
   std::string evaluation_metrics;
   std::vector<Shape> shapes;  // static geometry (map_server maps become rectangles here)
+  MapGrid map_grid;           // how `shapes` are published as an occupancy grid (MAP)
   RobotConfig robot;
   std::vector<AgentConfig> agents;
   // HuNavSim 2's global_goals of the agents layout (id -> point; integer ids only), for the trees'
@@ -176,10 +185,18 @@ std::string resolveBehaviorTree(const std::string& scenario_file, const std::str
 // `seed_override` >= 0 replaces the file's seed (it drives the random agent parameters too).
 Scenario loadScenario(const std::string& path, long long seed_override = -1);
 
+// Where a map_server map's cells lie: their side, and the pose of the picture's lower-left corner.
+struct OccupancyMapFrame {
+  double resolution = 0.0;  // m
+  Vec2 origin = Vec2::Zero();
+  double yaw = 0.0;  // rad
+};
+
 // Reads a ROS map_server map (`.yaml` with image, resolution, origin, negate, occupied_thresh,
 // free_thresh, mode + a PGM image, P5 or P2, relative to the yaml) and returns its occupied cells merged
-// into rectangles (closed polygons, counter-clockwise from the lower left corner). Throws ConfigError.
-std::vector<Shape> loadOccupancyMap(const std::string& yaml_path);
+// into rectangles (closed polygons, counter-clockwise from the lower left corner), and, when `frame`
+// is given, where its cells lie. Throws ConfigError.
+std::vector<Shape> loadOccupancyMap(const std::string& yaml_path, OccupancyMapFrame* frame = nullptr);
 
 // Loads a HuNavSim agents file (v1 integer behavior or v1.5 behavior mapping).
 // `seed` drives the random configuration modes (with each agent's id).

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <hunav/episode_event_t.hpp>
+#include <hunav/map_t.hpp>
 #include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
@@ -126,6 +127,9 @@ class WorldSim {
   agent_state_t robotState() const;
   void setRobotMotion(agent_state_t& r) const;
   void publishWorldState();
+  // MAP: the static map as an occupancy grid, at START and when a planner asks (wants_map).
+  void publishMap();
+  void serveMapRequest();
   bool exchangeWithManager(std::string& failure);
   bool exchangeWithPlanner(std::string& failure);
   // Waits for PLANNER_READY (planner_ready_timeout). False with `failure` set when none came, false
@@ -190,6 +194,14 @@ class WorldSim {
   bool reply_arrived_ = false;
   bool command_arrived_ = false;
   bool planner_ready_ = false;  // a PLANNER_READY was heard (once is enough: later episodes do not wait)
+  // MAP: the message of the current scenario's static map (rebuilt only when the shapes change), and a
+  // planner's request to send it again (PLANNER_READY with wants_map), served at most every kMapResendPeriod.
+  map_t map_;
+  std::vector<Shape> map_shapes_;
+  MapGrid map_grid_;
+  bool map_built_ = false;
+  bool map_requested_ = false;
+  std::chrono::steady_clock::time_point map_sent_;
   // Realtime: when the last command arrived (or the episode began), to end a run whose planner
   // stalled or died (silence_limit; startup_limit before its first command).
   std::chrono::steady_clock::time_point last_command_;
