@@ -1,7 +1,8 @@
-"""The Python LCM types the build generates (lcm-gen --python, build/lcmtypes/python): they import
-without LCM's Python package, decode every message of a recorded hunav_run and encode it back to
-the bytes the C++ side wrote; the Python planner of docs/planner_contract.md runs on recorded
-observations with a stand-in for lcm.LCM."""
+"""The Python LCM message classes (lcm-gen --python, copied into the package hunav of build/python):
+they import without LCM's Python package, numpy or the simulation; they import together with the
+simulation module; they decode every message of a recorded hunav_run and encode it back to the bytes
+the C++ side wrote; the Python planner of docs/planner_contract.md answers recorded observations
+through a stand-in for lcm.LCM (its runs against the real world: tests/integration/python_planners.sh)."""
 import math
 import os
 import pathlib
@@ -13,32 +14,31 @@ import types
 
 import pytest
 
+import hunav
 from conftest import REPO
 
-LCM_PYTHON = pathlib.Path(os.environ.get("HUNAV_LCMTYPES_PYTHON", REPO / "build" / "lcmtypes" / "python"))
+PYTHON_DIR = pathlib.Path(hunav.__file__).parent.parent  # build/python
 
 
 @pytest.fixture(scope="module")
 def lcmtypes():
-    """The generated package `hunav` (LCM's package name; not the simulation module)."""
-    if not (LCM_PYTHON / "hunav" / "__init__.py").exists():
-        pytest.fail(f"no generated Python types in {LCM_PYTHON} (build the hunav_lcmtypes_python target)")
-    saved_path, saved = list(sys.path), {k: v for k, v in sys.modules.items() if k == "hunav" or k.startswith("hunav.")}
-    for k in saved:
-        del sys.modules[k]
-    # Off the path: any other `hunav` (build/python's simulation module).
-    sys.path[:] = [str(LCM_PYTHON)] + [p for p in sys.path if not (pathlib.Path(p or ".") / "hunav").is_dir()]
-    sys.modules["lcm"] = None  # `import lcm` fails: the classes must not need it
-    try:
-        import hunav as package
-        assert pathlib.Path(package.__file__).parent == LCM_PYTHON / "hunav"
-        yield package
-    finally:
-        for k in [k for k in sys.modules if k == "hunav" or k.startswith("hunav.")]:
-            del sys.modules[k]
-        sys.modules.pop("lcm", None)
-        sys.modules.update(saved)
-        sys.path[:] = saved_path
+    return hunav
+
+
+def test_messages_need_neither_lcm_numpy_nor_the_simulation():
+    script = ("import sys\n"
+              "sys.modules['lcm'] = None\n"
+              "sys.modules['numpy'] = None\n"
+              "from hunav import robot_command_t, map_t\n"
+              "assert robot_command_t.decode(robot_command_t().encode()).v == 0.0\n"
+              "assert 'hunav._hunav' not in sys.modules\n")
+    subprocess.run([sys.executable, "-c", script], check=True, env=dict(os.environ, PYTHONPATH=str(PYTHON_DIR)))
+
+
+def test_messages_and_the_simulation_import_together():
+    from hunav import Simulation, robot_observation_t  # noqa: F401 (one package, one path)
+    assert hunav.Simulation is Simulation and "robot_observation_t" in hunav.MESSAGES
+    assert set(hunav.MESSAGES) <= set(dir(hunav)) and "Simulation" in dir(hunav)
 
 
 def read_lcm_log(path):
@@ -69,10 +69,10 @@ def recorded(tmp_path_factory):
 
 def test_generated_files_need_no_lcm(lcmtypes):
     lcm_files = sorted(p.stem for p in (REPO / "lcmtypes").glob("*.lcm"))
-    generated = sorted(p.stem for p in (LCM_PYTHON / "hunav").glob("*.py") if p.stem != "__init__")
-    assert generated == lcm_files
+    generated = sorted(p.stem for p in (PYTHON_DIR / "hunav").glob("*_t.py"))
+    assert generated == lcm_files == list(hunav.MESSAGES)
     for name in generated:
-        text = (LCM_PYTHON / "hunav" / f"{name}.py").read_text()
+        text = (PYTHON_DIR / "hunav" / f"{name}.py").read_text()
         assert not re.search(r"^\s*(import|from)\s+lcm\b", text, re.M), name
         assert hasattr(getattr(lcmtypes, name), "decode")
 
@@ -91,7 +91,13 @@ def test_round_trip_of_recorded_messages(lcmtypes, recorded):
         assert message.encode() == data, f"{channel}: {cls.__name__} re-encoded differs"
         seen.setdefault(cls.__name__, message)
     assert {"world_state_t", "robot_observation_t", "robot_command_t", "step_request_t", "step_reply_t",
-            "episode_event_t", "nav_goal_t"} <= set(seen)
+            "episode_event_t", "nav_goal_t", "map_t"} <= set(seen)
+    # The MAP is the grid the simulation module gives for the scenario.
+    grid = hunav.Simulation(str(REPO / "scenarios" / "passing.yaml")).occupancy_grid()
+    m = seen["map_t"]
+    assert (m.episode, m.seq, m.resolution) == (1, 1, grid["resolution"])
+    assert (m.origin_x, m.origin_y) == tuple(grid["origin"])
+    assert (m.height, m.width) == grid["cells"].shape and list(m.cells) == grid["cells"].ravel().tolist()
     # Values as the C++ side wrote them: the run's first observation is the robot at its start,
     # heading to the passing scenario's goal (15, 0).
     obs = seen["robot_observation_t"]
@@ -131,18 +137,23 @@ class FakeLCM:
         return 1
 
 
-def test_planner_of_the_contract_runs(lcmtypes, recorded):
+def test_planner_of_the_contract_answers_each_observation_once(lcmtypes, recorded):
     doc = (REPO / "docs" / "planner_contract.md").read_text()
     block = re.search(r"<!-- python-planner:[^\n]*-->\n```python\n(.*?)```", doc, re.S)
     assert block, "the Python planner block of docs/planner_contract.md"
     observations = [data for channel, data in recorded if channel == "ROBOT_OBSERVATION"]
     fake = FakeLCM(observations)
-    sys.modules["lcm"] = types.SimpleNamespace(LCM=lambda: fake)
+    sys.modules["lcm"] = types.SimpleNamespace(LCM=lambda url=None: fake)
     try:
+        program = {"__name__": "planner"}  # not "__main__": main() does not run
+        exec(compile(block.group(1), "planner_contract.md", "exec"), program)
+        planner = program["GoToGoal"](fake)
+        fake.subscribe("ROBOT_OBSERVATION", planner.on_observation)
         with pytest.raises(FakeLCM.Done):
-            exec(compile(block.group(1), "planner_contract.md", "exec"), {"__name__": "planner"})
+            while True:
+                fake.handle_timeout(100)
     finally:
-        sys.modules["lcm"] = None
+        del sys.modules["lcm"]
     assert len(fake.published) == 2 * len(observations) == 20
     for k, data in enumerate(observations):
         obs = lcmtypes.robot_observation_t.decode(data)
@@ -150,5 +161,5 @@ def test_planner_of_the_contract_runs(lcmtypes, recorded):
         assert channel == "ROBOT_COMMAND" and first == resent  # the resend gets the same bytes
         cmd = lcmtypes.robot_command_t.decode(first)
         assert (cmd.utime, cmd.seq, cmd.episode) == (obs.utime, obs.seq, obs.episode)
-        heading = math.atan2(obs.goal.y - obs.y, obs.goal.x - obs.x) - obs.yaw
-        assert cmd.w == pytest.approx(max(-obs.max_w, min(obs.max_w, 2.0 * heading)))
+        error = math.remainder(math.atan2(obs.goal.y - obs.y, obs.goal.x - obs.x) - obs.yaw, 2 * math.pi)
+        assert cmd.w == pytest.approx(max(-obs.max_w, min(obs.max_w, 1.5 * error)))
