@@ -29,8 +29,19 @@ with progress_weight 1 per metre, intrusion_weight 0.1, personal_distance 1.2 m 
 personal band, docs/metrics.md), collision_penalty 10, goal_bonus 10 (RewardWeights). Pass
 reward_fn(env, before, after, info) -> float to use your own (before/after: sim.state() around the
 step; info: the step's info dict).
-terminated: the goal is reached, or the robot collided (terminate_on_collision) or got stuck;
-truncated: the scenario's time limit.
+terminated: the goal is reached, or the robot collided (terminate_on_collision: the simulation's
+episode then ends with status "collision", its own, and a reason naming what the robot touched) or
+got stuck; truncated: the scenario's time limit. A step() after the episode ended raises RuntimeError
+(call reset()), as Gymnasium's order checks would; so do step() and reset() after close().
+
+Seeds: reset(seed=s) plays the episode of seed s (the scenario's random people and sensor noise) and
+seeds env.np_random; reset() without a seed plays the next seed (s + 1, s + 2, ...: every episode a
+new one; the first reset() without any seed plays the `seed` given to HuNavEnv, else the scenario's).
+
+The rules of Gymnasium's env_checker hold and are tested without Gymnasium
+(tests/python/test_gym_rules.py): spaces printing their real bounds, observations inside
+observation_space, the step 5-tuple's types, reset(seed) determinism, np_random, unwrapped, spec,
+metadata.
 """
 import math
 
@@ -88,7 +99,14 @@ class Box:
         return self.contains(x)
 
     def __repr__(self):
-        return f"Box({self.low.min()}, {self.high.max()}, {self.shape}, {self.dtype})"
+        """As gymnasium's: a bound that is one number throughout prints as that number, else its array."""
+        def bound(a):
+            return str(a.flat[0]) if a.size and np.all(a == a.flat[0]) else str(a)
+        return f"Box({bound(self.low)}, {bound(self.high)}, {self.shape}, {self.dtype})"
+
+    def __eq__(self, other):
+        return (isinstance(other, Box) and self.shape == other.shape and self.dtype == other.dtype
+                and np.array_equal(self.low, other.low) and np.array_equal(self.high, other.high))
 
 
 class Dict:
@@ -121,6 +139,9 @@ class Dict:
 
     def keys(self):
         return self.spaces.keys()
+
+    def __eq__(self, other):
+        return isinstance(other, Dict) and self.spaces == other.spaces
 
     def __repr__(self):
         return "Dict(" + ", ".join(f"{k}: {s}" for k, s in self.spaces.items()) + ")"
@@ -155,6 +176,20 @@ def default_reward(env, before, after, info, weights=None):
     return float(r)
 
 
+def collision_reason(sim):
+    """What the robot touched, in words: the nearest person when one is in contact, else an obstacle."""
+    state = sim.state()
+    robot = state["robot"]
+    agents = state["agents"]
+    if len(agents["id"]):
+        gaps = np.hypot(*(agents["pose"][:, :2] - robot[:2]).T) - agents["radius"] - robot[6]
+        i = int(np.argmin(gaps))
+        if gaps[i] < 0.05:
+            return (f"the robot touched person {int(agents['id'][i])} ({agents['name'][i]}) at "
+                    f"t = {state['time']:.2f} s (terminate_on_collision)")
+    return f"the robot touched an obstacle at t = {state['time']:.2f} s (terminate_on_collision)"
+
+
 class HuNavEnv(_EnvBase):
     """One hunav.Simulation stepped by the agent, one control period per step (module docstring).
 
@@ -168,9 +203,12 @@ class HuNavEnv(_EnvBase):
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+    spec = None  # gymnasium.make() sets it on the environments it makes
 
     def __init__(self, scenario, seed=None, max_people=None, reward_fn=None, reward_weights=None,
                  terminate_on_collision=True, render_mode="rgb_array", render_size=None, **sim_kwargs):
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']}")
         self.sim = _hunav.Simulation(scenario, seed=seed, planner=None, **sim_kwargs)
         self.scenario = scenario
         self.reward_fn = reward_fn
@@ -192,6 +230,33 @@ class HuNavEnv(_EnvBase):
         self._state = None  # sim.state() of the last step, kept for a reward_fn only
         self._goal_distance = 0.0
         self._robot_collisions = 0
+        self._next_seed = int(self.sim.seed)  # of the next reset() without a seed
+        self._np_random = None
+        self._np_random_seed = None
+
+    # --- Gymnasium's Env attributes ---
+    @property
+    def np_random(self):
+        """The environment's numpy Generator (for your own randomness: the simulation has its own
+        seeded streams); seeded by reset(seed=...), else from fresh entropy on first use."""
+        if self._np_random is None:
+            self._np_random_seed = int(np.random.SeedSequence().entropy % (2**63))
+            self._np_random = np.random.default_rng(self._np_random_seed)
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, value):
+        self._np_random, self._np_random_seed = value, -1
+
+    @property
+    def np_random_seed(self):
+        """The seed np_random was made from (-1: a generator that was set from outside)."""
+        _ = self.np_random
+        return self._np_random_seed
+
+    @property
+    def unwrapped(self):
+        return self
 
     def _people_count(self):
         self.sim.reset()
@@ -213,10 +278,20 @@ class HuNavEnv(_EnvBase):
 
     # --- Gymnasium API ---
     def reset(self, seed=None, options=None):
-        """Starts an episode (with `seed`, or the last one); returns (obs, info)."""
+        """Starts an episode: the episode of `seed`, or without one the next seed (module docstring).
+        Returns (obs, info). options: not used (accepted for Gymnasium's signature)."""
+        self._require_open()
         if seed is not None:
+            seed = int(seed)
+            if seed < 0:
+                raise ValueError("seed must be >= 0")
+            self._np_random_seed = seed
+            self._np_random = np.random.default_rng(seed)
             self.action_space.seed(seed)
+        else:
+            seed = self._next_seed
         self.sim.reset(seed=seed)
+        self._next_seed = seed + 1
         self._started = True
         self._robot_collisions = 0
         self._state = self.sim.state() if self.reward_fn is not None else None
@@ -227,10 +302,11 @@ class HuNavEnv(_EnvBase):
 
     def step(self, action):
         """Applies `action` for one control period; returns (obs, reward, terminated, truncated, info)."""
+        self._require_open()
         if not self._started:
             raise RuntimeError("call reset() before step()")
         if self.sim.done:
-            raise RuntimeError("the episode has ended: call reset()")
+            raise RuntimeError(f"the episode has ended ({self.sim.info()['status']}): call reset()")
         a = np.asarray(action, dtype=np.float64)
         if a.shape != self.action_space.shape:
             raise ValueError(f"action of shape {a.shape}, expected {self.action_space.shape}")
@@ -248,19 +324,46 @@ class HuNavEnv(_EnvBase):
         else:
             before, self._state = self._state, self.sim.state()
             reward = float(self.reward_fn(self, before, self._state, info))
+        if collided and self.terminate_on_collision and not info["done"]:
+            info = self._end_at_collision(info)
         terminated = info["goal_reached"] or info["stuck"] or (collided and self.terminate_on_collision)
         truncated = info["time_limit"] and not terminated
         return self._observe(), reward, bool(terminated), bool(truncated), info
 
     def render(self):
-        """The top view as a (height, width, 3) uint8 array (render_mode "rgb_array")."""
+        """The top view as a (height, width, 3) uint8 array (render_mode "rgb_array"); None without a
+        render mode."""
+        self._require_open()
         if not self._started:
             raise RuntimeError("call reset() before render()")
+        if self.render_mode is None:
+            return None
         w, h = self.render_size or (None, None)
         return render_top_view(self.sim, width=w, height=h, resolution=0.05)
 
+    def save(self, out_dir):
+        """Copies the ended episode's result files (metrics.csv, states.csv, run.json, ...) into
+        out_dir and returns it; RuntimeError while the episode runs."""
+        self._require_open()
+        if not self._started:
+            raise RuntimeError("call reset() before save()")
+        return self.sim.save(str(out_dir))
+
     def close(self):
+        """Frees the simulation; the environment cannot be used afterwards (closing twice is fine)."""
         self.sim = None
+
+    def _require_open(self):
+        if self.sim is None:
+            raise RuntimeError("the environment is closed")
+
+    def _end_at_collision(self, info):
+        """Ends the simulation's episode with status "collision" and a reason naming what the robot
+        touched; returns the step's info updated."""
+        collided = info["collided"]
+        info = self.sim.end_episode("collision", collision_reason(self.sim))
+        info["collided"] = collided
+        return info
 
     # --- helpers ---
     def _default_reward(self, info):
@@ -310,16 +413,23 @@ class HuNavVectorEnv(_VecBase):
     infos["final_info"][i] its last. World i's episodes use seeds s_i, s_i + num_envs,
     s_i + 2 num_envs, ... (s_i: its first seed), so the worlds never replay each other's episodes.
 
+    A world's episode that ends by a collision (terminate_on_collision) ends with status "collision"
+    and a reason, as HuNavEnv's; infos["final_info"][i] holds the ended episode's "status" and
+    "reason". save_dir: every ended episode's result files are copied into
+    save_dir/world<i>_seed<seed> before the world is reset (infos["final_info"][i]["saved_to"]).
+
     seeds: the first episodes' seeds (default: the scenario's seed + i); threads: the pool's
     threads (default: the machine's cores, at most num_envs); reward_fn(env, before, after, infos)
     -> (num_envs,) replaces default_vector_reward (before/after: vsim.state()). Further keyword
     arguments go to hunav.VectorSimulation (duration, sample_rate, metrics, profile...).
     """
 
-    metadata = {"autoreset_mode": "same_step"}
+    metadata = {"autoreset_mode": "same_step", "render_modes": []}
+    spec = None
+    render_mode = None
 
     def __init__(self, scenario, num_envs, seeds=None, threads=None, max_people=None, reward_fn=None,
-                 reward_weights=None, terminate_on_collision=True, **sim_kwargs):
+                 reward_weights=None, terminate_on_collision=True, save_dir=None, **sim_kwargs):
         self.vsim = _hunav.VectorSimulation(num_envs, scenario, seeds=seeds, planner=None, threads=threads,
                                             **sim_kwargs)
         self.num_envs = int(num_envs)
@@ -345,10 +455,21 @@ class HuNavVectorEnv(_VecBase):
         self._goal_distance = None
         self._robot_collisions = None
         self._next_seed = None
+        self.save_dir = save_dir
+        self._np_random = None
+        self._np_random_seed = None
+
+    np_random = HuNavEnv.np_random
+    np_random_seed = HuNavEnv.np_random_seed
+    unwrapped = HuNavEnv.unwrapped
 
     def reset(self, seed=None, options=None):
         """Starts every world's episode: seed an int (world i gets seed + i), a list of num_envs
         seeds, or None (each world's next seed). Returns (obs, infos)."""
+        self._require_open()
+        if seed is not None and np.ndim(seed) == 0:
+            self._np_random_seed = int(seed)
+            self._np_random = np.random.default_rng(int(seed))
         if seed is None:
             seeds = self._next_seed if self._next_seed is not None else self.vsim.seeds
         elif np.ndim(seed) == 0:
@@ -365,6 +486,7 @@ class HuNavVectorEnv(_VecBase):
 
     def step(self, actions):
         """Applies actions (num_envs, action dims) for one control period in every world."""
+        self._require_open()
         if not self._started:
             raise RuntimeError("call reset() before step()")
         a = np.asarray(actions, dtype=np.float64)
@@ -389,6 +511,11 @@ class HuNavVectorEnv(_VecBase):
             before, self._state = self._state, self.vsim.state()
             rewards = np.asarray(self.reward_fn(self, before, self._state, infos), dtype=np.float64)
         self._goal_distance, self._robot_collisions = d_after, robot_collisions
+        if self.terminate_on_collision:  # a collision ends the world's episode, with its own status
+            for i in np.flatnonzero(collided & (infos["status"] == "running")):
+                world = self.vsim.world(int(i))
+                world.end_episode("collision", collision_reason(world))
+                infos["status"][i] = "collision"
         terminated = infos["goal_reached"] | infos["stuck"] | (collided & self.terminate_on_collision)
         truncated = infos["time_limit"] & ~terminated
         obs = self._observe()
@@ -398,8 +525,13 @@ class HuNavVectorEnv(_VecBase):
             infos["final_info"] = np.array([None] * self.num_envs, dtype=object)
             for i in ended:
                 infos["final_observation"][i] = {k: v[i].copy() for k, v in obs.items()}
-                infos["final_info"][i] = {k: v[i] for k, v in infos.items() if isinstance(v, np.ndarray)
-                                          and v.dtype != object}
+                final = {k: v[i] for k, v in infos.items() if isinstance(v, np.ndarray) and v.dtype != object}
+                world = self.vsim.world(int(i))
+                final["status"] = str(final["status"])
+                final["reason"] = world.info()["reason"]
+                if self.save_dir is not None:
+                    final["saved_to"] = world.save(f"{self.save_dir}/world{i}_seed{world.seed}")
+                infos["final_info"][i] = final
             seeds = [self._next_seed[i] for i in ended]
             for i in ended:
                 self._next_seed[i] += self.num_envs
@@ -411,7 +543,12 @@ class HuNavVectorEnv(_VecBase):
         return obs, rewards, terminated, truncated, infos
 
     def close(self):
+        """Frees the worlds; the environment cannot be used afterwards (closing twice is fine)."""
         self.vsim = None
+
+    def _require_open(self):
+        if self.vsim is None:
+            raise RuntimeError("the environment is closed")
 
     def _after_reset(self):
         d, _, collisions = self.vsim.reward_terms(self.reward_weights.personal_distance)
@@ -419,7 +556,7 @@ class HuNavVectorEnv(_VecBase):
         self._state = self.vsim.state() if self.reward_fn is not None else None
 
     def _infos(self, collided, robot_collisions):
-        status = np.array(self.vsim.status)
+        status = np.array(self.vsim.status, dtype="<U16")  # room for every status name
         return {
             "status": status,
             "goal_reached": status == "goal_reached",

@@ -19,9 +19,11 @@
 
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/episode_status.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/result_files.hpp"
 #include "hunav/message_checks.hpp"
+#include "hunav/occupancy_grid.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/runner/stepped_run.hpp"
 #include "hunav/thread_pool.hpp"
@@ -385,6 +387,21 @@ class Simulation {
     return r.ended() ? r.episode().fingerprint : r.world().fingerprintSoFar();
   }
 
+  // Ends the running episode with `status` ("collision", or "aborted" for a rule of the caller's own)
+  // and `reason`, as if it had ended so: END, the final metrics and the result files.
+  py::dict endEpisode(const std::string& status, const std::string& reason) {
+    namespace st = hunav::episode_status;
+    if (status != st::kCollision && status != st::kAborted)
+      throw std::invalid_argument("end_episode: status must be 'collision' or 'aborted', not '" + status + "'");
+    if (reason.empty()) throw std::invalid_argument("end_episode: give a reason");
+    SteppedRun& r = started();
+    {
+      py::gil_scoped_release release;
+      r.end(status, reason);
+    }
+    return info();
+  }
+
   // Copies the episode's result files (metrics.csv, states.csv, run.json, ...) into out_dir.
   std::string save(const std::string& out_dir) const {
     const SteppedRun& r = started();
@@ -397,6 +414,19 @@ class Simulation {
   }
 
   py::dict mapDict() const { return mapOf(scenario_); }
+  // The static map as the world publishes it on MAP (occupancy_grid.hpp): resolution (m), origin
+  // [x, y] of cell (0, 0)'s outer corner, cells (height, width) int8 (0 free, 100 occupied), row j
+  // column i at origin + (i + 0.5, j + 0.5) * resolution.
+  py::dict occupancyGridDict() const {
+    const hunav::OccupancyGrid g = hunav::occupancyGrid(scenario_);
+    py::array_t<std::int8_t> cells({static_cast<py::ssize_t>(g.height), static_cast<py::ssize_t>(g.width)});
+    std::copy(g.cells.begin(), g.cells.end(), cells.mutable_data());
+    py::dict d;
+    d["resolution"] = g.resolution;
+    d["origin"] = doubles({g.origin.x(), g.origin.y()});
+    d["cells"] = cells;
+    return d;
+  }
   py::dict robotDict() const {
     const auto& rc = scenario_.robot;
     const auto& l = rc.limits;
@@ -842,7 +872,9 @@ PYBIND11_MODULE(_hunav, m) {
       .def("reward_terms", &Simulation::rewardTerms, py::arg("personal_distance"))
       .def("fingerprint", &Simulation::fingerprint)
       .def("save", &Simulation::save, py::arg("out_dir"))
+      .def("end_episode", &Simulation::endEpisode, py::arg("status"), py::arg("reason"))
       .def("map", &Simulation::mapDict)
+      .def("occupancy_grid", &Simulation::occupancyGridDict)
       .def_property_readonly("robot", &Simulation::robotDict)
       .def_property_readonly("done", &Simulation::done)
       .def_property_readonly("planner", &Simulation::planner)

@@ -98,6 +98,14 @@ const RunOutcome& SteppedRun::finish() {
   return *outcome_;
 }
 
+const RunOutcome& SteppedRun::end(const std::string& status, const std::string& reason) {
+  if (ended()) throw std::logic_error("the episode has ended (" + episode_.status + "): call reset()");
+  episode_.status = status;
+  episode_.reason = reason;
+  collect();
+  return *outcome_;
+}
+
 void SteppedRun::runToControl() {
   while (!world_->tick(episode_)) {
     if (world_->awaitingCommand()) return;

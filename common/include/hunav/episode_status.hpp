@@ -14,6 +14,9 @@ namespace hunav::episode_status {
 inline constexpr std::string_view kGoalReached = "goal_reached";  // the robot is within its goal radius
 inline constexpr std::string_view kTimeLimit = "time_limit";      // the scenario's time limit was reached
 inline constexpr std::string_view kStuck = "stuck";               // no progress for stuck_timeout s
+// The robot touched a person or an obstacle in an episode set to end at a contact (only the Python
+// environments end episodes this way: HuNavEnv's terminate_on_collision).
+inline constexpr std::string_view kCollision = "collision";
 // A component went silent, exited, stalled or never became ready (the reason names it), or a
 // supervisor stopped the run (its reason: a wall-clock timeout, a dead process).
 inline constexpr std::string_view kAborted = "aborted";
@@ -25,10 +28,11 @@ inline constexpr std::string_view kInterruptedReason = "interrupted (SIGINT/SIGT
 inline constexpr int kExitAborted = 1;
 inline constexpr int kExitTimeout = 124;  // run_experiment.sh --timeout
 
-// The episode ran to an end of its own: an experimental outcome (goal reached, time limit, stuck),
-// kept in the statistics, as opposed to a cut-off run (aborted, interrupted, incomplete, failed, unknown).
+// The episode ran to an end of its own: an experimental outcome (goal reached, time limit, stuck,
+// collision), kept in the statistics, as opposed to a cut-off run (aborted, interrupted, incomplete,
+// failed, unknown).
 inline bool ranToEnd(std::string_view status) {
-  return status == kGoalReached || status == kTimeLimit || status == kStuck;
+  return status == kGoalReached || status == kTimeLimit || status == kStuck || status == kCollision;
 }
 
 // The exit code of a process whose run ended with `status` after `stop_signal` (0: none): 0 for an

@@ -42,6 +42,10 @@ class SteppedRun {
   void step(double v, double vy, double w);
   // Plays the rest of the episode (external: holding the last command) and returns its outcome.
   const RunOutcome& finish();
+  // Ends the episode now with `status` and `reason` (the caller's rule, e.g. HuNavEnv ending an
+  // episode at a collision): END is published and the results written as for any end. Throws
+  // std::logic_error when the episode has ended.
+  const RunOutcome& end(const std::string& status, const std::string& reason);
 
   bool ended() const { return outcome_.has_value(); }
   bool external() const { return external_; }
