@@ -44,7 +44,8 @@ Options:
   --planner-config FILE   YAML parameters of the built-in planner (planners/config/<name>.yaml shows
                           every key and its default)
   --planner-cmd "CMD"     lockstep/realtime only: start CMD (run by bash, in the run's namespace, with
-                          LCM_DEFAULT_URL set to the planner's bus) as the robot planner instead of
+                          LCM_DEFAULT_URL set to the planner's bus and the build's python folder on
+                          PYTHONPATH) as the robot planner instead of
                           hunav_planner; it must follow docs/planner_contract.md: publish
                           PLANNER_READY once subscribed and then every 0.5 s (the world starts the
                           episode only after it heard one, HUNAV_READY_TIMEOUT s at most), and answer
@@ -549,8 +550,10 @@ else
   if [ -n "$planner_cmd" ]; then
     # Your planner hears the bus through LCM_DEFAULT_URL (the URL without our channel_ports option:
     # every planner channel is on its port). It need not print "ready": the world waits for its
-    # PLANNER_READY message before the episode's START (HUNAV_READY_TIMEOUT s at most).
-    start planner "$log_dir/planner.log" bash -c "$planner_cmd"
+    # PLANNER_READY message before the episode's START (HUNAV_READY_TIMEOUT s at most). The build's
+    # Python folder (the message classes, `import lcm`) is on its PYTHONPATH.
+    start planner "$log_dir/planner.log" env "PYTHONPATH=$(dirname "$bin_dir")/python${PYTHONPATH:+:$PYTHONPATH}" \
+      bash -c "$planner_cmd"
     log "your planner '$planner': $planner_cmd (output in $log_dir/planner.log)"
   elif [ "$planner" != none ]; then
     start planner "$log_dir/planner.log" "$bin_dir/hunav_planner" --planner "$planner" --scenario "$scenario" \
