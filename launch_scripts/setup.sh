@@ -1,20 +1,25 @@
 #!/usr/bin/env bash
-# Installs what HuNav-LCM needs on Debian bookworm and builds it (Release) into build/.
+# Installs what HuNav-LCM needs on Debian bookworm and builds it (Release) into build/: what a user
+# runs (the processes, tools, Python packages and view), or with --all the tests and benchmarks too.
+# As root it also installs the Python package `lcm` (LCM's Python API over liblcm) for Debian's Python.
 # Idempotent: packages already installed are not installed again, and a configured build is reused.
 #
-#   bash launch_scripts/setup.sh [--no-install] [--no-build] [--build-dir DIR] [--help]
+#   bash launch_scripts/setup.sh [--all] [--no-install] [--no-build] [--build-dir DIR] [--help]
 #
 # Works from any directory. Installing needs root (or sudo); building does not.
 set -euo pipefail
 
 usage() {
   cat <<'EOF'
-Usage: bash launch_scripts/setup.sh [--no-install] [--no-build] [--build-dir DIR]
+Usage: bash launch_scripts/setup.sh [--all] [--no-install] [--no-build] [--build-dir DIR]
 
 Installs the Debian packages HuNav-LCM needs (apt-get, skipped when all are installed), then
-configures and builds the project in Release mode (binaries in build/bin).
+configures and builds the project in Release mode (binaries in build/bin): the processes, tools,
+Python packages (build/python) and the web view. As root, also installs the Python package `lcm`
+for Debian's /usr/bin/python3 (LCM's Python API; Debian has none).
 
-  --no-install     do not touch packages (only build)
+  --all            build the tests and benchmarks too (what `bash .ci/run` runs)
+  --no-install     do not touch packages or install `lcm` (only build)
   --no-build       do not build (only install packages)
   --build-dir DIR  build there instead of <repo>/build (relative paths are taken from the repo root)
   -h, --help       show this help
@@ -41,9 +46,11 @@ PACKAGES=(
 
 do_install=1
 do_build=1
+build_all=0
 build_dir=build
 while [ "$#" -gt 0 ]; do
   case "$1" in
+    --all) build_all=1 ;;
     --no-install) do_install=0 ;;
     --no-build) do_build=0 ;;
     --build-dir)
@@ -118,7 +125,21 @@ if [ "$do_build" -eq 1 ]; then
   jobs=$(nproc 2>/dev/null || echo 2)
   echo "setup.sh: configuring $build_path (Release)"
   cmake -S "$repo_root" -B "$build_path" -DCMAKE_BUILD_TYPE=Release
-  echo "setup.sh: building with -j$jobs"
-  cmake --build "$build_path" -j"$jobs"
-  echo "setup.sh: done; binaries in $build_path/bin"
+  if [ "$build_all" -eq 1 ]; then
+    echo "setup.sh: building everything (tests and benchmarks too) with -j$jobs"
+    cmake --build "$build_path" -j"$jobs"
+  else
+    echo "setup.sh: building the programs (target apps; --all adds the tests) with -j$jobs"
+    cmake --build "$build_path" -j"$jobs" --target apps
+  fi
+  if [ "$do_install" -eq 1 ] && [ -f "$build_path/python/lcm/__init__.py" ]; then
+    # `import lcm` for Debian's Python, as a python3-lcm package would give it.
+    if [ "$(id -u)" -eq 0 ]; then
+      cmake --install "$build_path" --component python_lcm >/dev/null
+      echo "setup.sh: installed the Python package lcm for /usr/bin/python3"
+    else
+      echo "setup.sh: not root: the Python package lcm is in $build_path/python (PYTHONPATH=$build_path/python)"
+    fi
+  fi
+  echo "setup.sh: done; binaries in $build_path/bin, Python packages in $build_path/python"
 fi
