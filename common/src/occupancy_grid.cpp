@@ -54,27 +54,20 @@ bool edgesMeetBox(const std::vector<Vec2>& pts, bool closed, const Box& box) {
   return closed && n > 2 && segmentMeetsBox(pts[n - 1], pts[0], box);
 }
 
-// Does `shape` overlap the cell? `inner` is the cell shrunk by a hair: a polygon or circle must
-// cover part of the interior (a map_server map's rectangles share borders with the free cells around
-// them); a wall must cross the interior, or run along the cell's border (a wall on a grid line
-// occupies the cells on both sides), not merely touch a corner.
-bool overlaps(const Shape& shape, const Box& cell, const Box& inner) {
-  switch (shape.kind) {
-    case Shape::Kind::Circle: {
-      const Vec2 nearest = shape.center.cwiseMax(inner.lo).cwiseMin(inner.hi);
-      return (nearest - shape.center).norm() < shape.radius;
-    }
-    case Shape::Kind::Polygon:
-      return shape.contains(0.5 * (inner.lo + inner.hi)) || edgesMeetBox(shape.points, true, inner);
-    case Shape::Kind::Polyline: {
-      if (edgesMeetBox(shape.points, false, inner)) return true;
-      const double tolerance = inner.lo.x() - cell.lo.x();
-      for (std::size_t k = 0; k + 1 < shape.points.size(); ++k)
-        if (runsAlongBorder(shape.points[k], shape.points[k + 1], cell, tolerance)) return true;
-      return false;
-    }
+// Does a polygon or circle cover part of the cell's interior (`inner`: the cell shrunk by a hair)?
+// A map_server map's rectangles share borders with the free cells around them: those stay free.
+bool coversInterior(const Shape& shape, const Box& inner) {
+  if (shape.kind == Shape::Kind::Circle) {
+    const Vec2 nearest = shape.center.cwiseMax(inner.lo).cwiseMin(inner.hi);
+    return (nearest - shape.center).norm() < shape.radius;
   }
-  return false;
+  return shape.contains(0.5 * (inner.lo + inner.hi)) || edgesMeetBox(shape.points, true, inner);
+}
+
+// Does the wall segment a-b occupy the cell? It must cross the interior or run along the border
+// (a wall on a grid line occupies the cells on both sides), not merely touch a corner.
+bool wallOccupies(const Vec2& a, const Vec2& b, const Box& cell, const Box& inner) {
+  return segmentMeetsBox(a, b, inner) || runsAlongBorder(a, b, cell, inner.lo.x() - cell.lo.x());
 }
 
 }  // namespace
@@ -98,25 +91,49 @@ OccupancyGrid rasterize(const std::vector<Shape>& shapes, double resolution, con
   g.cells.assign(static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height), OccupancyGrid::kFree);
 
   const double inset = 1e-6 * g.resolution;
-  auto cellIndex = [&](double v, double origin, int n) {
-    return std::clamp(static_cast<int>(std::floor((v - origin) / g.resolution)), 0, n - 1);
+  auto column = [&](double x) {
+    return std::clamp(static_cast<int>(std::floor((x - g.origin.x()) / g.resolution)), 0, g.width - 1);
   };
+  auto row = [&](double y) {
+    return std::clamp(static_cast<int>(std::floor((y - g.origin.y()) / g.resolution)), 0, g.height - 1);
+  };
+  // Marks cell (i, j) when `occupies(full box, inner box)`.
+  auto mark = [&](int i, int j, const auto& occupies) {
+    std::int8_t& cell =
+        g.cells[static_cast<std::size_t>(j) * static_cast<std::size_t>(g.width) + static_cast<std::size_t>(i)];
+    if (cell == OccupancyGrid::kOccupied) return;
+    const Vec2 corner = g.origin + Vec2(i, j) * g.resolution;
+    const Box full{corner, corner + Vec2(g.resolution, g.resolution)};
+    const Box inner{corner + Vec2(inset, inset), corner + Vec2(g.resolution - inset, g.resolution - inset)};
+    if (occupies(full, inner)) cell = OccupancyGrid::kOccupied;
+  };
+  const double reach = 2.0 * inset;  // the cells a wall on their border touches are looked at too
   for (const Shape& shape : shapes) {
-    Vec2 a, b;
-    shape.bounds(a, b);
-    a -= Vec2(2.0 * inset, 2.0 * inset);  // the cells a wall on their border touches too
-    b += Vec2(2.0 * inset, 2.0 * inset);
-    const int ci0 = cellIndex(a.x(), g.origin.x(), g.width), ci1 = cellIndex(b.x(), g.origin.x(), g.width);
-    const int cj0 = cellIndex(a.y(), g.origin.y(), g.height), cj1 = cellIndex(b.y(), g.origin.y(), g.height);
-    for (int j = cj0; j <= cj1; ++j) {
-      for (int i = ci0; i <= ci1; ++i) {
-        std::int8_t& cell =
-            g.cells[static_cast<std::size_t>(j) * static_cast<std::size_t>(g.width) + static_cast<std::size_t>(i)];
-        if (cell == OccupancyGrid::kOccupied) continue;
-        const Vec2 corner = g.origin + Vec2(i, j) * g.resolution;
-        const Box full{corner, corner + Vec2(g.resolution, g.resolution)};
-        const Box inner{corner + Vec2(inset, inset), corner + Vec2(g.resolution - inset, g.resolution - inset)};
-        if (overlaps(shape, full, inner)) cell = OccupancyGrid::kOccupied;
+    if (shape.kind != Shape::Kind::Polyline) {  // polygons and circles: every cell of their bounds
+      Vec2 a, b;
+      shape.bounds(a, b);
+      for (int j = row(a.y() - reach); j <= row(b.y() + reach); ++j)
+        for (int i = column(a.x() - reach); i <= column(b.x() + reach); ++i)
+          mark(i, j, [&](const Box&, const Box& inner) { return coversInterior(shape, inner); });
+      continue;
+    }
+    // A wall: segment by segment, column by column, only the rows the segment spans in the column
+    // (a room's outline or a long diagonal costs its length, not the area it encloses).
+    for (std::size_t k = 0; k + 1 < shape.points.size(); ++k) {
+      const Vec2& a = shape.points[k];
+      const Vec2& b = shape.points[k + 1];
+      const Vec2 d = b - a;
+      for (int i = column(std::min(a.x(), b.x()) - reach); i <= column(std::max(a.x(), b.x()) + reach); ++i) {
+        double t0 = 0.0, t1 = 1.0;
+        if (d.x() != 0.0) {  // the part of the segment within the column (and a hair either side)
+          const double x0 = g.origin.x() + i * g.resolution - reach, x1 = x0 + g.resolution + 2.0 * reach;
+          t0 = std::max(0.0, std::min((x0 - a.x()) / d.x(), (x1 - a.x()) / d.x()));
+          t1 = std::min(1.0, std::max((x0 - a.x()) / d.x(), (x1 - a.x()) / d.x()));
+          if (t0 > t1) continue;
+        }
+        const double y0 = a.y() + t0 * d.y(), y1 = a.y() + t1 * d.y();
+        for (int j = row(std::min(y0, y1) - reach); j <= row(std::max(y0, y1) + reach); ++j)
+          mark(i, j, [&](const Box& full, const Box& inner) { return wallOccupies(a, b, full, inner); });
       }
     }
   }
