@@ -133,7 +133,8 @@ class Grid:
         return np.array(cost).reshape(self.shape)
 
     def path_from(self, cost_to_go, x, y, length):
-        """Points down `cost_to_go` from (x, y), about `length` metres of them (fewer near the goal)."""
+        """Cell centres down `cost_to_go` from (x, y) towards the goal: about `length` metres of them
+        (math.inf: all the way)."""
         row, col = self.cell(x, y)
         points = [self.center(row, col)]
         travelled = 0.0
@@ -238,8 +239,14 @@ class MapPlanner:
             self.detour, self.blocked_since = None, None
         if self.detour is not None and t >= self.detour_until:
             self.detour = None
-        path = self.grid.path_from(self.plain if self.detour is None else self.detour, obs.x, obs.y, LOOKAHEAD)
-        target = path[-1] if len(path) > 1 else np.array([obs.goal.x, obs.goal.y])
+        path = self.grid.path_from(self.plain if self.detour is None else self.detour, obs.x, obs.y, math.inf)
+        target = np.array([obs.goal.x, obs.goal.y])  # the point LOOKAHEAD along the path, else the goal
+        travelled = 0.0
+        for a, b in zip(path, path[1:]):
+            travelled += math.hypot(*(b - a))
+            if travelled >= LOOKAHEAD:
+                target = b
+                break
         error = math.remainder(math.atan2(target[1] - obs.y, target[0] - obs.x) - obs.yaw, 2 * math.pi)
         cmd.w = max(-obs.max_w, min(obs.max_w, 1.5 * error))
         v = obs.max_v * max(0.0, math.cos(error)) if abs(error) < 1.0 else 0.0
@@ -257,7 +264,7 @@ class MapPlanner:
         elif v > 0.0:
             self.blocked_since = None
         cmd.v = v
-        return cmd, [tuple(p) for p in path]
+        return cmd, [tuple(p) for p in path[::4]] + [goal]  # for the view: every fourth cell
 
     def slow_for_people(self, obs, v):
         """The speed allowed by the people ahead, and whether one of them limits it."""
