@@ -231,3 +231,47 @@ TEST(WorldDrops, ANegativeCountInAStepReplyIsDropped) {
   EXPECT_EQ(r.status, "aborted");
   EXPECT_NE(r.reason.find("the last: step reply: negative dropped_messages"), std::string::npos) << r.reason;
 }
+
+namespace {
+
+// Answers every observation twice more: once for an episode that never ran (observation's + 7),
+// once for the episode before it (a late answer), both with a command that would move the robot.
+class OtherEpisodes : public worldsim_test::FixedCommand {
+ public:
+  explicit OtherEpisodes(Bus& bus) : FixedCommand(bus, 0.0, 0.0, 0.0) {
+    subscriptions_.push_back(
+        bus.subscribe<robot_observation_t>(channels::kRobotObservation, [&bus](const robot_observation_t& o) {
+          robot_command_t c{};
+          c.utime = o.utime;
+          c.seq = o.seq;
+          c.v = 0.5;
+          c.episode = o.episode + 7;
+          bus.publish(channels::kRobotCommand, c);
+          c.episode = o.episode - 1;
+          bus.publish(channels::kRobotCommand, c);
+        }));
+  }
+};
+
+}  // namespace
+
+// A command for another episode is dropped and counted (issue 35), except one for the episode that
+// just ended: realtime planners answer the last observation before they hear END.
+TEST(WorldDrops, CommandsForAnotherEpisodeAreDroppedAndCountedButLateOnesAreNot) {
+  lcm::LCM lcm("memq://");
+  LcmBus bus(lcm);
+  manager::ManagerNode manager(bus);
+  OtherEpisodes planner(bus);
+  Scenario s = passing();
+  s.time_limit = 1.0;  // 1 s at 10 Hz control: about 10 observations
+  WorldSim world(bus, s, fastOptions());
+  const auto r = world.runEpisode();
+  bus.handleAvailable();
+  EXPECT_EQ(r.status, "time_limit") << r.reason;
+  const std::size_t observations = planner.observations.size();
+  ASSERT_GE(observations, 9u);
+  // One forged command per observation (episode 8 during episode 1); the ones for episode 0 are late
+  // answers and not counted. The robot answered (0, 0) only: it never moved.
+  EXPECT_EQ(r.dropped_messages, observations);
+  EXPECT_EQ(world.robot().x, s.robot.start.x());
+}

@@ -238,7 +238,13 @@ void WorldSim::onStepReply(const step_reply_t& reply) {
 }
 
 void WorldSim::onCommand(const robot_command_t& cmd) {
-  if (cmd.episode != episode_) return;
+  if (cmd.episode != episode_) {
+    // The episode that just ended may still get an answer sent before its END was heard (realtime,
+    // or a resend race): late, not wrong. Any other episode is a broken or forged planner.
+    if (cmd.episode == episode_ - 1) return;
+    throw BadMessage("robot command for episode " + std::to_string(cmd.episode) + " during episode " +
+                     std::to_string(episode_));
+  }
   // Dropped and counted beyond +-1e6 like every number of a message (lcmtypes/README.md), not
   // clamped to the base's limits: a planner sending 1e308 is broken, not fast.
   checkNumber(cmd.v, "v", "robot command");
