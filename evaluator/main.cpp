@@ -44,6 +44,10 @@ struct Options {
   std::string scenario_file;                     // live: its sample rate and metrics
   std::string states_file;                       // offline: --states
   std::string log_file;                          // offline: --log
+  std::string salvage_dir;                       // --salvage: the folder of a recorder that died
+  std::string reason, status = "aborted";        // --salvage: run.json's
+  std::string planner, mode;                     // --salvage: run.json's provenance
+  long long seed = -1;                           // --salvage: the scenario's unless given
   std::string format = "csv";
   bool no_live_metrics = false;
   bool counterfactual = false;
@@ -120,6 +124,27 @@ int runLog(const Options& o) {
   return 0;
 }
 
+// --salvage: run.json and the metrics of what a recorder that died wrote into its folder.
+int runSalvage(const Options& o) {
+  hunav::evaluator::RunInfo info;
+  if (!o.scenario_file.empty()) {
+    const hunav::Scenario scenario = hunav::loadScenario(o.scenario_file);
+    info.scenario = scenario.name;
+    info.scenario_file = o.scenario_file;
+    info.seed = static_cast<std::int64_t>(o.seed >= 0 ? static_cast<std::uint64_t>(o.seed) : scenario.seed);
+  }
+  info.planner = o.planner;
+  info.mode = o.mode;
+  info.episode = 1;
+  // The world's run id (<scenario>_<planner>_s<seed>), as the run would have recorded it.
+  info.run_id = info.scenario + "_" + o.planner + "_s" + std::to_string(info.seed);
+  info.status = o.status;
+  info.reason = o.reason;
+  const auto result = hunav::evaluator::salvageRun(o.salvage_dir, info, o.evaluator);
+  report(result);
+  return 0;
+}
+
 int runOffline(const Options& o) {
   const auto result = hunav::evaluator::recomputeFromStates(o.states_file, o.evaluator, !o.tag_given);
   std::cout << result.formatTable();
@@ -168,6 +193,7 @@ int main(int argc, char** argv) {
       "Prints one line 'ready' on stdout once subscribed; exits 0 after --episodes episodes ended, or on\n"
       "SIGINT/SIGTERM after writing what was recorded (run.json complete=false, status interrupted, or aborted\n"
       "with the first line of $HUNAV_STOP_REASON_FILE as the reason when that file exists).\n"
+      "--salvage DIR --reason TEXT writes the run.json of a run whose recorder died (run_experiment.sh).\n"
       "Offline: --states FILE recomputes the results of a states.csv into --out (metrics.csv, run.json,\n"
       "per-tick files and states.csv; provenance taken from the run.json beside it); --log FILE replays an LCM log and "
       "writes what the live evaluator\n"
@@ -175,9 +201,10 @@ int main(int argc, char** argv) {
       "Metric definitions: docs/metrics.md. Exit codes: 0 done, 1 error, 2 bad command line or input file."};
   Options o;
   hunav::evaluator::EvaluatorOptions& e = o.evaluator;
-  app.add_option("--out", e.out_dir,
-                 "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode")
-      ->required();
+  auto* out_opt = app.add_option(
+      "--out", e.out_dir,
+      "output folder (created when missing): metrics.csv, and states.csv + run.json of the first episode "
+      "(required, but with --salvage)");
   app.add_option("--profile", e.profile,
                  "metric profile: 'default' = HuNavSim's metrics with its bugs fixed, 'hunav_v1' = HuNavSim v1's "
                  "numbers (docs/metrics.md)")
@@ -195,8 +222,22 @@ int main(int argc, char** argv) {
                                     "offline: recompute metrics.csv and run.json of this states.csv into --out");
   auto* log_opt = app.add_option("--log", o.log_file,
                                  "offline: replay the EPISODE_EVENT and WORLD_STATE events of this LCM log into --out");
-  states_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(log_opt);
-  log_opt->excludes(episodes_opt)->excludes(url_opt);
+  auto* salvage_opt = app.add_option(
+      "--salvage", o.salvage_dir,
+      "the folder of a run whose recorder died before it wrote run.json (run_experiment.sh does this): cut its "
+      "states.csv at the last whole sample, write run.json (status --status, --reason, complete false) and the "
+      "metrics of what was recorded");
+  auto* reason_opt = app.add_option("--reason", o.reason, "--salvage: run.json's reason (why the run ended)");
+  app.add_option("--status", o.status, "--salvage: run.json's status (default aborted)")->needs(salvage_opt);
+  app.add_option("--planner", o.planner, "--salvage: run.json's planner")->needs(salvage_opt);
+  app.add_option("--mode", o.mode, "--salvage: run.json's mode")->needs(salvage_opt);
+  app.add_option("--seed", o.seed, "--salvage: run.json's seed (default: the --scenario's)")
+      ->check(hunav::cli::nonNegativeInteger())
+      ->needs(salvage_opt);
+  salvage_opt->needs(reason_opt)->excludes(url_opt)->excludes(episodes_opt)->excludes(out_opt);
+  reason_opt->needs(salvage_opt);
+  states_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(log_opt)->excludes(salvage_opt);
+  log_opt->excludes(episodes_opt)->excludes(url_opt)->excludes(salvage_opt);
   app.add_option(
          "--metrics", e.metrics_file,
          "metric selection YAML ('metrics: {name: false}', or HuNavSim's metrics.yaml: its frequency is the "
@@ -215,8 +256,8 @@ int main(int argc, char** argv) {
           ->check(CLI::Range(0.0, 1e6))
           ->capture_default_str();
   app.add_option("--scenario", o.scenario_file,
-                 "live: the scenario of the run; its evaluation.sample_rate (scenarios/README.md) is the sample rate "
-                 "unless --sample-rate is given")
+                 "live and --salvage: the scenario of the run; its evaluation.sample_rate (scenarios/README.md) is "
+                 "the sample rate unless --sample-rate is given (--salvage: also run.json's scenario and seed)")
       ->check(CLI::ExistingFile)
       ->excludes(states_opt)
       ->excludes(log_opt);
@@ -224,11 +265,24 @@ int main(int argc, char** argv) {
                "live, with --scenario: at the end of each episode also run it with its seed without the robot, write "
                "counterfactual.csv and add the counterfactual_* metrics to its row (docs/metrics.md)")
       ->excludes(states_opt)
-      ->excludes(log_opt);
+      ->excludes(log_opt)
+      ->excludes(salvage_opt);
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+  if (out_opt->count() == 0 && salvage_opt->count() == 0) {
+    std::cerr << "--out is required\nRun with --help for more information.\n";
+    return hunav::kExitBadInput;
+  }
+  // An empty file name given is no file (it started a live evaluator).
+  for (const auto* opt : {states_opt, log_opt, salvage_opt}) {
+    if (opt->count() > 0 && opt->as<std::string>().empty()) {
+      std::cerr << "hunav_evaluator: " << opt->get_name() << " needs a file or folder name (got '')\n";
+      return hunav::kExitBadInput;
+    }
+  }
 
   return hunav::cli::run("hunav_evaluator", [&] {
     if (auto code = completeFromFiles(o, rate_opt->count() > 0, tag_opt->count() > 0)) return *code;
+    if (!o.salvage_dir.empty()) return runSalvage(o);
     if (!o.states_file.empty()) return runOffline(o);
     if (!o.log_file.empty()) return runLog(o);
     return runLive(o);

@@ -38,6 +38,18 @@ need_bin() {
   [ -x "$bin_dir/$1" ] || die "$bin_dir/$1 is missing: build the project first (bash launch_scripts/setup.sh)"
 }
 
+# lock_folder DIR: an exclusive lock on the results folder DIR for as long as this script runs: flock
+# on the folder itself, the lock the C++ tools take (result_files/include/hunav/results/folder_lock.hpp),
+# which the processes this script starts inherit and take over. Another live run or batch holds DIR:
+# exit 2 with a message.
+lock_folder() {
+  exec {folder_lock_fd}<"$1" || die "cannot open the folder '$1'"
+  if ! flock -n "$folder_lock_fd"; then
+    err "another run is writing into $1: give each run (and each batch) a results folder of its own"
+    exit 2
+  fi
+}
+
 # ---------------------------------------------------------------------------------------------------
 # Options: --name value and --name=value both work. A loop reads them as
 #   while [ "$#" -gt 0 ]; do split_option "$1"; case "$opt" in ... --x) option_value "$@"; x=$value ;;

@@ -4,6 +4,37 @@
 # aggregates the batch with hunav_summary. See --help.
 set -euo pipefail
 
+# SIGINT / SIGTERM at any moment: the batch runs in a child process with a process group of its own;
+# this process starts it, waits for it and, on a signal, sends SIGINT to that group (the child ends;
+# GNU parallel sends its jobs SIGTERM and gives them 30 s to write what they recorded), waits until
+# the group is gone, and exits 130 / 143. Nothing else runs here: bash 5.2 can fail to parse a trap's
+# action when the signal comes while it expands a command substitution (exit 2, "unexpected EOF
+# while looking for matching `)'"), and this process expands none.
+if [ -z "${HUNAV_BATCH_CHILD:-}" ] && [ "${1:-}" != --run-one ] && [ "${1:-}" != --run-chunk ]; then
+  stop_batch() {
+    trap '' INT TERM
+    [ -n "${batch_pid:-}" ] || exit "$2"
+    kill -s INT -- "-$batch_pid" 2>/dev/null || true
+    local waited=0
+    while kill -0 -- "-$batch_pid" 2>/dev/null && [ "$waited" -lt 600 ]; do  # 60 s at most
+      sleep 0.1
+      waited=$((waited + 1))
+    done
+    kill -s KILL -- "-$batch_pid" 2>/dev/null || true
+    echo "run_batch: interrupted by SIG$1: the jobs were stopped; run the same command again to finish the batch" >&2
+    exit "$2"
+  }
+  trap 'stop_batch INT 130' INT
+  trap 'stop_batch TERM 143' TERM
+  set -m  # the child's own process group
+  HUNAV_BATCH_CHILD=1 "$BASH" "$0" "$@" &
+  batch_pid=$!
+  set +m
+  batch_rc=0
+  wait "$batch_pid" || batch_rc=$?
+  exit "$batch_rc"
+fi
+
 prog=run_batch
 # shellcheck source=launch_scripts/lib.sh
 source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
@@ -21,7 +52,7 @@ run, at the speed of the simulation); in lockstep and realtime each run is a run
   --planners LIST    comma-separated planners: dwb, scl, sfw, none, or names given --planner-cmd
   --seeds SEEDS      seeds: A-B, N, or a comma-separated mix (1-10 or 1-5,8,20-22)
   --out DIR          the batch folder
-  --jobs N           runs at a time (default: the number of CPUs)
+  --jobs N           runs at a time, at most 1024 (default: the number of CPUs)
   --mode MODE        inprocess (default), lockstep or realtime (separate processes, each run in its own
                      private network namespace, made by run_experiment.sh)
   --duration S       simulated time limit of every run (default: each scenario's time_limit)
@@ -75,7 +106,9 @@ stays out of the summary's statistics). Exit status: 0 when every run finished a
 summary was written; 1 when some run did not finish (the summary covers the others) or exited
 non-zero after writing complete results (they are kept and count as finished); 2 on bad arguments;
 3 when every run finished but some failed its scenario's expect: conditions (junit.xml says which; a
-run that fails them is a finished run, not retried).
+run that fails them is a finished run, not retried); 130 / 143 when stopped by SIGINT / SIGTERM (at
+any moment: the running jobs get SIGTERM and 30 s to write what they recorded; the same command
+finishes the batch later). One batch per DIR at a time (another on the same DIR: exit 2).
 
 Environment: HUNAV_BIN_DIR (binaries, default <repo>/build/bin), HUNAV_BATCH_TIMEOUT_MARGIN (s, default
 60: see --timeout), and what run_experiment.sh reads.
@@ -396,6 +429,8 @@ fi
 [ "$no_states_csv" -eq 0 ] || [ "$counterfactual" -eq 0 ] ||
   usage_error "--no-states-csv is not possible with --counterfactual (which reads states.csv back)"
 check_count --jobs "$jobs"
+# More jobs than that only make GNU parallel probe its limits for minutes.
+[ -z "$jobs" ] || { [ "${#jobs}" -le 4 ] && [ "$jobs" -le 1024 ]; } || usage_error "--jobs must be at most 1024 (got '$jobs')"
 check_seconds --duration "$duration"
 check_seconds --timeout "$timeout"
 check_choice --profile "$profile" default hunav_v1
@@ -502,6 +537,8 @@ need_bin hunav_summary
 
 mkdir -p "$out/runs" || die "cannot create the batch folder '$out'"
 out=$(cd "$out" && pwd)
+# One batch per folder at a time (two would run the same runs into the same folders).
+lock_folder "$out"
 matrix >"$out/matrix.tsv"
 total=$(wc -l <"$out/matrix.tsv")
 # The matrix's run folders, and which are finished already.
@@ -528,6 +565,9 @@ log "batch folder $out"
 rm -f "$out/.progress" "$out/.exited_nonzero"
 batch_started=$(date +%s.%N)
 parallel_rc=0
+# When the batch is stopped, parallel sends its jobs SIGTERM and gives them 30 s to write what they
+# recorded (its default, 0.4 s, could cut a run's result files short) before SIGKILL.
+termseq=TERM,30000,KILL,25
 if [ "$mode" = inprocess ]; then
   # Chunks: the runs still to do of each (scenario, planner), a few seeds per hunav_run process,
   # about six chunks per job so that the jobs end together (at most 10 runs per chunk: progress lines
@@ -564,8 +604,12 @@ if [ "$mode" = inprocess ]; then
   # the interrupted runs are not finished and run again next time.
   job=$(printf '%q ' "$script_path" --run-chunk "$out")'{1} {2} {3} {4} '$(printf '%q ' "${run_args[@]}")
   if [ -s "$out/.chunks" ]; then
-    HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
-      --arg-file "$out/.chunks" "$job" || parallel_rc=$?
+    # No more jobs than chunks: parallel probes its limits for each job slot it is given.
+    chunks=$(wc -l <"$out/.chunks")
+    # In the background: SIGINT to the batch's group then ends this shell at once (see the top).
+    HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$((jobs < chunks ? jobs : chunks))" --line-buffer \
+      --termseq "$termseq" --colsep '\t' --arg-file "$out/.chunks" "$job" &
+    wait "$!" || parallel_rc=$?
   fi
   rm -f "$out/.chunks"
 else
@@ -573,8 +617,9 @@ else
   # fields it substitutes ({2}...{5}); the rest is quoted here. Ctrl-C reaches every run_experiment.sh,
   # which stops its processes cleanly; the interrupted runs are not finished and run again next time.
   job=$(printf '%q ' "$script_path" --run-one "$out")'{2} {3} {4} {5} '$(printf '%q ' "${run_args[@]}")
-  HUNAV_BATCH_TOTAL=$total HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$jobs" --line-buffer --colsep '\t' \
-    --arg-file "$out/matrix.tsv" "$job" || parallel_rc=$?
+  HUNAV_BATCH_TOTAL=$total HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$((jobs < total ? jobs : total))" \
+    --line-buffer --termseq "$termseq" --colsep '\t' --arg-file "$out/matrix.tsv" "$job" &
+  wait "$!" || parallel_rc=$?
 fi
 elapsed=$(awk -v a="$batch_started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 rm -f "$out/.progress" "$out/.progress.lock"

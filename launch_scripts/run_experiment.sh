@@ -465,6 +465,9 @@ json_field() {
 # ---------------------------------------------------------------------------------------------------
 mkdir -p "$out" || die "cannot create the output folder '$out'"
 out_dir=$(cd "$out" && pwd)
+# One run per results folder at a time (two tore states.csv); hunav_run and the evaluator take the
+# lock over from this script.
+lock_folder "$out_dir"
 log_dir="$out_dir/logs"
 mkdir -p "$log_dir"
 if [ -e "$out_dir/metrics.csv" ]; then
@@ -633,6 +636,24 @@ fresh() {
   local mtime
   [ -s "$1" ] && mtime=$(stat -c %.6Y "$1") && [ "${mtime//[.,]/}" -ge "$run_started_us" ]
 }
+
+# The recorder (the evaluator, or hunav_run in process) died before it wrote run.json (killed, or a
+# crash): run.json from what it recorded, with status aborted and why (states.csv cut at its last
+# whole sample), so the run's status, seed and reason are on record.
+recorder=evaluator
+[ "$mode" != inprocess ] || recorder=hunav_run
+if [ "$status_code" -ne 2 ] && [ "${code_of[$recorder]:-0}" -ne 0 ] && ! fresh "$out_dir/run.json"; then
+  salvage_reason=${abort_reason:-"$(exit_text "$recorder" "${code_of[$recorder]}") before it wrote run.json"}
+  salvage_args=()
+  for ((k = 0; k < ${#eval_args[@]}; k++)); do [ "${eval_args[k]}" = --counterfactual ] || salvage_args+=("${eval_args[k]}"); done
+  if "$bin_dir/hunav_evaluator" --salvage "$out_dir" --reason "$salvage_reason" --scenario "$scenario" \
+    --planner "$planner" --mode "$mode" "${seed_args[@]}" "${salvage_args[@]}" >>"$log_dir/salvage.log" 2>&1; then
+    log "the $recorder died before it wrote run.json: run.json written from what it recorded (status aborted)"
+    [ "$status_code" -ne 0 ] || status_code=1
+  else
+    err "the $recorder died, and run.json could not be written from what it recorded (see $log_dir/salvage.log)"
+  fi
+fi
 
 if [ "$mode" != inprocess ]; then
   # The run's line and metrics table as hunav_run prints them (from the evaluator's run.json), then the

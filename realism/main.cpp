@@ -53,9 +53,12 @@ void addOptions(CLI::App& app, Options& o) {
                  "extrapolated goal: prediction horizons ahead at the last observed velocity")
       ->check(hunav::cli::positiveNumber())
       ->capture_default_str();
+  // Bounded: pedestrian data sets annotate every 0.04-1 s, and the prediction integrates the social
+  // force over 12 frames in steps of 10 ms (65536 s per frame ran for minutes).
   app.add_option("--frame-interval", o.frame_interval,
-                 "seconds per annotated frame for every file (default: 0.4, biwi_eth 1/1.5)")
-      ->check(hunav::cli::positiveNumber());
+                 "seconds per annotated frame for every file, in (0, 10] (default: 0.4, biwi_eth 1/1.5)")
+      ->check(hunav::cli::positiveNumber())
+      ->check(CLI::Range(0.0, 10.0));
 }
 
 // The parameters of --params, with the options typed on the command line over them.

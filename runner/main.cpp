@@ -189,6 +189,14 @@ bool readLists(const Options& o, std::vector<std::string>& planners, std::vector
     std::cerr << "hunav_run: --seeds: " << e.what() << "\n";
     return false;
   }
+  // The label names folders inside --out: a plain name, never a path (a "../" escaped --out).
+  const std::string& label = o.folder_label;
+  if (!label.empty() && (label == "." || label == ".." ||
+                         label.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-") !=
+                             std::string::npos)) {
+    std::cerr << "hunav_run: --folder-label: a name of letters, digits, '.', '_' or '-' (got '" << label << "')\n";
+    return false;
+  }
   for (const auto& planner : planners) {
     if (planner != "none" && !hunav::planners::hasPlanner(planner)) {
       std::cerr << "hunav_run: unknown planner '" << planner << "'\n";
@@ -255,8 +263,9 @@ int run(Options& o) {
   if (!o.single_thread) threads.emplace(hunav::ThreadPool::forThisMachine(1));
   o.run.threads = threads ? &*threads : nullptr;
   if (seeds.empty() && o.planner_list.empty()) {
-    if (o.run.out_dir.empty())
-      o.run.out_dir = "results/" + scenario.name + "_" + o.run.planner + "_" + std::to_string(scenario.seed);
+    if (o.run.out_dir.empty())  // the scenario's name: may say anything (safeFileName keeps it inside results/)
+      o.run.out_dir = "results/" + hunav::results::safeFileName(scenario.name) + "_" + o.run.planner + "_" +
+                      std::to_string(scenario.seed);
     return runEpisode(scenario, o.run, o.quiet);
   }
   return runSeries(o, scenario, planners, seeds);

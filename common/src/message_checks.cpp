@@ -144,4 +144,59 @@ void checkMap(const map_t& m) {
     if (c < -1 || c > 100) throw BadMessage("map: a cell value outside -1 (unknown) and 0..100");
 }
 
+bool isUtf8(std::string_view text) {
+  static constexpr std::uint32_t kMinOfLength[] = {0, 0, 0x80, 0x800, 0x10000};  // no overlong forms
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t len = 1;
+    std::uint32_t cp = c;
+    if (c >= 0x80) {
+      if ((c & 0xE0) == 0xC0)
+        len = 2, cp = c & 0x1Fu;
+      else if ((c & 0xF0) == 0xE0)
+        len = 3, cp = c & 0x0Fu;
+      else if ((c & 0xF8) == 0xF0)
+        len = 4, cp = c & 0x07u;
+      else
+        return false;
+      if (i + len > text.size()) return false;
+      for (std::size_t k = 1; k < len; ++k) {
+        const auto cc = static_cast<unsigned char>(text[i + k]);
+        if ((cc & 0xC0) != 0x80) return false;
+        cp = (cp << 6) | (cc & 0x3Fu);
+      }
+      if (cp < kMinOfLength[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
+    }
+    i += len;
+  }
+  return true;
+}
+
+void checkText(const std::string& text, const char* field, const char* what) {
+  if (text.size() > kMaxTextBytes)
+    throw BadMessage(std::string(what) + ": " + field + " is longer than " + std::to_string(kMaxTextBytes) + " bytes");
+  for (const char c : text)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f)
+      throw BadMessage(std::string(what) + ": " + field + " holds a control character");
+  if (!isUtf8(text)) throw BadMessage(std::string(what) + ": " + field + " is not UTF-8");
+}
+
+void checkEpisodeEventText(const episode_event_t& e) {
+  const char* what = "episode_event_t";
+  checkText(e.run_id, "run_id", what);
+  checkText(e.scenario, "scenario", what);
+  checkText(e.scenario_file, "scenario_file", what);
+  checkText(e.planner, "planner", what);
+  checkText(e.mode, "mode", what);
+  checkText(e.status, "status", what);
+  checkText(e.reason, "reason", what);
+  checkText(e.fingerprint, "fingerprint", what);
+}
+
+void checkCount(std::int64_t count, const char* field, const char* what) {
+  if (count < 0 || count > kCountBound)
+    throw BadMessage(std::string(what) + ": " + field + " " + std::to_string(count) + " outside [0, 1e15]");
+}
+
 }  // namespace hunav

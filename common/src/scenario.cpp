@@ -40,7 +40,12 @@ Image readPgm(const std::string& path, const std::string& yaml_path, int yaml_li
     return fail("not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail("cannot open the image");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string data;
+  try {
+    data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::ios_base::failure& e) {  // a read error throws from the stream
+    return fail(std::string("cannot read the image: ") + e.what());
+  }
   std::size_t pos = 0;
   auto skipSpaceAndComments = [&] {
     while (pos < data.size()) {
@@ -219,8 +224,9 @@ void readMap(const YamlReader& yr, const YAML::Node& map, Scenario& s) {
     for (const YAML::Node& f : files) {
       const std::string name = yr.convert<std::string>(f, "map.map_server");
       const std::filesystem::path p = relativeTo(yr.path(), name);
-      if (!std::filesystem::is_regular_file(p))
-        yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'");
+      std::error_code ec;  // a symlink loop is an error code here, not a filesystem_error (exit 1)
+      if (!std::filesystem::is_regular_file(p, ec))
+        yr.fail(f, "map.map_server", "cannot read the map file '" + p.string() + "'" + (ec ? ": " + ec.message() : ""));
       OccupancyMapFrame frame;
       for (Shape& sh : loadOccupancyMap(p.string(), &frame)) {
         checkShapeExtent(yr, f, "map.map_server", sh);

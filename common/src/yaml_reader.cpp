@@ -50,6 +50,8 @@ YamlReader::YamlReader(std::string path) : path_(std::move(path)) {
     root_ = YAML::Load(in);
   } catch (const YAML::ParserException& e) {
     throw ConfigError(path_, e.mark.line + 1, "", "not valid YAML: " + e.msg);
+  } catch (const std::ios_base::failure& e) {  // a read error (/proc/self/mem: EIO) throws from the stream
+    throw ConfigError(path_, 0, "", std::string("cannot read the file: ") + e.what());
   }
   // An empty file has no node to give a line: its first line is where a mapping was expected.
   if (!root_.IsMap()) throw ConfigError(path_, std::max(1, lineOf(root_)), "", "expected a mapping at the top level");

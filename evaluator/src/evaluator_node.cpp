@@ -391,6 +391,7 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options, ThreadPool* thr
   if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
   if (options_.robot_free_run && !options_.states_csv)
     throw std::invalid_argument("the counterfactual reads states.csv back: it needs states_csv");
+  out_lock_ = std::make_unique<results::FolderLock>(options_.out_dir);  // ConfigError: another run writes there
   event_sub_ =
       bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
   state_sub_ =
@@ -399,7 +400,7 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options, ThreadPool* thr
 
 std::uint64_t EvaluatorNode::droppedMessages() const {
   // The bus's malformed datagrams are the evaluator's own: in process the bus has no socket.
-  return event_sub_.drops().count + state_sub_.drops().count + bus_.malformedDatagrams();
+  return event_sub_.drops().count + state_sub_.drops().count + bus_.malformedDatagrams() + forged_dropped_;
 }
 
 // The worker finishes what was received (errors ignored, as an unfinished episode's are) before the
@@ -414,24 +415,54 @@ void EvaluatorNode::reject(const std::string& why) {
 
 void EvaluatorNode::onEvent(const episode_event_t& ev) {
   if (finished()) return;
+  try {
+    checkEpisodeEventText(ev);  // its strings go into run.json
+  } catch (const BadMessage& e) {
+    reject(e.what());
+  }
   if (ev.event == episode_event_t::START) {
-    if (current_ && ev.episode == current_->info.episode)
-      reject(fmt::format("repeated START of episode {}", ev.episode));
-    if (current_) {
-      // The END of the open episode was lost: keep what it recorded.
-      finish(nullptr, fmt::format("episode {} started before episode {} ended", ev.episode, current_->info.episode));
-      if (finished()) return;
+    if (!current_) return begin(ev);
+    if (ev.episode == current_->info.episode) reject(fmt::format("repeated START of episode {}", ev.episode));
+    if (!current_->any_state) {
+      // The open episode recorded nothing: a START that no world state followed was no episode.
+      abandon();
+      ++forged_dropped_;
+      return begin(ev);
     }
-    begin(ev);
+    // While an episode records, another's START waits for a world state of its episode (then the END of
+    // the open one was lost); a forged one never gets one and is dropped at the open one's END.
+    discardPendingStart();
+    pending_start_ = ev;
   } else if (ev.event == episode_event_t::END) {
     if (!current_ || ev.episode != current_->info.episode)
       reject(fmt::format("END of episode {} that was not started", ev.episode));
-    if (!finite(ev.sim_time) || !finite(ev.wall_time) || ev.ticks < 0)
-      reject("END with a non-finite time or a negative tick count");
+    if (!finite(ev.sim_time) || !finite(ev.wall_time) || ev.ticks < 0 || ev.collisions < 0)
+      reject("END with a non-finite time or a negative tick or collision count");
+    try {
+      checkCount(ev.dropped_messages, "dropped_messages", "END");
+      checkCount(std::max<std::int64_t>(ev.manager_dropped_messages, 0), "manager_dropped_messages", "END");
+      checkCount(std::max<std::int64_t>(ev.planner_dropped_messages, 0), "planner_dropped_messages", "END");
+      if (ev.manager_dropped_messages < -1 || ev.planner_dropped_messages < -1) reject("END: a count below -1");
+    } catch (const BadMessage& e) {
+      reject(e.what());
+    }
+    discardPendingStart();
     finish(&ev, {});
   } else {
     reject(fmt::format("episode event of unknown kind {}", static_cast<int>(ev.event)));
   }
+}
+
+void EvaluatorNode::discardPendingStart() {
+  if (pending_start_) ++forged_dropped_;
+  pending_start_.reset();
+}
+
+void EvaluatorNode::abandon() {
+  if (worker_) worker_->drain();  // a flush request of it may be queued
+  if (current_->run_dir != options_.out_dir) used_run_dirs_.erase(current_->run_dir.filename().string());
+  current_.reset();  // closes its files: the next episode writes them again
+  --episodes_started_;
 }
 
 void EvaluatorNode::begin(const episode_event_t& start) {
@@ -475,6 +506,16 @@ void EvaluatorNode::begin(const episode_event_t& start) {
 }
 
 void EvaluatorNode::onWorldState(const world_state_t& ws) {
+  if (pending_start_ && ws.episode == pending_start_->episode) {
+    // The START heard while the last episode recorded was the world's: that episode's END was lost.
+    const episode_event_t start = std::move(*pending_start_);
+    pending_start_.reset();
+    finish(nullptr, fmt::format("episode {} started before episode {} ended", start.episode, current_->info.episode));
+    if (finished()) reject(fmt::format("world state of tick {} after the last episode", ws.tick));
+    begin(start);
+  } else if (pending_start_ && current_ && ws.episode == current_->info.episode) {
+    discardPendingStart();  // the world sends nothing of this episode after another's START
+  }
   if (!current_) reject(fmt::format("world state of tick {} outside an episode", ws.tick));
   Episode& ep = *current_;
   if (ws.episode != ep.info.episode)
@@ -624,7 +665,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
   info.recorded_ticks = ep->recorded;
   info.recorded_fingerprint = ep->fingerprint.hex();
   const std::uint64_t dropped = droppedMessages();
-  info.dropped_messages = static_cast<std::int64_t>(dropped - dropped_at_last_end_);
+  info.dropped_messages = saturatedCount(dropped - dropped_at_last_end_);
   dropped_at_last_end_ = dropped;
   if (end != nullptr) {
     info.status = end->status;
@@ -675,6 +716,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
   }
   last_result_ = ep->evaluation->finish(std::move(info), std::move(counterfactual));
   ++episodes_ended_;
+  if (finished()) out_lock_.reset();  // nothing more is written: the folder is free
   if (worker_error) std::rethrow_exception(worker_error);
   if (close_error) std::rethrow_exception(close_error);
   if (counterfactual_error) std::rethrow_exception(counterfactual_error);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <fstream>
 #include <mutex>
 #include <thread>
 
@@ -11,6 +12,7 @@
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_log_reader.hpp"
+#include "hunav/results/folder_lock.hpp"
 #include "run_outputs.hpp"
 
 namespace hunav::evaluator {
@@ -150,7 +152,69 @@ RunResult evaluateInto(const fs::path& states_file, const EvaluatorOptions& opti
   return evaluation.finish(std::move(info));
 }
 
+// Cuts states.csv at its last whole sample. A recorder killed while it wrote (flushes hand whole
+// ticks to the OS, but a kill can cut the write short) leaves part of a row, or the first rows of a
+// tick: the text after the last line break goes, then the last tick's rows when there are fewer than
+// the first tick's (a run's people are the same at every tick). A file without its header line (or
+// none) becomes the header alone.
+void cutAtLastWholeSample(const fs::path& file) {
+  std::uintmax_t keep = 0;
+  {
+    std::ifstream in(file, std::ios::binary);
+    std::string line, tick;  // tick: the t text of the sample being read
+    std::uintmax_t offset = 0;
+    std::size_t rows = 0, first_rows = 0;
+    bool header = true;
+    while (std::getline(in, line) && !in.eof()) {  // at eof the line had no line break: a part
+      const std::uintmax_t next = offset + line.size() + 1;
+      if (header) {
+        header = false;
+        keep = line == results::kStatesCsvHeader ? next : 0;
+        if (keep == 0) break;
+      } else {
+        const std::string t = line.substr(0, line.find(','));
+        if (t != tick) {  // a new tick: the one before is whole
+          if (rows > 0) {
+            if (first_rows == 0) first_rows = rows;
+            keep = offset;
+          }
+          tick = t;
+          rows = 0;
+        }
+        ++rows;
+      }
+      offset = next;
+    }
+    if (rows > 0 && rows >= first_rows) keep = offset;
+  }
+  if (keep == 0) {
+    std::ofstream out(file, std::ios::trunc);
+    out << results::kStatesCsvHeader << '\n';
+    if (!out) throw std::runtime_error("cannot write " + file.string());
+    return;
+  }
+  fs::resize_file(file, keep);
+}
+
 }  // namespace
+
+RunResult salvageRun(const fs::path& dir, RunInfo info, const EvaluatorOptions& options) {
+  const results::FolderLock out_lock(dir);  // taken over from run_experiment.sh, which holds it
+  const fs::path states = dir / "states.csv";
+  cutAtLastWholeSample(states);
+  const MetricRegistry registry = metricsFor(options.profile, options.metrics_file);
+  StatesCsvReader reader(states, SampleRate(options.sample_rate));
+  info.profile = options.profile;
+  info.experiment_tag = options.experiment_tag.empty() ? "exp" : options.experiment_tag;
+  info.git_commit = gitCommit();
+  info.sample_rate = options.sample_rate;
+  info.states_file = states.string();
+  info.complete = false;
+  EvaluatorOptions into = options;
+  into.out_dir = dir;
+  // What was recorded: ticks and sim_time are the file's (have_source_json = false).
+  return evaluateInto(states, into, reader, registry, std::move(info), false);
+}
 
 RunResult recomputeFromStates(const fs::path& states_file, const EvaluatorOptions& options, bool tag_from_source) {
   const MetricRegistry registry = metricsFor(options.profile, options.metrics_file);
@@ -178,7 +242,7 @@ RunResult recomputeFromStates(const fs::path& states_file, const EvaluatorOption
   // A folder this call creates is removed again when the evaluation fails (it is then empty).
   std::error_code exists_error;
   const bool created_out_dir = !fs::exists(options.out_dir, exists_error);
-  fs::create_directories(options.out_dir);
+  const results::FolderLock out_lock(options.out_dir);  // creates it; ConfigError when another run writes there
   try {
     return evaluateInto(states_file, options, reader, registry, std::move(info), have_source_json);
   } catch (...) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "hunav/channels.hpp"
+#include "hunav/message_checks.hpp"
 
 namespace hunav::planners {
 
@@ -25,14 +26,14 @@ PlannerNode::PlannerNode(Bus& bus, std::unique_ptr<Planner> planner, std::string
 }
 
 std::uint64_t PlannerNode::droppedMessages() const {
-  return observation_sub_.drops().count + event_sub_.drops().count + bus_.malformedDatagrams();
+  return observation_sub_.drops().count + event_sub_.drops().count + bus_.malformedDatagrams() + forged_dropped_;
 }
 
 void PlannerNode::announce() {
   planner_ready_t ready{};
   ready.name = name_;
   dropped_announced_ = droppedMessages();
-  ready.dropped_messages = static_cast<std::int64_t>(dropped_announced_);
+  ready.dropped_messages = saturatedCount(dropped_announced_);
   bus_.publish(channels::kPlannerReady, ready);
 }
 
@@ -67,17 +68,44 @@ void PlannerNode::validate(const robot_observation_t& obs) {
   }
 }
 
-void PlannerNode::beginEpisode(std::int64_t episode) {
+void PlannerNode::beginEpisode(std::int64_t episode, bool announced) {
   planner_->reset();
   episode_ = episode;
+  episode_announced_ = announced;
   episode_ended_ = false;
+  discardPendingStart();
   last_reply_.reset();
+}
+
+void PlannerNode::discardPendingStart() {
+  if (pending_start_) ++forged_dropped_;  // no observation of its episode came: not the world's
+  pending_start_.reset();
 }
 
 void PlannerNode::onObservation(const robot_observation_t& obs) {
   announceNewDrops();  // before the command: the world has the count by the time it answers
   validate(obs);
-  if (!episode_ || obs.episode != *episode_) beginEpisode(obs.episode);
+  if (!episode_ || (episode_ended_ && obs.episode != *episode_)) {
+    beginEpisode(obs.episode, false);  // the first, or the next episode whose START was lost
+  } else if (obs.episode == *episode_) {
+    discardPendingStart();  // the world sends nothing of this episode after another's START
+  } else {
+    if (pending_start_ && obs.episode == *pending_start_) {
+      pending_start_.reset();
+      beginEpisode(obs.episode, true);  // the START heard during the last episode was the world's
+    } else if (!episode_announced_) {
+      beginEpisode(obs.episode, false);  // joined mid-episode: the world's numbers are all it knows
+    } else {
+      throw BadMessage("robot_observation_t: episode " + std::to_string(obs.episode) + " during episode " +
+                       std::to_string(*episode_) + " (whose START was heard)");
+    }
+  }
+  // The sequence number: the world's next is the last answered's or one more (lockstep); far ahead of
+  // it, an observation cannot be the world's, and answering it would make every real one look stale.
+  const std::int64_t base = last_reply_ ? last_reply_->seq : episode_announced_ ? 0 : -1;
+  if (base >= 0 && obs.seq > base && obs.seq - base > kMaxSeqAhead)
+    throw BadMessage("robot_observation_t: seq " + std::to_string(obs.seq) + " is more than " +
+                     std::to_string(kMaxSeqAhead) + " ahead of " + std::to_string(base));
   if (last_reply_) {
     if (obs.seq == last_reply_->seq) {  // a resend: same answer, no replanning
       bus_.publish(channels::kRobotCommand, *last_reply_);
@@ -119,15 +147,30 @@ void PlannerNode::publishPath(const robot_observation_t& obs) {
 }
 
 void PlannerNode::onEpisodeEvent(const episode_event_t& event) {
+  checkEpisodeEventText(event);
   if (event.event == episode_event_t::START) {
-    // A restarted world may reuse an episode number: after an END, any START begins afresh.
-    if (!episode_ || event.episode != *episode_ || episode_ended_) beginEpisode(event.episode);
+    if (!episode_ || episode_ended_) {
+      // A restarted world may reuse an episode number: after an END, any START begins afresh.
+      beginEpisode(event.episode, true);
+    } else if (event.episode == *episode_ + 1) {
+      // While an episode runs, the next one's START waits for an observation of its episode (the
+      // END of the running one was lost) instead of ending it: a forged one never gets one.
+      discardPendingStart();
+      pending_start_ = event.episode;
+    } else if (event.episode != *episode_) {
+      throw BadMessage("episode_event_t: START of episode " + std::to_string(event.episode) + " during episode " +
+                       std::to_string(*episode_));
+    }
     announce();  // so a world hears the count in every mode (in process nothing else announces)
   } else if (event.event == episode_event_t::END) {
-    if (!episode_ || event.episode != *episode_)
-      beginEpisode(event.episode);  // ended unseen
-    else if (episode_ended_)
+    if (!episode_ || event.episode != *episode_) {
+      throw BadMessage("episode_event_t: END of episode " + std::to_string(event.episode) +
+                       (episode_ ? ", not the one being served (" + std::to_string(*episode_) + ")"
+                                 : std::string(" before any episode")));
+    } else if (episode_ended_) {
       return;  // a repeated END
+    }
+    discardPendingStart();
     episode_ended_ = true;
     ++episodes_ended_;
   } else {

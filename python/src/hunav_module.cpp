@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
@@ -13,10 +14,13 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
+#include "hunav/bounds.hpp"
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/episode_status.hpp"
@@ -34,6 +38,44 @@ namespace fs = std::filesystem;
 namespace {
 
 using hunav::runner::SteppedRun;
+
+// One call at a time per object. reset(), step() and run() release the GIL while they work, so that
+// another Python thread could enter the same object meanwhile (a crash, a hang, a Box2D allocator
+// assertion): a call that finds the object busy raises RuntimeError instead. Those three hold the
+// flag; every other method (which runs under the GIL) only checks it.
+class BusyFlag {
+ public:
+  class Hold {
+   public:
+    explicit Hold(std::atomic<bool>* flag) : flag_(flag) {}
+    Hold(Hold&& other) noexcept : flag_(std::exchange(other.flag_, nullptr)) {}
+    Hold& operator=(Hold&&) = delete;
+    ~Hold() {
+      if (flag_ != nullptr) flag_->store(false);
+    }
+
+   private:
+    std::atomic<bool>* flag_;
+  };
+  explicit BusyFlag(const char* owner) : owner_(owner) {}
+  Hold hold() {
+    bool idle = false;
+    if (!busy_.compare_exchange_strong(idle, true)) throw busy();
+    return Hold(&busy_);
+  }
+  void check() const {
+    if (busy_.load()) throw busy();
+  }
+
+ private:
+  std::runtime_error busy() const {
+    return std::runtime_error(std::string(owner_) +
+                              " is busy in another thread (its reset, step or run): use one object from one thread "
+                              "at a time, or one object per thread");
+  }
+  const char* owner_;
+  std::atomic<bool> busy_{false};
+};
 
 py::array_t<double> doubles(const std::vector<double>& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
@@ -209,6 +251,9 @@ class Simulation {
         experiment_tag_(std::move(experiment_tag)),
         keep_out_dir_(!out_dir.empty()) {
     if (seed && *seed < 0) throw std::invalid_argument("seed must be >= 0");
+    // 0 is no duration (it kept the scenario's time limit): None is how to keep it.
+    if (duration && !(*duration > 0.0 && *duration <= hunav::kMaxTimeLimit))
+      throw std::invalid_argument("duration must be a number of seconds in (0, 1e7] (None: the scenario's time limit)");
     if (sample_rate) hunav::evaluator::SampleRate{*sample_rate};  // the evaluator's own check
     if (format != "csv" && format != "hunav_txt")
       throw std::invalid_argument("format must be 'csv' or 'hunav_txt', not '" + format + "'");
@@ -241,6 +286,7 @@ class Simulation {
   py::dict reset(std::optional<long long> seed) {
     checkSeed(seed);
     {
+      const BusyFlag::Hold hold = busy_.hold();
       py::gil_scoped_release release;
       resetNative(seed);
     }
@@ -250,11 +296,15 @@ class Simulation {
   py::dict step(double v, double w, double vy) {
     checkCommand(v, w, vy);
     {
+      const BusyFlag::Hold hold = busy_.hold();
       py::gil_scoped_release release;
       run_->step(v, vy, w);
     }
     return observation();
   }
+
+  // Held by a VectorSimulation while its threads work on this world.
+  BusyFlag& busy() { return busy_; }
 
   // The parts of reset() and step() without Python (VectorSimulation runs them on its threads).
   static void checkSeed(std::optional<long long> seed) {
@@ -286,10 +336,14 @@ class Simulation {
   }
   const hunav::robot_observation_t& rawObservation() const { return started().observation(); }
   const hunav::worldsim::WorldSim& world() const { return started().world(); }
-  bool hasEpisode() const { return run_ != nullptr; }
+  bool hasEpisode() const {
+    busy_.check();
+    return run_ != nullptr;
+  }
 
   py::dict run() {
     {
+      const BusyFlag::Hold hold = busy_.hold();
       py::gil_scoped_release release;
       finishNative();
     }
@@ -341,7 +395,7 @@ class Simulation {
   void fillRobotFrame(RobotFrameArrays& a, std::size_t i, float range_max) const {
     a.fill(i, started().observation(), range_max, people_order_);
   }
-  std::size_t beams() const { return static_cast<std::size_t>(std::max(0, scenario_.robot.laser.beams)); }
+  std::size_t beams() const { return static_cast<std::size_t>(std::max(0, scenario().robot.laser.beams)); }
 
   // The terms of hunav.gym's default reward after the step: the robot's distance to its goal,
   // sum_i max(0, (personal_distance - d_i) / personal_distance) over every person i (d_i centre to
@@ -396,6 +450,7 @@ class Simulation {
     if (reason.empty()) throw std::invalid_argument("end_episode: give a reason");
     SteppedRun& r = started();
     {
+      const BusyFlag::Hold hold = busy_.hold();
       py::gil_scoped_release release;
       r.end(status, reason);
     }
@@ -413,12 +468,12 @@ class Simulation {
     return fs::path(out_dir).string();
   }
 
-  py::dict mapDict() const { return mapOf(scenario_); }
+  py::dict mapDict() const { return mapOf(scenario()); }
   // The static map as the world publishes it on MAP (occupancy_grid.hpp): resolution (m), origin
   // [x, y] of cell (0, 0)'s outer corner, cells (height, width) int8 (0 free, 100 occupied), row j
   // column i at origin + (i + 0.5, j + 0.5) * resolution.
   py::dict occupancyGridDict() const {
-    const hunav::OccupancyGrid g = hunav::occupancyGrid(scenario_);
+    const hunav::OccupancyGrid g = hunav::occupancyGrid(scenario());
     py::array_t<std::int8_t> cells({static_cast<py::ssize_t>(g.height), static_cast<py::ssize_t>(g.width)});
     std::copy(g.cells.begin(), g.cells.end(), cells.mutable_data());
     py::dict d;
@@ -428,14 +483,14 @@ class Simulation {
     return d;
   }
   py::dict robotDict() const {
-    const auto& rc = scenario_.robot;
+    const auto& rc = scenario().robot;
     const auto& l = rc.limits;
     py::dict d;
     d["radius"] = rc.radius;
     d["holonomic"] = rc.drive == hunav::RobotDrive::Holonomic;
     d["max_v"] = l.max_v, d["min_v"] = l.min_v, d["max_w"] = l.max_w, d["max_vy"] = l.max_vy;
     d["max_acc_v"] = l.max_acc_v, d["max_acc_w"] = l.max_acc_w;
-    d["control_period"] = std::max(1L, std::lround(1.0 / (rc.control_rate * scenario_.dt))) * scenario_.dt;
+    d["control_period"] = std::max(1L, std::lround(1.0 / (rc.control_rate * scenario().dt))) * scenario().dt;
     d["laser_beams"] = rc.laser.beams, d["laser_fov"] = rc.laser.fov;
     d["laser_range_min"] = rc.laser.range_min, d["laser_range_max"] = rc.laser.range_max;
     d["start"] = doubles({rc.start.x(), rc.start.y(), rc.start_yaw});
@@ -443,13 +498,25 @@ class Simulation {
     d["has_goal"] = rc.has_goal;
     return d;
   }
-  const hunav::Scenario& scenario() const { return scenario_; }
-  bool done() const { return run_ && run_->ended(); }
+  const hunav::Scenario& scenario() const {
+    busy_.check();
+    return scenario_;
+  }
+  bool done() const {
+    busy_.check();
+    return run_ && run_->ended();
+  }
   std::string planner() const { return options_.planner; }
   bool external() const { return external_; }
-  double sampleRate() const { return scenario_.evaluation_sample_rate; }
-  std::string experimentTag() const { return options_.experiment_tag; }
-  std::string metricsFile() const { return options_.metrics_file; }
+  double sampleRate() const { return scenario().evaluation_sample_rate; }
+  std::string experimentTag() const {
+    busy_.check();  // reset(seed) reloads the metrics file
+    return options_.experiment_tag;
+  }
+  std::string metricsFile() const {
+    busy_.check();
+    return options_.metrics_file;
+  }
 
  private:
   // The map's walls as segments (x0, y0, x1, y1), circles (x, y, r) and the scenario's bounds.
@@ -490,6 +557,7 @@ class Simulation {
                                        options_.experiment_tag);
   }
   SteppedRun& started() const {
+    busy_.check();
     if (!run_) throw std::logic_error("no episode yet: call reset() first");
     return *run_;
   }
@@ -513,6 +581,7 @@ class Simulation {
   fs::path temp_dir_;
   std::unique_ptr<SteppedRun> run_;
   mutable NearestFirst people_order_;  // robotFrame's scratch
+  BusyFlag busy_{"this hunav.Simulation"};
 };
 
 // Python's hunav.VectorSimulation: n Simulations of one scenario, each with its own seed, reset and
@@ -560,6 +629,7 @@ class VectorSimulation {
   std::shared_ptr<Simulation> world(long long i) const { return sims_.at(index(i)); }
 
   py::dict reset(std::optional<std::vector<long long>> seeds, std::optional<std::vector<long long>> indices) {
+    busy_.check();
     std::vector<std::size_t> worlds;
     if (indices) {
       std::vector<bool> seen(sims_.size());
@@ -621,6 +691,7 @@ class VectorSimulation {
 
   // Plays every world's episode to its end (starting those not started) and returns their info().
   py::list run() {
+    busy_.check();
     parallel(sims_.size(), [&](std::size_t k) { sims_[k]->finishNative(); });
     return infos();
   }
@@ -768,9 +839,11 @@ class VectorSimulation {
   }
 
   py::array_t<double> times() const {
+    busy_.check();
     return column<double>(sims_.size(), [&](std::size_t i) { return sims_[i]->world().time(); });
   }
   py::array_t<bool> done() const {
+    busy_.check();
     return column<bool>(sims_.size(), [&](std::size_t i) { return sims_[i]->done(); });
   }
   py::list infos() const {
@@ -799,19 +872,26 @@ class VectorSimulation {
     return static_cast<std::size_t>(i < 0 ? i + n : i);
   }
   void requireEpisodes() const {
+    busy_.check();
     for (std::size_t i = 0; i < sims_.size(); ++i)
       if (!sims_[i]->hasEpisode())
         throw std::logic_error("world " + std::to_string(i) + " has no episode yet: call reset() first");
   }
   template <class F>
   py::list each(F f) const {
+    busy_.check();
     py::list out;
     for (const auto& s : sims_) out.append(f(*s));
     return out;
   }
-  // f(k) for k in [0, count) on the pool, the GIL released; then rethrows the first error (in k order).
+  // f(k) for k in [0, count) on the pool, the GIL released, this object's flag and each world's held
+  // (another call of this vector, or a world used alone, meanwhile raises); then rethrows the first
+  // error (in k order).
   template <class F>
   void parallel(std::size_t count, F&& f) {
+    const BusyFlag::Hold hold = busy_.hold();
+    std::vector<BusyFlag::Hold> worlds;
+    for (const auto& s : sims_) worlds.push_back(s->busy().hold());
     std::vector<std::exception_ptr> errors(count);
     {
       py::gil_scoped_release release;
@@ -830,6 +910,7 @@ class VectorSimulation {
 
   std::vector<std::shared_ptr<Simulation>> sims_;
   std::size_t max_people_ = 0;
+  BusyFlag busy_{"this hunav.VectorSimulation"};
   std::unique_ptr<hunav::ThreadPool> pool_;  // last: its threads stop before the worlds go
 };
 

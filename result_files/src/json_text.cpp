@@ -55,6 +55,9 @@ std::string jsonString(std::string_view s, bool html_safe) {
 
 namespace {
 
+// Deeper documents are refused before they are built: no result file nests more than a few levels.
+constexpr int kMaxDepth = 256;
+
 // An iterator over the text that counts the line breaks it moved past, so that the parser's
 // callback knows the line of the key it was just given (nlohmann keeps no positions).
 class LineCountingIterator {
@@ -136,30 +139,32 @@ JsonDocument JsonDocument::parse(const std::string& text, const std::string& nam
     frames.back().part = "[" + std::to_string(frames.back().next_index++) + "]";
     doc.lines_.emplace(pathOf(frames), line);
   };
-  const nlohmann::ordered_json::parser_callback_t callback =
-      [&](int /*depth*/, nlohmann::ordered_json::parse_event_t event, nlohmann::ordered_json& parsed) {
-        using E = nlohmann::ordered_json::parse_event_t;
-        switch (event) {
-          case E::object_start:
-          case E::array_start:
-            element();
-            frames.push_back({event == E::array_start, 0, ""});
-            break;
-          case E::object_end:
-          case E::array_end:
-            if (!frames.empty()) frames.pop_back();
-            break;
-          case E::key:
-            // The iterator is just past the key's closing quote: `line` is the key's.
-            if (!frames.empty()) frames.back().part = parsed.get<std::string>();
-            doc.lines_.emplace(pathOf(frames), line);
-            break;
-          case E::value:
-            element();
-            break;
-        }
-        return true;
-      };
+  const nlohmann::ordered_json::parser_callback_t callback = [&](int depth, nlohmann::ordered_json::parse_event_t event,
+                                                                 nlohmann::ordered_json& parsed) {
+    using E = nlohmann::ordered_json::parse_event_t;
+    if (depth > kMaxDepth)
+      throw ConfigError(name, line, pathOf(frames), "nests deeper than " + std::to_string(kMaxDepth) + " levels");
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        element();
+        frames.push_back({event == E::array_start, 0, ""});
+        break;
+      case E::object_end:
+      case E::array_end:
+        if (!frames.empty()) frames.pop_back();
+        break;
+      case E::key:
+        // The iterator is just past the key's closing quote: `line` is the key's.
+        if (!frames.empty()) frames.back().part = parsed.get<std::string>();
+        doc.lines_.emplace(pathOf(frames), line);
+        break;
+      case E::value:
+        element();
+        break;
+    }
+    return true;
+  };
   const LineCountingIterator begin(text.data(), &line);
   const LineCountingIterator end(text.data() + text.size(), &line);
   try {
@@ -169,6 +174,14 @@ JsonDocument JsonDocument::parse(const std::string& text, const std::string& nam
     std::string what = e.what();
     if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
     throw ConfigError(name, lineAt(text, e.byte == 0 ? 0 : e.byte - 1), "", "not valid JSON: " + what);
+  } catch (const nlohmann::ordered_json::exception& e) {
+    // A number beyond a double ("sim_time": 1e400, out_of_range.406): the line of its key (the parser
+    // stopped past the number).
+    std::string what = e.what();
+    if (const auto bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
+    const std::string key = pathOf(frames);
+    const auto at = doc.lines_.find(key);
+    throw ConfigError(name, at != doc.lines_.end() ? at->second : line, key, what);
   }
   return doc;
 }

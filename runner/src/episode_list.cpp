@@ -4,6 +4,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "hunav/results/metrics_csv.hpp"
+
 namespace hunav::runner {
 
 namespace {
@@ -65,7 +67,8 @@ std::vector<std::string> parseNameList(const std::string& text) {
 }
 
 std::string batchRunFolder(const std::string& scenario, const std::string& planner, long long seed) {
-  return scenario + "__" + planner + "__seed" + std::to_string(seed);
+  // One folder name whatever the scenario's name: says ("../x" would leave --out).
+  return results::safeFileName(scenario) + "__" + results::safeFileName(planner) + "__seed" + std::to_string(seed);
 }
 
 }  // namespace hunav::runner

@@ -367,12 +367,102 @@ TEST_F(EvaluatorNodeTest, RepeatedStartIsDroppedAndAStartPastTheLimitIsIgnored) 
   bus.handleAvailable();
   EXPECT_EQ(node.droppedMessages(), 1u);
   EXPECT_TRUE(node.recording());
-  start(2, "second");  // closes episode 1 (incomplete); one episode was asked for, so 2 is ignored
+  start(2, "second");  // waits for a world state of episode 2
+  bus.handleAvailable();
+  EXPECT_TRUE(node.recording());
+  publish(state(2, 0));  // closes episode 1 (incomplete); one episode was asked for, so 2 is ignored
   bus.handleAvailable();
   EXPECT_TRUE(node.finished());
   EXPECT_FALSE(node.recording());
   EXPECT_EQ(readRunJson(dir / "run.json").recorded_ticks, 2);
+  EXPECT_EQ(readRunJson(dir / "run.json").status, "incomplete");
   EXPECT_FALSE(std::filesystem::exists(dir / "second"));
+}
+
+// Issue 31: a forged START of another episode in the middle of a run made the evaluator close the
+// run as incomplete (and, with --episodes 1, stop recording). Now it waits for a world state of its
+// episode, which never comes: the run is recorded whole, and the START counted as dropped.
+TEST_F(EvaluatorNodeTest, AStartOfAnotherEpisodeWithoutItsWorldStatesIsDropped) {
+  EvaluatorNode node(bus, options(1));
+  start(1, "real");
+  for (int k = 0; k < 5; ++k) publish(state(1, k));
+  world.publish(hunav::channels::kEpisodeEvent, startEvent(7, "forged"));
+  for (int k = 5; k < 10; ++k) publish(state(1, k));
+  world.publish(hunav::channels::kEpisodeEvent, endEvent(1, 10, 0.11, fingerprint.hex()));
+  bus.handleAvailable();
+  ASSERT_TRUE(node.finished());
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_EQ(info.status, "goal_reached");
+  EXPECT_TRUE(info.complete);
+  EXPECT_EQ(info.recorded_ticks, 10);
+  EXPECT_EQ(info.recorded_fingerprint, fingerprint.hex());
+  EXPECT_EQ(info.dropped_messages, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "forged"));
+}
+
+// A forged START heard before the world's (nothing recorded under it yet) is replaced by the world's:
+// one run, in out_dir, under the world's run id.
+TEST_F(EvaluatorNodeTest, AStartThatNoWorldStateFollowedIsReplacedByTheNext) {
+  EvaluatorNode node(bus, options(1));
+  world.publish(hunav::channels::kEpisodeEvent, startEvent(99, "forged"));
+  runEpisode(1, "real", 6);
+  ASSERT_TRUE(node.finished());
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_EQ(info.run_id, "real");
+  EXPECT_TRUE(info.complete);
+  EXPECT_EQ(info.recorded_ticks, 6);
+  EXPECT_EQ(info.dropped_messages, 1);
+  EXPECT_EQ(readLines(dir / "metrics.csv").size(), 2u);
+  EXPECT_EQ(readLines(dir / "states.csv").size(), 1u + 6u * 3u);
+}
+
+// Issue 31: a START whose mode was 10,000 bytes of invalid UTF-8 reached run.json, which hunav_expect
+// could not read. Events whose strings are not bounded UTF-8 without control characters are dropped.
+TEST_F(EvaluatorNodeTest, EventsWhoseTextIsNotBoundedUtf8AreDropped) {
+  EvaluatorNode node(bus, options(1));
+  std::vector<hunav::episode_event_t> forged(4, startEvent(1, "forged"));
+  forged[0].mode = std::string(10000, '\xff');
+  forged[1].scenario = "caf\xe9";
+  forged[2].run_id = std::string(5000, 'a');
+  forged[3].reason = std::string("line\nbreak");
+  for (const auto& ev : forged) world.publish(hunav::channels::kEpisodeEvent, ev);
+  bus.handleAvailable();
+  EXPECT_FALSE(node.recording());
+  start(1, "real");
+  for (int k = 0; k < 3; ++k) publish(state(1, k));
+  hunav::episode_event_t bad_end = endEvent(1, 3, 0.04, fingerprint.hex());
+  bad_end.status = "goal_reached\xc0\xaf";
+  world.publish(hunav::channels::kEpisodeEvent, bad_end);
+  bus.handleAvailable();
+  EXPECT_TRUE(node.recording());
+  world.publish(hunav::channels::kEpisodeEvent, endEvent(1, 3, 0.04, fingerprint.hex()));
+  bus.handleAvailable();
+  ASSERT_TRUE(node.finished());
+  const RunInfo info = readRunJson(dir / "run.json");  // reads (it threw on invalid UTF-8)
+  EXPECT_EQ(info.mode, "inprocess");
+  EXPECT_EQ(info.status, "goal_reached");
+  EXPECT_EQ(info.dropped_messages, 5);
+}
+
+// Counts an END carries go into run.json: one outside [0, 1e15] (-1 for "not heard") is not a count.
+TEST_F(EvaluatorNodeTest, AnEndWithCountsOutsideTheBoundIsDropped) {
+  EvaluatorNode node(bus, options(1));
+  start(1, "real");
+  for (int k = 0; k < 3; ++k) publish(state(1, k));
+  hunav::episode_event_t end = endEvent(1, 3, 0.04, fingerprint.hex());
+  end.planner_dropped_messages = 4'600'000'000'000'000'000;
+  world.publish(hunav::channels::kEpisodeEvent, end);
+  end.planner_dropped_messages = -2;
+  world.publish(hunav::channels::kEpisodeEvent, end);
+  end.planner_dropped_messages = 3;
+  end.manager_dropped_messages = -1;
+  world.publish(hunav::channels::kEpisodeEvent, end);
+  bus.handleAvailable();
+  ASSERT_TRUE(node.finished());
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_EQ(info.planner_dropped_messages, 3);
+  EXPECT_EQ(info.manager_dropped_messages, -1);
+  EXPECT_EQ(info.dropped_messages, 2);
 }
 
 TEST_F(EvaluatorNodeTest, EndWithoutStartIsDroppedAndLaterMessagesIgnored) {

@@ -44,5 +44,48 @@ for cmd in "$BIN/hunav_run --scenario $REPO/scenarios/passing.yaml --out $WORK/f
   [ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "$cmd: exit $rc, want 2"; }
 done
 [ ! -f "$WORK/flags/states.csv" ] || fail "a run with a bad flag started"
+# Issue 31: a map file that is a symlink loop or /proc/self/mem (exit 1 with a filesystem exception),
+# "sim_time": 1e400 in a run.json (exit 1 without file:line), an empty --states (it started a live
+# evaluator), a frame interval no data set has (it ran for minutes): each exit 2 naming the problem.
+mkdir -p "$WORK/maps"
+ln -s loop.yaml "$WORK/maps/loop.yaml"
+for map in loop.yaml /proc/self/mem; do
+  printf 'name: m\nmap:\n  map_server: %s\nrobot:\n  radius: 0.3\n  start: {x: 0, y: 0, yaw: 0}\n  goal: {x: 1, y: 0, radius: 0.3}\n' \
+    "$map" >"$WORK/maps/scenario.yaml"
+  rc=0
+  timeout 60 "$BIN/hunav_run" --scenario "$WORK/maps/scenario.yaml" --out "$WORK/maps/out" >"$WORK/out.txt" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "map_server $map: exit $rc, want 2"; }
+  want="scenario.yaml:3: map.map_server"
+  [ "$map" = loop.yaml ] || want="/proc/self/mem: cannot read the file"
+  grep -q "$want" "$WORK/out.txt" || { cat "$WORK/out.txt"; fail "map_server $map: message"; }
+done
+rc=0
+"$BIN/hunav_run" --scenario /proc/self/mem >"$WORK/out.txt" 2>&1 || rc=$?
+[ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "--scenario /proc/self/mem: exit $rc, want 2"; }
+"$BIN/hunav_run" --scenario "$REPO/scenarios/passing.yaml" --duration 1 --out "$WORK/overflow" --quiet >/dev/null
+sed -i -E 's/"sim_time": [^,]*/"sim_time": 1e400/' "$WORK/overflow/run.json"
+for cmd in "$BIN/hunav_evaluator --states $WORK/overflow/states.csv --out $WORK/overflow_again" \
+           "$BIN/hunav_report $WORK/overflow"; do
+  rc=0
+  # shellcheck disable=SC2086 # $cmd holds a command and its arguments (no spaces in the paths)
+  $cmd >"$WORK/out.txt" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "${cmd%% *}: sim_time 1e400: exit $rc, want 2"; }
+  grep -q "run.json:[0-9]*: sim_time: .*1e400" "$WORK/out.txt" || { cat "$WORK/out.txt"; fail "${cmd%% *}: 1e400: message"; }
+done
+for opt in --states --log --salvage; do
+  rc=0
+  extra=()
+  [ "$opt" != --salvage ] || extra=(--reason x)
+  out=(--out "$WORK/empty")
+  [ "$opt" != --salvage ] || out=()
+  timeout 60 "$BIN/hunav_evaluator" "$opt" '' "${extra[@]}" "${out[@]}" >"$WORK/out.txt" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "hunav_evaluator $opt '': exit $rc, want 2"; }
+  ! grep -q -x ready "$WORK/out.txt" || fail "hunav_evaluator $opt '' started a live evaluator"
+done
+rc=0
+timeout 60 "$BIN/hunav_realism" --data "$REPO/tests/data/eth_ucy" --out "$WORK/realism" --frame-interval 65536 \
+  >"$WORK/out.txt" 2>&1 || rc=$?
+[ "$rc" -eq 2 ] || { cat "$WORK/out.txt"; fail "hunav_realism --frame-interval 65536: exit $rc, want 2"; }
+grep -q -- "--frame-interval" "$WORK/out.txt" || { cat "$WORK/out.txt"; fail "hunav_realism: message"; }
 no_orphans
 echo "bad input rejected with exit 2"

@@ -191,6 +191,45 @@ TEST(ManagerNode, AResendGetsTheSameReplyAgainAndALostReplyIsResent) {
   EXPECT_EQ(node.repliesResent(), 2u);
 }
 
+// Issue 31: a step request far ahead of the last answered (seq 10^12) would make every real one after
+// it look stale; an END of an episode the manager never heard of would end `hunav_manager --episodes 1`.
+// Both are dropped and counted, and the real ones are served.
+TEST(ManagerNode, RequestsFarAheadAndEndsOfUnknownEpisodesAreDropped) {
+  lcm::LCM lcm("memq://");
+  LcmBus bus(lcm);
+  ManagerNode node(bus);
+  RepliesOn on(bus);
+  sendStep(bus, onePersonWalkingToX3(7));
+  sendStep(bus, onePersonWalkingToX3(1'000'000'000'000));
+  EXPECT_EQ(on.got.size(), 1u);
+  EXPECT_EQ(node.droppedMessages(), 1u);
+  sendStep(bus, onePersonWalkingToX3(8));
+  ASSERT_EQ(on.got.size(), 2u);
+  EXPECT_EQ(on.got[1].seq, 8);
+
+  episode_event_t end{};
+  end.event = episode_event_t::END;
+  end.episode = 42;
+  bus.publish(channels::kEpisodeEvent, end);
+  bus.handleAvailable();
+  EXPECT_EQ(node.episodesEnded(), 0u);
+  EXPECT_EQ(node.droppedMessages(), 2u);
+  end.episode = 1;  // the episode it answered
+  bus.publish(channels::kEpisodeEvent, end);
+  bus.publish(channels::kEpisodeEvent, end);  // a repeat counts once
+  bus.handleAvailable();
+  EXPECT_EQ(node.episodesEnded(), 1u);
+  episode_event_t start = end;
+  start.event = episode_event_t::START;
+  start.episode = 2;
+  bus.publish(channels::kEpisodeEvent, start);
+  end.episode = 2;  // heard start, no step answered (a run without people)
+  bus.publish(channels::kEpisodeEvent, end);
+  bus.handleAvailable();
+  EXPECT_EQ(node.episodesEnded(), 2u);
+  EXPECT_EQ(node.droppedMessages(), 2u);
+}
+
 TEST(AgentManager, AnyPoolAndAnyCallersTickTheSameReplies) {
   // 400 people of every behavior (from 256 a step's pair forces and ticks are shared in chunks over
   // the pool's slots; managers on other threads sharing the pool meanwhile tick everybody

@@ -8,6 +8,7 @@
 #include "dwb_planner.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/lcm_bus.hpp"
+#include "hunav/message_checks.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/testing/scenarios.hpp"
 #include "hunav/testing/sim_tools.hpp"
@@ -207,6 +208,115 @@ TEST_F(PlannerNodeTest, CountsEpisodeEndsOnce) {
   sendEvent(42, 3);  // unknown event kind
   EXPECT_EQ(bus_.droppedMessages(), 1u);
   EXPECT_EQ(node_->episodesEnded(), 2);
+}
+
+// Issue 31: messages that do not fit the world's sequence. Each of these ended a lockstep run before:
+// an END of another episode made `hunav_planner --episodes 1` quit; an observation with seq 10^12
+// made the planner take every real observation after it for a stale duplicate (the world aborted).
+
+TEST_F(PlannerNodeTest, AnEndOfAnotherEpisodeIsDroppedAndCounted) {
+  sendEvent(episode_event_t::START, 1);
+  send(observation(1));
+  sendEvent(episode_event_t::END, 7);
+  EXPECT_EQ(node_->episodesEnded(), 0);
+  EXPECT_EQ(node_->droppedMessages(), 1u);
+  send(observation(2));
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(commands_[1].seq, 2);
+  sendEvent(episode_event_t::END, 1);
+  EXPECT_EQ(node_->episodesEnded(), 1);
+}
+
+TEST_F(PlannerNodeTest, AnEndBeforeAnyEpisodeIsDropped) {
+  sendEvent(episode_event_t::END, 3);
+  EXPECT_EQ(node_->episodesEnded(), 0);
+  EXPECT_EQ(node_->droppedMessages(), 1u);
+}
+
+TEST_F(PlannerNodeTest, AStartOfAnotherEpisodeNeitherResetsNorEndsTheRunningOne) {
+  sendEvent(episode_event_t::START, 1);
+  send(observation(1));
+  const int resets = *resets_;
+  sendEvent(episode_event_t::START, 9);  // not the next episode: dropped at once
+  EXPECT_EQ(node_->droppedMessages(), 1u);
+  sendEvent(episode_event_t::START, 2);  // the next: waits for an observation of episode 2
+  send(observation(2));                  // of episode 1: the START was not the world's
+  EXPECT_EQ(*resets_, resets);
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(commands_[1].episode, 1);
+  EXPECT_EQ(commands_[1].v, 2.0);  // planned afresh on the same planner
+  EXPECT_EQ(node_->droppedMessages(), 2u);
+  send(observation(1, 2));  // an observation of episode 2 now is not the world's either
+  EXPECT_EQ(commands_.size(), 2u);
+  sendEvent(episode_event_t::END, 1);
+  EXPECT_EQ(node_->episodesEnded(), 1);
+  EXPECT_EQ(node_->droppedMessages(), 3u);
+}
+
+TEST_F(PlannerNodeTest, AStartWhoseEpisodeObservationsFollowBeginsItWhenTheEndWasLost) {
+  sendEvent(episode_event_t::START, 1);
+  send(observation(1, 1));
+  send(observation(2, 1));
+  const int resets = *resets_;
+  sendEvent(episode_event_t::START, 2);  // the END of episode 1 was lost
+  send(observation(1, 2));
+  EXPECT_EQ(*resets_, resets + 1);
+  ASSERT_EQ(commands_.size(), 3u);
+  EXPECT_EQ(commands_[2].episode, 2);
+  EXPECT_EQ(commands_[2].seq, 1);
+  EXPECT_EQ(node_->droppedMessages(), 0u);
+}
+
+TEST_F(PlannerNodeTest, AnObservationOfAnotherEpisodeIsDroppedWhileAnAnnouncedOneRuns) {
+  sendEvent(episode_event_t::START, 1);
+  send(observation(1, 1));
+  send(observation(2, 5));
+  EXPECT_EQ(commands_.size(), 1u);
+  EXPECT_EQ(node_->droppedMessages(), 1u);
+  send(observation(2, 1));
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(commands_[1].seq, 2);
+}
+
+TEST_F(PlannerNodeTest, AnObservationFarAheadIsDroppedAndTheRealOnesAreAnswered) {
+  sendEvent(episode_event_t::START, 1);
+  send(observation(1));
+  send(observation(1'000'000'000'000));
+  EXPECT_EQ(commands_.size(), 1u);
+  EXPECT_EQ(node_->droppedMessages(), 1u);
+  for (int seq = 2; seq <= 4; ++seq) send(observation(seq));
+  ASSERT_EQ(commands_.size(), 4u);
+  EXPECT_EQ(commands_.back().seq, 4);
+  EXPECT_EQ(node_->staleIgnored(), 0u);
+  // Right after a START the world's first seq is 1: one far ahead of 0 is dropped too.
+  sendEvent(episode_event_t::END, 1);
+  sendEvent(episode_event_t::START, 2);
+  send(observation(kMaxSeqAhead + 1, 2));
+  EXPECT_EQ(commands_.size(), 4u);
+  send(observation(kMaxSeqAhead, 2));  // within the bound (a world may skip some in realtime)
+  EXPECT_EQ(commands_.size(), 5u);
+}
+
+TEST_F(PlannerNodeTest, AJoinedEpisodeTakesTheSeqItFinds) {
+  // A planner restarted mid-episode (no START heard) takes up the world's seq, whatever it is.
+  send(observation(5'000'000));
+  send(observation(5'000'001));
+  EXPECT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(node_->droppedMessages(), 0u);
+}
+
+TEST_F(PlannerNodeTest, EventsWhoseTextIsNotBoundedUtf8AreDropped) {
+  episode_event_t e{};
+  e.event = episode_event_t::START;
+  e.episode = 1;
+  e.mode = std::string(10000, '\xff');
+  bus_.publish(channels::kEpisodeEvent, e);
+  e.mode = "lockstep";
+  e.reason = std::string(kMaxTextBytes + 1, 'a');
+  bus_.publish(channels::kEpisodeEvent, e);
+  bus_.handleAvailable();
+  EXPECT_EQ(node_->droppedMessages(), 2u);
+  EXPECT_EQ(*resets_, 0);
 }
 
 TEST(PlannerNodeDwb, AnswersWithACommandWithinTheLimits) {

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from hunav.gym import Box, Dict, HuNavEnv, RewardWeights, default_reward
+from hunav.gym import Box, Dict, HuNavEnv, HuNavVectorEnv, RewardWeights, default_reward
 
 
 def test_spaces(passing):
@@ -156,3 +156,18 @@ def test_default_reward_is_the_documented_one(passing):
         state = fast.sim.state()
         closest = min(closest, np.hypot(*(state["agents"]["pose"][:, :2] - state["robot"][:2]).T).min())
     assert closest < 1.2  # the personal-space term was in play
+
+
+def test_a_closed_environment_raises_runtime_error(passing):
+    # Issue 31: step() after close() was an AttributeError on None.
+    env = HuNavEnv(passing, seed=1)
+    env.reset()
+    env.close()
+    for call in [lambda: env.step(env.action_space.sample()), lambda: env.reset(), lambda: env.render()]:
+        with pytest.raises(RuntimeError, match="closed"):
+            call()
+    venv = HuNavVectorEnv(passing, num_envs=2)
+    venv.reset()
+    venv.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        venv.step(np.zeros((2, 2)))

@@ -169,6 +169,21 @@ TEST(Results, MalformedRunJsonNamesFileLineAndKey) {
   EXPECT_EQ(configErrorOf([&] { readRunJson(dir / "none.json"); }), (dir / "none.json").string() + ": missing file");
 }
 
+// Issue 31: "sim_time": 1e400 made nlohmann throw out_of_range, which ended hunav_expect and the
+// other readers with exit 1 and no file:line; a deeply nested file is refused before it is built.
+TEST(Results, NumbersBeyondADoubleAndDeepNestingNameFileLineAndKey) {
+  const auto dir = testDir().path();
+  const std::string file = (dir / "run.json").string();
+  writeFile(dir / "run.json", "{\n  \"run_id\": \"r\",\n  \"sim_time\": 1e400\n}\n");
+  const std::string overflow = configErrorOf([&] { readRunJson(file); });
+  EXPECT_EQ(overflow.rfind(file + ":3: sim_time: ", 0), 0u) << overflow;
+  EXPECT_NE(overflow.find("1e400"), std::string::npos) << overflow;
+  writeFile(dir / "run.json", "{\n\"metrics\": " + std::string(300, '[') + std::string(300, ']') + "}\n");
+  const std::string deep = configErrorOf([&] { readRunJson(file); });
+  EXPECT_EQ(deep.rfind(file + ":2: metrics", 0), 0u) << deep;
+  EXPECT_NE(deep.find("nests deeper than 256"), std::string::npos) << deep;
+}
+
 TEST(Results, ExpectJsonNamesTheConditionItCannotRead) {
   const auto dir = testDir().path();
   const std::string file = (dir / "expect.json").string();

@@ -2,7 +2,8 @@
 behavior in the form, add a wall, save; the saved file has the edits, and loads (hunav_run runs it).
 Then the people of an agents file (HuNavSim's own agents.yaml) edited with a scenario that names it,
 a generator's region dragged and its count changed (crowd.yaml), and the run button: the edited
-scenario runs in the server and its replay shows."""
+scenario runs in the server and its replay shows. Last, a page of another origin that POSTs to the
+editor (no-cors text/plain, a guessed token, a text/plain form) writes nothing (issue 31)."""
 import json
 import os
 import shutil
@@ -119,6 +120,55 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
         problems.append("after run the page does not replay it (%s frames)" % frames)
 
 
+def cross_origin_pages_cannot_write(browser, view, root, problems):
+    """Issue 31: a page of another origin that the user visits POSTs to the editor (a no-cors
+    text/plain fetch, a fetch with a guessed token, a text/plain form): nothing is written."""
+    import http.server
+    import threading
+    import urllib.request
+    with urllib.request.urlopen(view.url + "/api/editor/open?path=scenarios/passing.yaml", timeout=10) as r:
+        doc = json.load(r)["doc"]
+    target = view.url + "/api/editor/save"
+    body = lambda name: json.dumps({"path": name, "doc": doc})
+    page = """<!doctype html><html><body>
+<form id="f" method="post" action="%s" enctype="text/plain" target="sink"><input name='%s' value='"}'></form>
+<iframe name="sink" id="sink"></iframe>
+<script>
+const target = %s;
+Promise.allSettled([
+  fetch(target, {method: 'POST', mode: 'no-cors', headers: {'Content-Type': 'text/plain'}, body: %s}),
+  fetch(target, {method: 'POST', headers: {'Content-Type': 'application/json', 'X-HuNav-Token': '0'.repeat(32)},
+                 body: %s}),
+]).then((r) => {
+  window.results = r.map((x) => x.status);
+  document.getElementById('sink').onload = () => { document.title = 'done'; };
+  document.getElementById('f').submit();
+});
+</script></body></html>""" % (target, body("evil_form.yaml")[:-1].replace("'", "&#39;") + ', "pad": "', json.dumps(target),
+                             json.dumps(body("evil_fetch.yaml")), json.dumps(body("evil_cors.yaml")))
+
+    class Handler(http.server.BaseHTTPRequestHandler):
+        def do_GET(self):
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html")
+            self.end_headers()
+            self.wfile.write(page.encode())
+
+        def log_message(self, *args):
+            pass
+    server = http.server.HTTPServer(("127.0.0.1", 0), Handler)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        browser.call("Page.navigate", url="http://127.0.0.1:%d/" % server.server_address[1])
+        browser.wait_for("document.title === 'done'", 20)
+        print("cross-origin fetches:", browser.eval("window.results"))
+    finally:
+        server.shutdown()
+    written = [f for f in os.listdir(root) if f.startswith("evil_")]
+    if written:
+        problems.append("a page of another origin wrote %s" % written)
+
+
 def main():
     repo, bindir = os.environ["REPO"], os.environ["BIN"]
     work = tempfile.mkdtemp(prefix="hunav_view_editor.")
@@ -192,6 +242,7 @@ def main():
         errors = browser.js_errors()
         if errors:
             problems.append("JavaScript errors: %s" % errors)
+        cross_origin_pages_cannot_write(browser, view, root, problems)
     finally:
         browser.close()
         view.stop()

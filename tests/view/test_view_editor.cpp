@@ -9,11 +9,16 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <thread>
+#include <vector>
 
+#include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/in_process_bus.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/testing/temp_dir.hpp"
 #include "hunav/view/editor.hpp"
+#include "hunav/view/live_feed.hpp"
 #include "hunav/view/replay.hpp"
 
 namespace fs = std::filesystem;
@@ -256,6 +261,148 @@ TEST(ViewEditor, PeopleOfAnAgentsFileAreEditedAndSavedWithTheScenario) {
   // Agents sent for a scenario whose people are inline: a bad request.
   write(root.path() / "inline.yaml", room);
   EXPECT_THROW(editor.validate("inline.yaml", editor.open("inline.yaml")["doc"], people), std::invalid_argument);
+}
+
+namespace {
+
+std::string readAll(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The names of every file under `dir` whose name starts with ".hunav_view_" (a temporary copy left).
+std::vector<std::string> leftovers(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& f : fs::recursive_directory_iterator(dir))
+    if (f.path().filename().string().rfind(".hunav_view_", 0) == 0) out.push_back(f.path().string());
+  return out;
+}
+
+}  // namespace
+
+// Saves of different files at once (the server's 16 threads): each file holds its own request's
+// document, none fails, nothing is left beside them. Before the fix they shared one temporary name
+// (".hunav_view_save_<pid>.yaml"): one request's document landed in another's file, or the rename
+// failed with "cannot rename".
+TEST(ViewEditor, ConcurrentSavesOfDifferentFilesKeepTheirOwnDocuments) {
+  TempDir root("concurrent");
+  fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "scenarios" / "passing.yaml", root.path() / "passing.yaml");
+  Editor editor(root.path());
+  const Json doc = editor.open("passing.yaml")["doc"];
+  constexpr int kThreads = 8, kSaves = 12;
+  std::vector<std::string> failures(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      Json mine = doc;
+      for (auto& kv : mine["__map"])
+        if (kv[0] == "name") kv[1] = "writer" + std::to_string(t);
+      for (int k = 0; k < kSaves; ++k) {
+        try {
+          const Json res = editor.save("w" + std::to_string(t) + ".yaml", mine);
+          if (!res["ok"].get<bool>()) failures[t] = res.dump();
+        } catch (const std::exception& e) {
+          failures[t] = e.what();
+        }
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_EQ(failures[t], "") << "writer " << t;
+    EXPECT_EQ(hunav::loadScenario((root.path() / ("w" + std::to_string(t) + ".yaml")).string()).name,
+              "writer" + std::to_string(t));
+  }
+  EXPECT_EQ(leftovers(root.path()), std::vector<std::string>{});
+}
+
+// A save or a check "to" the editor's folder itself, a folder in it, or a file that is no YAML file
+// is refused before anything is written: before, validate() wrote its copy beside the target, that
+// is in the folder's parent, and the rename onto a folder failed and left it there.
+TEST(ViewEditor, WritesOnlyYamlFilesInsideTheFolder) {
+  TempDir parent("parent");
+  const fs::path root = parent.path() / "root";
+  fs::create_directories(root / "sub");
+  fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "scenarios" / "passing.yaml", root / "passing.yaml");
+  Editor editor(root);
+  const Json doc = editor.open("passing.yaml")["doc"];
+  for (const std::string target : {".", "./", "sub", "sub/", "sub/.", "notes.txt", "passing", ".bashrc"}) {
+    EXPECT_THROW(editor.save(target, doc), PathError) << target;
+    EXPECT_THROW(editor.validate(target, doc), PathError) << target;
+  }
+  EXPECT_THROW(editor.save("missing_folder/x.yaml", doc), PathError);
+  EXPECT_EQ(leftovers(parent.path()), std::vector<std::string>{});
+  EXPECT_EQ(std::distance(fs::directory_iterator(parent.path()), fs::directory_iterator()), 1);  // root only
+  EXPECT_TRUE(editor.save("sub/copy.yml", doc)["ok"].get<bool>());
+  EXPECT_EQ(readAll(root / "sub" / "copy.yml"), hunav::view::yamlFromJson(doc));
+}
+
+// A run's planner names its results folder: a name that is not a registered planner ("../x") is a
+// bad request, and no folder appears outside the editor's folder. Before, it made
+// <root>/view_runs/<name>_../../x.
+TEST(ViewEditor, RunsStayInsideTheFolder) {
+  TempDir parent("runs");
+  const fs::path root = parent.path() / "root";
+  fs::create_directories(root);
+  fs::copy_file(fs::path(HUNAV_SOURCE_DIR) / "scenarios" / "passing.yaml", root / "passing.yaml");
+  Editor editor(root);
+  for (const std::string& planner :
+       std::vector<std::string>{"../../escape", "dwb/../../escape", "nonesuch", "", std::string("dwb\0x", 5)})
+    EXPECT_THROW(editor.run("passing.yaml", planner, 0.5), std::invalid_argument) << planner;
+  EXPECT_THROW(editor.run("passing.yaml", "dwb", -1.0), std::invalid_argument);
+  // view_runs a symlink out of the folder: the run's folder would lie outside, so it is refused.
+  TempDir outside("runs_outside");
+  fs::create_symlink(outside.path(), root / "view_runs");
+  const Json res = editor.run("passing.yaml", "dwb", 0.5);
+  EXPECT_FALSE(res["ok"].get<bool>());
+  EXPECT_TRUE(fs::is_empty(outside.path()));
+  fs::remove(root / "view_runs");
+  const Json ok = editor.run("passing.yaml", "none", 0.5);
+  ASSERT_TRUE(ok["ok"].get<bool>()) << ok.dump();
+  EXPECT_EQ(ok["out_dir"], "view_runs/passing_none");
+  std::vector<std::string> names;
+  for (const auto& f : fs::directory_iterator(parent.path())) names.push_back(f.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"root"});
+}
+
+// A YAML file of the folder whose text is not UTF-8 opens (the page gets U+FFFD), and the view's
+// text of it never throws (nlohmann's dump() throws type_error on such strings: the view died).
+TEST(ViewEditor, FilesThatAreNotUtf8OpenWithReplacementCharacters) {
+  TempDir root("utf8");
+  write(root.path() / "bad.yaml", "name: caf\xe9\xff\ndt: 0.01\n");
+  Editor editor(root.path());
+  const Json opened = editor.open("bad.yaml");
+  EXPECT_THROW((void)opened.dump(), nlohmann::json::type_error);
+  const std::string text = hunav::view::jsonText(opened);
+  EXPECT_NE(text.find("caf\xef\xbf\xbd\xef\xbf\xbd"), std::string::npos) << text;
+}
+
+// Issue 31: strings from the bus reach the page. An episode event whose text is not UTF-8 is dropped
+// (it ended the view: nlohmann's dump() threw in the bus thread); the frames stay JSON.
+TEST(ViewLiveFeed, EventsWhoseTextIsNotUtf8AreDroppedAndFramesStayJson) {
+  hunav::InProcessBus bus;
+  hunav::view::FrameHub hub;
+  hunav::view::SceneStore scene;
+  hunav::view::LiveOptions options;
+  options.follow_episode_scenario = false;
+  hunav::view::LiveFeed feed(bus, hub, scene, options);
+  hunav::episode_event_t start{};
+  start.event = hunav::episode_event_t::START;
+  start.episode = 1;
+  start.mode = std::string(10000, '\xff');
+  bus.publish(hunav::channels::kEpisodeEvent, start);
+  start.mode = "lockstep";
+  start.run_id = "real";
+  bus.publish(hunav::channels::kEpisodeEvent, start);
+  hunav::world_state_t ws{};
+  ws.episode = 1;
+  ws.robot.radius = 0.3;
+  bus.publish(hunav::channels::kWorldState, ws);
+  bus.handleAvailable();
+  EXPECT_EQ(bus.droppedMessages(), 1u);
+  const Json frame = Json::parse(hub.latest());  // throws if it is not JSON
+  EXPECT_EQ(frame["run"]["run_id"], "real");
+  EXPECT_EQ(frame["run"]["mode"], "lockstep");
 }
 
 TEST(ViewReplay, ResultsFolderErrorsNameTheFile) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <hunav/episode_event_t.hpp>
+#include <hunav/planner_ready_t.hpp>
 #include <hunav/robot_command_t.hpp>
 #include <hunav/robot_observation_t.hpp>
 #include <hunav/step_reply_t.hpp>
@@ -16,6 +17,7 @@
 #include "hunav/channels.hpp"
 #include "hunav/lcm_bus.hpp"
 #include "hunav/manager/manager_node.hpp"
+#include "hunav/message_checks.hpp"
 #include "hunav/planners/planner.hpp"
 #include "hunav/planners/planner_node.hpp"
 #include "hunav/testing/scenarios.hpp"
@@ -157,6 +159,29 @@ void sendBadObservation(Bus& bus) {
   bus.publish(channels::kRobotObservation, o);
 }
 
+// The passing scenario of `time_limit` s with our manager and the dwb planner on `bus`.
+struct WithDwb {
+  WithDwb(Bus& bus, double time_limit)
+      : scenario(limited(time_limit)),
+        manager(bus),
+        planner(bus, planners::createPlanner("dwb", scenario), "dwb"),
+        world(bus, scenario, dwbOptions()) {}
+  static Scenario limited(double time_limit) {
+    Scenario s = passing();
+    s.time_limit = time_limit;
+    return s;
+  }
+  static WorldOptions dwbOptions() {
+    WorldOptions o = fastOptions();
+    o.planner = "dwb";
+    return o;
+  }
+  Scenario scenario;
+  manager::ManagerNode manager;
+  planners::PlannerNode planner;
+  WorldSim world;
+};
+
 }  // namespace
 
 // The manager tells its count in every step reply, the planner in its PLANNER_READY announcements;
@@ -166,13 +191,10 @@ TEST(WorldDrops, ManagerAndPlannerCountsReachTheEndEventPerEpisode) {
   lcm::LCM lcm("memq://");
   LcmBus bus(lcm);
   Events events(bus);
-  manager::ManagerNode manager(bus);
-  Scenario s = passing();
-  s.time_limit = 1.0;
-  planners::PlannerNode planner(bus, planners::createPlanner("dwb", s), "dwb");
-  WorldOptions o = fastOptions();
-  o.planner = "dwb";
-  WorldSim world(bus, s, o);
+  WithDwb run(bus, 1.0);
+  manager::ManagerNode& manager = run.manager;
+  planners::PlannerNode& planner = run.planner;
+  WorldSim& world = run.world;
 
   sendBadStepRequest(bus);  // before the first START: the first episode's
   sendBadObservation(bus);
@@ -221,15 +243,40 @@ TEST(WorldDrops, UnheardCountsAreMinusOne) {
   EXPECT_EQ(r.planner_dropped_messages, -1);
 }
 
-// A negative count is not a count: the reply is dropped (and named in the abort reason).
-TEST(WorldDrops, ANegativeCountInAStepReplyIsDropped) {
+// A negative count, or one beyond kCountBound, is not a count: the reply is dropped (and named in the
+// abort reason).
+TEST(WorldDrops, ACountOutsideTheBoundInAStepReplyIsDropped) {
+  for (const std::int64_t count : {std::int64_t{-5}, kCountBound + 1}) {
+    lcm::LCM lcm("memq://");
+    LcmBus bus(lcm);
+    EchoingManager manager(bus, [count](step_reply_t& reply) { reply.dropped_messages = count; });
+    WorldSim world(bus, passing(), fastOptions());
+    const auto r = world.runEpisode();
+    EXPECT_EQ(r.status, "aborted");
+    EXPECT_NE(r.reason.find("the last: step reply: dropped_messages " + std::to_string(count) + " outside [0, 1e15]"),
+              std::string::npos)
+        << r.reason;
+  }
+}
+
+// A flood of forged PLANNER_READY announcements (one set planner_dropped_messages to 4.6e18 in a
+// run.json before issue 31): counts outside [0, kCountBound] are dropped and counted as the world's
+// own drops; the END's planner count stays a count.
+TEST(WorldDrops, AnnouncedCountsOutsideTheBoundAreDropped) {
   lcm::LCM lcm("memq://");
   LcmBus bus(lcm);
-  EchoingManager manager(bus, [](step_reply_t& reply) { reply.dropped_messages = -5; });
-  WorldSim world(bus, passing(), fastOptions());
+  WithDwb run(bus, 0.5);
+  WorldSim& world = run.world;
+  for (const std::int64_t count : {std::int64_t{4'600'000'000'000'000'000}, std::int64_t{-7}, kCountBound + 1}) {
+    planner_ready_t forged{};
+    forged.name = "dwb";
+    forged.dropped_messages = count;
+    bus.publish(channels::kPlannerReady, forged);
+  }
   const auto r = world.runEpisode();
-  EXPECT_EQ(r.status, "aborted");
-  EXPECT_NE(r.reason.find("the last: step reply: negative dropped_messages"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.status, "time_limit") << r.reason;
+  EXPECT_EQ(r.planner_dropped_messages, 0);
+  EXPECT_EQ(r.dropped_messages, 3u);
 }
 
 namespace {

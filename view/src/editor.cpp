@@ -1,16 +1,20 @@
 #include "hunav/view/editor.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <optional>
 #include <sstream>
 
 #include "hunav/config_error.hpp"
+#include "hunav/planners/planner.hpp"
+#include "hunav/results/metrics_csv.hpp"
 #include "hunav/runner/in_process_run.hpp"
 
 namespace hunav::view {
@@ -62,7 +66,7 @@ void emitScalar(YAML::Emitter& out, const Json& j) {
   else if (j.is_string())
     out << j.get<std::string>();
   else
-    throw std::invalid_argument("unexpected JSON value " + j.dump().substr(0, 80));
+    throw std::invalid_argument("unexpected JSON value " + jsonText(j).substr(0, 80));
 }
 
 void emit(YAML::Emitter& out, const Json& j, int depth) {
@@ -146,19 +150,46 @@ std::string readText(const fs::path& file) {
   return text.str();
 }
 
-void writeText(const fs::path& file, const std::string& text) {
-  std::ofstream out(file);
-  out << text;
-  if (!out) throw std::runtime_error("cannot write " + file.string());
-}
-
-void writeWhole(const fs::path& target, const std::string& text) {
-  const fs::path temp = target.parent_path() / (".hunav_view_save_" + std::to_string(::getpid()) + ".yaml");
-  writeText(temp, text);
-  fs::rename(temp, target);  // whole or not at all
-}
-
 std::atomic<unsigned> temp_counter{0};
+
+// Creates a file of its own in `folder` (O_EXCL: no other request, thread or process shares its name),
+// writes `text` into it and flushes it to disk; returns its path. Throws std::runtime_error.
+fs::path writeNewFile(const fs::path& folder, const std::string& text) {
+  for (int attempt = 0;; ++attempt) {
+    const fs::path file =
+        folder / (".hunav_view_" + std::to_string(::getpid()) + "_" + std::to_string(temp_counter++) + ".yaml.tmp");
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) {
+      if (errno == EEXIST && attempt < 100) continue;
+      throw std::runtime_error("cannot create a file in " + folder.string() + ": " + std::strerror(errno));
+    }
+    std::size_t written = 0;
+    while (written < text.size()) {
+      const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      written += static_cast<std::size_t>(n);
+    }
+    const bool ok = written == text.size() && ::fsync(fd) == 0;
+    const int saved_errno = errno;
+    if (::close(fd) != 0 || !ok) {
+      ::unlink(file.c_str());
+      throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(ok ? errno : saved_errno));
+    }
+    return file;
+  }
+}
+
+// `target` whole or not at all: a file of its own beside it, flushed, renamed over it.
+void writeWhole(const fs::path& target, const std::string& text) {
+  const fs::path temp = writeNewFile(target.parent_path(), text);
+  std::error_code ec;
+  fs::rename(temp, target, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw std::runtime_error("cannot write " + target.string());
+  }
+}
 
 }  // namespace
 
@@ -265,37 +296,47 @@ Json Editor::open(const std::string& relative) const {
   return out;
 }
 
-Json Editor::validate(const std::string& relative, const Json& doc, const Json& people_doc) const {
+fs::path Editor::resolveTarget(const std::string& relative) const {
   const fs::path target = resolve(relative, false);
+  std::error_code ec;
+  if (target == root_ || fs::is_directory(target, ec))
+    throw PathError("'" + relative + "': a folder (give the name of a .yaml file)");
+  const std::string ext = target.extension().string();
+  if (ext != ".yaml" && ext != ".yml")
+    throw PathError("'" + relative + "': the editor writes .yaml and .yml files only");
   // The loader reads files, and relative map / agent / tree paths resolve from the file's folder:
-  // check copies written beside the targets.
-  if (!fs::is_directory(target.parent_path())) throw PathError("'" + relative + "': its folder does not exist");
-  auto tempBeside = [](const fs::path& f) {
-    return f.parent_path() /
-           (".hunav_view_" + std::to_string(::getpid()) + "_" + std::to_string(temp_counter++) + ".yaml");
-  };
-  std::vector<StandIn> stand_ins;
+  // copies are checked beside the targets.
+  if (!fs::is_directory(target.parent_path(), ec)) throw PathError("'" + relative + "': its folder does not exist");
+  return target;
+}
+
+Json Editor::validate(const std::string& relative, const Json& doc, const Json& people_doc) const {
+  const fs::path target = resolveTarget(relative);
   Json scenario_doc = doc;
+  std::optional<std::string> agents;
   std::string people_yaml;
   if (!people_doc.is_null()) {
-    const auto agents = agentsFileOf(relative, doc);
+    agents = agentsFileOf(relative, doc);
     if (!agents)
       throw std::invalid_argument("an agents file document was sent, but the scenario's people: is no file name");
     people_yaml = yamlFromJson(people_doc);
-    const fs::path agents_target = resolve(*agents, false);
-    const fs::path agents_temp = tempBeside(agents_target);
-    stand_ins.push_back({agents_temp, *agents});
-    // The copy of the scenario names the copy of the agents file, in the same folder as the original.
-    const fs::path named(peopleFileName(doc)->get<std::string>());
-    for (auto& kv : scenario_doc["__map"])
-      if (kv[0] == "people") kv[1] = (named.parent_path() / agents_temp.filename()).string();
+    resolveTarget(*agents);
   }
-  const std::string yaml = yamlFromJson(scenario_doc);
-  stand_ins.push_back({tempBeside(target), relative});
+  std::string yaml = yamlFromJson(scenario_doc);
+  // Each copy is a file of its own (concurrent checks of one folder never share a name).
+  std::vector<StandIn> stand_ins;
   Json result = {{"ok", false}, {"error", nullptr}, {"scene", nullptr}};
   try {
-    if (stand_ins.size() == 2) writeText(stand_ins[0].temp, people_yaml);
-    writeText(stand_ins.back().temp, yaml);
+    if (agents) {
+      const fs::path agents_temp = writeNewFile(resolve(*agents, false).parent_path(), people_yaml);
+      stand_ins.push_back({agents_temp, *agents});
+      // The copy of the scenario names the copy of the agents file, in the same folder as the original.
+      const fs::path named(peopleFileName(doc)->get<std::string>());
+      for (auto& kv : scenario_doc["__map"])
+        if (kv[0] == "people") kv[1] = (named.parent_path() / agents_temp.filename()).string();
+      yaml = yamlFromJson(scenario_doc);
+    }
+    stand_ins.push_back({writeNewFile(target.parent_path(), yaml), relative});
     Scenario s = loadScenario(stand_ins.back().temp.string());
     s.file = target.string();
     result["ok"] = true;
@@ -311,18 +352,24 @@ Json Editor::validate(const std::string& relative, const Json& doc, const Json& 
 Json Editor::save(const std::string& relative, const Json& doc, const Json& people_doc) const {
   Json result = validate(relative, doc, people_doc);
   if (!result["ok"].get<bool>()) return result;
+  // One save at a time: a scenario and its agents file are written as a pair.
+  std::lock_guard<std::mutex> lock(writes_);
   if (!people_doc.is_null()) {
     const std::string agents = *agentsFileOf(relative, doc);
-    writeWhole(resolve(agents, false), yamlFromJson(people_doc));
+    writeWhole(resolveTarget(agents), yamlFromJson(people_doc));
     result["people_path"] = agents;
   }
-  writeWhole(resolve(relative, false), yamlFromJson(doc));
+  writeWhole(resolveTarget(relative), yamlFromJson(doc));
   result["path"] = relative;
   return result;
 }
 
 Json Editor::run(const std::string& relative, const std::string& planner, double duration) const {
   const fs::path file = resolve(relative, true);
+  // A planner name is one of the registered ones: it also names the run's folder.
+  if (planner != "none" && !planners::hasPlanner(planner))
+    throw std::invalid_argument("unknown planner '" + planner.substr(0, 64) + "'");
+  if (!(duration >= 0.0)) throw std::invalid_argument("duration must be a number >= 0");
   Json result = {{"ok", false}, {"error", nullptr}};
   try {
     Scenario s = loadScenario(file.string());
@@ -330,10 +377,9 @@ Json Editor::run(const std::string& relative, const std::string& planner, double
       checkDurationOverride(duration);
       s.time_limit = duration;
     }
-    std::string name = s.name.empty() ? file.stem().string() : s.name;
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-    const fs::path out = root_ / "view_runs" / (name + "_" + planner);
+    // The folder inside the root, whatever the scenario's name: (and a symlinked view_runs) says.
+    const fs::path out = resolve(
+        "view_runs/" + results::safeFileName(s.name.empty() ? file.stem().string() : s.name) + "_" + planner, false);
     fs::create_directories(out);
     runner::RunOptions options;
     options.planner = planner;

@@ -5,6 +5,7 @@
 
 #include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/message_checks.hpp"
 
 namespace hunav::view {
 
@@ -99,6 +100,7 @@ LiveFeed::LiveFeed(Bus& bus, FrameHub& hub, SceneStore& scene, LiveOptions optio
 }
 
 void LiveFeed::onEpisodeEvent(const episode_event_t& e) {
+  checkEpisodeEventText(e);  // the page shows its strings, and a file name is opened
   run_ = {{"run_id", e.run_id}, {"scenario", e.scenario}, {"planner", e.planner},
           {"seed", e.seed},     {"mode", e.mode},         {"status", e.status},
           {"reason", e.reason}, {"episode", e.episode},   {"fingerprint", e.fingerprint}};
@@ -118,7 +120,7 @@ void LiveFeed::onEpisodeEvent(const episode_event_t& e) {
     } else if (last_frame_.is_object()) {
       last_frame_["ended"] = true;
       last_frame_["run"] = run_;
-      hub_.publish(last_frame_.dump());
+      hub_.publish(jsonText(last_frame_));
     }
   }
 }
@@ -153,7 +155,7 @@ void LiveFeed::build(const world_state_t& ws) {
   frame["run"] = run_;
   frame["ended"] = ended_;
   frame["scene_version"] = scene_.version();
-  hub_.publish(frame.dump());
+  hub_.publish(jsonText(frame));
   last_frame_ = std::move(frame);
   ++frames_built_;
 }

@@ -2,11 +2,14 @@
 
 #include <httplib.h>
 
+#include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <random>
 #include <thread>
 
 #include "hunav/config_error.hpp"
+#include "hunav/message_checks.hpp"
 
 namespace hunav::view {
 
@@ -15,18 +18,50 @@ namespace {
 void sendJson(httplib::Response& res, const Json& body, int status = 200) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(), "application/json");
+  res.set_content(jsonText(body), "application/json");
 }
 
 void sendError(httplib::Response& res, int status, const std::string& what) {
   sendJson(res, {{"error", what}}, status);
 }
 
+// True when the JSON text nests arrays and objects at most `max_depth` deep (strings skipped): checked
+// before parsing, whose recursion a deep document (a few hundred KB of '[') would overflow.
+bool nestsAtMost(const std::string& text, int max_depth) {
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_depth) return false;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return true;
+}
+
 // The JSON body of a POST, or an answer 400 and nullopt.
 std::optional<Json> body(const httplib::Request& req, httplib::Response& res) {
+  if (req.body.size() > ViewServer::kMaxBodyBytes) {
+    sendError(res, 413, "the request body is larger than " + std::to_string(ViewServer::kMaxBodyBytes) + " bytes");
+    return std::nullopt;
+  }
+  if (!nestsAtMost(req.body, ViewServer::kMaxJsonDepth)) {
+    sendError(res, 400, "the request body nests deeper than " + std::to_string(ViewServer::kMaxJsonDepth) + " levels");
+    return std::nullopt;
+  }
+  // The parser refuses text that is not UTF-8.
   Json j = Json::parse(req.body, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object()) {
-    sendError(res, 400, "the request body must be a JSON object");
+    sendError(res, 400, "the request body must be a JSON object (UTF-8)");
     return std::nullopt;
   }
   return j;
@@ -62,12 +97,28 @@ std::optional<DocRequest> docRequest(const httplib::Request& req, httplib::Respo
   return DocRequest{*path, (*j)["doc"], j->value("people_doc", Json(nullptr))};
 }
 
+// A fresh random token (128 bits, hex) for this start of the server.
+std::string newToken() {
+  std::random_device device;
+  std::string token;
+  char hex[9];
+  for (int i = 0; i < 4; ++i) {
+    std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>(device()));
+    token += hex;
+  }
+  return token;
+}
+
+bool isLoopback(const std::string& host) { return host == "127.0.0.1" || host == "localhost" || host == "::1"; }
+bool isWildcard(const std::string& host) { return host == "0.0.0.0" || host == "::" || host.empty(); }
+
 }  // namespace
 
-ViewServer::ViewServer(ServerParts parts) : parts_(parts), server_(std::make_unique<httplib::Server>()) {
+ViewServer::ViewServer(ServerParts parts)
+    : parts_(parts), server_(std::make_unique<httplib::Server>()), token_(newToken()) {
   // Each streaming page holds a thread: room for several pages and the API at once.
   server_->new_task_queue = [] { return new httplib::ThreadPool(16); };
-  server_->set_payload_max_length(16u << 20);  // a scenario document: far below
+  server_->set_payload_max_length(kMaxBodyBytes);
   server_->set_keep_alive_max_count(100);
   routes();
 }
@@ -79,7 +130,67 @@ int ViewServer::bind(const std::string& host, int port) {
   if (bound <= 0)
     throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + ": " + std::strerror(errno) +
                              " (another program on that port? --port 0 takes any free port)");
+  // The names a browser reaching this socket sends as Host (and, with "http://", as Origin).
+  allowed_hosts_.clear();
+  any_host_ = isWildcard(host);
+  std::vector<std::string> names = {host.find(':') != std::string::npos ? "[" + host + "]" : host};
+  if (isLoopback(host)) names = {"127.0.0.1", "localhost", "[::1]"};
+  for (const auto& name : names) {
+    allowed_hosts_.push_back(name + ":" + std::to_string(bound));
+    if (bound == 80) allowed_hosts_.push_back(name);
+  }
   return bound;
+}
+
+bool ViewServer::hostAllowed(const std::string& host) const {
+  if (any_host_) return !host.empty();
+  for (const auto& h : allowed_hosts_)
+    if (h == host) return true;
+  return false;
+}
+
+bool ViewServer::admit(const httplib::Request& req, httplib::Response& res) const {
+  // Host: a page of another site that makes its name resolve to this machine (DNS rebinding) sends its own.
+  const std::string host = req.get_header_value("Host");
+  if (!hostAllowed(host)) {
+    sendError(res, 403,
+              "refused: a request for host '" + host.substr(0, 100) + "' (this server answers for " +
+                  (allowed_hosts_.empty() ? std::string("its own address") : allowed_hosts_.front()) + " only)");
+    return false;
+  }
+  // Origin: browsers send it with every cross-origin request, and with same-origin POSTs.
+  if (req.has_header("Origin")) {
+    const std::string origin = req.get_header_value("Origin");
+    const std::string prefix = "http://";
+    if (origin.compare(0, prefix.size(), prefix) != 0 || !hostAllowed(origin.substr(prefix.size()))) {
+      sendError(res, 403, "refused: a cross-origin request (Origin '" + origin.substr(0, 100) + "')");
+      return false;
+    }
+  }
+  if (!isUtf8(req.path)) {
+    sendError(res, 400, "the path is not UTF-8");
+    return false;
+  }
+  for (const auto& kv : req.params) {
+    if (!isUtf8(kv.first) || !isUtf8(kv.second)) {
+      sendError(res, 400, "a query parameter is not UTF-8");
+      return false;
+    }
+  }
+  if (req.method == "GET" || req.method == "HEAD") return true;
+  // Writes and runs: only from this start's page, which carries the token (another site can neither
+  // read the page nor send a custom header without a preflight this server never grants).
+  if (req.get_header_value(kTokenHeader) != token_) {
+    sendError(res, 403,
+              std::string("refused: missing or wrong ") + kTokenHeader +
+                  " (the page sends it; reload the page after hunav_view restarts)");
+    return false;
+  }
+  if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
+    sendError(res, 415, "the request body must be sent as application/json");
+    return false;
+  }
+  return true;
 }
 
 void ViewServer::serve() { server_->listen_after_bind(); }
@@ -93,6 +204,10 @@ void ViewServer::stop() {
 }
 
 void ViewServer::routes() {
+  // Every request passes admit() first: an answer from it ends the request.
+  server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    return admit(req, res) ? httplib::Server::HandlerResponse::Unhandled : httplib::Server::HandlerResponse::Handled;
+  });
   routeAssets();
   routeRun();
   routeEditor();
@@ -103,9 +218,14 @@ void ViewServer::routeAssets() {
   httplib::Server& s = *server_;
   for (int i = 0; i < kWebAssetCount; ++i) {
     const WebAsset asset = kWebAssets[i];
-    auto handler = [asset](const httplib::Request&, httplib::Response& res) {
+    // The page carries this start's token (a meta element) for the API's writes.
+    std::string body = asset.body;
+    for (std::size_t at; (at = body.find(kTokenPlaceholder)) != std::string::npos;)
+      body.replace(at, std::strlen(kTokenPlaceholder), token_);
+    auto handler = [body = std::move(body), type = std::string(asset.content_type)](const httplib::Request&,
+                                                                                    httplib::Response& res) {
       res.set_header("Cache-Control", "no-store");
-      res.set_content(asset.body, asset.content_type);
+      res.set_content(body, type.c_str());
     };
     s.Get(asset.path, handler);
     if (std::strcmp(asset.path, "/index.html") == 0) s.Get("/", handler);
@@ -128,7 +248,7 @@ void ViewServer::routeRun() {
   s.Get("/api/scene", [this](const httplib::Request&, httplib::Response& res) { sendJson(res, parts_.scene->get()); });
   s.Get("/api/frame", [this](const httplib::Request&, httplib::Response& res) {
     if (parts_.live == nullptr) return sendError(res, 404, "not a live view (started with --results or --log)");
-    std::string frame = parts_.live->latest();
+    std::string frame = parts_.live->latest();  // built by jsonText's rules (frames.hpp)
     if (frame.empty()) frame = "null";
     res.set_header("Cache-Control", "no-store");
     res.set_content(frame, "application/json");
@@ -195,9 +315,17 @@ void ViewServer::routeEditor() {
     if (!j) return;
     auto path = stringField(*j, "path", res);
     if (!path) return;
-    const std::string planner = j->value("planner", parts_.default_planner);
-    const double duration =
-        j->contains("duration") && (*j)["duration"].is_number() ? (*j)["duration"].get<double>() : 0.0;
+    std::string planner = parts_.default_planner;
+    if (j->contains("planner")) {
+      auto given = stringField(*j, "planner", res);
+      if (!given) return;
+      planner = *given;
+    }
+    double duration = 0.0;
+    if (j->contains("duration") && !(*j)["duration"].is_null()) {
+      if (!(*j)["duration"].is_number()) return sendError(res, 400, "duration must be a number");
+      duration = (*j)["duration"].get<double>();
+    }
     sendJson(res, e->run(*path, planner, duration));
   });
   s.Get("/api/editor/replay", [editor](const httplib::Request& req, httplib::Response& res) {
@@ -232,6 +360,8 @@ void ViewServer::routeErrors() {
     if (!res.body.empty()) return;
     if (res.status == 404)
       sendError(res, 404, "no such page or API: " + req.path);
+    else if (res.status == 413)
+      sendError(res, 413, "the request body is larger than " + std::to_string(kMaxBodyBytes) + " bytes");
     else
       sendError(res, res.status, "bad request");
   });

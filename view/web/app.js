@@ -710,8 +710,14 @@ function edChanged() {
   clearTimeout(edTimer);
   edTimer = setTimeout(edValidate, 250);
 }
+// Writes and runs carry the token of the server's start that served this page (view/README.md).
+const apiToken = document.querySelector('meta[name="hunav-token"]').content;
 async function edPost(url, body) {
-  const r = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+  const r = await fetch(url, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', 'X-HuNav-Token': apiToken },
+    body: JSON.stringify(body),
+  });
   return r.json();
 }
 function edTarget() { return $('ed-path').value.trim() || (app.ed && app.ed.path) || ''; }

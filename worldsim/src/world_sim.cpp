@@ -78,7 +78,7 @@ WorldSim::WorldSim(Bus& bus, Scenario scenario, WorldOptions options)
 }
 
 void WorldSim::PeerDrops::tell(std::int64_t count) {
-  if (count < 0) throw BadMessage("negative dropped_messages");
+  checkCount(count, "dropped_messages", "a peer's announcement");  // negative or beyond 1e15: not a count
   heard = true;
   told = static_cast<std::uint64_t>(count);
 }
@@ -212,11 +212,21 @@ void WorldSim::publishWorldState() {
   bus_.publishEncoded(channels::kWorldState, std::move(ws), encoded_.data(), encoded_.size());  // every field set above
 }
 
+// An answer to a request the world has not sent (a later seq or episode) is not its peer's: dropped
+// and counted. Older ones are late duplicates of resent requests: ignored.
+void WorldSim::checkNotAhead(std::int64_t episode, std::int64_t seq, std::int64_t world_seq, const char* what) const {
+  if (episode > episode_ || (episode == episode_ && seq > world_seq))
+    throw BadMessage(std::string(what) + ": seq " + std::to_string(seq) + " of episode " + std::to_string(episode) +
+                     " answers nothing the world sent (its last: seq " + std::to_string(world_seq) + " of episode " +
+                     std::to_string(episode_) + ")");
+}
+
 void WorldSim::onStepReply(const step_reply_t& reply) {
+  checkNotAhead(reply.episode, reply.seq, step_seq_, "step reply");
   if (reply.episode != episode_ || reply.seq != step_seq_ || reply_arrived_) return;  // stale or duplicate
   checkAgentStates(reply.agents, reply.num_agents, "step reply", reply_ids_);
   if (reply.agents.size() != agents_.size()) throw BadMessage("step reply: wrong number of agents");
-  if (reply.dropped_messages < 0) throw BadMessage("step reply: negative dropped_messages");
+  checkCount(reply.dropped_messages, "dropped_messages", "step reply");  // before anything is taken from it
   for (std::size_t i = 0; i < agents_.size(); ++i)
     if (reply.agents[i].id != agents_[i].id) throw BadMessage("step reply: agents out of order");
   next_motion_.resize(agents_.size());
@@ -238,6 +248,7 @@ void WorldSim::onStepReply(const step_reply_t& reply) {
 }
 
 void WorldSim::onCommand(const robot_command_t& cmd) {
+  checkNotAhead(cmd.episode, cmd.seq, obs_seq_, "robot command");
   if (cmd.episode != episode_) {
     // The episode that just ended may still get an answer sent before its END was heard (realtime,
     // or a resend race): late, not wrong. Any other episode is a broken or forged planner.
@@ -599,7 +610,7 @@ bool WorldSim::tick(EpisodeResult& result) {
 
 std::uint64_t WorldSim::droppedMessages() const {
   // The bus's malformed datagrams are the world's own: in process the bus has no socket.
-  return reply_sub_.drops().count + command_sub_.drops().count + bus_.malformedDatagrams();
+  return reply_sub_.drops().count + command_sub_.drops().count + ready_sub_.drops().count + bus_.malformedDatagrams();
 }
 
 void WorldSim::command(double v, double vy, double w) {
@@ -648,7 +659,7 @@ void WorldSim::endEpisode(EpisodeResult& result) {
   const std::uint64_t dropped = droppedMessages();
   result.dropped_messages = dropped - dropped_at_last_end_;
   dropped_at_last_end_ = dropped;
-  ev.dropped_messages = static_cast<int64_t>(result.dropped_messages);
+  ev.dropped_messages = saturatedCount(result.dropped_messages);
   ev.manager_dropped_messages = result.manager_dropped_messages = manager_drops_.takeEpisodeShare();
   ev.planner_dropped_messages = result.planner_dropped_messages = planner_drops_.takeEpisodeShare();
   bus_.publish(channels::kEpisodeEvent, ev);

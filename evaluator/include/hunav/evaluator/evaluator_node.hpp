@@ -17,6 +17,13 @@
 // START/END pair (or of another episode), with a non-finite number, with a tick that does not increase, or with a time
 // that does not increase is dropped (the handler throws hunav::BadMessage) and counted in run.json's dropped_messages;
 // tick numbers that never arrived are counted in lost_ticks.
+// Events that do not fit the world's sequence cannot end a recording (a forged or a foreign one): an END of
+// another episode is dropped; a START of another episode while one records waits for a world state of its
+// episode (then the open one's END was lost: it is written as incomplete) and is dropped, and counted, when
+// a world state of the open episode, its END or another START comes first; a START that no world state
+// followed is replaced by the next START. Events whose strings fail checkEpisodeEventText (message_checks.hpp:
+// they go into run.json), and ENDs with counts outside [0, kCountBound] (-1 allowed where run.json documents
+// it), are dropped.
 //
 // Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (given
 // a pool with a free lane, the per-sample work runs there; the calls below stay on the caller's):
@@ -42,6 +49,7 @@
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/result_files.hpp"
 #include "hunav/fingerprint.hpp"
+#include "hunav/results/folder_lock.hpp"
 #include "hunav/thread_pool.hpp"
 
 namespace hunav::evaluator {
@@ -89,7 +97,9 @@ struct EvaluatorOptions {
 
 class EvaluatorNode {
  public:
-  // Subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on `bus` until it is destroyed.
+  // Locks out_dir until finished() (results::FolderLock: one writer per results folder; ConfigError
+  // when another run holds it), then subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on
+  // `bus` until it is destroyed.
   // `threads`: the process's pool (outliving the node), whose lane takes the per-sample work
   // (worker_min_people); null: all on the caller's thread. Throws std::invalid_argument for an
   // unknown profile, a negative episode count or a bad sample rate.
@@ -139,6 +149,9 @@ class EvaluatorNode {
   class Worker;
 
   void onEvent(const episode_event_t& ev);
+  void discardPendingStart();
+  // Closes the open episode, which recorded no world state, without writing its results.
+  void abandon();
   void onWorldState(const world_state_t& ws);
   [[noreturn]] void reject(const std::string& why);
   void begin(const episode_event_t& start);
@@ -164,7 +177,9 @@ class EvaluatorNode {
   std::unique_ptr<Episode> current_;
   int episodes_started_ = 0;
   int episodes_ended_ = 0;
-  std::uint64_t dropped_at_last_end_ = 0;  // drops before a START count for the episode it opens
+  std::uint64_t dropped_at_last_end_ = 0;         // drops before a START count for the episode it opens
+  std::optional<episode_event_t> pending_start_;  // another episode's START heard while one records
+  std::uint64_t forged_dropped_ = 0;              // STARTs dropped without a throw (see above)
   std::optional<RunResult> last_result_;
   // process()'s buffers (the worker's once it has taken over).
   std::vector<std::uint8_t> encode_buffer_;
@@ -173,6 +188,7 @@ class EvaluatorNode {
   std::vector<std::int32_t> ids_scratch_;                     // checkAgentStates' sort of ids out of order
   std::chrono::steady_clock::time_point last_flush_request_;  // with a worker: flushIfDue()'s last request
   std::set<std::string> used_run_dirs_;                       // folders of episodes 2, 3, ...
+  std::unique_ptr<results::FolderLock> out_lock_;             // out_dir's, until finished()
   ThreadPool* threads_ = nullptr;   // whose lane the worker takes; null: none given, or no lane was free
   std::unique_ptr<Worker> worker_;  // on a lane; stopped before the rest
   // Last, so that they end first: no message reaches a node being destroyed.

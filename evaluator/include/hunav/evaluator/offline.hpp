@@ -32,6 +32,15 @@ namespace hunav::evaluator {
 RunResult recomputeFromStates(const std::filesystem::path& states_file, const EvaluatorOptions& options,
                               bool tag_from_source = false);
 
+// The folder of a run whose recorder died (the evaluator or hunav_run killed, a crash) before it wrote
+// run.json: cuts dir/states.csv at its last whole sample (a kill can cut a write short: part of a row,
+// or part of a tick's rows; without a header the file becomes the header alone), then writes what the
+// recording gives as recomputeFromStates does (a metrics.csv row, run.json, the per-tick files) into
+// dir, with `info`'s provenance, status and reason (run_experiment.sh: status aborted and why),
+// complete = false, and ticks and sim_time those of the recording. Holds dir's FolderLock (taken
+// over from the script that holds it). Throws as recomputeFromStates.
+RunResult salvageRun(const std::filesystem::path& dir, RunInfo info, const EvaluatorOptions& options);
+
 // Replays the EPISODE_EVENT and WORLD_STATE events of an LCM log (lcm-logger's, or the in-process
 // runner's), in file order, through an EvaluatorNode on a private bus: the files are exactly those the live evaluator
 // wrote when it heard the same messages (states.csv, metrics.csv, per-tick, per-behavior, run.json; the first episode

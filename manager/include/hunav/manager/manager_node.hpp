@@ -1,8 +1,11 @@
 #pragma once
 // The manager process logic: answers STEP_REQUEST with STEP_REPLY. Each reply carries the
-// messages the node dropped so far (the world puts the episode's share into its END event).
+// messages the node dropped so far (the world puts the episode's share into its END event). A step
+// request more than kMaxSeqAhead (message_checks.hpp) ahead of the last answered of its episode, and
+// an END of an episode it neither heard start nor answered, are not the world's: dropped and counted.
 #include <cstdint>
 #include <hunav/episode_event_t.hpp>
+#include <optional>
 #include <vector>
 
 #include "hunav/bus.hpp"
@@ -30,6 +33,7 @@ class ManagerNode {
 
  private:
   void onRequest(const step_request_t& request);
+  void onEvent(const episode_event_t& e);
 
   Bus& bus_;
   AgentManager manager_;
@@ -42,6 +46,8 @@ class ManagerNode {
   std::uint64_t steps_computed_ = 0;
   std::uint64_t replies_resent_ = 0;
   std::uint64_t episodes_ended_ = 0;
+  std::optional<std::int64_t> started_episode_;  // of the last START heard (count_episodes)
+  std::optional<std::int64_t> ended_episode_;    // of the last END counted
   // Last, so that they end first (the handlers use the members above).
   Subscription request_sub_;
   Subscription event_sub_;  // with count_episodes

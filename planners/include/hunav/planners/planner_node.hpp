@@ -3,9 +3,18 @@
 // echoes its utime, seq and episode (docs/planner_contract.md).
 //  - Replies are idempotent: an observation with the (episode, seq) answered last gets the same
 //    command again without replanning (the world resends on timeout). Older seqs are ignored.
-//  - A new episode (in an observation or an EPISODE_EVENT START) resets the planner.
+//  - A new episode (in an EPISODE_EVENT START, or an observation when none runs) resets the planner.
 //  - Invalid observations (non-finite numbers, impossible sizes or limits) are dropped and counted
 //    by the Bus (BadMessage).
+//  - Messages that do not fit the world's sequence cannot steer it (a forged or a foreign one), and
+//    are dropped and counted: an END of another episode than the one served; an observation of
+//    another episode while one whose START was heard runs; an observation more than kMaxSeqAhead
+//    (message_checks.hpp)
+//    seqs ahead of the last answered (or of 0 after START). While an episode runs, a START of the next
+//    one (the world counts episodes up from 1) waits for an observation of its episode (the END was
+//    lost: the world sends nothing more of the running one) and is dropped when an observation of the
+//    running episode, its END or another START comes first; a START of any other episode is dropped.
+//    Event strings must pass checkEpisodeEventText().
 //  - EPISODE_EVENT END events are counted, so the process can stop after N episodes.
 //  - It announces itself on PLANNER_READY (planner_ready_t with its drop count) at each START and
 //    whenever its drop count grew; a process repeats announce() as its heartbeat (planners/main.cpp).
@@ -40,6 +49,8 @@ class PlannerNode {
   // Messages this node dropped since it was created: observations and events it rejected or could
   // not decode, and (on a socket bus) malformed datagrams.
   std::uint64_t droppedMessages() const;
+  // The observations it dropped (undecodable or rejected) and why the last one was.
+  const SubscriptionDrops& observationDrops() const { return observation_sub_.drops(); }
 
   std::int64_t episodesEnded() const { return episodes_ended_; }
   std::uint64_t plansComputed() const { return plans_computed_; }
@@ -57,7 +68,9 @@ class PlannerNode {
  private:
   void onObservation(const robot_observation_t& obs);
   void onEpisodeEvent(const episode_event_t& event);
-  void beginEpisode(std::int64_t episode);
+  // `announced`: its START was heard (else the node joined it from an observation).
+  void beginEpisode(std::int64_t episode, bool announced);
+  void discardPendingStart();
   // Publishes the planner's global path on ROBOT_PATH, when it keeps one (after a fresh plan).
   void publishPath(const robot_observation_t& obs);
   // Announces again when the drop count grew since the last announcement (checked per message).
@@ -67,8 +80,11 @@ class PlannerNode {
   std::unique_ptr<Planner> planner_;
   std::string name_;
   std::uint64_t dropped_announced_ = 0;
-  std::optional<std::int64_t> episode_;  // the episode being served
-  bool episode_ended_ = false;           // its END event arrived
+  std::optional<std::int64_t> episode_;        // the episode being served
+  bool episode_announced_ = false;             // its START was heard
+  bool episode_ended_ = false;                 // its END event arrived
+  std::optional<std::int64_t> pending_start_;  // another episode's START heard while it runs
+  std::uint64_t forged_dropped_ = 0;           // pending STARTs that no observation confirmed
   std::optional<robot_command_t> last_reply_;
   planned_path_t path_msg_;  // reused: its array keeps its capacity
   std::int64_t episodes_ended_ = 0;

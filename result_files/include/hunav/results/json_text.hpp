@@ -22,7 +22,8 @@ std::string jsonString(std::string_view s, bool html_safe = false);
 // "conditions[0].pass".
 class JsonDocument {
  public:
-  // Throws ConfigError: file missing or unreadable, or not JSON (with the line of the problem).
+  // Throws ConfigError: file missing or unreadable, or not JSON (with the line of the problem, also
+  // for a number beyond a double such as 1e400, and for arrays and objects nested deeper than 256).
   static JsonDocument read(const std::filesystem::path& file);
   // The same from text; `name` is the file name used in messages.
   static JsonDocument parse(const std::string& text, const std::string& name);

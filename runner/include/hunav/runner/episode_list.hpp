@@ -14,7 +14,8 @@ std::vector<long long> parseSeedList(const std::string& text);
 // "dwb,scl,sfw": the names in order (empty items and repeats refused: std::invalid_argument).
 std::vector<std::string> parseNameList(const std::string& text);
 
-// A run's folder name in a batch: <scenario>__<planner>__seed<N> (run_batch.sh's runs/ layout).
+// A run's folder name in a batch: <scenario>__<planner>__seed<N> (run_batch.sh's runs/ layout), each
+// name made safe for a file name (results::safeFileName: a scenario name "../x" stays inside --out).
 std::string batchRunFolder(const std::string& scenario, const std::string& planner, long long seed);
 
 }  // namespace hunav::runner

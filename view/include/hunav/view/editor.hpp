@@ -6,6 +6,7 @@
 // saving writes back every key the user did not touch; the project's own loader (loadScenario)
 // validates every version before it is saved, and its "file:line: key: what" is sent back.
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -44,18 +45,27 @@ class Editor {
   // `people_doc` (or null): the edited tree of the agents file the scenario's `people:` names.
   Json validate(const std::string& relative, const Json& doc, const Json& people_doc = nullptr) const;
   // validate(), then, when it loads, writes the agents file (if given) and the scenario's YAML to
-  // `relative` (a new or existing file), each whole or not at all.
+  // `relative` (a new or existing .yaml/.yml file), each whole or not at all: a temporary file of its
+  // own in the target's folder, flushed to disk, renamed over the target. Saves run one at a time.
+  // validate() and save() refuse (PathError) a target that is the root, a folder, not .yaml/.yml, or
+  // in a folder that does not exist.
   Json save(const std::string& relative, const Json& doc, const Json& people_doc = nullptr) const;
   // Runs the saved scenario at `relative` in this process (runner::runInProcess, planner `planner`),
-  // results into root/view_runs/<name>; returns {ok, out_dir (relative), status, fingerprint, error}.
+  // results into root/view_runs/<name>_<planner> (confined to the root like every path);
+  // returns {ok, out_dir (relative), status, fingerprint, error}. Throws std::invalid_argument for a
+  // planner that is not registered (nor "none") and a negative or non-numeric duration.
   Json run(const std::string& relative, const std::string& planner, double duration) const;
 
  private:
   // The agents file (relative to the root) the scenario document's `people:` names, if it names one;
   // PathError when it lies outside the root.
   std::optional<std::string> agentsFileOf(const std::string& relative, const Json& doc) const;
+  // resolve(relative, false) for a file the editor writes: a .yaml or .yml file (not the root, not a
+  // folder) in an existing folder of the root; PathError otherwise.
+  std::filesystem::path resolveTarget(const std::string& relative) const;
 
   std::filesystem::path root_;
+  mutable std::mutex writes_;  // saves one at a time (a scenario and its agents file as a pair)
 };
 
 }  // namespace hunav::view

@@ -29,6 +29,11 @@ Json laserJson(const robot_observation_t& obs, int max_beams = 360);
 Json pathJson(const planned_path_t& path);        // {t, points: [[x, y], ...]}
 Json metricsJson(const live_metrics_t& metrics);  // {t, values: {name: value}}
 
+// The text of a JSON value as the view sends it: a string that is not UTF-8 (a file name, a replayed
+// file, a message from the bus) gets U+FFFD in place of its bad bytes instead of nlohmann's
+// type_error, so that no frame or answer, error answers included, can end the process.
+std::string jsonText(const Json& j);
+
 // Rounds to the millimetre (and to 1e-3 of any unit).
 double round3(double v);
 

@@ -2,11 +2,17 @@
 // hunav_view's HTTP server (cpp-httplib): the page (embedded at build time from view/web/), the
 // scene, live frames as server-sent events, a replay, and the editor's API. Every answer of the API
 // is JSON; a bad request gets {"error": "..."} with status 400 (403 for a path outside the editor's
-// folder, 404 for what does not exist), and no request can stop the server.
+// folder or a refused origin, 404 for what does not exist, 413 for a body too large), and no request
+// can stop the server: every handler is behind one error boundary, and text that is not UTF-8 is
+// refused at the edge (query parameters, bodies) or sent with U+FFFD in place of its bad bytes.
+// 127.0.0.1 is no boundary against the user's own browser, so every request passes admit(): its Host
+// (and Origin, when sent) must name this server; writes and runs (POST) must carry the token of this
+// start, which only the page served here holds (a <meta name="hunav-token"> element).
 #include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hunav/view/editor.hpp"
 #include "hunav/view/live_feed.hpp"
@@ -14,7 +20,9 @@
 
 namespace httplib {
 class Server;
-}
+struct Request;
+struct Response;
+}  // namespace httplib
 
 namespace hunav::view {
 
@@ -28,6 +36,14 @@ struct ServerParts {
 
 class ViewServer {
  public:
+  // A POST body is refused (413) beyond this size, and (400) when it nests arrays and objects deeper
+  // than this, before it is parsed.
+  static constexpr std::size_t kMaxBodyBytes = 8u << 20;  // a scenario document: far below
+  static constexpr int kMaxJsonDepth = 256;               // a YAML map is 3 JSON levels ({"__map": [[k, v]]})
+  // The header of a POST that carries the page's token, and the placeholder of the page it replaces.
+  static constexpr const char* kTokenHeader = "X-HuNav-Token";
+  static constexpr const char* kTokenPlaceholder = "__HUNAV_TOKEN__";
+
   explicit ViewServer(ServerParts parts);
   ~ViewServer();
   ViewServer(const ViewServer&) = delete;
@@ -41,6 +57,8 @@ class ViewServer {
   void stop();
   // Connections streaming live frames now.
   int streams() const { return streams_.load(); }
+  // This start's token (random, 128 bits): the page's POSTs send it in kTokenHeader.
+  const std::string& token() const { return token_; }
 
  private:
   void routes();
@@ -48,8 +66,14 @@ class ViewServer {
   void routeRun();
   void routeEditor();
   void routeErrors();
+  // The request policy above: true to go on, false with the refusal answered.
+  bool admit(const httplib::Request& req, httplib::Response& res) const;
+  bool hostAllowed(const std::string& host) const;
   ServerParts parts_;
   std::unique_ptr<httplib::Server> server_;
+  std::string token_;
+  std::vector<std::string> allowed_hosts_;  // host:port names of this socket (bind())
+  bool any_host_ = false;                   // bound to every address (0.0.0.0, ::): any Host
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};
 };

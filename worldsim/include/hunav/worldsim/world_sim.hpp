@@ -149,6 +149,7 @@ class WorldSim {
   // Moves everything one tick (after the exchanges) and publishes the new world state.
   void advanceTick();
   void onStepReply(const step_reply_t& reply);
+  void checkNotAhead(std::int64_t episode, std::int64_t seq, std::int64_t world_seq, const char* what) const;
   void onCommand(const robot_command_t& cmd);
   // Divided, not multiplied by 1e-6: the nearest double to the decimal time (18.26, not 18.259999999999998).
   double simTime() const { return static_cast<double>(time_us_) / 1e6; }
