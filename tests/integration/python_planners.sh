@@ -4,7 +4,7 @@
 #     run by run_experiment.sh --planner-cmd in lockstep and in real time, to the goal of passing;
 #   example_lockstep, example_realtime: the C++ example planner (planners/examples/), the same way;
 #   map_<scenario>: python/examples/map_planner.py in lockstep, to the goal of passing, cafe,
-#     warehouse or house, using the MAP it received.
+#     warehouse or house, using the MAP it received; map_passing_realtime: the same in real time.
 # Usage: python_planners.sh CASE
 source "$(dirname "$0")/common.sh"
 case_name=${1:?usage: python_planners.sh CASE}
@@ -47,7 +47,9 @@ PY
     ;;
   map_*)
     scenario=${case_name#map_}
-    run_to_goal map "$scenario" lockstep "exec $py '$REPO/python/examples/map_planner.py' --episodes 1"
+    mode=lockstep
+    case $scenario in *_realtime) scenario=${scenario%_realtime} mode=realtime ;; esac
+    run_to_goal map "$scenario" "$mode" "exec $py '$REPO/python/examples/map_planner.py' --episodes 1"
     grep -q "map_planner: map of episode 1:" "$WORK/map/logs/planner.log" \
       || { cat "$WORK/map/logs/planner.log"; fail "the map planner never received the MAP"; }
     ;;
