@@ -423,14 +423,9 @@ void EvaluatorNode::onEvent(const episode_event_t& ev) {
   if (ev.event == episode_event_t::START) {
     if (!current_) return begin(ev);
     if (ev.episode == current_->info.episode) reject(fmt::format("repeated START of episode {}", ev.episode));
-    if (!current_->any_state) {
-      // The open episode recorded nothing: a START that no world state followed was no episode.
-      abandon();
-      ++forged_dropped_;
-      return begin(ev);
-    }
     // While an episode records, another's START waits for a world state of its episode (then the END of
-    // the open one was lost); a forged one never gets one and is dropped at the open one's END.
+    // the open one was lost); a forged one never gets one and is dropped at the open one's END. Before
+    // the open one's first world state either may be forged: the first world state decides.
     discardPendingStart();
     pending_start_ = ev;
   } else if (ev.event == episode_event_t::END) {
@@ -451,6 +446,16 @@ void EvaluatorNode::onEvent(const episode_event_t& ev) {
   } else {
     reject(fmt::format("episode event of unknown kind {}", static_cast<int>(ev.event)));
   }
+}
+
+void EvaluatorNode::beginPendingStart() {
+  if (current_) {  // a START no world state followed: no episode
+    abandon();
+    ++forged_dropped_;
+  }
+  const episode_event_t start = std::move(*pending_start_);
+  pending_start_.reset();
+  begin(start);
 }
 
 void EvaluatorNode::discardPendingStart() {
@@ -507,12 +512,16 @@ void EvaluatorNode::begin(const episode_event_t& start) {
 
 void EvaluatorNode::onWorldState(const world_state_t& ws) {
   if (pending_start_ && ws.episode == pending_start_->episode) {
-    // The START heard while the last episode recorded was the world's: that episode's END was lost.
-    const episode_event_t start = std::move(*pending_start_);
-    pending_start_.reset();
-    finish(nullptr, fmt::format("episode {} started before episode {} ended", start.episode, current_->info.episode));
-    if (finished()) reject(fmt::format("world state of tick {} after the last episode", ws.tick));
-    begin(start);
+    if (current_->any_state) {
+      // The START heard while the last episode recorded was the world's: that episode's END was lost.
+      finish(nullptr, fmt::format("episode {} started before episode {} ended", pending_start_->episode,
+                                  current_->info.episode));
+      if (finished()) {
+        pending_start_.reset();
+        reject(fmt::format("world state of tick {} after the last episode", ws.tick));
+      }
+    }
+    beginPendingStart();
   } else if (pending_start_ && current_ && ws.episode == current_->info.episode) {
     discardPendingStart();  // the world sends nothing of this episode after another's START
   }

@@ -73,6 +73,7 @@ void PlannerNode::beginEpisode(std::int64_t episode, bool announced) {
   episode_ = episode;
   episode_announced_ = announced;
   episode_ended_ = false;
+  episode_confirmed_ = false;
   discardPendingStart();
   last_reply_.reset();
 }
@@ -90,10 +91,13 @@ void PlannerNode::onObservation(const robot_observation_t& obs) {
   } else if (obs.episode == *episode_) {
     discardPendingStart();  // the world sends nothing of this episode after another's START
   } else {
+    // A START that no observation of its episode followed was not the world's: the observations decide.
+    const bool unconfirmed_start = episode_announced_ && !episode_confirmed_;
+    if (unconfirmed_start) ++forged_dropped_;
     if (pending_start_ && obs.episode == *pending_start_) {
       pending_start_.reset();
       beginEpisode(obs.episode, true);  // the START heard during the last episode was the world's
-    } else if (!episode_announced_) {
+    } else if (!episode_announced_ || unconfirmed_start) {
       beginEpisode(obs.episode, false);  // joined mid-episode: the world's numbers are all it knows
     } else {
       throw BadMessage("robot_observation_t: episode " + std::to_string(obs.episode) + " during episode " +
@@ -106,6 +110,7 @@ void PlannerNode::onObservation(const robot_observation_t& obs) {
   if (base >= 0 && obs.seq > base && obs.seq - base > kMaxSeqAhead)
     throw BadMessage("robot_observation_t: seq " + std::to_string(obs.seq) + " is more than " +
                      std::to_string(kMaxSeqAhead) + " ahead of " + std::to_string(base));
+  episode_confirmed_ = true;
   if (last_reply_) {
     if (obs.seq == last_reply_->seq) {  // a resend: same answer, no replanning
       bus_.publish(channels::kRobotCommand, *last_reply_);
@@ -152,6 +157,12 @@ void PlannerNode::onEpisodeEvent(const episode_event_t& event) {
     if (!episode_ || episode_ended_) {
       // A restarted world may reuse an episode number: after an END, any START begins afresh.
       beginEpisode(event.episode, true);
+    } else if (!episode_confirmed_) {
+      // Two STARTs and no observation yet (one may be forged): the first observation picks its episode.
+      if (event.episode != *episode_) {
+        discardPendingStart();
+        pending_start_ = event.episode;
+      }
     } else if (event.episode == *episode_ + 1) {
       // While an episode runs, the next one's START waits for an observation of its episode (the
       // END of the running one was lost) instead of ending it: a forged one never gets one.
@@ -169,6 +180,10 @@ void PlannerNode::onEpisodeEvent(const episode_event_t& event) {
                                  : std::string(" before any episode")));
     } else if (episode_ended_) {
       return;  // a repeated END
+    } else if (!episode_confirmed_) {
+      // START and END with no observation between: a forged pair would end `--episodes N` early.
+      throw BadMessage("episode_event_t: END of episode " + std::to_string(event.episode) +
+                       ", none of whose observations came");
     }
     discardPendingStart();
     episode_ended_ = true;

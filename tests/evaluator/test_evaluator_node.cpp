@@ -416,6 +416,25 @@ TEST_F(EvaluatorNodeTest, AStartThatNoWorldStateFollowedIsReplacedByTheNext) {
   EXPECT_EQ(readLines(dir / "states.csv").size(), 1u + 6u * 3u);
 }
 
+// A forged START (and END) heard after the world's START but before its first world state neither
+// replaces the world's episode nor ends it: the first world state decides whose START was real.
+TEST_F(EvaluatorNodeTest, AForgedStartBeforeTheFirstWorldStateDoesNotReplaceTheWorldsEpisode) {
+  EvaluatorNode node(bus, options(1));
+  start(1, "real");
+  world.publish(hunav::channels::kEpisodeEvent, startEvent(99, "forged"));
+  world.publish(hunav::channels::kEpisodeEvent, endEvent(99, 3, 0.04, fingerprint.hex()));
+  for (int k = 0; k < 6; ++k) publish(state(1, k));
+  world.publish(hunav::channels::kEpisodeEvent, endEvent(1, 6, 0.07, fingerprint.hex()));
+  bus.handleAvailable();
+  ASSERT_TRUE(node.finished());
+  const RunInfo info = readRunJson(dir / "run.json");
+  EXPECT_EQ(info.run_id, "real");
+  EXPECT_TRUE(info.complete);
+  EXPECT_EQ(info.recorded_ticks, 6);
+  EXPECT_EQ(info.dropped_messages, 2);  // the forged END, and the forged START no world state followed
+  EXPECT_FALSE(std::filesystem::exists(dir / "forged"));
+}
+
 // Issue 31: a START whose mode was 10,000 bytes of invalid UTF-8 reached run.json, which hunav_expect
 // could not read. Events whose strings are not bounded UTF-8 without control characters are dropped.
 TEST_F(EvaluatorNodeTest, EventsWhoseTextIsNotBoundedUtf8AreDropped) {

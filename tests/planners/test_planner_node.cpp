@@ -203,10 +203,16 @@ TEST_F(PlannerNodeTest, CountsEpisodeEndsOnce) {
   const int resets = *resets_;
   sendEvent(episode_event_t::START, 2);
   EXPECT_EQ(*resets_, resets + 1);
+  // An END with no observation of its episode does not count (a forged START and END pair would end
+  // `hunav_planner --episodes N` early): dropped.
+  sendEvent(episode_event_t::END, 2);
+  EXPECT_EQ(node_->episodesEnded(), 1);
+  EXPECT_EQ(bus_.droppedMessages(), 1u);
+  send(observation(1, 2));
   sendEvent(episode_event_t::END, 2);
   EXPECT_EQ(node_->episodesEnded(), 2);
   sendEvent(42, 3);  // unknown event kind
-  EXPECT_EQ(bus_.droppedMessages(), 1u);
+  EXPECT_EQ(bus_.droppedMessages(), 2u);
   EXPECT_EQ(node_->episodesEnded(), 2);
 }
 
@@ -231,6 +237,28 @@ TEST_F(PlannerNodeTest, AnEndBeforeAnyEpisodeIsDropped) {
   sendEvent(episode_event_t::END, 3);
   EXPECT_EQ(node_->episodesEnded(), 0);
   EXPECT_EQ(node_->droppedMessages(), 1u);
+}
+
+// A forged START and END before the world's START: no episode ends (no observation of it came) and
+// the world's START, then its observations, are served.
+TEST_F(PlannerNodeTest, AForgedStartAndEndBeforeTheRunNeitherEndItNorHijackIt) {
+  sendEvent(episode_event_t::START, 5);
+  sendEvent(episode_event_t::END, 5);
+  EXPECT_EQ(node_->episodesEnded(), 0);
+  EXPECT_EQ(node_->droppedMessages(), 1u);  // the END
+  sendEvent(episode_event_t::START, 1);
+  sendEvent(episode_event_t::START, 8);  // another forged one before the first observation
+  send(observation(1, 1));
+  send(observation(2, 1));
+  ASSERT_EQ(commands_.size(), 2u);
+  EXPECT_EQ(commands_[0].episode, 1);
+  EXPECT_EQ(commands_[1].seq, 2);
+  sendEvent(episode_event_t::END, 1);
+  EXPECT_EQ(node_->episodesEnded(), 1);
+  // The END of 5, and three STARTs no observation confirmed: 5 (the open one), 1 (pending, replaced by
+  // 8: only the last START waits) and 8 (pending when episode 1's observation came). The episode was
+  // served all the same, joined from its observations.
+  EXPECT_EQ(node_->droppedMessages(), 4u);
 }
 
 TEST_F(PlannerNodeTest, AStartOfAnotherEpisodeNeitherResetsNorEndsTheRunningOne) {

@@ -150,6 +150,8 @@ class EvaluatorNode {
 
   void onEvent(const episode_event_t& ev);
   void discardPendingStart();
+  // Begins the pending START's episode, abandoning the open one (which then recorded no world state).
+  void beginPendingStart();
   // Closes the open episode, which recorded no world state, without writing its results.
   void abandon();
   void onWorldState(const world_state_t& ws);

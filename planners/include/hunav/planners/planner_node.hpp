@@ -83,6 +83,7 @@ class PlannerNode {
   std::optional<std::int64_t> episode_;        // the episode being served
   bool episode_announced_ = false;             // its START was heard
   bool episode_ended_ = false;                 // its END event arrived
+  bool episode_confirmed_ = false;             // an observation of it came (a START alone may be forged)
   std::optional<std::int64_t> pending_start_;  // another episode's START heard while it runs
   std::uint64_t forged_dropped_ = 0;           // pending STARTs that no observation confirmed
   std::optional<robot_command_t> last_reply_;
