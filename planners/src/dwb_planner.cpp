@@ -16,6 +16,9 @@ constexpr double kPathWindowMargin = 0.5;  // m of path beyond the farthest reac
 constexpr std::size_t kUnknownIndex = std::numeric_limits<std::size_t>::max();
 // m/s: a robot slower than this stands; so does a best sample slower than it (the window's slowest).
 constexpr double kStandingSpeed = 0.05;
+constexpr double kSightingPeriod = 0.5;  // s between two records of where people are (reroute)
+// m a blocked place keeps from the robot and from the goal (beyond its radius and the robot's).
+constexpr double kKeepOutClearance = 0.2;
 }  // namespace
 
 std::unique_ptr<Planner> DwbPlanner::create(const Scenario& scenario, const YamlReader* config) {
@@ -63,6 +66,10 @@ void DwbPlanner::reset() {
   last_command_.reset();
   recovery_.reset();
   last_recovery_ = RecoveryBehavior::None;
+  clearKeepOuts();
+  sightings_.clear();
+  last_sighting_.reset();
+  goal_distances_goal_.reset();
 }
 
 robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
@@ -77,10 +84,18 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
     path_ = GlobalPath();
     path_goal_.reset();
     recovery_.reset();
+    clearKeepOuts();
     return cmd;
   }
-  last_recovery_ = recovery_.update(obs);
-  if (last_recovery_ == RecoveryBehavior::ClearAndReplan) clearPathAndMemory();
+  if (!keep_out_.empty() && goal != keep_out_goal_) clearKeepOuts();
+  recordSightings(obs);
+  bool way_changed = false;
+  const double goal_distance = goalDistance(obs, &way_changed);
+  if (way_changed) recovery_.newWay(obs, goal_distance);
+  last_recovery_ = recovery_.update(obs, goal_distance);
+  if (last_recovery_ == RecoveryBehavior::Reroute) blockPassageAhead(obs);
+  if (last_recovery_ == RecoveryBehavior::ClearAndReplan || last_recovery_ == RecoveryBehavior::Reroute)
+    clearPathAndMemory();
 
   updateMapAndPath(obs);
   goal_critic_->setWeight(params_.goal_distance_weight * recovery_.goalWeightFactor(obs));
@@ -137,7 +152,7 @@ void DwbPlanner::updateMapAndPath(const robot_observation_t& obs) {
     // A periodic replan on the very map the path was planned on (nothing transient then or now)
     // would find the same path.
     if (replan == Replan::Required || !costmap_.transientEmpty() || !path_map_static_) {
-      astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);  // an empty path when there is none
+      planPath(obs);
       path_map_static_ = costmap_.transientEmpty();
       path_costs_.resize(path_.size());
       for (std::size_t k = 0; k < path_.size(); ++k) path_costs_[k] = costmap_.costAt(path_[k]);
@@ -148,6 +163,95 @@ void DwbPlanner::updateMapAndPath(const robot_observation_t& obs) {
     path_utime_ = obs.utime;
   }
   prepareContext(obs, robot_index);
+}
+
+void DwbPlanner::planPath(const robot_observation_t& obs) {
+  const Vec2 robot(obs.x, obs.y), goal(obs.goal.x, obs.goal.y);
+  // An empty path when there is none.
+  if (astar_.plan(costmap_, robot, goal, obs.goal.radius, path_) || keep_out_.empty()) return;
+  clearKeepOuts();  // the blocked passage is the only way
+  updateTransientLayer(obs);
+  astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);
+}
+
+void DwbPlanner::recordSightings(const robot_observation_t& obs) {
+  if (!(recovery_.params().block_time > 0.0)) return;
+  const auto memory = static_cast<std::int64_t>(recovery_.params().occupancy_memory * 1e6);
+  while (!sightings_.empty() && obs.utime - sightings_.front().utime > memory) sightings_.pop_front();
+  if (last_sighting_ && obs.utime >= *last_sighting_ && obs.utime - *last_sighting_ < kSightingPeriod * 1e6) return;
+  last_sighting_ = obs.utime;
+  // Only people who may be in the passage ahead: within the look-ahead (and a margin) of the robot.
+  const double reach = recovery_.params().block_lookahead + recovery_.params().block_radius + 1.0;
+  const Vec2 robot(obs.x, obs.y);
+  for (const detected_person_t& person : obs.people) {
+    const Vec2 p(person.x, person.y);
+    if ((p - robot).squaredNorm() <= reach * reach) sightings_.push_back({obs.utime, p});
+  }
+}
+
+bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {
+  const RecoveryParams& rp = recovery_.params();
+  const Vec2 robot(obs.x, obs.y), goal(obs.goal.x, obs.goal.y);
+  // The way the robot would go with nobody about (the static map, and the places blocked already):
+  // the way people keep it from. The path it follows may already go round for a moment, when
+  // someone stands in the passage. The caller marks the map afresh afterwards.
+  costmap_.clearMarkingWindow();
+  costmap_.clearTransient();
+  markKeepOuts(obs);
+  GlobalPath route;
+  if (!astar_.plan(costmap_, robot, goal, obs.goal.radius, route)) return false;
+  struct Place {
+    Vec2 center;
+    double radius;  // as wide as the free space around it, at most block_radius
+    int seen;       // sightings within reach of it
+  };
+  std::vector<Place> places;
+  int most_seen = 0;
+  for (std::size_t k = 0; k < route.size() && route.remaining(0) - route.remaining(k) <= rp.block_lookahead; ++k) {
+    int cx, cy;
+    if (!costmap_.worldToCell(route[k], cx, cy)) continue;
+    const double radius = std::min(rp.block_radius, costmap_.staticDistance(cx, cy));
+    const double keep_off = radius + obs.radius + kKeepOutClearance;
+    if ((route[k] - robot).norm() < keep_off || (route[k] - goal).norm() < keep_off + obs.goal.radius) continue;
+    // A person at most a body's width beyond the disc stood in the passage it blocks.
+    const double reach2 = std::pow(radius + 2.0 * obs.radius, 2);
+    const int seen = static_cast<int>(std::count_if(sightings_.begin(), sightings_.end(), [&](const Sighting& s) {
+      return (s.position - route[k]).squaredNorm() <= reach2;
+    }));
+    most_seen = std::max(most_seen, seen);
+    places.push_back({route[k], radius, seen});
+  }
+  const Place* best = nullptr;
+  for (const Place& place : places)  // the narrowest among the most frequented, the nearest on ties
+    if (2 * place.seen >= most_seen && (best == nullptr || place.radius < best->radius)) best = &place;
+  if (best == nullptr) return false;
+  keep_out_.push_back({best->center, best->radius, obs.utime + static_cast<std::int64_t>(rp.block_time * 1e6)});
+  keep_out_goal_ = goal;
+  ++keep_out_changes_;
+  return true;
+}
+
+void DwbPlanner::clearKeepOuts() {
+  if (keep_out_.empty()) return;
+  keep_out_.clear();
+  ++keep_out_changes_;
+}
+
+double DwbPlanner::goalDistance(const robot_observation_t& obs, bool* way_changed) {
+  const Vec2 goal(obs.goal.x, obs.goal.y);
+  // (A new robot radius changes the static layer's inflation: measured afresh too.)
+  const bool same_goal =
+      goal_distances_goal_ && *goal_distances_goal_ == goal && goal_distances_radius_ == costmap_.robotRadius();
+  if (!same_goal || goal_distances_changes_ != keep_out_changes_) {
+    std::vector<Circle> blocked;
+    for (const KeepOut& k : keep_out_) blocked.push_back({k.center, k.radius});
+    goal_distances_radius_ = costmap_.robotRadius();
+    goal_distances_.reset(costmap_, goal, obs.goal.radius, blocked);
+    *way_changed = same_goal;
+    goal_distances_goal_ = goal;
+    goal_distances_changes_ = keep_out_changes_;
+  }
+  return goal_distances_.at(Vec2(obs.x, obs.y));
 }
 
 void DwbPlanner::chooseCommand(const VelocityWindow& window, double heading_error, double& v, double& w) {
@@ -232,7 +336,17 @@ void DwbPlanner::updateTransientLayer(const robot_observation_t& obs) {
   people_marked_.clear();
   if (params_.mark_people) markPeople(obs);
   if (params_.mark_scan) costmap_.markScan(obs.scan, people_marked_);
+  markKeepOuts(obs);
   updateLayers(obs, costmap_);
+}
+
+void DwbPlanner::markKeepOuts(const robot_observation_t& obs) {
+  const std::size_t before = keep_out_.size();
+  keep_out_.erase(
+      std::remove_if(keep_out_.begin(), keep_out_.end(), [&](const KeepOut& k) { return obs.utime >= k.until; }),
+      keep_out_.end());
+  if (keep_out_.size() != before) ++keep_out_changes_;
+  for (const KeepOut& k : keep_out_) costmap_.markCircle(k.center, k.radius);
 }
 
 void DwbPlanner::markPeople(const robot_observation_t& obs) {

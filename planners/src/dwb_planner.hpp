@@ -16,12 +16,15 @@
 //     side or behind, and brakes (turning toward the path when that helps) when no sample is
 //     admissible. At the goal, or without one, it sends (0, 0);
 //  5. when the robot has made no progress for a while, it runs a recovery behaviour instead
-//     (recovery.hpp: clear and replan, spin, back up, wait, in turn); while it stays stuck, the
-//     goal_distance critic weighs more and more (impatience), and a robot that would stay standing
-//     accelerates when a sample beyond the dynamic window costs less (accelerateIfCheaper()).
+//     (recovery.hpp: clear and replan, spin, back up, wait, reroute, in turn); rerouting blocks the
+//     passage ahead where people walked most lately (blockPassageAhead()) for a while, so the path
+//     takes another way round if there is one; while it stays stuck, the goal_distance critic
+//     weighs more and more (impatience), and a robot that would stay standing accelerates when a
+//     sample beyond the dynamic window costs less (accelerateIfCheaper()).
 // Planners built on the same machinery (`scl`, `sfw`) derive from it, add costmap layers in
 // updateLayers() and critics with addCritic().
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -29,6 +32,7 @@
 #include "costmap.hpp"
 #include "critics.hpp"
 #include "global_planner.hpp"
+#include "goal_distances.hpp"
 #include "hunav/planners/params.hpp"
 #include "hunav/planners/planner.hpp"
 #include "recovery.hpp"
@@ -70,6 +74,13 @@ class DwbPlanner : public Planner {
   // samples that cannot beat the best): 0 when nothing was admissible.
   std::size_t lastAdmissible() const { return last_admissible_; }
   bool lastReplanned() const { return last_replanned_; }  // whether the last plan() ran A*
+  // A place the global path keeps out of until `until` (utime): a passage blocked by a reroute.
+  struct KeepOut {
+    Vec2 center = Vec2::Zero();
+    double radius = 0.0;  // m; cells within it are obstacles (inflated like any other)
+    std::int64_t until = 0;
+  };
+  const std::vector<KeepOut>& keepOuts() const { return keep_out_; }
 
  protected:
   // Hook for derived planners: extra transient costmap layers, after scan and people are marked.
@@ -91,6 +102,24 @@ class DwbPlanner : public Planner {
   void accelerateIfCheaper(const VelocityWindow& window, double& v, double& w);
   // Recovery's ClearAndReplan: forgets the path and the critics' memory (the next lines replan).
   void clearPathAndMemory();
+  // Recovery's Reroute: on the way the robot would go with nobody about (A* on the static map),
+  // within block_lookahead ahead (and out of the robot's and the goal's way), the place people were
+  // seen nearest most often in the last occupancy_memory s (the narrowest of those seen at least
+  // half as often; with nobody seen, the narrowest place) is kept out of for block_time, as a disc
+  // no wider than the free space around it (up to block_radius). False when there is no such place.
+  // Leaves the transient layer to be marked again.
+  bool blockPassageAhead(const robot_observation_t& obs);
+  // Drops the expired keep-out places and marks the others as obstacles.
+  void markKeepOuts(const robot_observation_t& obs);
+  void clearKeepOuts();
+  // The robot's distance to the goal along the floor, with goal_distances_ made afresh when the goal
+  // or the keep-out places changed (then *way_changed, for the same goal).
+  double goalDistance(const robot_observation_t& obs, bool* way_changed);
+  // Where people are, every kSightingPeriod, for blockPassageAhead().
+  void recordSightings(const robot_observation_t& obs);
+  // Plans the global path; when there is none with the keep-out places, forgets them (the blocked
+  // passage is the only way) and plans again. The whole map must be marked.
+  void planPath(const robot_observation_t& obs);
   // Whether (v, w) for `duration` s (at least sim_time) from the robot's pose keeps clear of
   // obstacles and people (the obstacle and people critics' rejections, but for the cell the robot
   // is in): recovery behaviours move only where this allows.
@@ -157,6 +186,21 @@ class DwbPlanner : public Planner {
   bool last_replanned_ = false;
   Recovery recovery_;
   RecoveryBehavior last_recovery_ = RecoveryBehavior::None;
+  std::vector<KeepOut> keep_out_;       // marked as obstacles until they expire
+  Vec2 keep_out_goal_ = Vec2::Zero();   // the goal they were made for (another goal drops them)
+  std::uint64_t keep_out_changes_ = 0;  // counts every change of keep_out_
+  // The robot's distance to the goal along the floor (static map and keep_out_), for recovery's
+  // progress; made for goal_distances_goal_ and keep_out_ as it was at goal_distances_changes_.
+  GoalDistances goal_distances_;
+  std::optional<Vec2> goal_distances_goal_;
+  std::uint64_t goal_distances_changes_ = 0;
+  double goal_distances_radius_ = 0.0;
+  struct Sighting {
+    std::int64_t utime;
+    Vec2 position;
+  };
+  std::deque<Sighting> sightings_;  // people seen near the robot, the last occupancy_memory s
+  std::optional<std::int64_t> last_sighting_;
 };
 
 }  // namespace hunav::planners

@@ -80,6 +80,10 @@ RecoveryParams readRecoveryParams(const YamlReader* config) {
   s.read("wait_duration", p.wait_duration, 0.0, 3600.0);
   s.read("time_allowance", p.time_allowance, 0.1, 3600.0);
   s.read("impatience", p.impatience, 0.0, 100.0);
+  s.read("block_time", p.block_time, 0.0, 3600.0);
+  s.read("block_radius", p.block_radius, 0.05, 10.0);
+  s.read("block_lookahead", p.block_lookahead, 0.1, 100.0);
+  s.read("occupancy_memory", p.occupancy_memory, 0.0, 3600.0);
   s.finish();
   return p;
 }

@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace hunav::planners {
 
 namespace {
-constexpr std::array<RecoveryBehavior, 4> kSequence = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
-                                                       RecoveryBehavior::BackUp, RecoveryBehavior::Wait};
+constexpr std::array<RecoveryBehavior, 5> kSequence = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
+                                                       RecoveryBehavior::BackUp, RecoveryBehavior::Wait,
+                                                       RecoveryBehavior::Reroute};
 constexpr double kSpinTolerance = 0.02;  // rad short of spin_angle that counts as done (the last cycle's braking)
 // Recovery places kept (a robot stuck for a whole episode adds two per behaviour): the oldest go first.
 constexpr std::size_t kMaxStuckPlaces = 64;
@@ -28,6 +30,8 @@ const char* recoveryName(RecoveryBehavior behavior) {
       return "back_up";
     case RecoveryBehavior::Wait:
       return "wait";
+    case RecoveryBehavior::Reroute:
+      return "reroute";
   }
   return "?";
 }
@@ -53,23 +57,41 @@ void Recovery::startTracking(const robot_observation_t& obs) {
   goal_ = Vec2(obs.goal.x, obs.goal.y);
   anchor_ = Vec2(obs.x, obs.y);
   window_start_ = obs.utime;
+  best_distance_ = std::numeric_limits<double>::infinity();
 }
 
-bool Recovery::madeProgress(const Vec2& p) const {
+void Recovery::newWay(const robot_observation_t& obs, double goal_distance) {
+  anchor_ = Vec2(obs.x, obs.y);
+  best_distance_ = goal_distance;
+}
+
+bool Recovery::madeProgress(const Vec2& p, double goal_distance) const {
+  if (std::isfinite(goal_distance) && std::isfinite(best_distance_))
+    return goal_distance <= best_distance_ - params_.progress_distance;
+  // No distance along the floor: moving away from where the robot was counts.
   const double d2 = params_.progress_distance * params_.progress_distance;
   if ((p - anchor_).squaredNorm() < d2) return false;
   return std::all_of(stuck_places_.begin(), stuck_places_.end(),
                      [&](const Vec2& place) { return (p - place).squaredNorm() >= d2; });
 }
 
-RecoveryBehavior Recovery::update(const robot_observation_t& obs) {
+bool Recovery::applicable(RecoveryBehavior behavior, const robot_observation_t& obs) const {
+  // A robot that may not reverse cannot back up: the world would clamp the command to min_v.
+  if (behavior == RecoveryBehavior::BackUp) return obs.min_v < 0.0 && params_.backup_distance > 0.0;
+  if (behavior == RecoveryBehavior::Reroute) return params_.block_time > 0.0;
+  return true;
+}
+
+RecoveryBehavior Recovery::update(const robot_observation_t& obs, double goal_distance) {
   const Vec2 p(obs.x, obs.y);
   // A new goal, or the clock went back (a new episode without reset()): track afresh.
   if (!tracking_ || Vec2(obs.goal.x, obs.goal.y) != goal_ || obs.utime < window_start_) startTracking(obs);
+  if (!std::isfinite(best_distance_)) best_distance_ = goal_distance;  // the first distance known
   if (active_ != RecoveryBehavior::None) return active_;
-  if (madeProgress(p)) {
+  if (madeProgress(p, goal_distance)) {
     anchor_ = p;
     window_start_ = obs.utime;
+    if (std::isfinite(goal_distance)) best_distance_ = goal_distance;
     stuck_places_.clear();
     next_ = 0;  // the next time the robot is stuck, the sequence starts over
     return RecoveryBehavior::None;
@@ -78,14 +100,13 @@ RecoveryBehavior Recovery::update(const robot_observation_t& obs) {
     return RecoveryBehavior::None;
   RecoveryBehavior behavior = kSequence[next_];
   next_ = (next_ + 1) % kSequence.size();
-  // A robot that may not reverse cannot back up: the world would clamp the command to min_v.
-  if (behavior == RecoveryBehavior::BackUp && !(obs.min_v < 0.0 && params_.backup_distance > 0.0)) {
+  while (!applicable(behavior, obs)) {  // the sequence always holds applicable ones (clear, wait)
     behavior = kSequence[next_];
     next_ = (next_ + 1) % kSequence.size();
   }
   start(behavior, obs);
-  if (behavior == RecoveryBehavior::ClearAndReplan) {
-    finish(obs);  // the caller clears now and plans normally
+  if (behavior == RecoveryBehavior::ClearAndReplan || behavior == RecoveryBehavior::Reroute) {
+    finish(obs);  // the caller clears (and blocks the passage) now and plans normally
     return behavior;
   }
   return active_;
@@ -138,6 +159,7 @@ bool Recovery::command(const robot_observation_t& obs, const VelocityWindow& win
       break;
     case RecoveryBehavior::None:
     case RecoveryBehavior::ClearAndReplan:
+    case RecoveryBehavior::Reroute:
       return false;
   }
   if (!running) finish(obs);

@@ -1,19 +1,27 @@
 #pragma once
 // Recovery behaviours of the costmap planners (dwb, scl, sfw), after nav2's behavior server and
-// its default recovery sequence. When the robot makes no progress for progress_timeout, the planner
-// runs the next behaviour of a fixed sequence, then plans normally again with a fresh timeout; each
-// further failure escalates to the next behaviour, and the sequence starts over after the last:
+// its default recovery sequence, and one more. When the robot makes no progress for
+// progress_timeout, the planner runs the next behaviour of a fixed sequence, then plans normally
+// again with a fresh timeout; each further failure escalates to the next behaviour, and the
+// sequence starts over after the last:
 //   1. clear and replan: drop the global path and the critics' memory (oscillation, last command)
 //      and replan on a freshly marked map (the transient layer is rebuilt every cycle anyway: what
 //      persists between cycles is the path and the memory);
 //   2. spin: turn on the spot by spin_angle, toward the path (away from it did not work);
 //   3. back up: drive straight backwards backup_distance; only for a robot allowed to reverse
 //      (min_v < 0 in the scenario's robot.limits: the world clamps commands to them), else skipped;
-//   4. wait: stand still wait_duration (people move on).
+//   4. wait: stand still wait_duration (people move on);
+//   5. reroute: the planner blocks, for block_time, the passage ahead where people kept it back,
+//      and replans: the path takes another way round when there is one (skipped when block_time
+//      is 0).
 // A behaviour that would take the robot into an obstacle or a person is cut short (the planner's
-// safety check along the motion). Progress: the robot gets progress_distance away from where it
-// last progressed and from every place a recovery started or ended since (backing up and driving
-// back is no progress); it restarts the sequence. All timing comes from the observations' utime.
+// safety check along the motion). Progress: the robot gets progress_distance nearer the goal along
+// the floor (the planner's GoalDistances) than it has been since it started for this goal (or
+// since a reroute changed the way): turning back and forth, however far, is no progress. Without
+// such a distance (no way over the static map) the robot progresses when it gets progress_distance
+// away from where it last progressed and from every place a recovery started or ended since
+// (backing up and driving back is no progress). Progress restarts the sequence. All timing comes
+// from the observations' utime.
 #include <cstdint>
 #include <functional>
 #include <hunav/robot_observation_t.hpp>
@@ -25,7 +33,7 @@
 
 namespace hunav::planners {
 
-enum class RecoveryBehavior { None, ClearAndReplan, Spin, BackUp, Wait };
+enum class RecoveryBehavior { None, ClearAndReplan, Spin, BackUp, Wait, Reroute };
 const char* recoveryName(RecoveryBehavior behavior);
 
 // Progress tracking and the recovery sequence; the planner asks it every cycle.
@@ -41,10 +49,14 @@ class Recovery {
   // Forgets everything (a new episode). A new goal does the same by itself.
   void reset();
   // Every cycle the robot has a goal to reach, before planning: tracks progress and starts the next
-  // behaviour when the robot has made none for progress_timeout. Returns the behaviour running
-  // (None: plan normally). ClearAndReplan is returned once and is over at once: the caller clears,
-  // then plans normally.
-  RecoveryBehavior update(const robot_observation_t& obs);
+  // behaviour when the robot has made none for progress_timeout. `goal_distance`: the robot's
+  // distance to the goal along the floor (m; infinity: unknown). Returns the behaviour running
+  // (None: plan normally). ClearAndReplan and Reroute are returned once and are over at once: the
+  // caller clears (and blocks the passage ahead), then plans normally.
+  RecoveryBehavior update(const robot_observation_t& obs, double goal_distance);
+  // The way to the goal changed (a reroute blocked a passage, or a blocked one opened again):
+  // progress is measured from `goal_distance`, the robot's distance along the new way, on.
+  void newWay(const robot_observation_t& obs, double goal_distance);
   // The running behaviour's command (within the dynamic window); false when it ended this cycle
   // (done, out of time, or unsafe): plan normally. heading_error: to the path, rad (the spin's side).
   bool command(const robot_observation_t& obs, const VelocityWindow& window, double heading_error,
@@ -60,7 +72,8 @@ class Recovery {
   int started() const { return started_; }
 
  private:
-  bool madeProgress(const Vec2& p) const;
+  bool madeProgress(const Vec2& p, double goal_distance) const;
+  bool applicable(RecoveryBehavior behavior, const robot_observation_t& obs) const;
   void startTracking(const robot_observation_t& obs);
   void start(RecoveryBehavior behavior, const robot_observation_t& obs);
   void finish(const robot_observation_t& obs);  // back to normal planning, a fresh timeout
@@ -74,6 +87,7 @@ class Recovery {
   bool tracking_ = false;           // a goal is being tracked
   Vec2 goal_ = Vec2::Zero();        // the goal tracked
   Vec2 anchor_ = Vec2::Zero();      // where the robot last made progress
+  double best_distance_ = 0.0;      // its least distance to the goal along the floor (infinity: unknown)
   std::int64_t window_start_ = 0;   // utime the current timeout started
   std::int64_t stuck_start_ = 0;    // utime the first recovery since the last progress started
   std::vector<Vec2> stuck_places_;  // where recoveries started and ended since the last progress

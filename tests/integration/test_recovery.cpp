@@ -2,6 +2,8 @@
 // (data/dead_end/). Each planner must recover (its spin shows in the trajectory: the robot turns on
 // the spot while the person blocks it) and reach its goal once the person leaves after 20 s; with a
 // person who never leaves, the episode ends `stuck` instead of running to its time limit.
+// And a person walking to and fro through a 1 m gap with a free way round (tests/data/passage/):
+// every planner must reach its goal by the way round, never through the gap.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -114,4 +116,33 @@ TEST_P(BoxedIn, APersonWhoNeverLeavesEndsTheEpisodeStuck) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Planners, BoxedIn, ::testing::Values("dwb", "scl", "sfw"),
+                         [](const auto& param_info) { return param_info.param; });
+
+namespace {
+class PassageWalker : public ::testing::TestWithParam<std::string> {};
+}  // namespace
+
+// The person keeps coming back through the gap the robot's shortest way leads through: turning back
+// and forth in front of it is no progress, and the planner's reroute blocks the gap, so the robot
+// goes round the wall's east end (planners/README.md, "Rerouting"). Without the reroute dwb and
+// sfw reached no goal in this scenario's 120 s (measured when it was added).
+TEST_P(PassageWalker, TheRobotTakesTheFreeWayRound) {
+  TempDir tmp;
+  const hunav::Scenario s = hunav::loadScenario(std::string(HUNAV_SOURCE_DIR) + "/tests/data/passage/passage.yaml");
+  hunav::runner::RunOptions o;
+  o.planner = GetParam();
+  o.out_dir = tmp.path().string();
+  const auto outcome = hunav::runner::runInProcess(s, o);
+  EXPECT_EQ(outcome.episode.status, "goal_reached") << outcome.episode.reason;
+  const Tracks tracks = readTracks(tmp.path() / "states.csv");
+  bool round = false, through = false;
+  for (const Pose& p : tracks.robot) {
+    round = round || (p.x > 4.5 && std::abs(p.y) < 0.4);                // between the wall's end and the east wall
+    through = through || (std::abs(p.x) < 0.5 && std::abs(p.y) < 0.4);  // in the gap
+  }
+  EXPECT_TRUE(round) << GetParam();
+  EXPECT_FALSE(through) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(Planners, PassageWalker, ::testing::Values("dwb", "scl", "sfw"),
                          [](const auto& param_info) { return param_info.param; });

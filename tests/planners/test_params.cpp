@@ -81,7 +81,9 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   const double RecoveryParams::*recovery[] = {
       &RecoveryParams::progress_distance, &RecoveryParams::progress_timeout, &RecoveryParams::spin_angle,
       &RecoveryParams::spin_speed,        &RecoveryParams::backup_distance,  &RecoveryParams::backup_speed,
-      &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience};
+      &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience,
+      &RecoveryParams::block_time,        &RecoveryParams::block_radius,     &RecoveryParams::block_lookahead,
+      &RecoveryParams::occupancy_memory};
   for (auto member : recovery) EXPECT_EQ(file.recovery.*member, d.recovery.*member);
   EXPECT_EQ(file.recovery.enabled, d.recovery.enabled);
   // Every key of the file is one the code reads (else fromConfig would have thrown): all are listed.

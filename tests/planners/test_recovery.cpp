@@ -1,9 +1,13 @@
 // Recovery behaviours (planners/src/recovery.hpp): the sequence, its timing, what
-// counts as progress, the safety of each motion, and the root causes of the planners' freezes.
+// counts as progress (driving to and fro does not), the safety of each motion, the root causes of
+// the planners' freezes, and rerouting round a passage a person keeps walking through.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -94,21 +98,25 @@ robot_observation_t standingAt(const Scenario& s, const Vec2& p, double t, doubl
 
 // Boxed in facing a wall, nothing to gain: clear and replan after progress_timeout, then (each a
 // progress_timeout after the previous one ended) a spin of spin_angle, a back-up of
-// backup_distance, a wait of wait_duration, and the sequence again.
-TEST(Recovery, BoxedInTheRobotClearsThenSpinsThenBacksUpThenWaitsInTurn) {
+// backup_distance, a wait of wait_duration, a reroute (no path to the goal: nothing to block), and
+// the sequence again.
+TEST(Recovery, BoxedInTheRobotClearsThenSpinsThenBacksUpThenWaitsThenReroutesInTurn) {
   const Scenario s = boxedIn();
   DwbPlanner planner(s);
   const RecoveryParams& p = planner.params().recovery;
   MiniWorld world(s);
-  const std::vector<Episode> e = runRecoveries(planner, world, 40.0);
-  ASSERT_GE(e.size(), 5u);
+  const std::vector<Episode> e = runRecoveries(planner, world, 45.0);
+  ASSERT_GE(e.size(), 6u);
   const RecoveryBehavior expected[] = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
-                                       RecoveryBehavior::BackUp, RecoveryBehavior::Wait,
-                                       RecoveryBehavior::ClearAndReplan};
-  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(e[i].behavior, expected[i]) << i << ": " << recoveryName(e[i].behavior);
-  // Each starts a progress_timeout after the previous one ended (the first: after the start).
+                                       RecoveryBehavior::BackUp,         RecoveryBehavior::Wait,
+                                       RecoveryBehavior::Reroute,        RecoveryBehavior::ClearAndReplan};
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(e[i].behavior, expected[i]) << i << ": " << recoveryName(e[i].behavior);
+  // Each starts a progress_timeout after the previous one ended (the first: after the start; clear
+  // and reroute end in the cycle they start).
   EXPECT_NEAR(e[0].start, p.progress_timeout, 0.05);
-  for (std::size_t i = 1; i < 5; ++i) {
+  EXPECT_EQ(e[4].end, e[4].start);
+  EXPECT_TRUE(planner.keepOuts().empty());
+  for (std::size_t i = 1; i < 6; ++i) {
     const double previous_end = i == 1 ? e[0].start : e[i - 1].end;
     EXPECT_NEAR(e[i].start - previous_end, p.progress_timeout, 0.15) << recoveryName(e[i].behavior);
   }
@@ -171,17 +179,22 @@ TEST(Recovery, TheConfiguredDurationsAreHonoured) {
   EXPECT_NEAR(e[3].end - e[3].start, 1.5, 0.15);
 }
 
-TEST(Recovery, BacksUpOnlyWhenTheRobotMayReverse) {
+TEST(Recovery, BacksUpOnlyWhenTheRobotMayReverseAndReroutesOnlyWithABlockTime) {
   Scenario s = boxedIn();
   s.robot.limits.min_v = 0.0;  // the world would clamp a negative speed: no back-up
-  DwbPlanner planner(s);
-  MiniWorld world(s);
-  const std::vector<Episode> e = runRecoveries(planner, world, 30.0);
-  ASSERT_GE(e.size(), 4u);
-  EXPECT_EQ(e[0].behavior, RecoveryBehavior::ClearAndReplan);
-  EXPECT_EQ(e[1].behavior, RecoveryBehavior::Spin);
-  EXPECT_EQ(e[2].behavior, RecoveryBehavior::Wait);
-  EXPECT_EQ(e[3].behavior, RecoveryBehavior::ClearAndReplan);
+  for (const double block_time : {60.0, 0.0}) {
+    DwbParams params;
+    params.recovery.block_time = block_time;
+    DwbPlanner planner(s, params);
+    MiniWorld world(s);
+    const std::vector<Episode> e = runRecoveries(planner, world, 35.0);
+    std::vector<RecoveryBehavior> expected = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
+                                              RecoveryBehavior::Wait, RecoveryBehavior::Reroute,
+                                              RecoveryBehavior::ClearAndReplan};
+    if (block_time == 0.0) expected.erase(expected.begin() + 3);
+    ASSERT_GE(e.size(), expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(e[i].behavior, expected[i]) << block_time << " " << i;
+  }
 }
 
 TEST(Recovery, DisabledItNeverStarts) {
@@ -194,14 +207,17 @@ TEST(Recovery, DisabledItNeverStarts) {
   EXPECT_EQ(planner.recovery().started(), 0);
 }
 
-// Progress (moving progress_distance from where the robot last progressed and from every place a
+// Progress (without a distance along the floor: moving progress_distance from where the robot last
+// progressed and from every place a
 // recovery started or ended since) restarts the sequence from its first behaviour.
 TEST(Recovery, ProgressRestartsTheSequence) {
   const Scenario s = passing();
   RecoveryParams params;
   params.progress_distance = 0.3;
   Recovery r(params);
-  const auto update = [&](const Vec2& p, double t) { return r.update(standingAt(s, p, t)); };
+  const auto update = [&](const Vec2& p, double t) {
+    return r.update(standingAt(s, p, t), std::numeric_limits<double>::infinity());
+  };
   EXPECT_EQ(update(Vec2(0, 0), 0.0), RecoveryBehavior::None);
   EXPECT_EQ(update(Vec2(0.25, 0), 4.9), RecoveryBehavior::None);  // moved, but less than 0.3 m
   EXPECT_EQ(update(Vec2(0.25, 0), 5.0), RecoveryBehavior::ClearAndReplan);
@@ -227,9 +243,38 @@ TEST(Recovery, ProgressRestartsTheSequence) {
   // A new goal forgets it all.
   robot_observation_t other = standingAt(s, Vec2(1.0, 0), 16.1);
   other.goal.x = 10.0;
-  EXPECT_EQ(r.update(other), RecoveryBehavior::None);
+  EXPECT_EQ(r.update(other, std::numeric_limits<double>::infinity()), RecoveryBehavior::None);
   EXPECT_FALSE(r.stuck());
   EXPECT_EQ(r.started(), 0);
+}
+
+// Driving to and fro in front of a passage (1 m swings, twice progress_distance) gets the robot no
+// nearer the goal along the floor: no progress, and the recoveries start as for a robot standing
+// still, progress_timeout after the last real progress. Without a distance along the floor
+// (infinity) every swing leaves the places before it: progress each time.
+TEST(Recovery, DrivingToAndFroIsNoProgress) {
+  const Scenario s = passing();
+  for (const bool along_the_floor : {true, false}) {
+    Recovery r{RecoveryParams{}};
+    const auto update = [&](double x, double t) {
+      // The goal 10 m ahead (and 0.5 m nearer than ever at x = 1, the first time).
+      const double distance = along_the_floor ? 10.0 - x : std::numeric_limits<double>::infinity();
+      return r.update(standingAt(s, Vec2(x, 0), t), distance);
+    };
+    EXPECT_EQ(update(0.0, 0.0), RecoveryBehavior::None);
+    EXPECT_EQ(update(1.0, 2.0), RecoveryBehavior::None);  // progress: 1 m nearer
+    bool recovered = false;
+    for (int k = 2; k <= 6; ++k)  // back and forth every 2 s until t = 13 s
+      for (const double t : {2.0 * k, 2.0 * k + 1.0})
+        if (update(k % 2, t) != RecoveryBehavior::None) recovered = true;
+    if (along_the_floor) {
+      EXPECT_TRUE(recovered);
+      EXPECT_EQ(r.started(), 2);  // clear at 7 s (5 s after the progress at 2 s), then spin at 12 s
+    } else {
+      EXPECT_FALSE(recovered);
+      EXPECT_EQ(r.started(), 0);
+    }
+  }
 }
 
 // While stuck, goal_distance weighs more and more (impatience), from the first recovery on.
@@ -238,9 +283,9 @@ TEST(Recovery, ImpatienceGrowsWhileStuck) {
   RecoveryParams params;
   params.impatience = 0.5;
   Recovery r(params);
-  r.update(standingAt(s, Vec2(0, 0), 0.0));
+  r.update(standingAt(s, Vec2(0, 0), 0.0), 15.0);
   EXPECT_DOUBLE_EQ(r.goalWeightFactor(standingAt(s, Vec2(0, 0), 4.0)), 1.0);
-  ASSERT_EQ(r.update(standingAt(s, Vec2(0, 0), 5.0)), RecoveryBehavior::ClearAndReplan);
+  ASSERT_EQ(r.update(standingAt(s, Vec2(0, 0), 5.0), 15.0), RecoveryBehavior::ClearAndReplan);
   EXPECT_NEAR(r.goalWeightFactor(standingAt(s, Vec2(0, 0), 9.0)), 1.0 + 0.5 * 4.0, 1e-9);
 }
 
@@ -306,7 +351,7 @@ TEST(Recovery, SpinStopsForAPersonWalkingIntoTheRobot) {
 namespace {
 // The empty passing corridor closed at x = 5 but for an aisle 1 m wide through to x = 10 (a
 // doorway into a passage), for the sfw planner (sfw_section "old": sfw.obstacle_forces 0.2, the
-// former default). Returns whether the robot reached the goal within 60 s.
+// former default). Returns whether the robot reached the goal within 90 s.
 bool sfwThroughTheAisle(const std::string& sfw_section, bool recover) {
   Scenario s = passing();
   s.agents.clear();
@@ -322,7 +367,7 @@ bool sfwThroughTheAisle(const std::string& sfw_section, bool recover) {
   SfwPlanner planner(s, dwb, sfw);
   MiniWorld world(s);
   robot_command_t cmd{};
-  for (int tick = 0; world.time() < 60.0; ++tick) {
+  for (int tick = 0; world.time() < 90.0; ++tick) {
     if (tick % 10 == 0) {
       if ((world.robotPosition() - s.robot.goal).norm() <= s.robot.goal_radius) return true;
       cmd = planner.plan(world.observe());
@@ -380,3 +425,92 @@ TEST(Recovery, ReadsItsSectionAndRejectsBadValues) {
   EXPECT_EQ(readRecoveryParams(nullptr).progress_timeout, RecoveryParams().progress_timeout);
   EXPECT_THROW(Recovery(RecoveryParams{true, 0.0}), std::invalid_argument);
 }
+
+namespace {
+
+// tests/data/passage/passage.yaml: a wall across the room (y = 0) with a 1 m gap in the middle
+// (|x| < 0.5) and a 1.5 m way round at its east end (x > 4.5); a person walks to and fro through the
+// gap, the robot goes from (-2, -3) to (-2, 3).
+Scenario passageScenario() { return loadScenario(std::string(HUNAV_SOURCE_DIR) + "/tests/data/passage/passage.yaml"); }
+bool inTheGap(const Vec2& p) { return std::abs(p.x()) < 0.5 && std::abs(p.y()) < 0.4; }
+bool roundTheEastEnd(const Vec2& p) { return p.x() > 4.5 && std::abs(p.y()) < 0.4; }
+
+class Reroute : public ::testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+// The robot held at its start (no progress) while the person walks to and fro through the gap:
+// after the recoveries that do not help (clear, spin, wait), the reroute blocks the gap, where the
+// robot's way with nobody about meets where the person kept walking, with a disc no wider than the
+// gap; the path goes round the east end. Let go, the robot reaches its goal that way, clear of the
+// person.
+TEST_P(Reroute, BlocksTheGapAPersonKeepsWalkingThroughAndGoesTheLongWayRound) {
+  const Scenario s = passageScenario();
+  std::unique_ptr<Planner> planner = createPlanner(GetParam(), s);
+  auto& dwb = dynamic_cast<DwbPlanner&>(*planner);
+  MiniWorld world(s);
+  robot_command_t cmd{};
+  std::vector<DwbPlanner::KeepOut> blocked;
+  bool path_round = false, through_gap = false, round = false, reached = false;
+  double person_gap = std::numeric_limits<double>::infinity();
+  for (int tick = 0; world.time() < 120.0 && !reached; ++tick) {
+    const bool held = blocked.empty();
+    const Vec2 robot = world.robotPosition();
+    through_gap = through_gap || inTheGap(robot);
+    round = round || roundTheEastEnd(robot);
+    for (const MiniWorld::Person& p : world.people())
+      person_gap = std::min(person_gap, (p.position - robot).norm() - p.radius - s.robot.radius);
+    if (tick % 10 == 0) {
+      reached = (robot - s.robot.goal).norm() <= s.robot.goal_radius;
+      cmd = planner->plan(world.observe());
+      if (dwb.lastRecovery() == RecoveryBehavior::Reroute && blocked.empty()) {
+        blocked = dwb.keepOuts();
+        const auto& points = dwb.globalPath().points();
+        path_round = std::any_of(points.begin(), points.end(), roundTheEastEnd) &&
+                     std::none_of(points.begin(), points.end(), inTheGap);
+      }
+    }
+    world.step(held ? 0.0 : cmd.v, held ? 0.0 : cmd.w, 0.01);
+  }
+  ASSERT_EQ(blocked.size(), 1u) << GetParam() << ": no passage blocked";
+  EXPECT_TRUE(inTheGap(blocked[0].center)) << blocked[0].center.transpose();
+  EXPECT_LE(blocked[0].radius, 0.5 + 1e-9);
+  EXPECT_TRUE(path_round);
+  EXPECT_TRUE(reached) << GetParam() << ": not at the goal after " << world.time() << " s";
+  EXPECT_TRUE(round);
+  EXPECT_FALSE(through_gap);
+  EXPECT_GT(person_gap, 0.0);
+}
+
+// With the way round walled off the gap is the only way: a place blocked there leaves no path, so
+// the planner forgets it at once and keeps its path through the gap.
+TEST_P(Reroute, AGapThatIsTheOnlyWayIsNotKeptBlocked) {
+  Scenario s = passageScenario();
+  Shape box;
+  box.kind = Shape::Kind::Polygon;
+  box.points = {Vec2(4.4, -0.1), Vec2(6.0, -0.1), Vec2(6.0, 0.1), Vec2(4.4, 0.1)};
+  s.shapes.push_back(box);
+  std::unique_ptr<Planner> planner = createPlanner(GetParam(), s);
+  auto& dwb = dynamic_cast<DwbPlanner&>(*planner);
+  MiniWorld world(s);
+  bool rerouted = false;
+  for (int tick = 0; world.time() < 60.0 && !rerouted; ++tick) {
+    if (tick % 10 == 0) {
+      planner->plan(world.observe());
+      rerouted = dwb.lastRecovery() == RecoveryBehavior::Reroute;
+    }
+    world.step(0.0, 0.0, 0.01);  // held at its start
+  }
+  ASSERT_TRUE(rerouted) << GetParam() << ": no reroute within 60 s";
+  EXPECT_TRUE(dwb.keepOuts().empty());
+  // The path goes through the gap whenever the person is out of it (it may be in it right now).
+  for (int tick = 0; tick < 1000 && dwb.globalPath().empty(); ++tick) {
+    world.step(0.0, 0.0, 0.01);
+    if (tick % 10 == 0) planner->plan(world.observe());
+  }
+  const auto& points = dwb.globalPath().points();
+  EXPECT_TRUE(std::any_of(points.begin(), points.end(), inTheGap));
+}
+
+INSTANTIATE_TEST_SUITE_P(Planners, Reroute, ::testing::Values("dwb", "scl", "sfw"),
+                         [](const auto& param_info) { return param_info.param; });

@@ -64,13 +64,15 @@ LoopResult closedLoop(Planner& planner, const Scenario& scenario, double time_li
 }
 
 // The `recovery:` section every shipped config file lists (the same keys and defaults as dwb.yaml).
-constexpr std::size_t kRecoveryKeys = 10;
+constexpr std::size_t kRecoveryKeys = 14;
 void expectDefaultRecovery(const RecoveryParams& file) {
   const RecoveryParams d;
   const double RecoveryParams::*doubles[] = {
       &RecoveryParams::progress_distance, &RecoveryParams::progress_timeout, &RecoveryParams::spin_angle,
       &RecoveryParams::spin_speed,        &RecoveryParams::backup_distance,  &RecoveryParams::backup_speed,
-      &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience};
+      &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience,
+      &RecoveryParams::block_time,        &RecoveryParams::block_radius,     &RecoveryParams::block_lookahead,
+      &RecoveryParams::occupancy_memory};
   for (auto m : doubles) EXPECT_EQ(file.*m, d.*m);
   EXPECT_EQ(file.enabled, d.enabled);
   EXPECT_EQ(std::size(doubles) + 1, kRecoveryKeys);

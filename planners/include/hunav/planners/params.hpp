@@ -31,20 +31,30 @@ struct GlobalPlannerParams {
 // Section `recovery:` (the same keys and defaults for dwb, scl and sfw): what the planner does when
 // the robot makes no progress (planners/README.md, "Recovery behaviours").
 struct RecoveryParams {
-  bool enabled = true;             // false: never recover (the planner as it was before recoveries)
-  double progress_distance = 0.5;  // m the robot must get from where it last progressed (nav2: 0.5)
-  double progress_timeout = 5.0;   // s without progress before the next recovery starts
-  double spin_angle = 1.57;        // rad turned on the spot (nav2's default spin_dist)
-  double spin_speed = 1.0;         // rad/s, at most; capped by the robot's max_w
-  double backup_distance = 0.3;    // m driven backwards (nav2's default backup_dist)
-  double backup_speed = 0.1;       // m/s, at most; capped by -min_v
-  double wait_duration = 5.0;      // s standing still (nav2's default wait)
-  double time_allowance = 10.0;    // s a spin or a back-up may take at most (nav2's default)
+  bool enabled = true;  // false: never recover (the planner as it was before recoveries)
+  // m the robot must get nearer the goal along the floor than ever before (without a way over the
+  // static map: away from where it last progressed; nav2's required_movement_radius: 0.5)
+  double progress_distance = 0.5;
+  double progress_timeout = 5.0;  // s without progress before the next recovery starts
+  double spin_angle = 1.57;       // rad turned on the spot (nav2's default spin_dist)
+  double spin_speed = 1.0;        // rad/s, at most; capped by the robot's max_w
+  double backup_distance = 0.3;   // m driven backwards (nav2's default backup_dist)
+  double backup_speed = 0.1;      // m/s, at most; capped by -min_v
+  double wait_duration = 5.0;     // s standing still (nav2's default wait)
+  double time_allowance = 10.0;   // s a spin or a back-up may take at most (nav2's default)
   // 1/s: while the robot is stuck (a recovery has started since its last progress), the weight of
   // the goal_distance critic grows by this fraction of itself per second since that first recovery
   // (0: never). A robot held by costs (people standing by its path, sfw's social work) accepts
   // them in the end rather than waiting forever.
   double impatience = 0.2;
+  // `reroute`: the passage ahead that keeps the robot back is blocked in its global path for
+  // block_time s (0: never reroute): a disc of at most block_radius m (no wider than the passage)
+  // on the path within block_lookahead m ahead, where people walked most in the last
+  // occupancy_memory s, the narrowest such place; the path then takes another way if there is one.
+  double block_time = 60.0;
+  double block_radius = 1.0;
+  double block_lookahead = 5.0;
+  double occupancy_memory = 30.0;
 };
 
 // Defaults suit a 0.3 m robot at 0.6 m/s in corridors and rooms, planning at 10 Hz. Section `dwb:`

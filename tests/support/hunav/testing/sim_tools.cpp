@@ -118,7 +118,9 @@ MiniWorld::MiniWorld(const Scenario& scenario)
     p.position = agent.position;
     p.radius = agent.radius;
     people_.push_back(p);
-    person_goals_.push_back(agent.goals.empty() ? agent.position : agent.goals.front());
+    person_goals_.push_back(agent.goals.empty() ? std::vector<Vec2>{agent.position} : agent.goals);
+    person_next_.push_back(0);
+    person_cyclic_.push_back(agent.cyclic_goals);
     person_speed_.push_back(agent.goals.empty() ? 0.0 : agent.max_vel);
     person_goal_radius_.push_back(agent.goal_radius);
   }
@@ -152,7 +154,14 @@ void MiniWorld::step(double v, double w, double dt) {
   w_ = w;
   for (std::size_t i = 0; i < people_.size(); ++i) {
     Person& p = people_[i];
-    const Vec2 to_goal = person_goals_[i] - p.position;
+    const std::vector<Vec2>& goals = person_goals_[i];
+    std::size_t& next = person_next_[i];
+    // At a goal (within its radius, or a step of it), on to the next one: after the last, the first
+    // again (cyclic) or stay.
+    const double reached = std::max(person_goal_radius_[i], person_speed_[i] * dt);
+    if ((goals[next] - p.position).norm() <= reached && (next + 1 < goals.size() || person_cyclic_[i]))
+      next = (next + 1) % goals.size();
+    const Vec2 to_goal = goals[next] - p.position;
     p.velocity = to_goal.norm() > person_goal_radius_[i] ? Vec2(normalizedOrZero(to_goal) * person_speed_[i])
                                                          : Vec2(Vec2::Zero());
     p.position += p.velocity * dt;

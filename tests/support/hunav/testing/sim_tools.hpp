@@ -30,9 +30,9 @@ robot_observation_t makeObservation(const Scenario& scenario, const Vec2& positi
                                     std::int64_t utime = 0, std::int64_t seq = 1, std::int64_t episode = 1);
 
 // A tiny closed-loop world: the robot moves along exact unicycle arcs of the commanded (v, w) (no
-// dynamics, no collisions), each person walks straight to its first goal at its max_vel and stops
-// there (a person without goals stands still). Observations carry a ray-cast scan and every person
-// within the perception range (no occlusion).
+// dynamics, no collisions), each person walks straight to its goals in turn at its max_vel, and
+// after the last starts over (cyclic_goals) or stops there (a person without goals stands still). Observations carry a
+// ray-cast scan and every person within the perception range (no occlusion).
 class MiniWorld {
  public:
   struct Person {
@@ -61,8 +61,10 @@ class MiniWorld {
   double time_ = 0.0;
   std::int64_t seq_ = 0;
   std::vector<Person> people_;
-  std::vector<Vec2> person_goals_;    // per person: where it walks to
-  std::vector<double> person_speed_;  // per person, m/s (0 when standing)
+  std::vector<std::vector<Vec2>> person_goals_;  // per person: where it walks to, in turn
+  std::vector<std::size_t> person_next_;         // per person: the goal it walks to now
+  std::vector<bool> person_cyclic_;              // per person: after the last goal, the first again
+  std::vector<double> person_speed_;             // per person, m/s (0 when standing)
   std::vector<double> person_goal_radius_;
 };
 
