@@ -56,6 +56,7 @@ void DwbPlanner::reset() {
   path_utime_ = 0;
   path_goal_.reset();
   path_map_static_ = false;
+  path_through_people_ = false;
   path_costs_.clear();
   last_best_cost_ = 0.0;
   last_replanned_ = false;
@@ -82,6 +83,7 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
   if (!obs.goal.valid || (goal - robot).norm() <= obs.goal.radius) {
     last_decision_ = obs.goal.valid ? Decision::AtGoal : Decision::Idle;
     path_ = GlobalPath();
+    path_through_people_ = false;
     path_goal_.reset();
     recovery_.reset();
     clearKeepOuts();
@@ -167,11 +169,21 @@ void DwbPlanner::updateMapAndPath(const robot_observation_t& obs) {
 
 void DwbPlanner::planPath(const robot_observation_t& obs) {
   const Vec2 robot(obs.x, obs.y), goal(obs.goal.x, obs.goal.y);
-  // An empty path when there is none.
-  if (astar_.plan(costmap_, robot, goal, obs.goal.radius, path_) || keep_out_.empty()) return;
-  clearKeepOuts();  // the blocked passage is the only way
+  path_through_people_ = false;
+  if (astar_.plan(costmap_, robot, goal, obs.goal.radius, path_)) return;
+  if (!keep_out_.empty()) {
+    clearKeepOuts();  // the blocked passage is the only way
+    updateTransientLayer(obs);
+    if (astar_.plan(costmap_, robot, goal, obs.goal.radius, path_)) return;
+  }
+  if (!params_.path_through_people || costmap_.transientEmpty()) return;  // no way at all: an empty path
+  // People (or what the laser sees) close every way: the way over the static map, through them. The
+  // robot follows it as far as the critics let it (never into anyone) and waits its turn there,
+  // instead of heading straight for the goal wherever that leads.
+  costmap_.clearTransient();
+  const bool found = astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);
   updateTransientLayer(obs);
-  astar_.plan(costmap_, robot, goal, obs.goal.radius, path_);
+  path_through_people_ = found;
 }
 
 void DwbPlanner::recordSightings(const robot_observation_t& obs) {
@@ -299,6 +311,7 @@ void DwbPlanner::accelerateIfCheaper(const VelocityWindow& window, double& v, do
 
 void DwbPlanner::clearPathAndMemory() {
   path_ = GlobalPath();
+  path_through_people_ = false;
   path_goal_.reset();  // a new goal to scheduledReplan(): the whole map is marked and A* runs
   path_costs_.clear();
   for (auto& critic : critics_) critic->reset();
@@ -376,8 +389,9 @@ DwbPlanner::Replan DwbPlanner::needsReplan(const robot_observation_t& obs, const
   double off_path;
   const std::size_t i = path_.nearest(robot, 0, path_.size(), &off_path);
   *robot_index = i;
-  if (off_path > kMaxPathDeviation || pathBlocked(obs, i)) return Replan::Required;
-  if (params_.replan_cost_rise > 0 && path_costs_.size() == path_.size()) {
+  // A path through people is blocked by them by design: the next periodic replan looks for a free way.
+  if (off_path > kMaxPathDeviation || (!path_through_people_ && pathBlocked(obs, i))) return Replan::Required;
+  if (params_.replan_cost_rise > 0 && path_costs_.size() == path_.size() && !path_through_people_) {
     // Near the robot (where the costmap is marked every cycle), the path has become costlier than
     // when it was planned: someone is walking into it.
     const double reach = params_.sim_time * maxSpeed(obs);

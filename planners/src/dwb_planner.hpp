@@ -6,7 +6,8 @@
 //  2. keeps its A* path to the goal while it stays good, and replans it (marking the whole map
 //     first) for a new goal, when it is blocked (lethal, or within contact of a detected person),
 //     when the robot strays from it, when someone walks into it near the robot (its cost there
-//     rose by replan_cost_rise), and every replan_period;
+//     rose by replan_cost_rise), and every replan_period; when people close every way, the path is
+//     the way over the static map, through them (the robot waits its turn on it);
 //  3. samples (v, w) across the dynamic window and scores them with the critics (obstacle, people,
 //     path distance, path alignment, goal distance, oscillation) by branch and bound: every
 //     sample's end pose is judged first, and only the samples that can still win are rolled out
@@ -118,7 +119,8 @@ class DwbPlanner : public Planner {
   // Where people are, every kSightingPeriod, for blockPassageAhead().
   void recordSightings(const robot_observation_t& obs);
   // Plans the global path; when there is none with the keep-out places, forgets them (the blocked
-  // passage is the only way) and plans again. The whole map must be marked.
+  // passage is the only way) and plans again; when people close every way (dwb.path_through_people),
+  // takes the way over the static map through them. The whole map must be marked.
   void planPath(const robot_observation_t& obs);
   // Whether (v, w) for `duration` s (at least sim_time) from the robot's pose keeps clear of
   // obstacles and people (the obstacle and people critics' rejections, but for the cell the robot
@@ -165,6 +167,7 @@ class DwbPlanner : public Planner {
   std::int64_t path_utime_ = 0;           // when path_ was last planned (or found impossible)
   std::optional<Vec2> path_goal_;         // the goal it was planned for; none before the first plan
   bool path_map_static_ = false;          // it was planned with nothing in the transient layer
+  bool path_through_people_ = false;      // no way was free: it is the static map's way (planPath())
   std::vector<std::uint8_t> path_costs_;  // the cost of each path point when it was planned
   std::vector<std::unique_ptr<TrajectoryCritic>> critics_;
   TrajectoryCritic* goal_critic_ = nullptr;  // among critics_: recovery's impatience reweighs it

@@ -51,6 +51,7 @@ void DwbParams::readDwbSection(const YamlReader* config) {
   s.read("replan_period", replan_period, 0.0, 3600.0);
   s.read("replan_cost_rise", replan_cost_rise, 0, 253);
   s.read("evade_people", evade_people);
+  s.read("path_through_people", path_through_people);
   s.read("mark_scan", mark_scan);
   s.read("mark_people", mark_people);
   s.read("people_prediction_time", people_prediction_time, 0.0, 10.0);

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <string>
 
 #include "dwb_planner.hpp"
 #include "exhaustive_search.hpp"
@@ -444,4 +447,45 @@ TEST(Dwb, APeriodicReplanOnAStaticMapStillReplansARobotThatLeftItsPath) {
   EXPECT_TRUE(planner.lastReplanned());
   EXPECT_EQ(planner.globalPlanner().searches(), 2u);
   EXPECT_NEAR(planner.globalPath()[0].y(), 0.8, 1e-9);  // planned from where the robot now is
+}
+
+// Someone standing in the only doorway to the goal (tests/data/passage with the way round walled
+// off): no way is free. With dwb.path_through_people (the default) the path is the static map's way
+// through the doorway, and the robot drives up to it and waits there, never touching the person;
+// without it there is no path, and the robot heads for the goal in a straight line, into the wall
+// beside the doorway, far from it.
+TEST(Dwb, WithEveryWayClosedByPeopleTheRobotWaitsOnTheWayThroughThem) {
+  Scenario s = loadScenario(std::string(HUNAV_SOURCE_DIR) + "/tests/data/passage/passage.yaml");
+  Shape box;
+  box.kind = Shape::Kind::Polygon;
+  box.points = {Vec2(4.4, -0.1), Vec2(6.0, -0.1), Vec2(6.0, 0.1), Vec2(4.4, 0.1)};
+  s.shapes.push_back(box);
+  s.agents.front().position = Vec2(0.0, 0.0);  // standing in the gap
+  s.agents.front().goals.clear();
+  const Vec2 gap(0.0, 0.0);
+  for (const bool through : {true, false}) {
+    DwbParams params;
+    params.path_through_people = through;
+    params.recovery.enabled = false;  // what the path alone does
+    DwbPlanner planner(s, params);
+    MiniWorld world(s);
+    robot_command_t cmd{};
+    double closest_gap = std::numeric_limits<double>::infinity();
+    for (int tick = 0; world.time() < 30.0; ++tick) {
+      if (tick % 10 == 0) cmd = planner.plan(world.observe());
+      world.step(cmd.v, cmd.w, 0.01);
+      closest_gap = std::min(closest_gap, (world.people()[0].position - world.robotPosition()).norm() - 0.65);
+    }
+    const double to_gap = (world.robotPosition() - gap).norm();
+    if (through) {
+      ASSERT_FALSE(planner.globalPath().empty());
+      const auto& points = planner.globalPath().points();
+      EXPECT_TRUE(std::any_of(points.begin(), points.end(), [&](const Vec2& p) { return (p - gap).norm() < 0.2; }));
+      EXPECT_LT(to_gap, 2.0) << world.robotPosition().transpose();  // waiting at the doorway
+      EXPECT_GT(closest_gap, 0.0);                                  // never touching the person
+    } else {
+      EXPECT_TRUE(planner.globalPath().empty());
+      EXPECT_GT(to_gap, 2.0) << world.robotPosition().transpose();  // off toward the goal, by the wall
+    }
+  }
 }

@@ -75,6 +75,7 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   EXPECT_EQ(file.v_samples, d.v_samples);
   EXPECT_EQ(file.w_samples, d.w_samples);
   EXPECT_EQ(file.replan_cost_rise, d.replan_cost_rise);
+  EXPECT_EQ(file.path_through_people, d.path_through_people);
   EXPECT_EQ(file.mark_scan, d.mark_scan);
   EXPECT_EQ(file.mark_people, d.mark_people);
   EXPECT_EQ(file.evade_people, d.evade_people);
@@ -89,7 +90,7 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
   // Every key of the file is one the code reads (else fromConfig would have thrown): all are listed.
   std::size_t keys = 0;
   for (const auto& section : config.root()) keys += section.second.size();
-  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 6u + std::size(recovery) + 1u);
+  EXPECT_EQ(keys, 4u + 2u + std::size(doubles) + 7u + std::size(recovery) + 1u);
 }
 
 TEST(DwbParams, ConfigFileOverridesOnlyWhatItNames) {

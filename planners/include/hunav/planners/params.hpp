@@ -108,6 +108,11 @@ struct DwbParams {
   // the turning robot makes it sample instead). Off for dwb (its recorded behaviour); the scl and
   // sfw planners switch it on.
   bool evade_people = false;
+  // When the people (and what the laser sees) close every way to the goal, follow the way over the
+  // static map through them rather than having no path (the robot then heads straight for the goal,
+  // wherever that leads: into a dead end beside a doorway someone stands in). The critics still keep
+  // the robot off everyone; it waits its turn on the way. false: no path then (the former behaviour).
+  bool path_through_people = true;
   bool mark_scan = true;    // laser hits go into the transient costmap layer
   bool mark_people = true;  // detected people go into the transient costmap layer
   // s: where a moving person will be over this time is marked too, with costs capped below lethal,
