@@ -420,6 +420,12 @@ void checkClear(const YamlReader& yr, const Scenario& s, const YAML::Node& at, c
 
 }  // namespace
 
+double defaultStuckTimeout(const RobotConfig& robot) {
+  if (!robot.has_goal) return 0.0;
+  const double straight = (robot.goal - robot.start).norm() / robot.limits.max_v;
+  return std::min(kMaxTimeLimit, std::max(kMinDefaultStuckTimeout, kDefaultStuckFactor * straight));
+}
+
 void checkDurationOverride(double duration) {
   if (!(duration > 0.0 && duration <= kMaxTimeLimit))
     throw ConfigError("--duration", 0, "", "must be a number of seconds in (0, 1e7]");
@@ -747,6 +753,7 @@ Scenario loadScenario(const std::string& path, long long seed_override) {
 
   if (const YAML::Node map = yr.child(root, "map", "", false)) readMap(yr, map, s);
   readRobot(yr, yr.child(root, "robot", "", true), s.robot);
+  if (!yr.child(root, "stuck_timeout", "", false)) s.stuck_timeout = defaultStuckTimeout(s.robot);
   readPeople(yr, root, path, s);
   checkStartsAndIds(yr, root, path, s);
   return s;

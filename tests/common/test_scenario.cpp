@@ -328,12 +328,13 @@ TEST(Scenario, PeopleModelKeys) {
   const std::string people = std::string(kMinimal) +
                              "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1]\n"
                              "      a1: {id: 1, init_pose: {x: 1, y: 1}}\n";
-  // Defaults: the closest point, routes over the map, cells of 0.1 m; never stuck.
+  // Defaults: the closest point, routes over the map, cells of 0.1 m; stuck after the default
+  // stuck_timeout (StuckTimeoutDefaultsToAMultipleOfTheStraightLineTime).
   const hunav::Scenario d = loadScenario(writeFile("people_defaults.yaml", people));
   EXPECT_EQ(d.people_model.obstacle_points, hunav::ObstaclePoints::Closest);
   EXPECT_EQ(d.people_model.navigation, hunav::PeopleNavigation::Path);
   EXPECT_DOUBLE_EQ(d.people_model.route_resolution, 0.1);
-  EXPECT_EQ(d.stuck_timeout, 0.0);
+  EXPECT_EQ(d.stuck_timeout, 60.0);
   EXPECT_EQ(d.stuck_distance, 0.5);
   const hunav::Scenario m = loadScenario(writeFile(
       "people_mean.yaml", people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n"));
@@ -349,4 +350,21 @@ TEST(Scenario, PeopleModelKeys) {
   expectError("people_res.yaml", people + "  route_resolution: 0.001\n", 15, "people.route_resolution");
   expectError("stuck_neg.yaml", std::string(kMinimal) + "stuck_timeout: -1\n", 10, "stuck_timeout");
   expectError("stuck_dist.yaml", std::string(kMinimal) + "stuck_distance: 0\n", 10, "stuck_distance");
+}
+
+// A scenario file without stuck_timeout: twice the straight-line time from the robot's start to its
+// goal at its top speed, at least 60 s; 0 (never) without a goal; a value written (0 too) is kept.
+TEST(Scenario, StuckTimeoutDefaultsToAMultipleOfTheStraightLineTime) {
+  // kMinimal: (0, 0) -> (3, 0) at the default 0.6 m/s: 2 x 5 s = 10 s, below the floor: 60 s.
+  EXPECT_EQ(loadScenario(writeFile("stuck_near.yaml", kMinimal)).stuck_timeout, 60.0);
+  // (0, 0) -> (30, 40) at 0.5 m/s: 2 x 50 m / 0.5 m/s = 200 s.
+  const std::string far = "robot:\n  start: {x: 0, y: 0}\n  goal: {x: 30, y: 40}\n  limits: {max_v: 0.5}\n";
+  EXPECT_DOUBLE_EQ(loadScenario(writeFile("stuck_far.yaml", far)).stuck_timeout, 200.0);
+  EXPECT_EQ(loadScenario(writeFile("stuck_never.yaml", far + "stuck_timeout: 0\n")).stuck_timeout, 0.0);
+  EXPECT_EQ(loadScenario(writeFile("stuck_set.yaml", far + "stuck_timeout: 12.5\n")).stuck_timeout, 12.5);
+  EXPECT_EQ(loadScenario(writeFile("stuck_no_goal.yaml", "robot:\n  start: {x: 0, y: 0}\n")).stuck_timeout, 0.0);
+  RobotConfig robot;
+  robot.has_goal = true;
+  robot.goal = Vec2(120.0, 0.0);  // 2 x 120 m / 0.6 m/s = 400 s
+  EXPECT_DOUBLE_EQ(defaultStuckTimeout(robot), 400.0);
 }

@@ -161,7 +161,8 @@ struct Scenario {
   PeopleModel people_model;
   // The episode ends with status `stuck` when, for stuck_timeout seconds of simulation time, the
   // robot has neither left a circle of stuck_distance around where it last made progress nor come
-  // stuck_distance closer to its goal than ever before. 0 = never.
+  // stuck_distance closer to its goal than ever before. 0 = never. A scenario file without the key
+  // gets defaultStuckTimeout(robot).
   double stuck_timeout = 0.0;             // s
   double stuck_distance = 0.5;            // m
   std::vector<Expectation> expectations;  // `expect:`, in file order (empty: none)
@@ -169,6 +170,13 @@ struct Scenario {
   // Bounds of everything in the scenario, with a margin.
   void bounds(Vec2& lo, Vec2& hi, double margin = 1.0) const;
 };
+
+// The stuck_timeout of a scenario file that sets none: kDefaultStuckFactor times the straight-line
+// time from the robot's start to its goal at its top speed (robot.limits.max_v), and at least
+// kMinDefaultStuckTimeout; 0 (never) without a goal.
+inline constexpr double kDefaultStuckFactor = 2.0;
+inline constexpr double kMinDefaultStuckTimeout = 60.0;  // s
+double defaultStuckTimeout(const RobotConfig& robot);
 
 // A --duration override, checked like the file's time_limit; throws ConfigError("--duration: ...").
 void checkDurationOverride(double duration);
