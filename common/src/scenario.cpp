@@ -11,6 +11,7 @@
 
 #include "hunav/agents_file.hpp"
 #include "hunav/episode_status.hpp"
+#include "hunav/map_server_map.hpp"
 #include "hunav/yaml_reader.hpp"
 
 namespace hunav {
@@ -431,20 +432,21 @@ void checkDurationOverride(double duration) {
     throw ConfigError("--duration", 0, "", "must be a number of seconds in (0, 1e7]");
 }
 
-std::vector<Shape> loadOccupancyMap(const std::string& yaml_path, OccupancyMapFrame* frame) {
+MapServerMap loadMapServerMap(const std::string& yaml_path) {
   YamlReader yr(yaml_path);
   const YAML::Node& root = yr.root();
   const YAML::Node image_node = yr.child(root, "image", "", true);
   const std::string image = yr.convert<std::string>(image_node, "image");
-  const double resolution = yr.get<double>(root, "resolution", "");
-  if (resolution <= 0.0) yr.fail(root["resolution"], "resolution", "must be > 0 (m per cell)");
+  MapServerMap grid;
+  grid.resolution = yr.get<double>(root, "resolution", "");
+  if (grid.resolution <= 0.0) yr.fail(root["resolution"], "resolution", "must be > 0 (m per cell)");
   const YAML::Node origin_node = yr.child(root, "origin", "", true);
   if (!origin_node.IsSequence() || (origin_node.size() != 3 && origin_node.size() != 2))
     yr.fail(origin_node, "origin", "expected [x, y, yaw]");
-  const Vec2 origin(yr.convert<double>(origin_node[0], "origin"), yr.convert<double>(origin_node[1], "origin"));
-  checkCoordinates(yr, origin_node, "origin", origin);
-  const double yaw = origin_node.size() == 3 ? yr.convert<double>(origin_node[2], "origin") : 0.0;
-  if (std::abs(yaw) > kMaxAngle) yr.fail(origin_node, "origin", "the yaw must be within +-1e3 rad");
+  grid.origin = Vec2(yr.convert<double>(origin_node[0], "origin"), yr.convert<double>(origin_node[1], "origin"));
+  checkCoordinates(yr, origin_node, "origin", grid.origin);
+  grid.yaw = origin_node.size() == 3 ? yr.convert<double>(origin_node[2], "origin") : 0.0;
+  if (std::abs(grid.yaw) > kMaxAngle) yr.fail(origin_node, "origin", "the yaw must be within +-1e3 rad");
   const bool negate = readNegate(yr, root);
   const double occupied_thresh = yr.get<double>(root, "occupied_thresh", "", 0.65);
   const double free_thresh = yr.get<double>(root, "free_thresh", "", 0.196);
@@ -457,36 +459,51 @@ std::vector<Shape> loadOccupancyMap(const std::string& yaml_path, OccupancyMapFr
     yr.fail(root["mode"], "mode", "expected trinary, scale or raw, got '" + mode + "'");
 
   const Image img = readPgm(relativeTo(yaml_path, image).string(), yaml_path, YamlReader::lineOf(image_node));
-  if (frame != nullptr) *frame = OccupancyMapFrame{resolution, origin, yaw};
   // map_server's rule: occupancy p = (maxval - value) / maxval (value / maxval with negate), occupied when
-  // p > occupied_thresh. In raw mode the value is the occupancy in percent. Free and unknown cells are
-  // both free space for the world.
-  std::vector<char> occupied(img.pixels.size(), 0);
+  // p > occupied_thresh, free when p < free_thresh, unknown in between. In raw mode the value is the
+  // occupancy in percent (above 100: unknown).
+  grid.width = img.width;
+  grid.height = img.height;
+  grid.cells.assign(img.pixels.size(), MapServerMap::kUnknown);
+  grid.occupancy.assign(img.pixels.size(), -1.0f);
   for (int row = 0; row < img.height; ++row) {
     const int map_row = img.height - 1 - row;  // the picture's top line is the map's highest y
     for (int col = 0; col < img.width; ++col) {
       const int v = img.pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(img.width) +
                                static_cast<std::size_t>(col)];
-      bool occ;
+      const std::size_t cell =
+          static_cast<std::size_t>(map_row) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(col);
+      bool occ, free;
       if (mode == "raw") {
         occ = v <= 100 && v > occupied_thresh * 100.0;
+        free = v < free_thresh * 100.0;
+        if (v <= 100) grid.occupancy[cell] = static_cast<float>(v / 100.0);
       } else {
         const double p =
             negate ? static_cast<double>(v) / img.maxval : static_cast<double>(img.maxval - v) / img.maxval;
         occ = p > occupied_thresh;
+        free = p < free_thresh;
+        grid.occupancy[cell] = static_cast<float>(p);
       }
-      occupied[static_cast<std::size_t>(map_row) * static_cast<std::size_t>(img.width) +
-               static_cast<std::size_t>(col)] = occ;
+      grid.cells[cell] = occ ? MapServerMap::kOccupied : free ? MapServerMap::kFree : MapServerMap::kUnknown;
     }
   }
+  return grid;
+}
 
-  const double cs = std::cos(yaw), sn = std::sin(yaw);
+std::vector<Shape> loadOccupancyMap(const std::string& yaml_path, OccupancyMapFrame* frame) {
+  const MapServerMap grid = loadMapServerMap(yaml_path);
+  if (frame != nullptr) *frame = OccupancyMapFrame{grid.resolution, grid.origin, grid.yaw};
+  // Free and unknown cells are both free space for the world.
+  std::vector<char> occupied(grid.cells.size(), 0);
+  for (std::size_t i = 0; i < grid.cells.size(); ++i) occupied[i] = grid.cells[i] == MapServerMap::kOccupied;
+  const double cs = std::cos(grid.yaw), sn = std::sin(grid.yaw);
   auto corner = [&](int col, int row) {  // lower left corner of cell (col, row); the map turns by yaw about origin
-    const double x = col * resolution, y = row * resolution;
-    return Vec2(origin.x() + cs * x - sn * y, origin.y() + sn * x + cs * y);
+    const double x = col * grid.resolution, y = row * grid.resolution;
+    return Vec2(grid.origin.x() + cs * x - sn * y, grid.origin.y() + sn * x + cs * y);
   };
   std::vector<Shape> shapes;
-  for (const CellRect& r : mergeCells(occupied, img.width, img.height)) {
+  for (const CellRect& r : mergeCells(occupied, grid.width, grid.height)) {
     Shape sh;
     sh.kind = Shape::Kind::Polygon;
     sh.points = {corner(r.col0, r.row0), corner(r.col1 + 1, r.row0), corner(r.col1 + 1, r.row1 + 1),

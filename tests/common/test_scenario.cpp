@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "hunav/config_error.hpp"
+#include "hunav/map_server_map.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/testing/files.hpp"
 #include "hunav/testing/temp_dir.hpp"
@@ -367,4 +368,36 @@ TEST(Scenario, StuckTimeoutDefaultsToAMultipleOfTheStraightLineTime) {
   robot.has_goal = true;
   robot.goal = Vec2(120.0, 0.0);  // 2 x 120 m / 0.6 m/s = 400 s
   EXPECT_DOUBLE_EQ(defaultStuckTimeout(robot), 400.0);
+}
+
+// A map_server map cell by cell (map_server_map.hpp): HuNavSim's cafe map, 193 x 472 cells of which
+// 3102 are black (0: occupied), 70753 white (254) and 17241 map_saver's grey for unknown space (205,
+// occupancy 50/255 = 0.196, free by the map's free_thresh of 0.25); the rows from the lowest y.
+TEST(Scenario, MapServerMapKeepsEachCellsOccupancy) {
+  const MapServerMap g = loadMapServerMap(std::string(HUNAV_SOURCE_DIR) + "/scenarios/maps/map_cafe2.yaml");
+  EXPECT_EQ(g.width, 193);
+  EXPECT_EQ(g.height, 472);
+  EXPECT_DOUBLE_EQ(g.resolution, 0.05);
+  EXPECT_DOUBLE_EQ(g.origin.x(), -5.41);
+  EXPECT_DOUBLE_EQ(g.origin.y(), -12.2);
+  int occupied = 0, free = 0, unknown = 0, grey = 0;
+  for (int row = 0; row < g.height; ++row)
+    for (int col = 0; col < g.width; ++col) {
+      occupied += g.at(col, row) == MapServerMap::kOccupied;
+      free += g.at(col, row) == MapServerMap::kFree;
+      unknown += g.at(col, row) == MapServerMap::kUnknown;
+      grey += std::abs(g.occupancyAt(col, row) - 50.0f / 255.0f) < 1e-6f;
+    }
+  EXPECT_EQ(occupied, 3102);
+  EXPECT_EQ(free, 70753 + 17241);
+  EXPECT_EQ(unknown, 0);
+  EXPECT_EQ(grey, 17241);
+  // The occupied cells are the world's rectangles: as many cells as loadOccupancyMap's shapes cover.
+  double area = 0.0;
+  for (const Shape& sh : loadOccupancyMap(std::string(HUNAV_SOURCE_DIR) + "/scenarios/maps/map_cafe2.yaml")) {
+    Vec2 lo, hi;
+    sh.bounds(lo, hi);
+    area += (hi - lo).prod();
+  }
+  EXPECT_NEAR(area, occupied * 0.05 * 0.05, 1e-6);
 }
