@@ -19,6 +19,10 @@ constexpr double kStandingSpeed = 0.05;
 constexpr double kSightingPeriod = 0.5;  // s between two records of where people are (reroute)
 // m a blocked place keeps from the robot and from the goal (beyond its radius and the robot's).
 constexpr double kKeepOutClearance = 0.2;
+constexpr double kTrailStep = 0.25;        // m between the points of the robot's trail (give way)
+constexpr std::size_t kTrailPoints = 80;   // the trail's last 20 m
+constexpr double kGiveWayClearance = 0.5;  // m between the place the robot gives way at and anyone
+constexpr double kGiveWayRadius = 0.3;     // m: the place is reached within this (recovery's rule)
 }  // namespace
 
 std::unique_ptr<Planner> DwbPlanner::create(const Scenario& scenario, const YamlReader* config) {
@@ -71,6 +75,7 @@ void DwbPlanner::reset() {
   sightings_.clear();
   last_sighting_.reset();
   goal_distances_goal_.reset();
+  trail_.clear();
 }
 
 robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
@@ -98,8 +103,20 @@ robot_command_t DwbPlanner::plan(const robot_observation_t& obs) {
   if (last_recovery_ == RecoveryBehavior::Reroute) blockPassageAhead(obs);
   if (last_recovery_ == RecoveryBehavior::ClearAndReplan || last_recovery_ == RecoveryBehavior::Reroute)
     clearPathAndMemory();
+  if (last_recovery_ == RecoveryBehavior::GiveWay && recovery_.startedNow(obs))
+    recovery_.setGiveWayTarget(giveWayPlace(obs));
+  // Giving way, the planner plans toward the place it gives way at, as toward a goal.
+  const robot_observation_t* toward = &obs;
+  if (const std::optional<Vec2> place = recovery_.giveWayTarget(obs)) {
+    give_way_obs_ = obs;
+    give_way_obs_.goal.x = place->x();
+    give_way_obs_.goal.y = place->y();
+    give_way_obs_.goal.radius = kGiveWayRadius;
+    toward = &give_way_obs_;
+  }
+  recordTrail(obs);
 
-  updateMapAndPath(obs);
+  updateMapAndPath(*toward);
   goal_critic_->setWeight(params_.goal_distance_weight * recovery_.goalWeightFactor(obs));
   for (auto& critic : critics_) critic->prepare(ctx_);
 
@@ -199,6 +216,26 @@ void DwbPlanner::recordSightings(const robot_observation_t& obs) {
     const Vec2 p(person.x, person.y);
     if ((p - robot).squaredNorm() <= reach * reach) sightings_.push_back({obs.utime, p});
   }
+}
+
+void DwbPlanner::recordTrail(const robot_observation_t& obs) {
+  const Vec2 robot(obs.x, obs.y);
+  if (!trail_.empty() && (robot - trail_.back()).norm() < kTrailStep) return;
+  trail_.push_back(robot);
+  if (trail_.size() > kTrailPoints) trail_.pop_front();
+}
+
+std::optional<Vec2> DwbPlanner::giveWayPlace(const robot_observation_t& obs) const {
+  const Vec2 robot(obs.x, obs.y);
+  const double away = recovery_.params().give_way_distance;
+  for (auto it = trail_.rbegin(); it != trail_.rend(); ++it) {  // the nearest back along the trail first
+    if ((*it - robot).norm() < away) continue;
+    const bool clear = std::all_of(obs.people.begin(), obs.people.end(), [&](const detected_person_t& p) {
+      return (Vec2(p.x, p.y) - *it).norm() > p.radius + obs.radius + kGiveWayClearance;
+    });
+    if (clear) return *it;
+  }
+  return std::nullopt;
 }
 
 bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {

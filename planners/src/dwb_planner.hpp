@@ -17,7 +17,7 @@
 //     side or behind, and brakes (turning toward the path when that helps) when no sample is
 //     admissible. At the goal, or without one, it sends (0, 0);
 //  5. when the robot has made no progress for a while, it runs a recovery behaviour instead
-//     (recovery.hpp: clear and replan, spin, back up, wait, reroute, in turn); rerouting blocks the
+//     (recovery.hpp: clear and replan, spin, back up, wait, reroute, give way, in turn); rerouting blocks the
 //     passage ahead where people walked most lately (blockPassageAhead()) for a while, so the path
 //     takes another way round if there is one; while it stays stuck, the goal_distance critic
 //     weighs more and more (impatience), and a robot that would stay standing accelerates when a
@@ -110,6 +110,11 @@ class DwbPlanner : public Planner {
   // no wider than the free space around it (up to block_radius). False when there is no such place.
   // Leaves the transient layer to be marked again.
   bool blockPassageAhead(const robot_observation_t& obs);
+  // Where the robot has been: a point every kTrailStep of its way, the last kTrailPoints.
+  void recordTrail(const robot_observation_t& obs);
+  // Recovery's GiveWay: the nearest place back along the trail at least give_way_distance away and
+  // kGiveWayClearance clear of everyone detected; none when the trail has no such place.
+  std::optional<Vec2> giveWayPlace(const robot_observation_t& obs) const;
   // Drops the expired keep-out places and marks the others as obstacles.
   void markKeepOuts(const robot_observation_t& obs);
   void clearKeepOuts();
@@ -202,7 +207,9 @@ class DwbPlanner : public Planner {
     std::int64_t utime;
     Vec2 position;
   };
-  std::deque<Sighting> sightings_;  // people seen near the robot, the last occupancy_memory s
+  std::deque<Sighting> sightings_;    // people seen near the robot, the last occupancy_memory s
+  std::deque<Vec2> trail_;            // recordTrail()
+  robot_observation_t give_way_obs_;  // the observation with the give-way place as its goal
   std::optional<std::int64_t> last_sighting_;
 };
 

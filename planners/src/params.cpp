@@ -85,6 +85,7 @@ RecoveryParams readRecoveryParams(const YamlReader* config) {
   s.read("block_radius", p.block_radius, 0.05, 10.0);
   s.read("block_lookahead", p.block_lookahead, 0.1, 100.0);
   s.read("occupancy_memory", p.occupancy_memory, 0.0, 3600.0);
+  s.read("give_way_distance", p.give_way_distance, 0.0, 100.0);
   s.finish();
   return p;
 }

@@ -9,9 +9,10 @@
 namespace hunav::planners {
 
 namespace {
-constexpr std::array<RecoveryBehavior, 5> kSequence = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
-                                                       RecoveryBehavior::BackUp, RecoveryBehavior::Wait,
-                                                       RecoveryBehavior::Reroute};
+constexpr std::array<RecoveryBehavior, 6> kSequence = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
+                                                       RecoveryBehavior::BackUp,         RecoveryBehavior::Wait,
+                                                       RecoveryBehavior::Reroute,        RecoveryBehavior::GiveWay};
+constexpr double kGiveWayArrived = 0.3;  // m from the give-way place that counts as there
 constexpr double kSpinTolerance = 0.02;  // rad short of spin_angle that counts as done (the last cycle's braking)
 // Recovery places kept (a robot stuck for a whole episode adds two per behaviour): the oldest go first.
 constexpr std::size_t kMaxStuckPlaces = 64;
@@ -32,6 +33,8 @@ const char* recoveryName(RecoveryBehavior behavior) {
       return "wait";
     case RecoveryBehavior::Reroute:
       return "reroute";
+    case RecoveryBehavior::GiveWay:
+      return "give_way";
   }
   return "?";
 }
@@ -79,7 +82,17 @@ bool Recovery::applicable(RecoveryBehavior behavior, const robot_observation_t& 
   // A robot that may not reverse cannot back up: the world would clamp the command to min_v.
   if (behavior == RecoveryBehavior::BackUp) return obs.min_v < 0.0 && params_.backup_distance > 0.0;
   if (behavior == RecoveryBehavior::Reroute) return params_.block_time > 0.0;
+  if (behavior == RecoveryBehavior::GiveWay) return params_.give_way_distance > 0.0;
   return true;
+}
+
+std::optional<Vec2> Recovery::giveWayTarget(const robot_observation_t& obs) {
+  if (active_ != RecoveryBehavior::GiveWay || !give_way_target_ || give_way_at_) return std::nullopt;
+  if ((Vec2(obs.x, obs.y) - *give_way_target_).norm() <= kGiveWayArrived || elapsed(obs) >= params_.time_allowance) {
+    give_way_at_ = obs.utime;  // there (or out of time): it stands from now on
+    return std::nullopt;
+  }
+  return give_way_target_;
 }
 
 RecoveryBehavior Recovery::update(const robot_observation_t& obs, double goal_distance) {
@@ -119,6 +132,8 @@ void Recovery::start(RecoveryBehavior behavior, const robot_observation_t& obs) 
   last_yaw_ = obs.yaw;
   turned_ = 0.0;
   spin_side_ = 0;
+  give_way_target_.reset();
+  give_way_at_.reset();
   ++started_;
   if (stuck_places_.empty()) stuck_start_ = obs.utime;
   if (stuck_places_.size() >= kMaxStuckPlaces) stuck_places_.erase(stuck_places_.begin());
@@ -154,6 +169,13 @@ bool Recovery::command(const robot_observation_t& obs, const VelocityWindow& win
     case RecoveryBehavior::Wait:
       // Brake as hard as the window allows and stand.
       running = elapsed(obs) < params_.wait_duration;
+      v = window.clampV(0.0);
+      w = window.clampW(0.0);
+      break;
+    case RecoveryBehavior::GiveWay:
+      // On its way the planner plans toward the place (giveWayTarget()); there, it stands.
+      if (give_way_target_ && !give_way_at_) return false;
+      running = give_way_at_ && static_cast<double>(obs.utime - *give_way_at_) * 1e-6 < params_.wait_duration;
       v = window.clampV(0.0);
       w = window.clampW(0.0);
       break;

@@ -13,7 +13,11 @@
 //   4. wait: stand still wait_duration (people move on);
 //   5. reroute: the planner blocks, for block_time, the passage ahead where people kept it back,
 //      and replans: the path takes another way round when there is one (skipped when block_time
-//      is 0).
+//      is 0);
+//   6. give way: the robot drives back the way it came, give_way_distance or more, to a place clear
+//      of people (the planner's trail), plans normally toward it (at most time_allowance), then
+//      stands there wait_duration: out of a doorway people want to come through, so that it
+//      clears (skipped when give_way_distance is 0, or when the trail has no such place).
 // A behaviour that would take the robot into an obstacle or a person is cut short (the planner's
 // safety check along the motion). Progress: the robot gets progress_distance nearer the goal along
 // the floor (the planner's GoalDistances) than it has been since it started for this goal (or
@@ -25,6 +29,7 @@
 #include <cstdint>
 #include <functional>
 #include <hunav/robot_observation_t.hpp>
+#include <optional>
 #include <vector>
 
 #include "hunav/geometry.hpp"
@@ -33,7 +38,7 @@
 
 namespace hunav::planners {
 
-enum class RecoveryBehavior { None, ClearAndReplan, Spin, BackUp, Wait, Reroute };
+enum class RecoveryBehavior { None, ClearAndReplan, Spin, BackUp, Wait, Reroute, GiveWay };
 const char* recoveryName(RecoveryBehavior behavior);
 
 // Progress tracking and the recovery sequence; the planner asks it every cycle.
@@ -63,6 +68,15 @@ class Recovery {
                const SafetyCheck& safe, double& v, double& w);
 
   RecoveryBehavior active() const { return active_; }
+  // Whether the running behaviour started at this observation.
+  bool startedNow(const robot_observation_t& obs) const {
+    return active_ != RecoveryBehavior::None && active_start_ == obs.utime;
+  }
+  // GiveWay: where the planner found the robot can give way (none: the behaviour ends at once).
+  void setGiveWayTarget(const std::optional<Vec2>& target) { give_way_target_ = target; }
+  // GiveWay, on its way there: the place to plan toward instead of the goal; none once the robot is
+  // there (or out of time_allowance: it then stands), and for every other behaviour.
+  std::optional<Vec2> giveWayTarget(const robot_observation_t& obs);
   // Whether a recovery has started since the robot last made progress.
   bool stuck() const { return !stuck_places_.empty(); }
   // The factor on the goal_distance weight: 1 + impatience * (s since the first recovery since the
@@ -93,11 +107,13 @@ class Recovery {
   std::vector<Vec2> stuck_places_;  // where recoveries started and ended since the last progress
   std::size_t next_ = 0;            // next behaviour of the sequence
   RecoveryBehavior active_ = RecoveryBehavior::None;
-  std::int64_t active_start_ = 0;    // utime the running behaviour started
-  Vec2 active_from_ = Vec2::Zero();  // where it started
-  double last_yaw_ = 0.0;            // spin: the yaw at the previous cycle
-  double turned_ = 0.0;              // spin: rad turned so far, toward spin_side_
-  int spin_side_ = 0;                // spin: +1 counter-clockwise, -1 clockwise, 0 not chosen yet
+  std::int64_t active_start_ = 0;            // utime the running behaviour started
+  Vec2 active_from_ = Vec2::Zero();          // where it started
+  double last_yaw_ = 0.0;                    // spin: the yaw at the previous cycle
+  double turned_ = 0.0;                      // spin: rad turned so far, toward spin_side_
+  int spin_side_ = 0;                        // spin: +1 counter-clockwise, -1 clockwise, 0 not chosen yet
+  std::optional<Vec2> give_way_target_;      // give way: where to
+  std::optional<std::int64_t> give_way_at_;  // give way: utime it got there (and stands)
   int started_ = 0;
 };
 

@@ -84,7 +84,7 @@ TEST(DwbParams, TheShippedConfigFileListsEveryDefault) {
       &RecoveryParams::spin_speed,        &RecoveryParams::backup_distance,  &RecoveryParams::backup_speed,
       &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience,
       &RecoveryParams::block_time,        &RecoveryParams::block_radius,     &RecoveryParams::block_lookahead,
-      &RecoveryParams::occupancy_memory};
+      &RecoveryParams::occupancy_memory,  &RecoveryParams::give_way_distance};
   for (auto member : recovery) EXPECT_EQ(file.recovery.*member, d.recovery.*member);
   EXPECT_EQ(file.recovery.enabled, d.recovery.enabled);
   // Every key of the file is one the code reads (else fromConfig would have thrown): all are listed.

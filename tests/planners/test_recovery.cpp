@@ -98,25 +98,28 @@ robot_observation_t standingAt(const Scenario& s, const Vec2& p, double t, doubl
 
 // Boxed in facing a wall, nothing to gain: clear and replan after progress_timeout, then (each a
 // progress_timeout after the previous one ended) a spin of spin_angle, a back-up of
-// backup_distance, a wait of wait_duration, a reroute (no path to the goal: nothing to block), and
+// backup_distance, a wait of wait_duration, a reroute (no path to the goal: nothing to block), a
+// give way (the robot never left its start: no place back along its trail, it ends at once), and
 // the sequence again.
-TEST(Recovery, BoxedInTheRobotClearsThenSpinsThenBacksUpThenWaitsThenReroutesInTurn) {
+TEST(Recovery, BoxedInTheRobotClearsThenSpinsThenBacksUpThenWaitsThenReroutesThenGivesWayInTurn) {
   const Scenario s = boxedIn();
   DwbPlanner planner(s);
   const RecoveryParams& p = planner.params().recovery;
   MiniWorld world(s);
   const std::vector<Episode> e = runRecoveries(planner, world, 45.0);
-  ASSERT_GE(e.size(), 6u);
+  ASSERT_GE(e.size(), 7u);
   const RecoveryBehavior expected[] = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
                                        RecoveryBehavior::BackUp,         RecoveryBehavior::Wait,
-                                       RecoveryBehavior::Reroute,        RecoveryBehavior::ClearAndReplan};
-  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(e[i].behavior, expected[i]) << i << ": " << recoveryName(e[i].behavior);
+                                       RecoveryBehavior::Reroute,        RecoveryBehavior::GiveWay,
+                                       RecoveryBehavior::ClearAndReplan};
+  for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(e[i].behavior, expected[i]) << i << ": " << recoveryName(e[i].behavior);
   // Each starts a progress_timeout after the previous one ended (the first: after the start; clear
   // and reroute end in the cycle they start).
   EXPECT_NEAR(e[0].start, p.progress_timeout, 0.05);
   EXPECT_EQ(e[4].end, e[4].start);
+  EXPECT_EQ(e[5].end, e[5].start);
   EXPECT_TRUE(planner.keepOuts().empty());
-  for (std::size_t i = 1; i < 6; ++i) {
+  for (std::size_t i = 1; i < 7; ++i) {
     const double previous_end = i == 1 ? e[0].start : e[i - 1].end;
     EXPECT_NEAR(e[i].start - previous_end, p.progress_timeout, 0.15) << recoveryName(e[i].behavior);
   }
@@ -179,22 +182,57 @@ TEST(Recovery, TheConfiguredDurationsAreHonoured) {
   EXPECT_NEAR(e[3].end - e[3].start, 1.5, 0.15);
 }
 
-TEST(Recovery, BacksUpOnlyWhenTheRobotMayReverseAndReroutesOnlyWithABlockTime) {
+TEST(Recovery, BacksUpOnlyWhenTheRobotMayReverseAndReroutesOrGivesWayOnlyWhenConfigured) {
   Scenario s = boxedIn();
   s.robot.limits.min_v = 0.0;  // the world would clamp a negative speed: no back-up
   for (const double block_time : {60.0, 0.0}) {
-    DwbParams params;
-    params.recovery.block_time = block_time;
-    DwbPlanner planner(s, params);
-    MiniWorld world(s);
-    const std::vector<Episode> e = runRecoveries(planner, world, 35.0);
-    std::vector<RecoveryBehavior> expected = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
-                                              RecoveryBehavior::Wait, RecoveryBehavior::Reroute,
-                                              RecoveryBehavior::ClearAndReplan};
-    if (block_time == 0.0) expected.erase(expected.begin() + 3);
-    ASSERT_GE(e.size(), expected.size());
-    for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(e[i].behavior, expected[i]) << block_time << " " << i;
+    for (const double give_way_distance : {1.5, 0.0}) {
+      DwbParams params;
+      params.recovery.block_time = block_time;
+      params.recovery.give_way_distance = give_way_distance;
+      DwbPlanner planner(s, params);
+      MiniWorld world(s);
+      const std::vector<Episode> e = runRecoveries(planner, world, 45.0);
+      std::vector<RecoveryBehavior> expected = {RecoveryBehavior::ClearAndReplan, RecoveryBehavior::Spin,
+                                                RecoveryBehavior::Wait,           RecoveryBehavior::Reroute,
+                                                RecoveryBehavior::GiveWay,        RecoveryBehavior::ClearAndReplan};
+      if (give_way_distance == 0.0) expected.erase(expected.begin() + 4);
+      if (block_time == 0.0) expected.erase(expected.begin() + 3);
+      ASSERT_GE(e.size(), expected.size());
+      for (std::size_t i = 0; i < expected.size(); ++i)
+        EXPECT_EQ(e[i].behavior, expected[i]) << block_time << " " << give_way_distance << " " << i;
+    }
   }
+}
+
+// Stuck at the wall after driving 3 m to it, the robot gives way: it drives back along its trail to
+// the nearest place at least give_way_distance back (within kGiveWayRadius = 0.3 m of it), then
+// stands wait_duration there before planning again.
+TEST(Recovery, GiveWayDrivesBackAlongTheTrailAndStandsThere) {
+  Scenario s = boxedIn(0.0);
+  s.robot.limits.min_v = 0.0;  // no back-up: the wait, the reroute, then give way
+  DwbPlanner planner(s);
+  const RecoveryParams& p = planner.params().recovery;
+  MiniWorld world(s);
+  const std::vector<Episode> e = runRecoveries(planner, world, 90.0);
+  // On its way back the planner plans normally (runRecoveries() sees one episode per cycle): the
+  // behaviour runs from its first cycle to its last.
+  const auto first =
+      std::find_if(e.begin(), e.end(), [](const Episode& x) { return x.behavior == RecoveryBehavior::GiveWay; });
+  ASSERT_NE(first, e.end());
+  const auto after =
+      std::find_if(first, e.end(), [](const Episode& x) { return x.behavior != RecoveryBehavior::GiveWay; });
+  ASSERT_NE(after, e.end());  // it ended
+  Episode give_way = *first;
+  give_way.end = std::prev(after)->end;
+  give_way.to = std::prev(after)->to;
+  EXPECT_GT(give_way.from.x(), 3.0);  // at the wall
+  // Back the way it came: 1.5 m back along the x axis, less the 0.3 m that counts as there.
+  EXPECT_LT(give_way.to.x(), give_way.from.x() - (p.give_way_distance - 0.3));
+  EXPECT_LT(std::abs(give_way.to.y()), 0.3);
+  // It drove there and stood wait_duration.
+  EXPECT_GE(give_way.end - give_way.start, p.wait_duration);
+  EXPECT_LE(give_way.end - give_way.start, p.time_allowance + p.wait_duration + 0.2);
 }
 
 TEST(Recovery, DisabledItNeverStarts) {

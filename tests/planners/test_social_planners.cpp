@@ -64,7 +64,7 @@ LoopResult closedLoop(Planner& planner, const Scenario& scenario, double time_li
 }
 
 // The `recovery:` section every shipped config file lists (the same keys and defaults as dwb.yaml).
-constexpr std::size_t kRecoveryKeys = 14;
+constexpr std::size_t kRecoveryKeys = 15;
 void expectDefaultRecovery(const RecoveryParams& file) {
   const RecoveryParams d;
   const double RecoveryParams::*doubles[] = {
@@ -72,7 +72,7 @@ void expectDefaultRecovery(const RecoveryParams& file) {
       &RecoveryParams::spin_speed,        &RecoveryParams::backup_distance,  &RecoveryParams::backup_speed,
       &RecoveryParams::wait_duration,     &RecoveryParams::time_allowance,   &RecoveryParams::impatience,
       &RecoveryParams::block_time,        &RecoveryParams::block_radius,     &RecoveryParams::block_lookahead,
-      &RecoveryParams::occupancy_memory};
+      &RecoveryParams::occupancy_memory,  &RecoveryParams::give_way_distance};
   for (auto m : doubles) EXPECT_EQ(file.*m, d.*m);
   EXPECT_EQ(file.enabled, d.enabled);
   EXPECT_EQ(std::size(doubles) + 1, kRecoveryKeys);
