@@ -35,6 +35,7 @@
 
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/scenario.hpp"
+#include "hunav/testing/frozen_people.hpp"
 #include "hunav/testing/temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -46,9 +47,7 @@ constexpr double kReachMargin = 0.1;      // m beyond the goal radius, (b)
 constexpr double kSampleRate = 10.0;      // Hz of simulation time at which states.csv is recorded
 const std::vector<std::string> kPlanners = {"dwb", "scl", "sfw"};
 constexpr int kSeeds = 5;
-constexpr double kFrozenTime = 20.0;     // s, (d)
-constexpr double kFrozenMove = 0.2;      // m, (d)
-constexpr double kFrozenFromGoal = 0.5;  // m beyond the goal radius, (d)
+constexpr double kFrozenTime = hunav::testing::kFrozenLimit;  // s, (d)
 
 struct MapScenario {
   std::string name;  // scenarios/<name>.yaml
@@ -188,36 +187,23 @@ void checkPenetration(const std::string& label, const hunav::Scenario& s, const 
 
 // (d): per person, the longest it stood frozen (see the top); a failure for each one frozen too long.
 void checkFrozen(const std::string& label, const hunav::Scenario& s, const std::vector<Row>& rows) {
-  struct Stand {
-    Row anchor, longest_from, longest_to;
-    double longest = 0.0;
-    bool started = false;
-  };
-  std::map<int, Stand> stands;
+  hunav::testing::FrozenPeople frozen;
   for (const Row& r : rows) {
     if (r.robot) continue;
-    Stand& st = stands[r.id];
-    if (!st.started) {
-      st.anchor = r;
-      st.started = true;
-    }
-    const bool far_from_goal =
-        !std::isnan(r.goal_x) && std::hypot(r.x - r.goal_x, r.y - r.goal_y) > r.goal_radius + kFrozenFromGoal;
-    const bool moved = std::hypot(r.x - st.anchor.x, r.y - st.anchor.y) > kFrozenMove;
-    if (moved || !far_from_goal || r.behavior_state != 0) st.anchor = r;
-    if (r.t - st.anchor.t > st.longest) {
-      st.longest = r.t - st.anchor.t;
-      st.longest_from = st.anchor;
-      st.longest_to = r;
-    }
+    const std::optional<hunav::Vec2> goal =
+        std::isnan(r.goal_x) ? std::nullopt : std::optional<hunav::Vec2>(hunav::Vec2(r.goal_x, r.goal_y));
+    frozen.add(r.t, r.id, hunav::Vec2(r.x, r.y), r.behavior_state, goal, r.goal_radius);
   }
-  for (const auto& [id, st] : stands)
-    EXPECT_LT(st.longest, kFrozenTime) << label << ": " << bodyName(s, st.longest_from) << " stood frozen for "
-                                       << fmt(st.longest, 1) << " s from t = " << fmt(st.longest_from.t, 1) << " s at "
-                                       << where(st.longest_from) << ", "
-                                       << fmt(std::hypot(st.longest_to.x - st.longest_to.goal_x,
-                                                         st.longest_to.y - st.longest_to.goal_y))
-                                       << " m from its goal, not reacting to the robot";
+  for (const auto& [id, spell] : frozen.longest()) {
+    Row who;
+    who.id = id;
+    who.x = spell.at.x();
+    who.y = spell.at.y();
+    EXPECT_LT(spell.seconds, kFrozenTime)
+        << label << ": " << bodyName(s, who) << " stood frozen for " << fmt(spell.seconds, 1)
+        << " s from t = " << fmt(spell.from, 1) << " s at " << where(who) << ", "
+        << fmt(spell.goal ? (spell.end - *spell.goal).norm() : NAN) << " m from its goal, not reacting to the robot";
+  }
 }
 
 // (b): for each regular person, the goals of its route it has not reached in `rows`. A goal counts
