@@ -3,7 +3,8 @@
 // runs, robot-person collisions and people frozen 20 s or more, and the failures by cause
 // (docs/performance.md, "Generated scenarios"). Run it with nice: 200 scenarios x 3 planners take
 // tens of CPU minutes.
-//   bench_generated [--seed 1] [--count 200] [--size 10,40] [--planners dwb,scl,sfw] [--jobs 1] --out DIR
+//   bench_generated [--seed 1] [--count 200] [--size 10,40] [--time-factor 3] [--planners dwb,scl,sfw]
+//                   [--planner-config FILE] [--jobs 1] --out DIR
 // Writes DIR/scenarios/ (the scenarios), DIR/runs/ (each run's results), DIR/runs.csv (one row per
 // run) and DIR/summary.md (the table and the failures), and prints the summary. SIGINT/SIGTERM:
 // no new run starts, the running ones end at once, and the summary covers the scenarios whose runs
@@ -32,7 +33,9 @@ struct Options {
   long long seed = 1;
   long long count = 200;
   std::vector<double> size = {10.0, 40.0};
+  double time_factor = 3.0;
   std::vector<std::string> planners = {"dwb", "scl", "sfw"};
+  std::string planner_config;
   int jobs = 1;
   std::string out;
 };
@@ -41,6 +44,7 @@ int runBench(const Options& o) {
   hunav::generator::GeneratorOptions g;
   g.min_size = o.size.front();
   g.max_size = o.size.back();
+  g.time_factor = o.time_factor;
   const fs::path out(o.out);
   const std::atomic<bool>& stop = hunav::installStopSignals();
   // The scenarios first (each written once), then every (scenario, planner) run on the jobs.
@@ -62,8 +66,8 @@ int runBench(const Options& o) {
     for (std::size_t k; !stop && (k = next++) < total;) {
       const auto& scenario = scenarios[k / o.planners.size()];
       const std::string& planner = o.planners[k % o.planners.size()];
-      runs[k] =
-          hunav::testing::runGenerated(scenario, planner, out / "runs" / (scenario.name + "_" + planner), 10.0, &stop);
+      runs[k] = hunav::testing::runGenerated(scenario, planner, out / "runs" / (scenario.name + "_" + planner), 10.0,
+                                             &stop, o.planner_config);
       const std::lock_guard<std::mutex> lock(print);
       std::cerr << "[" << ++done << "/" << total << "] " << scenario.name << " " << planner << ": " << runs[k].status
                 << " at " << runs[k].sim_time << " s (" << runs[k].wall_time << " s wall)\n";
@@ -115,7 +119,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--count", o.count, "scenarios")->check(hunav::cli::positiveInteger())->capture_default_str();
   app.add_option("--size", o.size, "MIN,MAX side of the maps (m)")->delimiter(',')->expected(1, 2);
+  app.add_option("--time-factor", o.time_factor, "time_limit = 30 s + F x route / top speed (hunav_generate's)")
+      ->capture_default_str();
   app.add_option("--planners", o.planners, "comma-separated")->delimiter(',');
+  app.add_option("--planner-config", o.planner_config, "YAML parameters for every planner (default: theirs)")
+      ->check(CLI::ExistingFile);
   app.add_option("--jobs", o.jobs, "runs at once")->check(CLI::Range(1, 64))->capture_default_str();
   app.add_option("-o,--out", o.out, "the folder for the scenarios, the runs and the summary")->required();
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;

@@ -23,11 +23,13 @@ std::string fixed(double v, int decimals) {
 }  // namespace
 
 GeneratedRun runGenerated(const generator::GeneratedScenario& scenario, const std::string& planner,
-                          const std::filesystem::path& out, double sample_rate, const std::atomic<bool>* stop) {
+                          const std::filesystem::path& out, double sample_rate, const std::atomic<bool>* stop,
+                          const std::string& planner_config) {
   Scenario s = loadScenario(scenario.scenario_file.string());
   s.evaluation_sample_rate = sample_rate;
   runner::RunOptions o;
   o.planner = planner;
+  o.planner_config = planner_config;
   o.out_dir = out.string();
   o.per_tick_files = false;
   o.stop = stop;

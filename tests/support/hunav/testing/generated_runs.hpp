@@ -31,11 +31,12 @@ struct GeneratedRun {
 };
 
 // Runs the generated scenario `scenario` (its file and the generator's report) with `planner`,
-// results (states.csv at `sample_rate` Hz) into `out`. `stop` (optional): set, the episode ends
-// at once with status `interrupted` (a run that does not count).
+// results (states.csv at `sample_rate` Hz) into `out`, the planner configured by the YAML file
+// `planner_config` (empty: its defaults). `stop` (optional): set, the episode ends at once with
+// status `interrupted` (a run that does not count).
 GeneratedRun runGenerated(const generator::GeneratedScenario& scenario, const std::string& planner,
                           const std::filesystem::path& out, double sample_rate = 10.0,
-                          const std::atomic<bool>* stop = nullptr);
+                          const std::atomic<bool>* stop = nullptr, const std::string& planner_config = "");
 
 // Per planner: runs, reached (%), mean and maximum time to the goal of those that reached it, stuck,
 // time_limit, runs with a robot-person collision (and their count), runs with someone frozen 20 s
