@@ -103,7 +103,9 @@ robot_observation_t standingAt(const Scenario& s, const Vec2& p, double t, doubl
 // the sequence again.
 TEST(Recovery, BoxedInTheRobotClearsThenSpinsThenBacksUpThenWaitsThenReroutesThenGivesWayInTurn) {
   const Scenario s = boxedIn();
-  DwbPlanner planner(s);
+  DwbParams params;
+  params.recovery.give_way_distance = 1.5;  // give way on (off by default)
+  DwbPlanner planner(s, params);
   const RecoveryParams& p = planner.params().recovery;
   MiniWorld world(s);
   const std::vector<Episode> e = runRecoveries(planner, world, 45.0);
@@ -211,7 +213,9 @@ TEST(Recovery, BacksUpOnlyWhenTheRobotMayReverseAndReroutesOrGivesWayOnlyWhenCon
 TEST(Recovery, GiveWayDrivesBackAlongTheTrailAndStandsThere) {
   Scenario s = boxedIn(0.0);
   s.robot.limits.min_v = 0.0;  // no back-up: the wait, the reroute, then give way
-  DwbPlanner planner(s);
+  DwbParams params;
+  params.recovery.give_way_distance = 1.5;  // on (off by default)
+  DwbPlanner planner(s, params);
   const RecoveryParams& p = planner.params().recovery;
   MiniWorld world(s);
   const std::vector<Episode> e = runRecoveries(planner, world, 90.0);
