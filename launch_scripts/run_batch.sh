@@ -535,10 +535,12 @@ command -v parallel >/dev/null 2>&1 || die "GNU parallel is missing (package par
 need_bin hunav_summary
 [ -n "$jobs" ] || jobs=$(nproc 2>/dev/null || echo 2)
 
-mkdir -p "$out/runs" || die "cannot create the batch folder '$out'"
+mkdir -p "$out" || die "cannot create the batch folder '$out'"
 out=$(cd "$out" && pwd)
-# One batch per folder at a time (two would run the same runs into the same folders).
+# One batch per folder at a time (two would run the same runs into the same folders): locked before
+# anything is written into it.
 lock_folder "$out"
+mkdir -p "$out/runs" || die "cannot create the batch folder '$out/runs'"
 matrix >"$out/matrix.tsv"
 total=$(wc -l <"$out/matrix.tsv")
 # The matrix's run folders, and which are finished already.

@@ -4,7 +4,7 @@
 # nothing, a third reruns only the run whose results were removed, a fourth only the run marked
 # aborted, which the summary's statistics leave out, a fifth nothing after a run is marked stuck,
 # which they keep), then a batch without states.csv and per-tick files (the same metrics), then bad
-# arguments.
+# arguments, then a folder another run holds.
 # Expects REPO and BIN (ctest sets them).
 set -euo pipefail
 export HUNAV_BIN_DIR="$BIN"
@@ -144,4 +144,18 @@ for bad in "--planners xyz" "--seeds 3-1" "--scenarios nowhere" "--jobs 0" "--mo
   grep -q 'run_batch: error:' "$WORK/bad.err" || fail "'$bad' printed no error"
 done
 [ ! -e "$WORK/bad" ] || fail "a rejected batch created its folder"
+
+# A results folder another live run or batch holds (its flock, taken here as a run would) is refused:
+# exit 2 with a message, nothing run, nothing of the holder's touched.
+held="$WORK/held"
+mkdir -p "$held"
+echo "the holder's" >"$held/marker"
+exec {holder_fd}<"$held"
+flock -n "$holder_fd" || fail "could not take the lock of $held"
+rc=0
+"$BATCH" --scenarios passing --planners dwb --seeds 1 --duration 5 --out "$held" >/dev/null 2>"$WORK/held.err" || rc=$?
+[ "$rc" -eq 2 ] || { cat "$WORK/held.err"; fail "a batch into a held folder exited $rc, expected 2"; }
+grep -q 'another run is writing into' "$WORK/held.err" || { cat "$WORK/held.err"; fail "no message naming the held folder"; }
+[ ! -e "$held/runs" ] && [ "$(cat "$held/marker")" = "the holder's" ] || fail "the refused batch wrote into $held"
+exec {holder_fd}<&-
 echo "PASS run_batch_small"
