@@ -587,6 +587,7 @@ void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel
   m.route_resolution = yr.get<double>(people, "route_resolution", "people", m.route_resolution);
   if (!(m.route_resolution >= 0.02 && m.route_resolution <= 1.0))
     yr.fail(people["route_resolution"], "people.route_resolution", "must be in [0.02, 1] m");
+  m.give_way = yr.get<bool>(people, "give_way", "people", m.give_way);
 }
 
 // `expect:` (scenarios/README.md): metric name -> a number or true/false (equality) or {min, max}, and

@@ -8,6 +8,7 @@
 
 #include "bt_social.hpp"
 #include "hunav/bus.hpp"  // BadMessage
+#include "people_give_way.hpp"
 #include "people_routes.hpp"
 #include "people_social.hpp"
 
@@ -241,6 +242,18 @@ void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal, cons
   c.memory.moved = true;
 }
 
+void regularMove(TickContext& c, RobotAs robot) {
+  if (c.snap.give_way && c.snap.routes != nullptr && !c.memory.stopped && !c.out.goals.empty()) {
+    const Vec2 goal(c.out.goals.front().x, c.out.goals.front().y);
+    if (const std::optional<Vec2> refuge = giveWayTarget(c, goal, c.in.goal_radius)) {
+      // Stepping back or waiting: the robot counts as a person, so the person keeps clear of it.
+      sfmMove(c, robot == RobotAs::Ignored ? robot : RobotAs::Person, c.in.desired_speed, &*refuge, Vec2::Zero(), 0.1);
+      return;
+    }
+  }
+  sfmMove(c, robot, c.in.desired_speed);
+}
+
 void turnToward(TickContext& c, const Vec2& target, double max_step) {
   const Vec2 d = target - Vec2(c.out.x, c.out.y);
   if (d.squaredNorm() == 0.0) return;
@@ -286,6 +299,7 @@ void AgentManager::setTreeFolder(const std::string& folder) {
 
 void AgentManager::useScenario(const Scenario& scenario) {
   obstacle_points_ = scenario.people_model.obstacle_points;
+  give_way_ = scenario.people_model.give_way;
   routes_.reset();
   if (scenario.people_model.navigation == PeopleNavigation::Path && !scenario.shapes.empty() &&
       !scenario.agents.empty()) {
@@ -431,6 +445,7 @@ void AgentManager::takeSnapshot(const step_request_t& request) {
   snap.request = &request;
   snap.obstacle_points = obstacle_points_;
   snap.routes = routes_.get();
+  snap.give_way = give_way_;
   snap.agents.resize(request.agents.size());
   for (std::size_t i = 0; i < request.agents.size(); ++i) snap.agents[i] = bodyOf(request.agents[i]);
   // The memories first, on this thread (a new agent inserts into memory_); then each agent's tick

@@ -146,7 +146,7 @@ void registerHunavNodes(NodeLibrary& lib) {
             RobotAs as = RobotAs::Person;
             if (mode == kObstacle || (mode == kAuto && c.in.behavior == agent_state_t::BEH_IMPASSIVE))
               as = RobotAs::Obstacle;
-            sfmMove(c, as, c.in.desired_speed);
+            regularMove(c, as);
             c.out.behavior_state = agent_state_t::STATE_INACTIVE;
             return true;
           });

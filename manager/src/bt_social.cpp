@@ -81,7 +81,7 @@ void walkOn(TickContext& c) {
       c.out.num_goals = static_cast<int32_t>(c.out.goals.size());
     }
   }
-  sfmMove(c, RobotAs::Person, c.in.desired_speed);
+  regularMove(c, RobotAs::Person);
 }
 
 PortSpec num(const std::string& name, const std::string& def) {

@@ -335,10 +335,13 @@ TEST(Scenario, PeopleModelKeys) {
   EXPECT_EQ(d.people_model.obstacle_points, hunav::ObstaclePoints::Closest);
   EXPECT_EQ(d.people_model.navigation, hunav::PeopleNavigation::Path);
   EXPECT_DOUBLE_EQ(d.people_model.route_resolution, 0.1);
+  EXPECT_TRUE(d.people_model.give_way);
   EXPECT_EQ(d.stuck_timeout, 60.0);
   EXPECT_EQ(d.stuck_distance, 0.5);
   const hunav::Scenario m = loadScenario(writeFile(
-      "people_mean.yaml", people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n"));
+      "people_mean.yaml",
+      people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: false\n"));
+  EXPECT_FALSE(m.people_model.give_way);
   EXPECT_EQ(m.people_model.obstacle_points, hunav::ObstaclePoints::Mean);
   EXPECT_EQ(m.people_model.navigation, hunav::PeopleNavigation::Direct);
   EXPECT_DOUBLE_EQ(m.people_model.route_resolution, 0.05);
@@ -349,6 +352,7 @@ TEST(Scenario, PeopleModelKeys) {
   expectError("people_points.yaml", people + "  obstacle_points: all\n", 15, "people.obstacle_points");
   expectError("people_nav.yaml", people + "  navigation: astar\n", 15, "people.navigation");
   expectError("people_res.yaml", people + "  route_resolution: 0.001\n", 15, "people.route_resolution");
+  expectError("people_give_way.yaml", people + "  give_way: sometimes\n", 15, "people.give_way");
   expectError("stuck_neg.yaml", std::string(kMinimal) + "stuck_timeout: -1\n", 10, "stuck_timeout");
   expectError("stuck_dist.yaml", std::string(kMinimal) + "stuck_distance: 0\n", 10, "stuck_distance");
 }

@@ -108,6 +108,7 @@ class AgentManager {
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
   std::shared_ptr<const RouteMap> routes_;
+  bool give_way_ = false;  // people.give_way
   // The scenario's file: agent_state_t.behavior_tree is relative to its folder (useScenario).
   std::string scenario_file_;
   std::string tree_folder_;  // setTreeFolder, normalised; empty: none

@@ -58,6 +58,9 @@ struct StepSnapshot {
   // straight at goals).
   ObstaclePoints obstacle_points = ObstaclePoints::Each;
   const RouteMap* routes = nullptr;
+  // people.give_way: a person held still face to face in a passage steps back to let the other by
+  // (RegularNav; needs routes).
+  bool give_way = false;
   // The social state of the previous step, by id (empty when no tree uses a social node), and the
   // scenario's HuNavSim 2 global goals (goal_id ports).
   const std::vector<PersonSocial>* social = nullptr;
@@ -84,6 +87,23 @@ ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_
 ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                        bool robot_as_obstacle);
 
+// Giving way (people.give_way; people_give_way.cpp): a person's recent trail, how long it has made no
+// progress, and, while it gives way, the place it steps back to and whom it waits for.
+struct GiveWayMemory {
+  static constexpr int kTrailPoints = 64;  // a point every kTrailStep m: the last ~13 m walked
+  std::array<Vec2, kTrailPoints> trail{};  // a ring, newest at (trail_head - 1)
+  int trail_head = 0, trail_size = 0;
+  bool has_anchor = false;  // where the person last made progress, and when
+  Vec2 anchor = Vec2::Zero();
+  std::int64_t anchor_utime = 0;
+  std::int64_t next_check_utime = 0;  // no place to step back to was found: look again then
+  enum class Phase { Walking, SteppingBack, Waiting } phase = Phase::Walking;
+  Vec2 refuge = Vec2::Zero();  // where it steps back to
+  int blocker = 0;             // the id of the person it gives way to (blocker_is_robot: the robot)
+  bool blocker_is_robot = false;
+  std::int64_t phase_utime = 0;  // when the phase began
+};
+
 // Per-agent memory of the manager (besides the tree's own node memory).
 struct AgentMemory {
   int id = 0;
@@ -104,6 +124,7 @@ struct AgentMemory {
   Vec2 route_target = Vec2::Zero();
   Vec2 route_waypoint = Vec2::Zero();
   std::int64_t route_until_utime = 0;
+  GiveWayMemory give_way;
 };
 
 // What a node sees while ticking one agent.
@@ -123,6 +144,8 @@ struct TickContext {
 // given) at `speed`, adding `extra` to the force. Shared by RegularNav and the reactions.
 void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal = nullptr, const Vec2& extra = Vec2::Zero(),
              double goal_radius = -1.0);
+// Regular navigation toward the front goal: sfmMove, except while the person gives way (give_way).
+void regularMove(TickContext& c, RobotAs robot);
 // Turns out.yaw toward `target` by at most kTurnRate*dt (stops exactly on it, no dithering).
 void turnToward(TickContext& c, const Vec2& target, double max_step);
 

@@ -1,0 +1,158 @@
+#include "people_give_way.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "people_routes.hpp"
+
+namespace hunav::manager {
+
+namespace {
+
+constexpr std::int64_t seconds(double s) { return static_cast<std::int64_t>(s * 1e6); }
+
+// Who stands in the way: the nearest body (a person or the robot) within kBlockGap of the person's
+// body, on the side it walks to.
+struct Blocker {
+  bool found = false;
+  bool is_robot = false;
+  int id = 0;
+  Vec2 position = Vec2::Zero();
+  double radius = 0.0;
+};
+
+Blocker blockerAhead(const TickContext& c, const Vec2& here, const Vec2& heading) {
+  Blocker best;
+  double best_gap = kBlockGap;
+  auto consider = [&](const SfmBody& b, bool is_robot) {
+    const Vec2 d = b.position - here;
+    const double gap = d.norm() - b.radius - c.in.radius;
+    if (gap >= best_gap || d.dot(heading) <= 0.0) return;
+    best_gap = gap;
+    best = Blocker{true, is_robot, b.id, b.position, b.radius};
+  };
+  for (std::size_t j = 0; j < c.snap.agents.size(); ++j)
+    if (j != c.index) consider(c.snap.agents[j], false);
+  if (c.snap.robotState() != nullptr) consider(c.snap.robot, true);
+  return best;
+}
+
+// Where the blocker is now (nullopt: it left the world).
+std::optional<Vec2> blockerPosition(const TickContext& c, const GiveWayMemory& g) {
+  if (g.blocker_is_robot) {
+    if (c.snap.robotState() == nullptr) return std::nullopt;
+    return c.snap.robot.position;
+  }
+  const int j = c.snap.indexOf(g.blocker);
+  if (j < 0) return std::nullopt;
+  return c.snap.agents[static_cast<std::size_t>(j)].position;
+}
+
+// The first place back along the trail where the person can stand beside its trail with room for a
+// body of radius `other` to pass between it and the trail's far side: a trail point p, moved sideways
+// by the person's radius + other + kPassGap, where the person fits, reachable in a straight line from
+// p, and free of the other people. nullopt: none on the trail.
+std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, double other) {
+  const RouteMap& routes = *c.snap.routes;
+  const double r = c.in.radius;
+  const double aside = r + other + kPassGap;
+  auto at = [&](int back) {  // back = 0: the newest point
+    return g.trail[static_cast<std::size_t>((g.trail_head - 1 - back + 2 * GiveWayMemory::kTrailPoints) %
+                                            GiveWayMemory::kTrailPoints)];
+  };
+  auto freeOfPeople = [&](const Vec2& spot) {
+    for (std::size_t j = 0; j < c.snap.agents.size(); ++j) {
+      if (j == c.index) continue;
+      const SfmBody& b = c.snap.agents[j];
+      if ((b.position - spot).norm() < b.radius + r + kPassGap) return false;
+    }
+    return true;
+  };
+  for (int k = 1; k < g.trail_size; ++k) {
+    const Vec2 p = at(k), newer = at(k - 1);
+    const Vec2 along = newer - p;
+    if (along.norm() <= 0.0) continue;
+    const Vec2 normal = Vec2(-along.y(), along.x()) / along.norm();
+    // The other walks along the trail: p must leave it room there.
+    if (routes.clearance(p) < other) continue;
+    for (const double side : {1.0, -1.0}) {
+      const Vec2 spot = p + side * aside * normal;
+      if (routes.clearance(spot) >= r && routes.clearLine(p, spot, r) && freeOfPeople(spot)) return spot;
+    }
+  }
+  return std::nullopt;
+}
+
+void remember(GiveWayMemory& g, const Vec2& here) {
+  if (g.trail_size > 0) {
+    const Vec2& newest = g.trail[static_cast<std::size_t>((g.trail_head - 1 + GiveWayMemory::kTrailPoints) %
+                                                          GiveWayMemory::kTrailPoints)];
+    if ((here - newest).norm() < kTrailStep) return;
+  }
+  g.trail[static_cast<std::size_t>(g.trail_head)] = here;
+  g.trail_head = (g.trail_head + 1) % GiveWayMemory::kTrailPoints;
+  if (g.trail_size < GiveWayMemory::kTrailPoints) ++g.trail_size;
+}
+
+void walkOn(GiveWayMemory& g, const Vec2& here, std::int64_t now) {
+  g.phase = GiveWayMemory::Phase::Walking;
+  g.has_anchor = true;
+  g.anchor = here;
+  g.anchor_utime = now;
+}
+
+}  // namespace
+
+std::optional<Vec2> giveWayTarget(TickContext& c, const Vec2& goal, double goal_radius) {
+  GiveWayMemory& g = c.memory.give_way;
+  const Vec2 here(c.in.x, c.in.y);
+  const std::int64_t now = c.snap.request->utime;
+  // Where the person heads: its route's waypoint, or the goal in sight.
+  const Vec2 toward = c.memory.has_route && !c.memory.route_direct ? c.memory.route_waypoint : goal;
+  const Vec2 heading = toward - here;
+
+  switch (g.phase) {
+    case GiveWayMemory::Phase::Walking: {
+      remember(g, here);
+      const bool at_goal = (goal - here).norm() <= goal_radius + 0.5;
+      if (!g.has_anchor || at_goal || (here - g.anchor).norm() > kProgressMove || now < g.anchor_utime) {
+        walkOn(g, here, now);
+        return std::nullopt;
+      }
+      const std::int64_t still = now - g.anchor_utime;
+      if (still < seconds(kStuckSeconds) || now < g.next_check_utime) return std::nullopt;
+      const Blocker b = blockerAhead(c, here, heading);
+      if (!b.found) return std::nullopt;
+      // Between two people the higher id gives way; after twice as long either does.
+      if (!b.is_robot && b.id < c.in.id && still < seconds(2.0 * kStuckSeconds)) return std::nullopt;
+      const std::optional<Vec2> refuge = refugeOnTrail(c, g, b.radius);
+      if (!refuge) {
+        g.next_check_utime = now + seconds(1.0);
+        return std::nullopt;
+      }
+      g.phase = GiveWayMemory::Phase::SteppingBack;
+      g.refuge = *refuge;
+      g.blocker = b.id;
+      g.blocker_is_robot = b.is_robot;
+      g.phase_utime = now;
+      return g.refuge;
+    }
+    case GiveWayMemory::Phase::SteppingBack:
+      if ((here - g.refuge).norm() > 0.15 && now - g.phase_utime < seconds(kStepBackAtMostSeconds)) return g.refuge;
+      g.phase = GiveWayMemory::Phase::Waiting;
+      g.phase_utime = now;
+      return g.refuge;
+    case GiveWayMemory::Phase::Waiting: {
+      // Walk on once the other has passed (it is behind, on the side the person came from), has
+      // left, or after kWaitAtMostSeconds.
+      const std::optional<Vec2> other = blockerPosition(c, g);
+      const bool passed = !other || (*other - here).dot(heading) < 0.0 || (*other - here).norm() > 3.0;
+      if (!passed && now - g.phase_utime < seconds(kWaitAtMostSeconds)) return g.refuge;
+      walkOn(g, here, now);
+      return std::nullopt;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace hunav::manager
