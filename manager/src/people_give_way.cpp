@@ -24,10 +24,14 @@ struct Blocker {
 Blocker blockerAhead(const TickContext& c, const Vec2& here, const Vec2& heading) {
   Blocker best;
   double best_gap = kBlockGap;
+  const double len = heading.norm();
+  const Vec2 ahead = len > 0.0 ? Vec2(heading / len) : Vec2::Zero();
   auto consider = [&](const SfmBody& b, bool is_robot) {
     const Vec2 d = b.position - here;
     const double gap = d.norm() - b.radius - c.in.radius;
-    if (gap >= best_gap || d.dot(heading) <= 0.0) return;
+    if (gap >= best_gap || d.dot(ahead) <= 0.0) return;
+    // Somebody walking on the same way (a queue) is followed, not given way to.
+    if (b.velocity.dot(ahead) >= kProgressShare * c.in.desired_speed) return;
     best_gap = gap;
     best = Blocker{true, is_robot, b.id, b.position, b.radius};
   };
@@ -115,14 +119,24 @@ std::optional<Vec2> giveWayTarget(TickContext& c, const Vec2& goal, double goal_
     case GiveWayMemory::Phase::Walking: {
       remember(g, here);
       const bool at_goal = (goal - here).norm() <= goal_radius + 0.5;
-      if (!g.has_anchor || at_goal || (here - g.anchor).norm() > kProgressMove || now < g.anchor_utime) {
+      if (!g.has_anchor || at_goal || now < g.anchor_utime) {
         walkOn(g, here, now);
         return std::nullopt;
       }
+      // Held up: in the last kStuckSeconds (or longer, while it waits its turn) it covered less than
+      // kProgressShare of the way its desired speed would have taken it (at least kProgressMove).
       const std::int64_t still = now - g.anchor_utime;
       if (still < seconds(kStuckSeconds) || now < g.next_check_utime) return std::nullopt;
+      const double expected = kProgressShare * c.in.desired_speed * static_cast<double>(still) * 1e-6;
+      if ((here - g.anchor).norm() > std::max(kProgressMove, expected)) {
+        walkOn(g, here, now);  // it progresses: a fresh window
+        return std::nullopt;
+      }
       const Blocker b = blockerAhead(c, here, heading);
-      if (!b.found) return std::nullopt;
+      if (!b.found) {
+        walkOn(g, here, now);  // held up by something else (a wall, a crowd): a fresh window
+        return std::nullopt;
+      }
       // Between two people the higher id gives way; after twice as long either does.
       if (!b.is_robot && b.id < c.in.id && still < seconds(2.0 * kStuckSeconds)) return std::nullopt;
       const std::optional<Vec2> refuge = refugeOnTrail(c, g, b.radius);

@@ -2,8 +2,8 @@
 // Giving way (people.give_way). Two people face to face in a passage only one of them fits through,
 // or a person and the robot in a door, hold each other still: the social force of each pushes the
 // other back as hard as its goal pulls it on, and nobody moves for ever. People resolve it: one steps
-// back to where the other can pass and waits. Here a person that has made no progress for
-// kStuckSeconds while somebody stands right in its way does the same (manager/README.md, "Giving
+// back to where the other can pass and waits. Here a person held up for kStuckSeconds (a quarter of
+// its pace or less) while somebody stands right in its way does the same (manager/README.md, "Giving
 // way"): it walks back along its own recent trail to the first place with room beside the trail for
 // the other to pass, steps aside there, waits until the other has passed (or kWaitAtMostSeconds), and
 // walks on. Between two people the one with the higher id gives way (the other would keep pushing),
@@ -14,8 +14,11 @@
 
 namespace hunav::manager {
 
-inline constexpr double kStuckSeconds = 4.0;  // no progress this long before giving way
-inline constexpr double kProgressMove = 0.2;  // m; moving less than this is no progress
+inline constexpr double kStuckSeconds = 4.0;  // held up this long before giving way
+// Held up: it covered less than kProgressShare of the way its desired speed would have taken it (and
+// less than kProgressMove); someone ahead walking on the same way at that share is not in the way.
+inline constexpr double kProgressShare = 0.25;
+inline constexpr double kProgressMove = 0.2;  // m
 inline constexpr double kTrailStep = 0.2;     // m between trail points
 inline constexpr double kBlockGap = 0.5;      // m between bodies: the other stands in the way
 inline constexpr double kPassGap = 0.15;      // m the other keeps from the waiting person as it passes
