@@ -126,7 +126,9 @@ std::string scenarioText(const GeneratedScenario& g, std::uint64_t seed, const s
     << "  laser: {beams: 180, fov: 6.283185307, range_min: 0.05, range_max: 8.0, noise_std: 0.0}\n"
     << "  perception_range: 8.0\n  control_rate: 10.0\n";
   if (p.people.empty()) return s.str();
-  s << "\npeople:\n  hunav_loader:\n    ros__parameters:\n      agents: [";
+  // People held up face to face in a door or an aisle give way (manager/README.md, "Giving way"):
+  // the scenarios send people to and fro through the route's narrowest passages.
+  s << "\npeople:\n  give_way: true\n  hunav_loader:\n    ros__parameters:\n      agents: [";
   for (std::size_t i = 0; i < p.people.size(); ++i) s << (i ? ", " : "") << "agent" << i + 1;
   s << "]\n";
   for (std::size_t i = 0; i < p.people.size(); ++i) {

@@ -335,13 +335,13 @@ TEST(Scenario, PeopleModelKeys) {
   EXPECT_EQ(d.people_model.obstacle_points, hunav::ObstaclePoints::Closest);
   EXPECT_EQ(d.people_model.navigation, hunav::PeopleNavigation::Path);
   EXPECT_DOUBLE_EQ(d.people_model.route_resolution, 0.1);
-  EXPECT_TRUE(d.people_model.give_way);
+  EXPECT_FALSE(d.people_model.give_way);
   EXPECT_EQ(d.stuck_timeout, 60.0);
   EXPECT_EQ(d.stuck_distance, 0.5);
   const hunav::Scenario m = loadScenario(writeFile(
       "people_mean.yaml",
-      people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: false\n"));
-  EXPECT_FALSE(m.people_model.give_way);
+      people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: true\n"));
+  EXPECT_TRUE(m.people_model.give_way);
   EXPECT_EQ(m.people_model.obstacle_points, hunav::ObstaclePoints::Mean);
   EXPECT_EQ(m.people_model.navigation, hunav::PeopleNavigation::Direct);
   EXPECT_DOUBLE_EQ(m.people_model.route_resolution, 0.05);

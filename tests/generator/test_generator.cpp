@@ -72,7 +72,8 @@ void checkScenario(const GeneratedScenario& g, double robot_radius) {
   EXPECT_GE(g.route_length, 4.0);
   EXPECT_EQ(static_cast<int>(s.agents.size()), g.people);
   EXPECT_GE(s.time_limit, 30.0 + 3.0 * g.route_length / s.robot.limits.max_v);
-  EXPECT_GT(s.stuck_timeout, 0.0);  // none written: the default
+  EXPECT_GT(s.stuck_timeout, 0.0);       // none written: the default
+  EXPECT_TRUE(s.people_model.give_way);  // people held up in its passages step back
   for (const AgentConfig& a : s.agents) {
     EXPECT_GE(clearance(s, a.position), a.radius + 0.1) << a.name;
     EXPECT_GE((a.position - s.robot.start).norm(), 2.0 - 1e-9) << a.name;

@@ -110,7 +110,7 @@ struct PeopleModel {
   ObstaclePoints obstacle_points = ObstaclePoints::Closest;
   PeopleNavigation navigation = PeopleNavigation::Path;
   double route_resolution = 0.1;  // m, cell side of the people's route grid
-  bool give_way = true;           // a person held still face to face steps back (manager/README.md)
+  bool give_way = false;          // a person held still face to face steps back (manager/README.md)
 };
 
 // One condition of the scenario's `expect:` block (scenarios/README.md; docs/metrics.md,
