@@ -218,6 +218,7 @@ if [ -z "$seed_label" ]; then
 fi
 [ -n "$out" ] || out="$repo_root/results/${scenario_name}_${planner}_${seed_label}"
 
+need_bin hunav_expect  # reads run.json for the run's last line (and judges expect: in the other modes)
 if [ "$mode" = inprocess ]; then
   need_bin hunav_run
 else
@@ -455,11 +456,6 @@ supervise() {
   fi
 }
 
-# json_field FILE KEY: a scalar of a flat JSON file (enough for run.json's summary line).
-json_field() {
-  sed -n -E 's/.*"'"$2"'"[[:space:]]*:[[:space:]]*"?([^",}]*)"?.*/\1/p' "$1" | head -n 1
-}
-
 # ---------------------------------------------------------------------------------------------------
 # The run
 # ---------------------------------------------------------------------------------------------------
@@ -672,8 +668,13 @@ elif ! fresh "$out_dir/metrics.csv" && [ "$status_code" -eq 0 ]; then
   status_code=1
 fi
 if fresh "$out_dir/run.json"; then
-  reason=$(json_field "$out_dir/run.json" reason)
-  log "run: status $(json_field "$out_dir/run.json" status) (${reason}), sim_time $(json_field "$out_dir/run.json" sim_time) s, fingerprint $(json_field "$out_dir/run.json" fingerprint)"
+  # run.json read by a JSON parser (hunav_expect --get: one value a line), not by pattern.
+  status="" reason="" sim_time="" fingerprint=""
+  { IFS= read -r status && IFS= read -r reason && IFS= read -r sim_time && IFS= read -r fingerprint; } < <(
+    "$bin_dir/hunav_expect" --run-dir "$out_dir" --get status --get reason --get sim_time --get fingerprint ||
+      err "cannot read $out_dir/run.json"
+  ) || true
+  log "run: status ${status} (${reason}), sim_time ${sim_time} s, fingerprint ${fingerprint}"
   case "$reason" in
     "planner not ready"*)
       if [ -n "$planner_cmd" ]; then

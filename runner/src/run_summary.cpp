@@ -18,15 +18,23 @@ std::string formatRunLine(const std::string& run_id, const std::string& status, 
   return out.str();
 }
 
-std::string formatRunJsonSummary(const std::filesystem::path& run_json) {
-  const evaluator::RunInfo info = evaluator::readRunJson(run_json);
+namespace {
+
+nlohmann::json parseRunJson(const std::filesystem::path& run_json) {
   std::ifstream in(run_json);
-  nlohmann::json j;
+  if (!in) throw ConfigError(run_json.string(), 0, "", "cannot open the file");
   try {
-    j = nlohmann::json::parse(in);
+    return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     throw ConfigError(run_json.string(), 1, "", e.what());
   }
+}
+
+}  // namespace
+
+std::string formatRunJsonSummary(const std::filesystem::path& run_json) {
+  const evaluator::RunInfo info = evaluator::readRunJson(run_json);
+  const nlohmann::json j = parseRunJson(run_json);
   const auto found = j.find("metrics");
   if (found == j.end() || !found->is_object())
     throw ConfigError(run_json.string(), 1, "metrics", "expected an object name -> value");
@@ -49,6 +57,28 @@ std::string formatRunJsonSummary(const std::filesystem::path& run_json) {
   return formatRunLine(info.run_id, info.status, info.reason, info.sim_time, info.wall_time, info.ticks,
                        info.fingerprint) +
          (metrics.empty() ? std::string() : evaluator::formatMetricsTable(metrics));
+}
+
+std::vector<std::string> runJsonFields(const std::filesystem::path& run_json, const std::vector<std::string>& keys) {
+  const nlohmann::json j = parseRunJson(run_json);
+  if (!j.is_object()) throw ConfigError(run_json.string(), 1, "", "expected a JSON object");
+  std::vector<std::string> values;
+  for (const std::string& key : keys) {
+    const auto v = j.find(key);
+    if (v == j.end() || v->is_null()) {
+      values.emplace_back();
+    } else if (v->is_string()) {
+      const auto& text = v->get_ref<const std::string&>();
+      if (text.find_first_of("\r\n") != std::string::npos)
+        throw ConfigError(run_json.string(), 1, key, "a string with a line break cannot be printed as one line");
+      values.push_back(text);
+    } else if (v->is_primitive()) {
+      values.push_back(v->dump());  // shortest text that reads back as the same number
+    } else {
+      throw ConfigError(run_json.string(), 1, key, "expected a string, a number or true/false");
+    }
+  }
+  return values;
 }
 
 }  // namespace hunav::runner

@@ -3,6 +3,7 @@
 // run_experiment.sh's separate-process modes from the evaluator's run.json (hunav_expect --show).
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "hunav/evaluator/result_files.hpp"
 
@@ -16,5 +17,11 @@ std::string formatRunLine(const std::string& run_id, const std::string& status, 
 // The run line and the metrics table (evaluator::formatMetricsTable: units, 6 significant digits) of
 // a run folder's run.json; metrics in their profile's order. Throws ConfigError on a malformed file.
 std::string formatRunJsonSummary(const std::filesystem::path& run_json);
+
+// The top-level values `keys` of a run.json as text, for scripts (hunav_expect --get, one a line): a
+// string as it is, a number as the shortest text of its value, true/false, "" for a key the file
+// lacks (or null). Throws ConfigError on a malformed file, and for an object, an array or a string
+// with a line break (which one line cannot hold).
+std::vector<std::string> runJsonFields(const std::filesystem::path& run_json, const std::vector<std::string>& keys);
 
 }  // namespace hunav::runner
