@@ -27,10 +27,12 @@
 //
 // Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (given
 // a pool with a free lane, the per-sample work runs there; the calls below stay on the caller's):
-//   std::unique_ptr<hunav::Bus> bus = hunav::openBus(url);   // or an InProcessBus shared with others
-//   EvaluatorNode evaluator(bus, {out_dir, "default", "exp", 1});
-//   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
-//   std::cout << evaluator.lastResult()->formatTable();   // or formatMetricsTable(metrics)
+//   std::unique_ptr<hunav::Bus> bus = hunav::openBus(hunav::resolveLcmUrl(""));  // or a shared InProcessBus
+//   hunav::evaluator::EvaluatorOptions options;
+//   options.out_dir = "results/run1";
+//   hunav::evaluator::EvaluatorNode evaluator(*bus, options);
+//   while (!evaluator.finished()) bus->handleFor(std::chrono::milliseconds(100));
+//   std::cout << evaluator.lastResult()->formatTable();
 // On SIGINT or an error, call finishIncomplete() so that nothing recorded is lost.
 #include <chrono>
 #include <cstddef>
