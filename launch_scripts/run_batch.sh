@@ -581,7 +581,7 @@ if [ "$mode" = inprocess ]; then
   [ "$chunk_size" -le 10 ] || chunk_size=10
   export HUNAV_BATCH_TOTAL=$total
   # As many jobs as cores: a hunav_run's own threads (the evaluator's lane) would only add the CPU
-  # of their hand-offs (14% of an episode), so each runs on one thread (the same results).
+  # of their hand-offs (docs/performance.md, "Batches"), so each runs on one thread (the same results).
   cores=$(nproc 2>/dev/null || echo 1)
   export HUNAV_BATCH_SINGLE_THREAD=$((jobs >= cores ? 1 : 0))
   : >"$out/.chunks"

@@ -8,8 +8,8 @@
 #                        given with --shared-bus).
 # Inside the namespace the bus is the default one with channel_ports=1 (common/include/hunav/open_bus.hpp):
 # STEP_REQUEST and STEP_REPLY, sent every tick between the world and the manager only, travel on
-# ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (about a
-# quarter less CPU per tick, bench/bench_lockstep.sh). Every other channel, the planner's included, stays
+# ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (less CPU
+# per tick: docs/performance.md, "Bus backends"). Every other channel, the planner's included, stays
 # on 7667, where a user's planner, lcm-spy and lcm-logger find it. The evaluator listens on 7667 only.
 #
 # Every process this script starts is stopped when the run ends or the script is interrupted; on an

@@ -90,8 +90,8 @@ struct EvaluatorOptions {
   // row (docs/metrics.md). Empty: no counterfactual, the files exactly as without this option.
   RobotFreeRun robot_free_run;
   // Write states.csv (one row per entity per sample). Off: every other file and every metric exactly
-  // as with it, without formatting the rows (about a fifth of a small scenario's CPU: what a learning
-  // loop that never reads them saves); not with robot_free_run, which reads states.csv back.
+  // as with it, without formatting the rows (what a learning loop that never reads them saves:
+  // docs/performance.md, "Python"); not with robot_free_run, which reads states.csv back.
   bool states_csv = true;
   // Write the per-tick metric files (OutputOptions::per_tick_files); off: the same metrics.
   bool per_tick_files = true;
