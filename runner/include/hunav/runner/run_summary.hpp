@@ -24,4 +24,18 @@ std::string formatRunJsonSummary(const std::filesystem::path& run_json);
 // with a line break (which one line cannot hold).
 std::vector<std::string> runJsonFields(const std::filesystem::path& run_json, const std::vector<std::string>& keys);
 
+// What a batch needs to know of a run folder (run_batch.sh, through hunav_expect --states).
+struct RunFolderState {
+  bool finished = false;  // complete, ran to an end, metrics.csv written (and counterfactual.csv if asked)
+  bool complete = false;  // run.json's complete
+  std::string status, reason, sim_time;  // run.json's (sim_time as text); "" when absent
+  bool expect_failed = false;            // expect.json says a condition failed
+};
+// Reads run_dir's run.json and expect.json; a missing or unreadable file counts as absent (a run not
+// finished, nothing judged), never as an error: a batch goes on whatever one run left behind.
+RunFolderState readRunFolderState(const std::filesystem::path& run_dir, bool counterfactual);
+// "<run_dir>\t<finished 0|1>\t<status>\t<reason>\t<sim_time>\t<expect failed 0|1>\n", "-" for an absent
+// text, tabs and line breaks of a text as spaces.
+std::string formatRunFolderState(const std::filesystem::path& run_dir, const RunFolderState& state);
+
 }  // namespace hunav::runner
