@@ -125,28 +125,15 @@ finished() {
 
 # run_states RUN_DIR...: one line per folder, in the order given, tab-separated: the folder, 1 when
 # finished() holds for it (else 0), its run.json's status, reason and sim_time (- for none), and 1
-# when its expect.json has a failed condition. One awk for a whole chunk or batch: a grep per
-# question and per run was most of a batch's shell time.
+# when its expect.json has a failed condition. run.json and expect.json read by a JSON parser
+# (hunav_expect --states), one process for a whole chunk or batch: a grep per question and per run
+# was most of a batch's shell time.
 run_states() {
-  awk -v counterfactual="${HUNAV_BATCH_COUNTERFACTUAL:-0}" '
-    function nonempty(f,   line, r) { r = (getline line <f) > 0; close(f); return r }
-    function field(line, k,   m) { if (match(line, "\"" k "\"[[:space:]]*:[[:space:]]*\"?[^\",}]*")) { m = substr(line, RSTART, RLENGTH); sub(/^"[^"]*"[[:space:]]*:[[:space:]]*"?/, "", m); return m } return "" }
-    BEGIN {
-      for (i = 1; i < ARGC; i++) {
-        d = ARGV[i]; json = d "/run.json"; s = ""; r = ""; t = ""; complete = 0; ended = 0; failed = 0
-        while ((getline line <json) > 0) {
-          if (line ~ /"complete"[[:space:]]*:[[:space:]]*true/) complete = 1
-          if (line ~ /"status"[[:space:]]*:[[:space:]]*"(goal_reached|time_limit|stuck)"/) ended = 1
-          if (s == "") s = field(line, "status"); if (r == "") r = field(line, "reason"); if (t == "") t = field(line, "sim_time")
-        }
-        close(json)
-        expect = d "/expect.json"
-        while ((getline line <expect) > 0) if (line ~ /"passed"[[:space:]]*:[[:space:]]*false/) failed = 1
-        close(expect)
-        done = complete && ended && nonempty(d "/metrics.csv") && (counterfactual == 0 || nonempty(d "/counterfactual.csv"))
-        printf "%s\t%d\t%s\t%s\t%s\t%d\n", d, done, (s == "" ? "-" : s), (r == "" ? "-" : r), (t == "" ? "-" : t), failed
-      }
-    }' "$@"
+  [ "$#" -gt 0 ] || return 0
+  need_bin hunav_expect
+  local args=(--states "$@")
+  [ "${HUNAV_BATCH_COUNTERFACTUAL:-0}" -eq 0 ] || args+=(--counterfactual)
+  "$bin_dir/hunav_expect" "${args[@]}"
 }
 
 # judge_run RUN_DIR RC LOG: what became of a run that exited RC: sets `result` (the progress line's
@@ -581,7 +568,7 @@ if [ "$mode" = inprocess ]; then
   [ "$chunk_size" -le 10 ] || chunk_size=10
   export HUNAV_BATCH_TOTAL=$total
   # As many jobs as cores: a hunav_run's own threads (the evaluator's lane) would only add the CPU
-  # of their hand-offs (14% of an episode), so each runs on one thread (the same results).
+  # of their hand-offs (docs/performance.md, "Batches"), so each runs on one thread (the same results).
   cores=$(nproc 2>/dev/null || echo 1)
   export HUNAV_BATCH_SINGLE_THREAD=$((jobs >= cores ? 1 : 0))
   : >"$out/.chunks"

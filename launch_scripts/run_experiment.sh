@@ -6,10 +6,10 @@
 #   lockstep, realtime   evaluator, manager, planner and world as separate processes over LCM UDP
 #                        multicast, inside a private network namespace made for this run (or on the bus
 #                        given with --shared-bus).
-# Inside the namespace the bus is NETNS_URL with channel_ports=1 (common/include/hunav/open_bus.hpp):
+# Inside the namespace the bus is the default one with channel_ports=1 (common/include/hunav/open_bus.hpp):
 # STEP_REQUEST and STEP_REPLY, sent every tick between the world and the manager only, travel on
-# ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (about a
-# quarter less CPU per tick, bench/bench_lockstep.sh). Every other channel, the planner's included, stays
+# ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (less CPU
+# per tick: docs/performance.md, "Bus backends"). Every other channel, the planner's included, stays
 # on 7667, where a user's planner, lcm-spy and lcm-logger find it. The evaluator listens on 7667 only.
 #
 # Every process this script starts is stopped when the run ends or the script is interrupted; on an
@@ -19,8 +19,6 @@
 # $HUNAV_STOP_REASON_FILE and stops the run, so the evaluator (and the world) record it as `aborted`
 # with that reason (common/include/hunav/episode_status.hpp; README.md, "Statuses and exit codes").
 set -euo pipefail
-
-readonly NETNS_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1'
 
 prog=run_experiment
 # shellcheck source=launch_scripts/lib.sh
@@ -91,7 +89,8 @@ interrupted by SIGINT/SIGTERM [interrupted].
 Separate-process modes run inside a private network namespace (unshare --net as root, unshare -rn
 otherwise), so parallel runs cannot hear each other. The script prints the namespace's PID; watch the
 run with: launch_scripts/spy.sh --netns-pid PID. Process logs go to DIR/logs/<name>.log.
-In the namespace the bus is udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1:
+In the namespace the bus is the processes' default (build/bin/hunav_record --print-url) with
+&channel_ports=1:
 STEP_REQUEST and STEP_REPLY (world <-> manager, every tick) go to ports 7668 and 7669 of their own,
 every other channel (the planner's ROBOT_OBSERVATION/ROBOT_COMMAND included) to 7667, the port
 lcm-spy watches. --record records every port. (lcmtypes/README.md, docs/planner_contract.md)
@@ -218,12 +217,16 @@ if [ -z "$seed_label" ]; then
 fi
 [ -n "$out" ] || out="$repo_root/results/${scenario_name}_${planner}_${seed_label}"
 
+netns_url=""
+need_bin hunav_expect  # reads run.json for the run's last line (and judges expect: in the other modes)
 if [ "$mode" = inprocess ]; then
   need_bin hunav_run
 else
   for b in hunav_worldsim hunav_manager hunav_evaluator; do need_bin "$b"; done
   [ "$planner" = none ] || [ -n "$planner_cmd" ] || need_bin hunav_planner
   [ "$record" -eq 0 ] || need_bin hunav_record
+  # The bus inside the run's own namespace (not the user's $LCM_DEFAULT_URL, which is for the host).
+  [ -n "$shared_bus" ] || netns_url=$(with_url_option "$(default_lcm_url)" channel_ports=1)
 fi
 
 # ---------------------------------------------------------------------------------------------------
@@ -241,7 +244,7 @@ if [ "$view" -eq 1 ] && [ "$in_netns" -eq 0 ]; then
   mkdir -p "$out/logs" || die "cannot create the output folder '$out'"
   view_log="$out/logs/view.log"
   view_args=(--scenario "$scenario" --port "${HUNAV_VIEW_PORT:-0}" --no-editor)
-  if [ -n "$shared_bus" ]; then view_args+=(--lcm-url "$shared_bus"); else view_args+=(--lcm-url "$NETNS_URL" --netns-pid "$$"); fi
+  if [ -n "$shared_bus" ]; then view_args+=(--lcm-url "$shared_bus"); else view_args+=(--lcm-url "$netns_url" --netns-pid "$$"); fi
   setsid setpriv --pdeathsig TERM -- "$bin_dir/hunav_view" "${view_args[@]}" >"$view_log" 2>&1 </dev/null &
   view_url=""
   for _ in $(seq 100); do
@@ -455,11 +458,6 @@ supervise() {
   fi
 }
 
-# json_field FILE KEY: a scalar of a flat JSON file (enough for run.json's summary line).
-json_field() {
-  sed -n -E 's/.*"'"$2"'"[[:space:]]*:[[:space:]]*"?([^",}]*)"?.*/\1/p' "$1" | head -n 1
-}
-
 # ---------------------------------------------------------------------------------------------------
 # The run
 # ---------------------------------------------------------------------------------------------------
@@ -525,7 +523,7 @@ else
       log "  to keep it on this host: sudo ip route add 224.0.0.0/4 dev lo (and keep ttl=0 in the URL)"
     fi
   else
-    url=$NETNS_URL
+    url=$netns_url
     loopback_multicast || die "cannot set up loopback multicast in the run's network namespace"
     log "private network namespace: PID $$ holds it; watch this run with: launch_scripts/spy.sh --netns-pid $$"
     log "LCM bus inside it: $url"
@@ -672,8 +670,13 @@ elif ! fresh "$out_dir/metrics.csv" && [ "$status_code" -eq 0 ]; then
   status_code=1
 fi
 if fresh "$out_dir/run.json"; then
-  reason=$(json_field "$out_dir/run.json" reason)
-  log "run: status $(json_field "$out_dir/run.json" status) (${reason}), sim_time $(json_field "$out_dir/run.json" sim_time) s, fingerprint $(json_field "$out_dir/run.json" fingerprint)"
+  # run.json read by a JSON parser (hunav_expect --get: one value a line), not by pattern.
+  status="" reason="" sim_time="" fingerprint=""
+  { IFS= read -r status && IFS= read -r reason && IFS= read -r sim_time && IFS= read -r fingerprint; } < <(
+    "$bin_dir/hunav_expect" --run-dir "$out_dir" --get status --get reason --get sim_time --get fingerprint ||
+      err "cannot read $out_dir/run.json"
+  ) || true
+  log "run: status ${status} (${reason}), sim_time ${sim_time} s, fingerprint ${fingerprint}"
   case "$reason" in
     "planner not ready"*)
       if [ -n "$planner_cmd" ]; then

@@ -5,8 +5,6 @@
 # lcm.spy.Spy with java directly, with lcm.jar, jchart2d.jar and our generated types jar on the class path.
 set -euo pipefail
 
-readonly DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
-
 prog=spy.sh
 # shellcheck source=launch_scripts/lib.sh
 source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
@@ -17,7 +15,8 @@ Usage: launch_scripts/spy.sh [--lcm-url URL] [--netns-pid PID] [--step-channel C
 
 Opens lcm-spy on an LCM bus, decoding HuNav-LCM's messages.
 
-  --lcm-url URL     the bus (default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304)
+  --lcm-url URL     the bus (default: $LCM_DEFAULT_URL, else our processes' default bus, which
+                    build/bin/hunav_record --print-url prints)
   --netns-pid PID   join the private network namespace of a running experiment first; PID is the one
                     launch_scripts/run_experiment.sh prints ("private network namespace: PID ... holds it")
   --step-channel CHANNEL
@@ -36,7 +35,7 @@ Environment: HUNAV_TYPES_JAR (default <repo>/build/share/java/hunav_lcmtypes_jav
 EOF
 }
 
-url=${LCM_DEFAULT_URL:-$DEFAULT_URL}
+url=${LCM_DEFAULT_URL:-}
 netns_pid=""
 step_channel=""
 while [ "$#" -gt 0 ]; do
@@ -55,6 +54,7 @@ while [ "$#" -gt 0 ]; do
   shift $((1 + taken))
 done
 
+[ -n "$url" ] || url=$(default_lcm_url)
 # channel_ports=1 and receive=lcm are our options, unknown to lcm-spy: drop them.
 url=$(foreign_lcm_url "$url")
 if [ -n "$step_channel" ]; then

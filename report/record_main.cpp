@@ -26,10 +26,24 @@ int main(int argc, char** argv) {
       "Prints 'ready' once subscribed; SIGINT/SIGTERM stops it after writing what it has received. Replay "
       "the file with lcm-logplayer, or recompute its metrics with hunav_evaluator --log FILE."};
   std::string out, url, channels = ".*";
-  app.add_option("--out", out, "the log file to write (overwritten)")->required();
-  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else the hunav default bus)");
+  bool print_url = false;
+  auto* out_opt = app.add_option("--out", out, "the log file to write (overwritten); required");
+  app.add_option("--lcm-url", url,
+                 "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(hunav::kDefaultLcmUrl) + ")");
   app.add_option("--channels", channels, "channels to record (LCM regular expression)")->capture_default_str();
+  // The scripts ask for the default bus here rather than write it a second time (launch_scripts/lib.sh).
+  app.add_flag("--print-url", print_url,
+               "print the bus it would record (--lcm-url, else $LCM_DEFAULT_URL, else the default) and exit")
+      ->excludes(out_opt);
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
+  if (print_url) {
+    std::cout << hunav::resolveLcmUrl(url) << "\n";
+    return 0;
+  }
+  if (out.empty()) {
+    std::cerr << "hunav_record: --out is required (see --help)\n";
+    return hunav::kExitBadInput;
+  }
 
   return hunav::cli::run("hunav_record", [&] {
     const auto& stop = hunav::installStopSignals();

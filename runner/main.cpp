@@ -257,8 +257,8 @@ int run(Options& o) {
   o.run.stop = &hunav::installStopSignals();
   // The process's threads, for every episode of a series: a helper for large crowds, a lane for
   // the evaluator's per-sample work.
-  // With --single-thread none: the hand-offs to other threads cost CPU (14% of a combined episode's)
-  // that only pays when a core would otherwise be idle.
+  // With --single-thread none: the hand-offs to other threads cost CPU (docs/performance.md,
+  // "Batches") that only pays when a core would otherwise be idle.
   std::optional<hunav::ThreadPool> threads;
   if (!o.single_thread) threads.emplace(hunav::ThreadPool::forThisMachine(1));
   o.run.threads = threads ? &*threads : nullptr;

@@ -125,17 +125,11 @@ int run(const Options& o, const std::atomic<bool>& stop) {
     live_options.fps = o.fps;
     feed = std::make_unique<LiveFeed>(*bus, hub, scene, live_options);
   }
-  std::thread http([&server] { server.serve(); });
+  // The socket listens already (bind): a browser that connects now is answered once serving begins.
   std::cout << "ready" << std::endl;
-  while (!stop.load()) {
-    if (bus)
-      bus->handleFor(std::chrono::milliseconds(100));
-    else
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    if (o.netns_pid > 0 && !processAlive(static_cast<pid_t>(o.netns_pid))) break;  // the run is over
-  }
-  server.stop();
-  http.join();
+  serveUntilStopped(server, bus.get(), stop, [&o] {
+    return o.netns_pid == 0 || processAlive(static_cast<pid_t>(o.netns_pid));  // else the run is over
+  });
   if (feed)
     std::cerr << "hunav_view: " << feed->worldStates() << " world states received, " << feed->framesBuilt()
               << " frames sent\n";

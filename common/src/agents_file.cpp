@@ -1,4 +1,4 @@
-// HuNavSim's agents YAML (reference section 4): v1 (integer `behavior`) and v1.5 (`behavior:` mapping),
+// HuNavSim's agents YAML (scenarios/README.md, "people:"): v1 (integer `behavior`) and v1.5 (`behavior:` mapping),
 // plus our seeded people generator (`generate:`) for crowds.
 #include "hunav/agents_file.hpp"
 
@@ -41,7 +41,7 @@ int behaviorFromName(const std::string& s) {
   return 0;
 }
 
-// Defaults of the "default" configuration (reference section 3.4).
+// Defaults of the "default" configuration (HuNavSim 1.5's hunav_loader).
 BehaviorParams defaultParams(int behavior, double max_vel) {
   BehaviorParams p;
   switch (behavior) {
@@ -69,7 +69,7 @@ BehaviorParams defaultParams(int behavior, double max_vel) {
   return p;
 }
 
-// Random configurations (reference section 4.3), drawn from a generator seeded by the scenario seed
+// Random configurations (HuNavSim 1.5's hunav_loader), drawn from a generator seeded by the scenario seed
 // and the agent id so a scenario is reproducible.
 void drawRandomParams(BehaviorParams& p, int behavior, std::uint64_t seed, int id) {
   std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -98,7 +98,7 @@ void drawRandomParams(BehaviorParams& p, int behavior, std::uint64_t seed, int i
     if (behavior == 4) p.other_force_factor = uniform(10.0, 25.0);
     if (behavior == 6) p.dist = uniform(0.8, 1.9);
   }
-  // Clamps of the non-custom configurations (reference 4.3).
+  // Clamps of the non-custom configurations (as hunav_loader's).
   p.goal_force_factor = std::clamp(p.goal_force_factor, 2.0, 8.0);
   p.obstacle_force_factor = std::clamp(p.obstacle_force_factor, 2.0, 30.0);
   p.social_force_factor = std::clamp(p.social_force_factor, 2.1, 20.0);
@@ -130,7 +130,7 @@ int readConfiguration(const YamlReader& yr, const YAML::Node& beh, const std::st
   return c;
 }
 
-// HuNavSim 2's per-behaviour distance (reference 4.4), custom configuration: it is the `dist` of
+// HuNavSim 2's per-behaviour distance (its RViz panel's files), custom configuration: it is the `dist` of
 // that behaviour here. scared's safe_distance (the distance it keeps from the robot) becomes the
 // distance within which it runs away; another behaviour's key is an error, not silently dropped.
 void readV2Distance(const YamlReader& yr, const YAML::Node& beh, const std::string& bw, int behavior,

@@ -57,9 +57,10 @@ constexpr std::chrono::milliseconds kFlushRequestPeriod{100};
 // store: the mutex and the condition variables are taken only to sleep and to wake. The worker is woken
 // when the ring is half full (then it works until the ring is empty: while the producer keeps it
 // busy it never sleeps), or when someone waits for it (drain, flushIfDue, a full ring, stop): a
-// wake-up costs the waking thread ~20 us in a virtual machine (an inter-processor interrupt), so
-// the ring is long (up to kCapacity items, fewer for large crowds: kAgentBudget). The producer waits
-// only when the ring is full, until it is half empty; the worker never waits for the producer, so
+// wake-up costs the waking thread an inter-processor interrupt, dear in a virtual machine
+// (docs/performance.md, "Crowds"), so the ring is long (up to kCapacity items, fewer for large
+// crowds: kAgentBudget). The producer waits only when the ring is full, until it is half empty; the
+// worker never waits for the producer, so
 // this cannot deadlock.
 class EvaluatorNode::Worker {
  public:

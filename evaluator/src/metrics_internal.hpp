@@ -18,7 +18,7 @@ const SfmParams& modelSfmParams();
 // F_obs of `b` from the points of `pts` (obstacleForceFrom of social_force.hpp), summed (mean =
 // false) or averaged over the points (mean = true, lightsfm-2022 / HuNavSim v1). No point: 0.
 Vec2 obstacleForceOf(const SfmBody& b, const Slice<Vec2>& pts, const SfmParams& p, bool mean);
-// Per (sample, person) costs of HuNavSim v2 (reference section 5.3), documented in metrics_social.cpp.
+// Per (sample, person) costs of HuNavSim v2 (docs/metrics.md), documented in metrics_social.cpp.
 double dangerFearAt(const EntityState& robot, const EntityState& h);
 double dangerPanicAt(const EntityState& robot, const EntityState& h);
 double visibilityAt(const EntityState& robot, const EntityState& h);

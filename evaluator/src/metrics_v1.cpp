@@ -57,7 +57,7 @@ struct Completed : FinalGoal {
   double value() const { return flag(has_goal && (last_position - goal).norm() - kV1GoalRadius < 0.0); }
 };
 
-// [count] Collision counts (reference 5.2, items 16-17): every (sample, person) pair with surface
+// [count] Collision counts (HuNavSim v1's, docs/metrics.md): every (sample, person) pair with surface
 // distance < 0.02 m; alpha = bearing of the robot in the person's frame, alpha2 = atan2(x, y)
 // (arguments swapped) of the person in the robot's frame; |alpha| < |alpha2| and v_r != v_a: robot
 // on person; |alpha| > |alpha2| and v_r != v_a: person on robot; |alpha| == |alpha2| and

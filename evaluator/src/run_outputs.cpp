@@ -171,7 +171,7 @@ class StepsFile {
   fmt::memory_buffer buffer_;
 };
 
-// HuNavSim v1 summary .txt (reference 6.1): header "experiment_tag\t" + names each followed by a
+// HuNavSim v1 summary .txt (docs/metrics.md, "Files"): header "experiment_tag\t" + names each followed by a
 // tab when the file is new; then the row, booleans True/False.
 void appendTxtSummary(const fs::path& file, const std::string& tag, const std::vector<MetricValue>& metrics) {
   const bool fresh = !fs::exists(file) || fs::file_size(file) == 0;

@@ -1,12 +1,12 @@
 #pragma once
 // Every result file of one run, written the same way by the live evaluator and the offline one (so
 // that both produce the same files from the same samples):
-//   <out_dir>/metrics.csv                  one row per run (appended; results.hpp)
+//   <out_dir>/metrics.csv                  one row per run (appended; hunav/results/metrics_csv.hpp)
 //   <out_dir>/metrics_beh_<b>.csv          one row per run, people of behavior b only (appended)
 //   <run_dir>/metrics_steps.csv            per tick: t, then each metric's per-tick column
 //   <run_dir>/metrics_beh_<b>_steps.csv    per tick, people of behavior b only, + behavior_active
-//   <run_dir>/run.json                     provenance and the metric values (results.hpp)
-// and, with hunav_txt, HuNavSim v1's tab-separated layout (reference section 6.1) in <out_dir>:
+//   <run_dir>/run.json                     provenance and the metric values (hunav/results/run_json.hpp)
+// and, with hunav_txt, HuNavSim v1's tab-separated layout (docs/metrics.md, "Files") in <out_dir>:
 //   metrics.txt, metrics_steps_<tag>.txt, metrics_beh_<b>.txt, metrics_beh_<b>_steps_<tag>.txt.
 // One pair of behavior files per behavior code 1..6 present in at least one sample.
 //

@@ -37,7 +37,7 @@ ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_sta
 
   for (const point2d_t& o : a.obstacles) f.obstacle += obstacleForceFrom(me, Vec2(o.x, o.y), p);
   if (robot == RobotAs::Obstacle) f.obstacle += obstacleForceFrom(me, snap.robot.position, p);
-  // lightsfm 2022 averages every point, the robot's too (hunav_reference.md 1.4 and 2.5).
+  // lightsfm 2022 averages every point, the robot's too (manager/README.md, "Obstacle points").
   const std::size_t points = a.obstacles.size() + (robot == RobotAs::Obstacle ? 1 : 0);
   if (snap.obstacle_points == ObstaclePoints::Mean && points > 1) f.obstacle /= static_cast<double>(points);
 

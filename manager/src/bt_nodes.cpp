@@ -175,7 +175,7 @@ void registerHunavNodes(NodeLibrary& lib) {
     return true;
   });
   // ScaredNav(runaway_vel, scary_force_factor): regular navigation at runaway_vel (robot excluded)
-  // plus K * sigma_o / d_eff away from the robot (reference 3.3).
+  // plus K * sigma_o / d_eff away from the robot (HuNavSim 1's scared reaction; manager/README.md).
   addLeaf(lib, "ScaredNav", {num("runaway_vel", "0.6"), num("scary_force_factor", "20.0")},
           [](auto& n, TickContext& c) {
             if (noRobot(c)) return false;

@@ -1,4 +1,4 @@
-// HuNavSim 2.0's node library (hunav_reference.md 3.5; manager/README.md, "Behavior trees"): the nodes
+// HuNavSim 2.0's node library (manager/README.md, "The node library"): the nodes
 // beyond HuNavSim 1's. Each node moves only the person whose tree it is (the original's group and
 // conversation nodes move every member from the main person's tree; here every member runs the node
 // in its own tree, and all of them compute the same formation from the same snapshot). Durations count

@@ -377,8 +377,8 @@ struct LaterPairs {
   }
 };
 
-// Below this many people one thread is faster than handing work over (measured: a hand-over costs
-// a few microseconds; 1000 people take ~1 ms on one thread).
+// Below this many people one thread is faster than handing work over (a hand-over's cost against the
+// pair forces' per person: docs/performance.md, "Crowds").
 constexpr std::size_t kMinBodiesForHelpers = 256;
 
 // The caller's share of the cells: up to the first cell past `own_share` of the candidate pairs the

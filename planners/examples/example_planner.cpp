@@ -1,6 +1,6 @@
 // example_planner: the minimal external planner (example_planner.hpp) as a process.
 // Usage: example_planner [LCM_URL] [EPISODES]
-//   LCM_URL  default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0
+//   LCM_URL  default: LCM's own ($LCM_DEFAULT_URL, else liblcm's default: the group and port of ours)
 //   EPISODES exit 0 after this many EPISODE_EVENT END events (default 0: run until killed)
 #include "example_planner.hpp"
 
@@ -13,7 +13,7 @@
 namespace {
 const char* const kUsage =
     "usage: example_planner [LCM_URL] [EPISODES]\n"
-    "  LCM_URL   e.g. udpm://239.255.76.67:7667?ttl=0 (default: $LCM_DEFAULT_URL, else that one)\n"
+    "  LCM_URL   e.g. udpm://239.255.76.67:7667?ttl=0 (default: $LCM_DEFAULT_URL, else liblcm's default)\n"
     "  EPISODES  exit 0 after this many episodes ended (default 0: run until killed)\n"
     "Answers every ROBOT_OBSERVATION with a ROBOT_COMMAND: drive to the goal, stop when the laser\n"
     "sees something close ahead. Once subscribed prints \"ready\" and publishes PLANNER_READY every 0.5 s.\n";
@@ -37,11 +37,12 @@ int main(int argc, char** argv) {
   if (argc > 2 && (*end != '\0' || end == argv[2] || episodes < 0))
     return usageError("EPISODES must be a whole number >= 0", argv[2]);
 
-  const char* env = std::getenv("LCM_DEFAULT_URL");
-  const std::string url = argc > 1 ? argv[1] : (env != nullptr ? env : "udpm://239.255.76.67:7667?ttl=0");
+  // No URL: liblcm reads $LCM_DEFAULT_URL, else uses its default (the multicast group and port ours
+  // use), so a plain LCM program needs no copy of hunav's default.
+  const std::string url = argc > 1 ? argv[1] : "";
   lcm::LCM lcm(url);
   if (!lcm.good()) {
-    std::fprintf(stderr, "example_planner: cannot open LCM at %s\n", url.c_str());
+    std::fprintf(stderr, "example_planner: cannot open LCM at %s\n", url.empty() ? "the default URL" : url.c_str());
     return 1;
   }
   example::GoToGoalPlanner planner(lcm);

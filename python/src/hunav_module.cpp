@@ -160,8 +160,9 @@ fs::path makeTempDir() {
 
 // hunav.gym's observation of one world (python/hunav/gym.py): robot [v, w]; goal relative to the
 // robot in its frame (x ahead, y left); the scan clipped to [0, range_max]; the perceived people
-// nearest first as [dx, dy, vx, vy, radius, 1] in the robot frame, then rows of 0. Done here: the
-// same arithmetic in numpy on arrays of a few elements took ~50 us a step. `order` is the caller's
+// nearest first as [dx, dy, vx, vy, radius, 1] in the robot frame, then rows of 0. Done here: numpy's
+// cost per call dwarfs the arithmetic on arrays of a few elements (docs/performance.md, "Python").
+// `order` is the caller's
 // scratch (kept between steps, so that sorting the people allocates nothing).
 using NearestFirst = std::vector<std::pair<double, std::size_t>>;
 void robotFrame(const hunav::robot_observation_t& o, std::size_t max_people, float range_max, float* robot, float* goal,

@@ -281,7 +281,7 @@ TEST(HunavAgentsFiles, HunavsimsAgentsFileLoadsUnchanged) {
   EXPECT_EQ(agents[2].goals.size(), 3u);
 }
 
-// HuNavSim 2's layout (reference 4.4): global_goals by id, behavior type names, configuration
+// HuNavSim 2's layout (scenarios/README.md, "people:"): global_goals by id, behavior type names, configuration
 // names, and the per-behaviour stop_dist / front_dist / safe_distance.
 TEST(HunavAgentsFiles, Version2LayoutLoads) {
   const std::string v2 = R"(hunav_loader:

@@ -54,5 +54,18 @@ expect spy-step "$(spy --lcm-url 'udpm://239.255.76.67:7667?ttl=0&channel_ports=
 DISPLAY=:0 JAVA=echo bash "$repo/launch_scripts/spy.sh" --step-channel NOPE > /dev/null 2>&1
 expect spy-bad-channel "$?" 2
 
+# The default bus: the build's one definition (hunav_record --print-url), whatever the user's
+# $LCM_DEFAULT_URL says; spy.sh watches it when told no URL.
+bin_dir=${BIN:-$bin_dir}
+default=$(LCM_DEFAULT_URL='memq://' default_lcm_url)
+[[ $default == udpm://* ]] || expect default-url "$default" 'a udpm:// URL'
+expect default-url-env-ignored "$(default_lcm_url)" "$default"
+expect print-url-env "$(LCM_DEFAULT_URL='memq://' "$bin_dir/hunav_record" --print-url)" 'memq://'
+expect print-url-flag "$("$bin_dir/hunav_record" --print-url --lcm-url 'udpm://1.2.3.4:7000')" 'udpm://1.2.3.4:7000'
+expect spy-default "$(env -u LCM_DEFAULT_URL HUNAV_BIN_DIR="$bin_dir" DISPLAY=:0 JAVA=echo bash "$repo/launch_scripts/spy.sh" \
+  2>/dev/null | tail -1 | sed 's/.*--lcm-url //')" "$(foreign_lcm_url "$default")"
+expect url-option "$(with_url_option 'udpm://1.2.3.4:7000?ttl=0' channel_ports=1)" 'udpm://1.2.3.4:7000?ttl=0&channel_ports=1'
+expect url-option-first "$(with_url_option 'udpm://1.2.3.4:7000' channel_ports=1)" 'udpm://1.2.3.4:7000?channel_ports=1'
+
 [ "$fail" -eq 0 ] && echo "launch_lib: all checks passed"
 exit "$fail"

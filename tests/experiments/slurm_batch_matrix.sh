@@ -114,7 +114,7 @@ SLURM_ARRAY_TASK_ID=5 "$SLURM" --task "$chunked" >/dev/null 2>&1 || rc=$?
 SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" >"$WORK/task3.log"
 [ "$(grep -c 'after 2.00 s of simulation' "$WORK/task3.log")" -eq 4 ] || fail "task 3: $(cat "$WORK/task3.log")"
 # The same run as task 13 of the one-run-per-task batch: the same result.
-fp() { sed -n -E 's/.*"fingerprint": *"([0-9a-f]+)".*/\1/p' "$1/run.json"; }
+fp() { "$BIN/hunav_expect" --run-dir "$1" --get fingerprint; }
 [ "$(fp "$chunked/runs/crossing__scl__seed4")" = "$(fp "$out/runs/crossing__scl__seed4")" ] || fail "chunked and single runs differ"
 cmp -s <(cut -d, -f2- "$chunked/runs/crossing__scl__seed4/metrics.csv") <(cut -d, -f2- "$out/runs/crossing__scl__seed4/metrics.csv") ||
   fail "chunked and single metrics differ"

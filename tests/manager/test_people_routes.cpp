@@ -41,7 +41,7 @@ ForceSet obstacleForces(ObstaclePoints rule, bool robot_as_obstacle) {
 
 }  // namespace
 
-// Each point pushes with 10 exp(-(|u| - 0.35) / 0.2) u/|u| (u = me - point, reference 1.4):
+// Each point pushes with 10 exp(-(|u| - 0.35) / 0.2) u/|u| (u = me - point, lightsfm's obstacle force):
 //   (1, 0): d = 0.65, 10 exp(-3.25) = 0.38774207831722009, direction (-1, 0);
 //   (0, 2): d = 1.65, 10 exp(-8.25) = 0.0026125856335..., direction (0, -1);
 //   robot at (-1, 0) as an obstacle: d = 0.65, 0.38774207831722009 toward (+1, 0).

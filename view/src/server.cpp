@@ -2,6 +2,7 @@
 
 #include <httplib.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -195,6 +196,8 @@ bool ViewServer::admit(const httplib::Request& req, httplib::Response& res) cons
 
 void ViewServer::serve() { server_->listen_after_bind(); }
 
+bool ViewServer::listening() const { return server_->is_running(); }
+
 void ViewServer::stop() {
   if (parts_.live != nullptr) parts_.live->close();
   // Streams end their responses cleanly (the hub is closed) before the sockets close: up to 0.5 s.
@@ -365,6 +368,47 @@ void ViewServer::routeErrors() {
     else
       sendError(res, res.status, "bad request");
   });
+}
+
+namespace {
+
+// serve() on a thread of its own, stopped and joined when this goes out of scope (an exception
+// included).
+class ServingThread {
+ public:
+  explicit ServingThread(ViewServer& server)
+      : server_(server), thread_([this] {
+          server_.serve();
+          returned_ = true;
+        }) {}
+  ~ServingThread() {
+    // httplib's stop() does nothing before serve() has begun to listen, which would then never end:
+    // wait for that (or for serve() to have returned, when it could not listen).
+    while (!server_.listening() && !returned_.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    server_.stop();
+    thread_.join();
+  }
+  ServingThread(const ServingThread&) = delete;
+  ServingThread& operator=(const ServingThread&) = delete;
+
+ private:
+  ViewServer& server_;
+  std::atomic<bool> returned_{false};  // before thread_, which sets it
+  std::thread thread_;
+};
+
+}  // namespace
+
+void serveUntilStopped(ViewServer& server, Bus* bus, const std::atomic<bool>& stop,
+                       const std::function<bool()>& keep_going) {
+  ServingThread http(server);
+  while (!stop.load()) {
+    if (bus != nullptr)
+      bus->handleFor(std::chrono::milliseconds(100));
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (!keep_going()) break;
+  }
 }
 
 }  // namespace hunav::view

@@ -483,7 +483,7 @@ void PhysicsWorld::linesOfSightTo(const Vec2& target, const std::vector<Vec2>& f
   reach += 0.01;
   collectSightParts(target, reach);
   // Few segments, or few among much geometry: one tree walk each (building the bins below costs
-  // about as much as 30 walks: in the passing corridor it was a fifth of a tick for 2 people).
+  // about as much as 30 walks, too much for a few people: docs/performance.md, "Crowds").
   constexpr std::size_t kMinSegmentsForBins = 32;
   if (from.size() < kMinSegmentsForBins || sight_parts_.size() > 4 * from.size()) {
     for (std::size_t i = 0; i < from.size(); ++i) visible[i] = lineOfSight(from[i], target) ? 1 : 0;
@@ -644,8 +644,8 @@ std::vector<Vec2> PhysicsWorld::closestObstaclePoints(const Vec2& p, double radi
 }  // namespace hunav::worldsim
 
 // Box2D 2.4 times every step and every island of it for its b2Profile with gettimeofday (about five
-// calls per island; each person is an island of its own, so ~5000 calls and ~0.1 ms per tick with
-// 1000 people). Nothing here reads b2Profile, and the simulation must not read the wall clock: these
+// calls per island, and each person is an island of its own: docs/performance.md, "Crowds").
+// Nothing here reads b2Profile, and the simulation must not read the wall clock: these
 // definitions of b2Timer's members take the place of libbox2d's (ELF symbol interposition: the
 // library calls them through its PLT) and make the timers free. b2Profile then reads 0.
 b2Timer::b2Timer() : m_start_sec(0), m_start_usec(0) {}

@@ -22,8 +22,9 @@ class ThreadPool {
     int helpers = 0;  // threads that take run()'s items along with its caller
     int lanes = 0;    // threads lent whole to one long job each (startLongJob)
     // How long a helper keeps looking for the next run() before it sleeps, and the caller for the
-    // helpers' last items: a wake-up through the kernel costs tens of microseconds in a virtual
-    // machine. 0: they sleep at once (the other threads of the process get the core).
+    // helpers' last items: a wake-up through the kernel is dear in a virtual machine
+    // (docs/performance.md, "Crowds"). 0: they sleep at once (the other threads of the process get
+    // the core).
     std::chrono::microseconds spin{0};
   };
   // A simulation process's pool: one helper when the machine has a second core (the crowd step's

@@ -1,10 +1,10 @@
 #pragma once
 // The bus over LCM's UDP multicast (udpm://) with receive sockets of our own, read in the thread that
 // calls handleFor(): LCM 1.3.1 receives each datagram on a reader thread per instance and hands it
-// over through a pipe (several system calls and two context switches per message): a lockstep tick
-// costs 2.6 times the CPU that way (LcmBus, docs/performance.md, "Bus backends"). Publishing goes through
-// liblcm. The sockets speak LCM's wire format (whole messages and fragments of long ones), so
-// LCM publishers, lcm-logger and lcm-spy interoperate with it. With channel_ports=1 (open_bus.hpp)
+// over through a pipe (several system calls and two context switches per message), which makes a
+// lockstep tick cost several times the CPU (LcmBus; docs/performance.md, "Bus backends").
+// Publishing goes through liblcm. The sockets speak LCM's wire format (whole messages and fragments
+// of long ones), so LCM publishers, lcm-logger and lcm-spy interoperate with it. With channel_ports=1 (open_bus.hpp)
 // each step channel has a port (and a socket) of its own.
 // Nothing is lost while the caller keeps calling handleFor(): each wake-up reads every datagram
 // waiting into the bus's queue, and while that queue holds a backlog the sockets are read again

@@ -27,10 +27,12 @@
 //
 // Used the same way by the hunav_evaluator binary and by the in-process runner, from one thread (given
 // a pool with a free lane, the per-sample work runs there; the calls below stay on the caller's):
-//   std::unique_ptr<hunav::Bus> bus = hunav::openBus(url);   // or an InProcessBus shared with others
-//   EvaluatorNode evaluator(bus, {out_dir, "default", "exp", 1});
-//   ... bus.handleAvailable() / handleFor() until evaluator.finished() ...
-//   std::cout << evaluator.lastResult()->formatTable();   // or formatMetricsTable(metrics)
+//   std::unique_ptr<hunav::Bus> bus = hunav::openBus(hunav::resolveLcmUrl(""));  // or a shared InProcessBus
+//   hunav::evaluator::EvaluatorOptions options;
+//   options.out_dir = "results/run1";
+//   hunav::evaluator::EvaluatorNode evaluator(*bus, options);
+//   while (!evaluator.finished()) bus->handleFor(std::chrono::milliseconds(100));
+//   std::cout << evaluator.lastResult()->formatTable();
 // On SIGINT or an error, call finishIncomplete() so that nothing recorded is lost.
 #include <chrono>
 #include <cstddef>
@@ -88,8 +90,8 @@ struct EvaluatorOptions {
   // row (docs/metrics.md). Empty: no counterfactual, the files exactly as without this option.
   RobotFreeRun robot_free_run;
   // Write states.csv (one row per entity per sample). Off: every other file and every metric exactly
-  // as with it, without formatting the rows (about a fifth of a small scenario's CPU: what a learning
-  // loop that never reads them saves); not with robot_free_run, which reads states.csv back.
+  // as with it, without formatting the rows (what a learning loop that never reads them saves:
+  // docs/performance.md, "Python"); not with robot_free_run, which reads states.csv back.
   bool states_csv = true;
   // Write the per-tick metric files (OutputOptions::per_tick_files); off: the same metrics.
   bool per_tick_files = true;

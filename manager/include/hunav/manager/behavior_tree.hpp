@@ -82,7 +82,7 @@ struct BtSpec {
   std::vector<BtSpec> children;
 };
 
-struct TickContext;  // defined by the node library user (agent_manager.hpp)
+struct TickContext;  // defined by the engine's user: the manager's tick_context.hpp
 
 // One node instance, owned by one agent's tree (it may keep memory: timers, running child, ...).
 class BtNode {

@@ -20,7 +20,7 @@ namespace hunav::manager {
 // How far beyond goal_radius a goal already counts as reached, and the next one is taken
 // (HuNavSim's IsGoalReached uses goal_radius + 0.1 m).
 inline constexpr double kGoalSwitchMargin = 0.1;
-// Half field of view of IsRobotVisible (reference 3.1).
+// Half field of view of IsRobotVisible (HuNavSim 1's; manager/README.md, "Behavior trees").
 inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
 // Turn rate of surprised / LookAtRobot (rad/s).
 inline constexpr double kTurnRate = kPi;

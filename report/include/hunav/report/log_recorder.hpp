@@ -3,10 +3,9 @@
 // lcm-logplayer, lcm-spy's log player and `hunav_evaluator --log`), losing none.
 //
 // Why not lcm-logger: LCM 1.3.1's lcm-logger keeps LCM's default queue of 30 messages per
-// subscription, and a lockstep run publishes in bursts faster than it handles them; measured on the
-// passing scenario, it lost 24 to 26 of the 2602 world states (and step messages) of a run, so the
-// metrics recomputed from its log differ from the live ones. This recorder subscribes with an
-// unbounded queue.
+// subscription, and a lockstep run publishes in bursts faster than it handles them: it loses world
+// states (docs/performance.md, "Bus backends"), so the metrics recomputed from its log would differ
+// from the live ones. This recorder subscribes with an unbounded queue.
 //
 // Events are stamped with the simulation time their hunav message carries (utime, made
 // non-decreasing), as the in-process runner's log is, so lcm-logplayer replays a run at its

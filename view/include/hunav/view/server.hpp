@@ -9,11 +9,13 @@
 // (and Origin, when sent) must name this server; writes and runs (POST) must carry the token of this
 // start, which only the page served here holds (a <meta name="hunav-token"> element).
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "hunav/bus.hpp"
 #include "hunav/view/editor.hpp"
 #include "hunav/view/live_feed.hpp"
 #include "hunav/view/replay.hpp"
@@ -55,6 +57,8 @@ class ViewServer {
   // Serves until stop() (blocks; call after bind()).
   void serve();
   void stop();
+  // True while serve() listens (from its start until stop() ends it).
+  bool listening() const;
   // Connections streaming live frames now.
   int streams() const { return streams_.load(); }
   // This start's token (random, 128 bits): the page's POSTs send it in kTokenHeader.
@@ -77,6 +81,13 @@ class ViewServer {
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};
 };
+
+// hunav_view's loop: serves HTTP on a thread of its own and, until `stop` is set or `keep_going`
+// returns false, dispatches the messages of `bus` (null: none; the loop only waits). However the loop
+// ends, the server is stopped and its thread joined first: an exception (of the bus, of a handler)
+// is rethrown after the join, instead of destroying a joinable thread (std::terminate).
+void serveUntilStopped(ViewServer& server, Bus* bus, const std::atomic<bool>& stop,
+                       const std::function<bool()>& keep_going);
 
 // The page's files, embedded at build time (web_assets.cpp, generated from view/web/).
 struct WebAsset {
