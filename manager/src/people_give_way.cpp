@@ -56,10 +56,13 @@ std::optional<Vec2> blockerPosition(const TickContext& c, const GiveWayMemory& g
 // body of radius `other` to pass between it and the trail's far side: a trail point p, moved sideways
 // by the person's radius + other + kPassGap, where the person fits, reachable in a straight line from
 // p, and free of the other people. nullopt: none on the trail.
-std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, double other) {
+std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, const Vec2& other_at, double other,
+                                  int repeats) {
   const RouteMap& routes = *c.snap.routes;
   const double r = c.in.radius;
   const double aside = r + other + kPassGap;
+  // Far enough from the other that it can pass, farther each time it did not.
+  const double away = aside + kRefugeFromOther * (1 + repeats);
   auto at = [&](int back) {  // back = 0: the newest point
     return g.trail[static_cast<std::size_t>((g.trail_head - 1 - back + 2 * GiveWayMemory::kTrailPoints) %
                                             GiveWayMemory::kTrailPoints)];
@@ -81,7 +84,9 @@ std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, 
     if (routes.clearance(p) < other) continue;
     for (const double side : {1.0, -1.0}) {
       const Vec2 spot = p + side * aside * normal;
-      if (routes.clearance(spot) >= r && routes.clearLine(p, spot, r) && freeOfPeople(spot)) return spot;
+      if ((spot - other_at).norm() >= away && routes.clearance(spot) >= r && routes.clearLine(p, spot, r) &&
+          freeOfPeople(spot))
+        return spot;
     }
   }
   return std::nullopt;
@@ -139,7 +144,10 @@ std::optional<Vec2> giveWayTarget(TickContext& c, const Vec2& goal, double goal_
       }
       // Between two people the higher id gives way; after twice as long either does.
       if (!b.is_robot && b.id < c.in.id && still < seconds(2.0 * kStuckSeconds)) return std::nullopt;
-      const std::optional<Vec2> refuge = refugeOnTrail(c, g, b.radius);
+      const bool again = g.repeats >= 0 && g.blocker == b.id && g.blocker_is_robot == b.is_robot &&
+                         now - g.phase_utime < seconds(kAgainSeconds);
+      const int repeats = again ? std::min(g.repeats + 1, kMaxRepeats) : 0;
+      const std::optional<Vec2> refuge = refugeOnTrail(c, g, b.position, b.radius, repeats);
       if (!refuge) {
         g.next_check_utime = now + seconds(1.0);
         return std::nullopt;
@@ -148,6 +156,7 @@ std::optional<Vec2> giveWayTarget(TickContext& c, const Vec2& goal, double goal_
       g.refuge = *refuge;
       g.blocker = b.id;
       g.blocker_is_robot = b.is_robot;
+      g.repeats = repeats;
       g.phase_utime = now;
       return g.refuge;
     }
@@ -162,6 +171,8 @@ std::optional<Vec2> giveWayTarget(TickContext& c, const Vec2& goal, double goal_
       const std::optional<Vec2> other = blockerPosition(c, g);
       const bool passed = !other || (*other - here).dot(heading) < 0.0 || (*other - here).norm() > 3.0;
       if (!passed && now - g.phase_utime < seconds(kWaitAtMostSeconds)) return g.refuge;
+      if (passed) g.repeats = -1;  // the next give way, even to the same one, starts afresh
+      g.phase_utime = now;         // when it walked on (kAgainSeconds)
       walkOn(g, here, now);
       return std::nullopt;
     }

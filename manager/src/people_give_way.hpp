@@ -24,6 +24,12 @@ inline constexpr double kBlockGap = 0.5;      // m between bodies: the other sta
 inline constexpr double kPassGap = 0.15;      // m the other keeps from the waiting person as it passes
 inline constexpr double kStepBackAtMostSeconds = 10.0;
 inline constexpr double kWaitAtMostSeconds = 8.0;
+// The place it steps back to keeps its radius + the other's + kPassGap + kRefugeFromOther from the
+// other, and kRefugeFromOther more each time it gives way again to the same one (within kAgainSeconds
+// of walking on, the other not passed; at most kMaxRepeats times more).
+inline constexpr double kRefugeFromOther = 0.5;
+inline constexpr double kAgainSeconds = 15.0;
+inline constexpr int kMaxRepeats = 4;
 
 // Records the person's trail and decides: the point it walks to instead of `goal` while it gives
 // way, or nullopt to walk on to its goal. Only the person's own memory changes.

@@ -102,6 +102,7 @@ struct GiveWayMemory {
   int blocker = 0;             // the id of the person it gives way to (blocker_is_robot: the robot)
   bool blocker_is_robot = false;
   std::int64_t phase_utime = 0;  // when the phase began
+  int repeats = -1;              // times in a row it gave way to this one (-1: none yet): each steps back farther
 };
 
 // Per-agent memory of the manager (besides the tree's own node memory).
