@@ -174,7 +174,7 @@ void drawWarehouse(Grid& grid, Rng& rng) {
        c += depth + aisle * rng.uniform(0.85, 1.15)) {
     for (double a = row_lo; a < row_hi;) {
       double end = std::min(a + rng.uniform(3.0, 8.0), row_hi);
-      if (row_hi - end < 1.5) end = row_hi;  // no stub of a shelf
+      if (row_hi - end < 1.5) end = row_hi;  // the shelf runs on rather than leave a piece < 1.5 m
       const Box shelf = alongAxis(along, a, end, c, c + depth);
       grid.fillBox(shelf.lo, shelf.hi, true);
       a = end + rng.uniform(0.8, 2.0);

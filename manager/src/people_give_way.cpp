@@ -52,6 +52,12 @@ std::optional<Vec2> blockerPosition(const TickContext& c, const GiveWayMemory& g
   return c.snap.agents[static_cast<std::size_t>(j)].position;
 }
 
+// The trail point `back` steps before the newest (0: the newest; back < trail_size).
+const Vec2& trailPoint(const GiveWayMemory& g, int back) {
+  constexpr int n = GiveWayMemory::kTrailPoints;
+  return g.trail[static_cast<std::size_t>(((g.trail_head - 1 - back) % n + n) % n)];
+}
+
 // The first place back along the trail where the person can stand beside its trail with room for a
 // body of radius `other` to pass between it and the trail's far side: a trail point p, moved sideways
 // by the person's radius + other + kPassGap, where the person fits, reachable in a straight line from
@@ -63,10 +69,6 @@ std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, 
   const double aside = r + other + kPassGap;
   // Far enough from the other that it can pass, farther each time it did not.
   const double away = aside + kRefugeFromOther * (1 + repeats);
-  auto at = [&](int back) {  // back = 0: the newest point
-    return g.trail[static_cast<std::size_t>((g.trail_head - 1 - back + 2 * GiveWayMemory::kTrailPoints) %
-                                            GiveWayMemory::kTrailPoints)];
-  };
   auto freeOfPeople = [&](const Vec2& spot) {
     for (std::size_t j = 0; j < c.snap.agents.size(); ++j) {
       if (j == c.index) continue;
@@ -76,7 +78,7 @@ std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, 
     return true;
   };
   for (int k = 1; k < g.trail_size; ++k) {
-    const Vec2 p = at(k), newer = at(k - 1);
+    const Vec2 p = trailPoint(g, k), newer = trailPoint(g, k - 1);
     const Vec2 along = newer - p;
     if (along.norm() <= 0.0) continue;
     const Vec2 normal = Vec2(-along.y(), along.x()) / along.norm();
@@ -94,9 +96,7 @@ std::optional<Vec2> refugeOnTrail(const TickContext& c, const GiveWayMemory& g, 
 
 void remember(GiveWayMemory& g, const Vec2& here) {
   if (g.trail_size > 0) {
-    const Vec2& newest = g.trail[static_cast<std::size_t>((g.trail_head - 1 + GiveWayMemory::kTrailPoints) %
-                                                          GiveWayMemory::kTrailPoints)];
-    if ((here - newest).norm() < kTrailStep) return;
+    if ((here - trailPoint(g, 0)).norm() < kTrailStep) return;
   }
   g.trail[static_cast<std::size_t>(g.trail_head)] = here;
   g.trail_head = (g.trail_head + 1) % GiveWayMemory::kTrailPoints;
