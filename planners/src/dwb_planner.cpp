@@ -19,6 +19,8 @@ constexpr double kStandingSpeed = 0.05;
 constexpr double kSightingPeriod = 0.5;  // s between two records of where people are (reroute)
 // m a blocked place keeps from the robot and from the goal (beyond its radius and the robot's).
 constexpr double kKeepOutClearance = 0.2;
+constexpr double kBlockSearchFactor =
+    2.0;                                   // reroute looks for a narrow place up to this many look-aheads along the way
 constexpr double kTrailStep = 0.25;        // m between the points of the robot's trail (give way)
 constexpr std::size_t kTrailPoints = 80;   // the trail's last 20 m
 constexpr double kGiveWayClearance = 0.5;  // m between the place the robot gives way at and anyone
@@ -210,7 +212,7 @@ void DwbPlanner::recordSightings(const robot_observation_t& obs) {
   if (last_sighting_ && obs.utime >= *last_sighting_ && obs.utime - *last_sighting_ < kSightingPeriod * 1e6) return;
   last_sighting_ = obs.utime;
   // Only people who may be in the passage ahead: within the look-ahead (and a margin) of the robot.
-  const double reach = recovery_.params().block_lookahead + recovery_.params().block_radius + 1.0;
+  const double reach = kBlockSearchFactor * recovery_.params().block_lookahead + recovery_.params().block_radius + 1.0;
   const Vec2 robot(obs.x, obs.y);
   for (const detected_person_t& person : obs.people) {
     const Vec2 p(person.x, person.y);
@@ -238,6 +240,11 @@ std::optional<Vec2> DwbPlanner::giveWayPlace(const robot_observation_t& obs) con
   return std::nullopt;
 }
 
+bool DwbPlanner::roomFor(const Vec2& p, double radius) const {
+  int cx, cy;
+  return costmap_.worldToCell(p, cx, cy) && costmap_.staticDistance(cx, cy) >= radius;
+}
+
 bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {
   const RecoveryParams& rp = recovery_.params();
   const Vec2 robot(obs.x, obs.y), goal(obs.goal.x, obs.goal.y);
@@ -253,10 +260,16 @@ bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {
     Vec2 center;
     double radius;  // as wide as the free space around it, at most block_radius
     int seen;       // sightings within reach of it
+    int rank;       // 0: narrow, within block_lookahead; 1: narrow, within twice that; 2: open
   };
+  // A disc that closes the passage for the robot is worth blocking first: one in open space, or
+  // along a single wall, only steps the path aside. The
+  // narrow places within the look-ahead; when there are none, those up to twice as far (the robot
+  // may keep turning back before the doorway it needs); when there are none either, any place
+  // within the look-ahead (in open space the path then steps aside where people walk).
   std::vector<Place> places;
-  int most_seen = 0;
-  for (std::size_t k = 0; k < route.size() && route.remaining(0) - route.remaining(k) <= rp.block_lookahead; ++k) {
+  const double farthest = kBlockSearchFactor * rp.block_lookahead;
+  for (std::size_t k = 0; k < route.size() && route.remaining(0) - route.remaining(k) <= farthest; ++k) {
     int cx, cy;
     if (!costmap_.worldToCell(route[k], cx, cy)) continue;
     const double radius = std::min(rp.block_radius, costmap_.staticDistance(cx, cy));
@@ -267,9 +280,22 @@ bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {
     const int seen = static_cast<int>(std::count_if(sightings_.begin(), sightings_.end(), [&](const Sighting& s) {
       return (s.position - route[k]).squaredNorm() <= reach2;
     }));
-    most_seen = std::max(most_seen, seen);
-    places.push_back({route[k], radius, seen});
+    // Closed: beside the disc, across the way, on both sides, the robot would touch a wall.
+    const Vec2 along = route[std::min(k + 1, route.size() - 1)] - route[k > 0 ? k - 1 : 0];
+    const Vec2 across = along.norm() > 0.0 ? Vec2(Vec2(-along.y(), along.x()) / along.norm()) : Vec2(Vec2::Zero());
+    const bool narrow = along.norm() > 0.0 && !roomFor(route[k] + (radius + obs.radius) * across, obs.radius) &&
+                        !roomFor(route[k] - (radius + obs.radius) * across, obs.radius);
+    const bool beyond = route.remaining(0) - route.remaining(k) > rp.block_lookahead;
+    if (beyond && !narrow) continue;
+    places.push_back({route[k], radius, seen, narrow ? (beyond ? 1 : 0) : 2});
   }
+  // Keep only the best rank present.
+  int best_rank = 2;
+  for (const Place& place : places) best_rank = std::min(best_rank, place.rank);
+  places.erase(std::remove_if(places.begin(), places.end(), [&](const Place& p) { return p.rank != best_rank; }),
+               places.end());
+  int most_seen = 0;
+  for (const Place& place : places) most_seen = std::max(most_seen, place.seen);
   const Place* best = nullptr;
   for (const Place& place : places)  // the narrowest among the most frequented, the nearest on ties
     if (2 * place.seen >= most_seen && (best == nullptr || place.radius < best->radius)) best = &place;

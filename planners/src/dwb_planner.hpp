@@ -110,6 +110,8 @@ class DwbPlanner : public Planner {
   // no wider than the free space around it (up to block_radius). False when there is no such place.
   // Leaves the transient layer to be marked again.
   bool blockPassageAhead(const robot_observation_t& obs);
+  // Whether a robot of `radius` fits at p without touching the static map (false off the map).
+  bool roomFor(const Vec2& p, double radius) const;
   // Where the robot has been: a point every kTrailStep of its way, the last kTrailPoints.
   void recordTrail(const robot_observation_t& obs);
   // Recovery's GiveWay: the nearest place back along the trail at least give_way_distance away and

@@ -331,6 +331,34 @@ TEST(Recovery, ImpatienceGrowsWhileStuck) {
   EXPECT_NEAR(r.goalWeightFactor(standingAt(s, Vec2(0, 0), 9.0)), 1.0 + 0.5 * 4.0, 1e-9);
 }
 
+// Edging forward through a crowd at a doorway, progress_distance at a time, is not the end of being
+// stuck: the spell (and the impatience) ends only 2 m nearer than where it began. While the robot
+// progresses within the spell the impatience holds; stuck again, it grows on from there.
+TEST(Recovery, EdgingForwardKeepsTheRobotImpatientUntilTwoMetresNearer) {
+  const Scenario s = passing();
+  RecoveryParams params;
+  params.impatience = 0.5;
+  Recovery r(params);
+  const auto at = [&](double t) { return standingAt(s, Vec2(0, 0), t); };
+  r.update(at(0.0), 15.0);
+  ASSERT_EQ(r.update(at(5.0), 15.0), RecoveryBehavior::ClearAndReplan);  // the spell begins at 15 m
+  EXPECT_NEAR(r.goalWeightFactor(at(9.0)), 1.0 + 0.5 * 4.0, 1e-9);       // 4 s stuck
+  // 0.6 m nearer at 9 s: progress (the sequence starts over), but 14.4 m > 15 - 2: still stuck, and
+  // the factor holds at 3 while the robot progresses.
+  EXPECT_EQ(r.update(at(9.0), 14.4), RecoveryBehavior::None);
+  EXPECT_TRUE(r.stuck());
+  EXPECT_NEAR(r.goalWeightFactor(at(12.0)), 3.0, 1e-9);
+  // Stuck again 5 s after that progress: clear and replan again (the sequence's first), and the
+  // impatience grows on: 4 s stuck before, plus 2 s now at 16 s: 1 + 0.5 x 6 = 4.
+  EXPECT_EQ(r.update(at(13.9), 14.4), RecoveryBehavior::None);
+  ASSERT_EQ(r.update(at(14.0), 14.4), RecoveryBehavior::ClearAndReplan);
+  EXPECT_NEAR(r.goalWeightFactor(at(16.0)), 1.0 + 0.5 * 6.0, 1e-9);
+  // 12.9 m: 2.1 m nearer than where the spell began: it ends, and the weight is the planner's own.
+  EXPECT_EQ(r.update(at(17.0), 12.9), RecoveryBehavior::None);
+  EXPECT_FALSE(r.stuck());
+  EXPECT_DOUBLE_EQ(r.goalWeightFactor(at(17.0)), 1.0);
+}
+
 // A back-up toward a wall right behind the robot is refused: the robot does not move backwards.
 TEST(Recovery, BackUpRefusesToDriveIntoAnObstacle) {
   Scenario s = boxedIn();
@@ -522,6 +550,32 @@ TEST_P(Reroute, BlocksTheGapAPersonKeepsWalkingThroughAndGoesTheLongWayRound) {
   EXPECT_TRUE(round);
   EXPECT_FALSE(through_gap);
   EXPECT_GT(person_gap, 0.0);
+}
+
+// The gap beyond the look-ahead: the robot held 6 m from it (along its way) in the open half of the
+// room, where a disc only steps the path aside. The reroute looks on, up to twice the look-ahead,
+// for a place whose disc closes the way, and blocks the gap (not open floor within 5 m).
+TEST_P(Reroute, LooksBeyondTheLookAheadForTheGapRatherThanBlockOpenFloor) {
+  Scenario s = passageScenario();
+  s.robot.start = Vec2(-5.0, -3.3);  // to the gap: about 5.9 m, more than block_lookahead (5 m)
+  s.robot.goal = Vec2(-5.0, 3.3);
+  std::unique_ptr<Planner> planner = createPlanner(GetParam(), s);
+  auto& dwb = dynamic_cast<DwbPlanner&>(*planner);
+  MiniWorld world(s);
+  std::vector<DwbPlanner::KeepOut> blocked;
+  for (int tick = 0; world.time() < 90.0 && blocked.empty(); ++tick) {
+    if (tick % 10 == 0) {
+      planner->plan(world.observe());
+      if (dwb.lastRecovery() == RecoveryBehavior::Reroute) blocked = dwb.keepOuts();
+    }
+    world.step(0.0, 0.0, 0.01);  // held at its start
+  }
+  ASSERT_EQ(blocked.size(), 1u) << GetParam() << ": no passage blocked";
+  EXPECT_TRUE(inTheGap(blocked[0].center)) << blocked[0].center.transpose();
+  EXPECT_LE(blocked[0].radius, 0.5 + 1e-9);
+  const auto& points = dwb.globalPath().points();
+  EXPECT_TRUE(std::any_of(points.begin(), points.end(), roundTheEastEnd));
+  EXPECT_TRUE(std::none_of(points.begin(), points.end(), inTheGap));
 }
 
 // With the way round walled off the gap is the only way: a place blocked there leaves no path, so
