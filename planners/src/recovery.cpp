@@ -17,6 +17,7 @@ constexpr double kSpinTolerance = 0.02;  // rad short of spin_angle that counts 
 // Recovery places kept (a robot stuck for a whole episode adds two per behaviour): the oldest go first.
 constexpr std::size_t kMaxStuckPlaces = 64;
 constexpr double kMinMotionTime = 0.1;  // s, shortest motion a safety check looks along
+constexpr double kSpellEnd = 2.0;       // m nearer the goal (along the floor) that end a stuck spell
 }  // namespace
 
 const char* recoveryName(RecoveryBehavior behavior) {
@@ -49,6 +50,7 @@ Recovery::Recovery(const RecoveryParams& params) : params_(params) {
 void Recovery::reset() {
   tracking_ = false;
   stuck_places_.clear();
+  paused_at_.reset();
   next_ = 0;
   active_ = RecoveryBehavior::None;
   started_ = 0;
@@ -66,6 +68,7 @@ void Recovery::startTracking(const robot_observation_t& obs) {
 void Recovery::newWay(const robot_observation_t& obs, double goal_distance) {
   anchor_ = Vec2(obs.x, obs.y);
   best_distance_ = goal_distance;
+  spell_distance_ = goal_distance;  // a stuck spell goes on, measured along the new way
 }
 
 bool Recovery::madeProgress(const Vec2& p, double goal_distance) const {
@@ -105,8 +108,15 @@ RecoveryBehavior Recovery::update(const robot_observation_t& obs, double goal_di
     anchor_ = p;
     window_start_ = obs.utime;
     if (std::isfinite(goal_distance)) best_distance_ = goal_distance;
-    stuck_places_.clear();
-    next_ = 0;  // the next time the robot is stuck, the sequence starts over
+    // A stuck spell ends once the robot is kSpellEnd nearer than where it began: a robot that
+    // edges forward through a crowd at a doorway stays impatient (section "While stuck").
+    const bool spell_over = !std::isfinite(goal_distance) || !std::isfinite(spell_distance_) ||
+                            goal_distance <= spell_distance_ - kSpellEnd;
+    if (spell_over)
+      stuck_places_.clear();
+    else if (!paused_at_)
+      paused_at_ = obs.utime;  // impatience holds while the robot progresses
+    next_ = 0;                 // the next time the robot is stuck, the sequence starts over
     return RecoveryBehavior::None;
   }
   if (!params_.enabled || static_cast<double>(obs.utime - window_start_) * 1e-6 < params_.progress_timeout)
@@ -135,7 +145,14 @@ void Recovery::start(RecoveryBehavior behavior, const robot_observation_t& obs) 
   give_way_target_.reset();
   give_way_at_.reset();
   ++started_;
-  if (stuck_places_.empty()) stuck_start_ = obs.utime;
+  if (stuck_places_.empty()) {
+    stuck_start_ = obs.utime;
+    spell_distance_ = best_distance_;
+    paused_at_.reset();
+  } else if (paused_at_) {
+    stuck_start_ += obs.utime - *paused_at_;  // stuck again: impatience grows on from where it held
+    paused_at_.reset();
+  }
   if (stuck_places_.size() >= kMaxStuckPlaces) stuck_places_.erase(stuck_places_.begin());
   stuck_places_.push_back(active_from_);
 }
@@ -149,7 +166,8 @@ void Recovery::finish(const robot_observation_t& obs) {
 
 double Recovery::goalWeightFactor(const robot_observation_t& obs) const {
   if (!stuck() || !params_.enabled) return 1.0;
-  return 1.0 + params_.impatience * std::max(0.0, static_cast<double>(obs.utime - stuck_start_) * 1e-6);
+  const std::int64_t now = paused_at_ ? *paused_at_ : obs.utime;
+  return 1.0 + params_.impatience * std::max(0.0, static_cast<double>(now - stuck_start_) * 1e-6);
 }
 
 double Recovery::elapsed(const robot_observation_t& obs) const {

@@ -98,14 +98,16 @@ class Recovery {
   double elapsed(const robot_observation_t& obs) const;
 
   RecoveryParams params_;
-  bool tracking_ = false;           // a goal is being tracked
-  Vec2 goal_ = Vec2::Zero();        // the goal tracked
-  Vec2 anchor_ = Vec2::Zero();      // where the robot last made progress
-  double best_distance_ = 0.0;      // its least distance to the goal along the floor (infinity: unknown)
-  std::int64_t window_start_ = 0;   // utime the current timeout started
-  std::int64_t stuck_start_ = 0;    // utime the first recovery since the last progress started
-  std::vector<Vec2> stuck_places_;  // where recoveries started and ended since the last progress
-  std::size_t next_ = 0;            // next behaviour of the sequence
+  bool tracking_ = false;                  // a goal is being tracked
+  Vec2 goal_ = Vec2::Zero();               // the goal tracked
+  Vec2 anchor_ = Vec2::Zero();             // where the robot last made progress
+  double best_distance_ = 0.0;             // its least distance to the goal along the floor (infinity: unknown)
+  std::int64_t window_start_ = 0;          // utime the current timeout started
+  std::int64_t stuck_start_ = 0;           // utime the first recovery since the last progress started
+  double spell_distance_ = 0.0;            // the best distance to the goal when that recovery started
+  std::optional<std::int64_t> paused_at_;  // utime the robot progressed within the spell (none: stuck)
+  std::vector<Vec2> stuck_places_;         // where recoveries started and ended since the last progress
+  std::size_t next_ = 0;                   // next behaviour of the sequence
   RecoveryBehavior active_ = RecoveryBehavior::None;
   std::int64_t active_start_ = 0;            // utime the running behaviour started
   Vec2 active_from_ = Vec2::Zero();          // where it started
