@@ -1,8 +1,10 @@
 // bench_manager: cost of one manager step (forces + tree ticks + integration, one thread) on a
 // crowd of regular people in a square hall with walls, and the error of the social-force cut-off
 // against all pairs on random crowds.
-//   bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact]
-//                 [--fingerprint] [--social-only]
+//   bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--tolerance T] [--error]
+//                 [--no-exact] [--fingerprint] [--social-only]
+// --tolerance: people.force_tolerance (pairs whose force is certainly below T x the largest are
+// skipped); with --error, the error of the tolerance at the cut-off against every pair within it.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -86,9 +88,10 @@ struct StepTimes {
 };
 
 // Thread CPU time of each step: minimum and median over `steps` steps.
-StepTimes timeSteps(int n, double hall, int steps, double cutoff) {
+StepTimes timeSteps(int n, double hall, int steps, double cutoff, double tolerance) {
   AgentManager m;
   m.setSocialCutoff(cutoff);
+  m.setForceTolerance(tolerance);
   step_request_t r = crowd(n, hall, 42);
   wallPoints(r, hall);
   m.step(r);  // warm-up: trees built
@@ -109,7 +112,7 @@ StepTimes timeSteps(int n, double hall, int steps, double cutoff) {
 
 // Thread CPU time of the people-people social force alone (grid build + pair kernel) on one thread,
 // minimum over `steps` repetitions on one crowd.
-void timeSocialOnly(int n, double hall, int steps, double cutoff) {
+void timeSocialOnly(int n, double hall, int steps, double cutoff, double tolerance) {
   const step_request_t r = crowd(n, hall, 42);
   StepSnapshot snap;
   snap.request = &r;
@@ -124,11 +127,13 @@ void timeSocialOnly(int n, double hall, int steps, double cutoff) {
   for (int s = 0; s < steps; ++s) {
     const double t0 = threadCpuSeconds();
     grid.build(snap.agents, snap.by_id, cutoff);
-    forces.compute(snap, grid, cutoff);
+    forces.compute(snap, grid, cutoff, nullptr, tolerance);
     best = std::min(best, threadCpuSeconds() - t0);
   }
-  std::printf("%d agents, %.1f m hall, cut-off %.1f m: %ld pairs, social force %.3f ms (min), %.2f ns/pair\n", n, hall,
-              cutoff, pairs, best * 1e3, best * 1e9 / static_cast<double>(pairs));
+  std::printf(
+      "%d agents, %.1f m hall, cut-off %.1f m, tolerance %g: %ld pairs within the cut-off, social force %.3f ms "
+      "(min), %.2f ns/pair\n",
+      n, hall, cutoff, tolerance, pairs, best * 1e3, best * 1e9 / static_cast<double>(pairs));
 }
 
 // Fingerprint of every agent state over `steps` steps of a crowd (mixed behaviors, groups, a moving
@@ -163,7 +168,9 @@ std::string fingerprintRun(int n, double hall, int steps, double cutoff) {
   return fp.hex();
 }
 
-void cutoffError(double cutoff, int crowds, int n, double hall) {
+// The error of the cut-off against all pairs, or with tolerance > 0 the error of the tolerance
+// against every pair within the cut-off.
+void cutoffError(double cutoff, double tolerance, int crowds, int n, double hall) {
   double sum_err = 0.0, max_err = 0.0, sum_force = 0.0, max_rel = 0.0;
   long count = 0;
   for (int k = 0; k < crowds; ++k) {
@@ -176,7 +183,8 @@ void cutoffError(double cutoff, int crowds, int n, double hall) {
     StepSnapshot cut = exact;
     NeighborGrid grid;
     grid.build(cut.agents, cut.by_id, cutoff);
-    computePeopleSocial(cut, grid, cutoff);
+    computePeopleSocial(cut, grid, cutoff, nullptr, tolerance);
+    if (tolerance > 0.0) computePeopleSocial(exact, grid, cutoff);  // the reference: every pair within it
     for (std::size_t i = 0; i < r.agents.size(); ++i) {
       const Vec2 fe = computeForces(exact, i, r.agents[i], nullptr, RobotAs::Ignored, 1.2).social;
       const Vec2 fc = computeForces(cut, i, r.agents[i], nullptr, RobotAs::Ignored, 1.2).social;
@@ -189,9 +197,9 @@ void cutoffError(double cutoff, int crowds, int n, double hall) {
     }
   }
   std::printf(
-      "cutoff %.1f m: mean |F_soc| %.5f, mean error %.6f (%.3f%% of mean force), max error %.6f, "
+      "cutoff %.1f m, tolerance %g: mean |F_soc| %.5f, mean error %.6f (%.3f%% of mean force), max error %.6f, "
       "max relative error %.2f%%\n",
-      cutoff, sum_force / count, sum_err / count, 100.0 * sum_err / sum_force, max_err, 100.0 * max_rel);
+      cutoff, tolerance, sum_force / count, sum_err / count, 100.0 * sum_err / sum_force, max_err, 100.0 * max_rel);
 }
 
 }  // namespace
@@ -199,6 +207,7 @@ void cutoffError(double cutoff, int crowds, int n, double hall) {
 int main(int argc, char** argv) {
   int n = 1000, steps = 200;
   double hall = 40.0, cutoff = kDefaultSocialCutoff;
+  double tolerance = 0.0;
   bool error = false, exact = true, fingerprint = false, social_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -213,6 +222,8 @@ int main(int argc, char** argv) {
       steps = std::atoi(next());
     else if (a == "--cutoff")
       cutoff = std::atof(next());
+    else if (a == "--tolerance")
+      tolerance = std::atof(next());
     else if (a == "--error")
       error = true;
     else if (a == "--no-exact")
@@ -223,13 +234,13 @@ int main(int argc, char** argv) {
       social_only = true;
     else {
       std::fprintf(stderr,
-                   "usage: bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--error] [--no-exact] "
-                   "[--fingerprint] [--social-only]\n");
+                   "usage: bench_manager [--agents N] [--hall L] [--steps S] [--cutoff R] [--tolerance T] [--error] "
+                   "[--no-exact] [--fingerprint] [--social-only]\n");
       return 2;
     }
   }
   if (social_only) {
-    timeSocialOnly(n, hall, steps, cutoff);
+    timeSocialOnly(n, hall, steps, cutoff, tolerance);
     return 0;
   }
   if (fingerprint) {
@@ -238,17 +249,20 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (error) {
-    for (double c : {2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 7.5, 8.0, 10.0}) cutoffError(c, 5, n, hall);
+    if (tolerance > 0.0)
+      cutoffError(cutoff, tolerance, 5, n, hall);
+    else
+      for (double c : {2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 7.5, 8.0, 10.0}) cutoffError(c, 0.0, 5, n, hall);
     return 0;
   }
-  const StepTimes grid = timeSteps(n, hall, steps, cutoff);
+  const StepTimes grid = timeSteps(n, hall, steps, cutoff, tolerance);
   std::printf(
       "%d agents, %.1f x %.1f m hall, cut-off %.1f m: %.3f ms/step (min), %.3f ms/step (median), "
       "thread CPU time over %d steps\n",
       n, hall, hall, cutoff, grid.min_ms, grid.median_ms, steps);
   if (!exact) return 0;
   const int exact_steps = std::max(1, steps / (n >= 5000 ? 20 : 4));
-  const StepTimes all = timeSteps(n, hall, exact_steps, 0.0);
+  const StepTimes all = timeSteps(n, hall, exact_steps, 0.0, 0.0);
   std::printf("%d agents, %.1f x %.1f m hall, all pairs: %.3f ms/step (min), %.3f ms/step (median) over %d steps\n", n,
               hall, hall, all.min_ms, all.median_ms, exact_steps);
   return 0;

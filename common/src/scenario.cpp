@@ -588,6 +588,9 @@ void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel
   if (!(m.route_resolution >= 0.02 && m.route_resolution <= 1.0))
     yr.fail(people["route_resolution"], "people.route_resolution", "must be in [0.02, 1] m");
   m.give_way = yr.get<bool>(people, "give_way", "people", m.give_way);
+  m.force_tolerance = yr.get<double>(people, "force_tolerance", "people", m.force_tolerance);
+  if (!(m.force_tolerance >= 0.0 && m.force_tolerance <= 0.01))
+    yr.fail(people["force_tolerance"], "people.force_tolerance", "must be in [0, 0.01]");
 }
 
 // `expect:` (scenarios/README.md): metric name -> a number or true/false (equality) or {min, max}, and

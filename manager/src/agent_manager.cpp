@@ -300,6 +300,7 @@ void AgentManager::setTreeFolder(const std::string& folder) {
 void AgentManager::useScenario(const Scenario& scenario) {
   obstacle_points_ = scenario.people_model.obstacle_points;
   give_way_ = scenario.people_model.give_way;
+  force_tolerance_ = scenario.people_model.force_tolerance;
   routes_.reset();
   if (scenario.people_model.navigation == PeopleNavigation::Path && !scenario.shapes.empty() &&
       !scenario.agents.empty()) {
@@ -467,7 +468,7 @@ void AgentManager::takeSnapshot(const step_request_t& request) {
   snap.global_goals = &global_goals_;
   if (cutoff_ > 0.0) {
     grid_->build(snap.agents, snap.by_id, cutoff_);
-    people_social_->compute(snap, *grid_, cutoff_, threads_);
+    people_social_->compute(snap, *grid_, cutoff_, threads_, force_tolerance_);
   } else {
     snap.people_social.clear();
   }

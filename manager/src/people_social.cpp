@@ -30,7 +30,8 @@ using detail::polyExp;
 
 struct KernelParams {
   double lambda, gamma, n_angle, n_velocity;
-  double inv_gamma;  // 1 / gamma
+  double inv_gamma;                // 1 / gamma
+  double negligible_reach2 = 0.0;  // (gamma ln(1/tolerance))^2; 0: every pair within the cut-off
 };
 
 // The social force of the other body on me without omega_s (section 1.5), from d = other - me and
@@ -241,6 +242,33 @@ int appendPairs(const Bodies& g, int k, int from, int to, double r2, PairBatch& 
 
 KernelParams kernelParams(const SfmParams& p) { return KernelParams{p.lambda, p.gamma, p.n, p.n_prime, 1.0 / p.gamma}; }
 
+// Removes from the batch (keeping the order) the pairs whose force is certainly below the
+// tolerance: |u| <= sqrt(2) exp(-d/B) with B = gamma |D| (both exponentials of pairForce are at
+// most exp(-d/B)), so exp(-d/B) < tolerance, that is d > gamma |D| ln(1/tolerance), bounds |u|
+// by tolerance times the largest force of one pair (sqrt(2)). reach2 = (gamma ln(1/tolerance))^2,
+// the test d^2 > reach2 |D|^2, with |D|^2 = lambda^2 |dv|^2 + 2 lambda dv.e + 1: a square root and
+// a division, no exp or atan2. Coincident bodies are kept (pairForce gives them no force).
+// Pairs [0, from) were checked before; returns the pairs left.
+int dropNegligiblePairs(PairBatch& b, int from, int n, const KernelParams& p) {
+  const double reach2 = p.negligible_reach2;
+  int out = from;
+  for (int l = from; l < n; ++l) {
+    const double dx = b.dx[l], dy = b.dy[l], dvx = b.dvx[l], dvy = b.dvy[l];
+    const double d2 = dx * dx + dy * dy;
+    const double d = std::sqrt(d2);
+    const double along = d > 0.0 ? (dvx * dx + dvy * dy) / d : 0.0;
+    const double len2 = p.lambda * p.lambda * (dvx * dvx + dvy * dvy) + 2.0 * p.lambda * along + 1.0;
+    b.dx[out] = dx;
+    b.dy[out] = dy;
+    b.dvx[out] = dvx;
+    b.dvy[out] = dvy;
+    b.i[out] = b.i[l];
+    b.j[out] = b.j[l];
+    out += d2 <= reach2 * len2 ? 1 : 0;
+  }
+  return out;
+}
+
 }  // namespace
 
 Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& o, const SfmParams& p) {
@@ -269,13 +297,19 @@ template <class Sink>
 void pairsOfCells(const GridView& g, int cell_from, int cell_to, double r2, const KernelParams& kp, PairBatch*& batch,
                   Sink&& sink) {
   int n = 0;
+  int checked = 0;  // with a tolerance: the batch's first pairs, already found not negligible
+  const bool tolerance = kp.negligible_reach2 > 0.0;
   auto pairsWith = [&](int k, int from, int to) {
     for (int m = from; m < to;) {
       m = appendPairs(g.bodies, k, m, to, r2, *batch, n);
-      if (n >= kBatch) {
+      if (n < kBatch) continue;
+      // With a tolerance a full batch first loses its negligible pairs, and fills up again while
+      // less than half of it is left (a nearly empty batch costs as much as a full one).
+      if (tolerance) checked = n = dropNegligiblePairs(*batch, checked, n, kp);
+      if (n >= kBatch / 2 || !tolerance) {
         computeBatch(*batch, n, kp);
         sink(batch, n);
-        n = 0;
+        n = checked = 0;
       }
     }
   };
@@ -294,6 +328,7 @@ void pairsOfCells(const GridView& g, int cell_from, int cell_to, double r2, cons
       pairsWith(k, row_from, row_to);
     }
   }
+  if (tolerance) n = dropNegligiblePairs(*batch, checked, n, kp);
   if (n > 0) {
     computeBatch(*batch, n, kp);
     sink(batch, n);
@@ -437,13 +472,15 @@ bool crowdWorthSharing(const ThreadPool* threads, std::size_t people) {
 PeopleSocialForces::PeopleSocialForces() : ws_(std::make_unique<Workspace>()) {}
 PeopleSocialForces::~PeopleSocialForces() = default;
 
-void PeopleSocialForces::compute(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads) {
+void PeopleSocialForces::compute(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads,
+                                 double tolerance) {
   Workspace& ws = *ws_;
   const std::size_t count = grid.items_.size();
   snap.people_social.assign(snap.agents.size(), Vec2::Zero());
   if (count == 0) return;
   const SfmParams p;  // lambda, gamma, n, n' are the same for everybody; omega_s is applied per agent
-  const KernelParams kp = kernelParams(p);
+  KernelParams kp = kernelParams(p);
+  if (tolerance > 0.0) kp.negligible_reach2 = std::pow(p.gamma * std::log(1.0 / tolerance), 2);
   const double r2 = cutoff * cutoff;
   const GridView g{Bodies{grid.x_.data(), grid.y_.data(), grid.vx_.data(), grid.vy_.data()}, grid.start_.data(),
                    grid.nx_, grid.ny_};
@@ -489,9 +526,10 @@ void PeopleSocialForces::compute(StepSnapshot& snap, const NeighborGrid& grid, d
   for (std::size_t k = 0; k < count; ++k) snap.people_social[grid.items_[k]] = Vec2(fx[k], fy[k]);
 }
 
-void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads) {
+void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads,
+                         double tolerance) {
   PeopleSocialForces forces;
-  forces.compute(snap, grid, cutoff, threads);
+  forces.compute(snap, grid, cutoff, threads, tolerance);
 }
 
 }  // namespace hunav::manager

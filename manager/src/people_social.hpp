@@ -54,19 +54,23 @@ Vec2 unweightedSocialForce(const SfmBody& me, const SfmBody& other, const SfmPar
 // people_social[j] -= u), computed in batches (SIMD where the CPU has it). Keeps its storage from
 // step to step (one per manager). With `threads` and a crowd worth it (crowdWorthSharing), the
 // cells are shared out in chunks over the pool's slots: the same sums in the same order, the same
-// bits.
+// bits. With `tolerance` > 0 (people.force_tolerance) the pairs whose force is certainly below
+// tolerance x sqrt(2) (the largest force of one pair, exp(-d/B) <= 1) are skipped, judged from d
+// and |D| before any exp or atan2; the others give the same bits, in the same order.
 class PeopleSocialForces {
  public:
   PeopleSocialForces();
   ~PeopleSocialForces();
-  void compute(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads = nullptr);
+  void compute(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads = nullptr,
+               double tolerance = 0.0);
 
  private:
   struct Workspace;
   std::unique_ptr<Workspace> ws_;
 };
 // One compute() with storage of its own (tests).
-void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads = nullptr);
+void computePeopleSocial(StepSnapshot& snap, const NeighborGrid& grid, double cutoff, ThreadPool* threads = nullptr,
+                         double tolerance = 0.0);
 
 // Whether handing work of `people` people to the pool's helpers pays (fewer: one thread is faster).
 bool crowdWorthSharing(const ThreadPool* threads, std::size_t people);

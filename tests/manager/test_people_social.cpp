@@ -131,3 +131,78 @@ TEST(PeopleSocial, PolynomialFormFollowsSocialForceFrom) {
   }
   EXPECT_EQ(compared, 20000);
 }
+
+TEST(PeopleSocial, ATolerancePairIsSkippedExactlyWhereItsBoundSaysSo) {
+  // people.force_tolerance 1e-4: a pair is skipped when d > gamma |D| ln(1/tol). Two people at rest:
+  // D = e, |D| = 1, so the limit is 0.35 x ln(10^4) = 0.35 x 9.2103 = 3.2236 m. At 3.0 m the force
+  // exp(-3.0/0.35) = 1.89e-4 is kept, at 3.5 m exp(-3.5/0.35) = 4.54e-5 (< 1e-4) is dropped.
+  // Walking toward each other at 1 m/s each (dv = 2 m/s along e from me to the other): |D| = 2 x 2 + 1
+  // = 5, the limit 5 x 3.2236 = 16.1 m, so even at 7.5 m the pair is kept (exp(-7.5/1.75) = 0.0138).
+  auto pairForce = [](double d, double speed, double tolerance) {
+    StepSnapshot snap;
+    snap.agents = {SfmBody{1, -1, Vec2(0, 0), Vec2(speed, 0), 0.35}, SfmBody{2, -1, Vec2(d, 0), Vec2(-speed, 0), 0.35}};
+    snap.index();
+    NeighborGrid grid;
+    grid.build(snap.agents, snap.by_id, kDefaultSocialCutoff);
+    computePeopleSocial(snap, grid, kDefaultSocialCutoff, nullptr, tolerance);
+    return snap.people_social[0];
+  };
+  EXPECT_NEAR(pairForce(3.0, 0.0, 1e-4).x(), -std::exp(-3.0 / 0.35), 1e-15);
+  EXPECT_EQ(pairForce(3.0, 0.0, 1e-4), pairForce(3.0, 0.0, 0.0));
+  EXPECT_NEAR(pairForce(3.5, 0.0, 0.0).x(), -4.5399929762484854e-05, 1e-16);  // exp(-10)
+  EXPECT_EQ(pairForce(3.5, 0.0, 1e-4), Vec2::Zero());
+  EXPECT_NE(pairForce(7.5, 1.0, 1e-4), Vec2::Zero());
+  EXPECT_EQ(pairForce(7.5, 1.0, 1e-4), pairForce(7.5, 1.0, 0.0));
+}
+
+TEST(PeopleSocial, AToleranceBoundsEverySkippedPairAndKeepsTheOthersBits) {
+  // On random crowds: every pair the tolerance drops has |u| <= tol x sqrt(2) (its exact force by
+  // the scalar form), and each person's sum differs from the exact one by at most the sum of the
+  // forces of its dropped pairs (the kept pairs are the same values added in the same order).
+  for (const double tolerance : {1e-4, 1e-3}) {
+    for (std::uint64_t seed : {4u, 5u}) {
+      StepSnapshot snap;
+      snap.agents = randomCrowd(900, 35.0, seed);
+      snap.index();
+      NeighborGrid grid;
+      grid.build(snap.agents, snap.by_id, kDefaultSocialCutoff);
+      PeopleSocialForces forces;
+      ThreadPool pool(ThreadPool::Size{1, 0, {}});
+      forces.compute(snap, grid, kDefaultSocialCutoff, &pool, tolerance);
+      const std::vector<Vec2> approx = snap.people_social;
+
+      const SfmParams p;
+      const double limit = p.gamma * std::log(1.0 / tolerance);
+      std::vector<Vec2> kept(snap.agents.size(), Vec2::Zero());
+      std::vector<double> dropped(snap.agents.size(), 0.0);
+      long skipped = 0, all = 0;
+      grid.forEachPair(kDefaultSocialCutoff, [&](int i, int j) {
+        const SfmBody &a = snap.agents[i], &b = snap.agents[j];
+        const Vec2 u = unweightedSocialForce(a, b, p);
+        const Vec2 d = b.position - a.position;
+        const Vec2 D = p.lambda * (a.velocity - b.velocity) + d.normalized();
+        ++all;
+        if (d.norm() > limit * D.norm() * (1 + 1e-12)) {  // beyond the bound: dropped
+          EXPECT_LE(u.norm(), tolerance * std::sqrt(2.0)) << i << " " << j;
+          dropped[i] += u.norm();
+          dropped[j] += u.norm();
+          ++skipped;
+        } else {
+          kept[i] += u;
+          kept[j] -= u;
+        }
+      });
+      EXPECT_GT(skipped, all / 10) << tolerance;  // the tolerance does drop pairs
+      for (std::size_t i = 0; i < snap.agents.size(); ++i) {
+        // A pair right at the bound may fall either way by rounding: allow one such pair's force.
+        EXPECT_LE((approx[i] - kept[i]).norm(), 2 * tolerance * std::sqrt(2.0)) << i;
+      }
+      // And against the exact sums: each person's error is at most the forces of its dropped pairs.
+      StepSnapshot exact = snap;
+      computePeopleSocial(exact, grid, kDefaultSocialCutoff);
+      for (std::size_t i = 0; i < snap.agents.size(); ++i) {
+        EXPECT_LE((approx[i] - exact.people_social[i]).norm(), dropped[i] + 1e-12) << i;
+      }
+    }
+  }
+}

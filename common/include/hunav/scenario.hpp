@@ -111,6 +111,9 @@ struct PeopleModel {
   PeopleNavigation navigation = PeopleNavigation::Path;
   double route_resolution = 0.1;  // m, cell side of the people's route grid
   bool give_way = false;          // a person held still face to face steps back (manager/README.md)
+  // Pairs of people whose social force is certainly below this fraction of the largest one pair
+  // exerts are skipped (0: every pair within the cut-off; manager/README.md, "Crowds").
+  double force_tolerance = 0.0;
 };
 
 // One condition of the scenario's `expect:` block (scenarios/README.md; docs/metrics.md,

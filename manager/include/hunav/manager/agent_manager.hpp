@@ -50,6 +50,10 @@ class AgentManager {
   // Social force cut-off radius between people (<= 0: exact all pairs).
   void setSocialCutoff(double metres) { cutoff_ = metres; }
   double socialCutoff() const { return cutoff_; }
+  // people.force_tolerance: pairs whose social force is certainly below this fraction of a pair's
+  // largest are skipped (0: every pair within the cut-off; manager/README.md, "Crowds").
+  void setForceTolerance(double tolerance) { force_tolerance_ = tolerance; }
+  double forceTolerance() const { return force_tolerance_; }
   NodeLibrary& nodeLibrary() { return lib_; }
   // Replaces the built-in tree of a behavior code with this XML (for tests and tools).
   void setBuiltinTree(int behavior, const std::string& xml);
@@ -108,7 +112,8 @@ class AgentManager {
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
   std::shared_ptr<const RouteMap> routes_;
-  bool give_way_ = false;  // people.give_way
+  bool give_way_ = false;         // people.give_way
+  double force_tolerance_ = 0.0;  // people.force_tolerance
   // The scenario's file: agent_state_t.behavior_tree is relative to its folder (useScenario).
   std::string scenario_file_;
   std::string tree_folder_;  // setTreeFolder, normalised; empty: none
