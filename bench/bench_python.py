@@ -12,7 +12,10 @@ end (goal, time limit or stuck), resets included in the time. Figures (the best 
 
   cpp:     build/bin/bench_stepped, the same episodes stepped from C++ (no Python), when built;
   sim:     hunav.Simulation.step(v, w) in a Python loop;
-  env:     hunav.gym.HuNavEnv.step(action) (observation in the robot frame, reward, info);
+  env:     hunav.gym.HuNavEnv.step(action) (observation in the robot frame, reward, info), as
+           made by default: no result file (metrics in memory);
+  env, results_dir=: the same writing every file of every episode (into a temporary folder,
+           removed after the figure);
   vector:  hunav.VectorSimulation(worlds).step(actions) with threads=1 and threads=worlds: world
            steps per second (worlds x vector steps), and the speed-up of the threads.
 
@@ -25,7 +28,9 @@ import argparse
 import math
 import os
 import pathlib
+import shutil
 import subprocess
+import tempfile
 import time
 
 import numpy as np
@@ -65,8 +70,8 @@ def bench_sim(scenario, seeds):
     return steps, time.perf_counter() - start, prints, (time.thread_time() - cpu, time.process_time() - proc)
 
 
-def bench_env(scenario, seeds):
-    env = HuNavEnv(scenario, **SIM_OPTIONS)
+def bench_env(scenario, seeds, results_dir=None):
+    env = HuNavEnv(scenario, results_dir=results_dir, **SIM_OPTIONS)
     steps, prints = 0, []
     start, cpu, proc = time.perf_counter(), time.thread_time(), time.process_time()
     for seed in seeds:
@@ -82,6 +87,15 @@ def bench_env(scenario, seeds):
             done = env.sim.done
         prints.append(env.sim.fingerprint())
     return steps, time.perf_counter() - start, prints, (time.thread_time() - cpu, time.process_time() - proc)
+
+
+def bench_env_files(scenario, seeds):
+    """bench_env with results_dir= (every file of every episode), in a fresh temporary folder."""
+    folder = tempfile.mkdtemp(prefix="bench_python_")
+    try:
+        return bench_env(scenario, seeds, folder)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def bench_vector(scenario, seeds, worlds, threads):
@@ -176,7 +190,8 @@ def main():
                   f"{1e6 * cpp[0]:6.1f} us/step, CPU {1e6 * cpp[1]:5.1f} / {1e6 * cpp[2]:5.1f} us/step, digest {dig}")
         else:
             print(f"no {args.bench_stepped}: build the bench_stepped target for the C++ figure")
-        for name, fn in (("sim (Simulation.step)", bench_sim), ("env (HuNavEnv.step)", bench_env)):
+        for name, fn in (("sim (Simulation.step)", bench_sim), ("env (HuNavEnv.step)", bench_env),
+                         ("env, results_dir=", bench_env_files)):
             per = line(name, *best_of(args.repeat, fn, args.scenario, seeds))
             if cpp is not None:
                 print(f"{'':<30} Python's cost over C++: {1e6 * (per[0] - cpp[0]):.1f} us/step wall, "

@@ -389,10 +389,12 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options, ThreadPool* thr
       threads_(threads) {
   if (options_.episodes < 0) throw std::invalid_argument("episodes must be >= 0 (0 = no limit)");
   SampleRate check(options_.sample_rate);  // throws for a bad rate
-  if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
-  if (options_.robot_free_run && !options_.states_csv)
-    throw std::invalid_argument("the counterfactual reads states.csv back: it needs states_csv");
-  out_lock_ = std::make_unique<results::FolderLock>(options_.out_dir);  // ConfigError: another run writes there
+  if (options_.robot_free_run && !(options_.states_csv && options_.write_files))
+    throw std::invalid_argument("the counterfactual reads states.csv back: it needs states_csv and write_files");
+  if (options_.write_files) {
+    if (options_.out_dir.empty()) throw std::invalid_argument("the output folder is not set");
+    out_lock_ = std::make_unique<results::FolderLock>(options_.out_dir);  // ConfigError: another run writes there
+  }
   event_sub_ =
       bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& ev) { onEvent(ev); });
   state_sub_ =
@@ -490,8 +492,8 @@ void EvaluatorNode::begin(const episode_event_t& start) {
   ep->start_sim_time = finite(start.sim_time) ? start.sim_time : 0.0;
   ep->started = std::chrono::steady_clock::now();
   ep->last_flush = ep->started;
-  if (episodes_started_ == 1) {
-    ep->run_dir = options_.out_dir;
+  if (!options_.write_files || episodes_started_ == 1) {
+    ep->run_dir = options_.out_dir;  // no files: no folder (both empty or unused)
   } else {
     // Episodes of one world often share a run id: never let one overwrite another's files.
     const std::string base = safeFileName(info.run_id);
@@ -500,13 +502,14 @@ void EvaluatorNode::begin(const episode_event_t& start) {
       name = n == 1 ? fmt::format("{}-{}", base, start.episode) : fmt::format("{}-{}-{}", base, start.episode, n);
     ep->run_dir = options_.out_dir / name;
   }
-  fs::create_directories(ep->run_dir);
-  if (options_.states_csv) {
+  if (options_.write_files) fs::create_directories(ep->run_dir);
+  if (options_.states_csv && options_.write_files) {
     ep->states = std::make_unique<StatesCsvWriter>(ep->run_dir / "states.csv");
     info.states_file = ep->states->path().string();
   }
   OutputOptions outputs{options_.out_dir, ep->run_dir, options_.hunav_txt, false};
   outputs.per_tick_files = options_.per_tick_files;
+  outputs.write_files = options_.write_files;
   ep->evaluation = std::make_unique<RunEvaluation>(registry_, options_.profile, options_.experiment_tag, outputs);
   current_ = std::move(ep);
 }

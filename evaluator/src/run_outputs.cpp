@@ -216,7 +216,7 @@ struct RunEvaluation::Impl {
   fs::path stepsTxt(const std::string& stem) const { return options.out_dir / (stem + "_steps_" + tag + ".txt"); }
 
   void open(std::unique_ptr<StepsFile>& csv, std::unique_ptr<StepsFile>& txt, const std::string& stem, bool active) {
-    if (!options.per_tick_files) return;  // csv and txt stay null
+    if (!options.per_tick_files || !options.write_files) return;  // csv and txt stay null
     csv = std::make_unique<StepsFile>(stepsCsv(stem), options.replace_at_end, false, columns, active, numbers);
     if (options.hunav_txt)
       txt = std::make_unique<StepsFile>(stepsTxt(stem), options.replace_at_end, true, columns, active, numbers);
@@ -385,8 +385,10 @@ struct RunEvaluation::Impl {
 RunEvaluation::RunEvaluation(const MetricRegistry& registry, const std::string& profile,
                              const std::string& experiment_tag, OutputOptions options)
     : impl_(std::make_unique<Impl>(registry, profile, experiment_tag, std::move(options))) {
-  fs::create_directories(impl_->options.out_dir);
-  fs::create_directories(impl_->options.run_dir);
+  if (impl_->options.write_files) {
+    fs::create_directories(impl_->options.out_dir);
+    fs::create_directories(impl_->options.run_dir);
+  }
   impl_->open(impl_->steps_csv, impl_->steps_txt, "metrics", false);
 }
 
@@ -408,27 +410,32 @@ RunResult RunEvaluation::finish(RunInfo info, std::vector<MetricValue> extra) {
   Impl& m = *impl_;
   RunResult result;
   result.metrics = m.run.values();
-  std::array<std::vector<MetricValue>, 7> behavior_values;
   for (std::size_t b = 1; b <= 6; ++b)
-    if (m.tracks[b]) behavior_values[b] = m.tracks[b]->set ? m.tracks[b]->set->values() : result.metrics;
+    if (m.tracks[b])
+      result.behavior_metrics.emplace_back(static_cast<int>(b),
+                                           m.tracks[b]->set ? m.tracks[b]->set->values() : result.metrics);
   result.metrics.insert(result.metrics.end(), std::make_move_iterator(extra.begin()),
                         std::make_move_iterator(extra.end()));
   m.forEachFile([](StepsFile& f) { f.finish(); });
   m.finished = true;
-
-  const auto& out = m.options.out_dir;
-  result.run_dir = m.options.run_dir;
-  result.metrics_csv = appendMetricsRow(out / "metrics.csv", info, result.metrics);
-  if (m.options.hunav_txt) appendTxtSummary(out / "metrics.txt", info.experiment_tag, result.metrics);
-  for (std::size_t b = 1; b <= 6; ++b) {
-    if (!m.tracks[b]) continue;
-    const std::string stem = "metrics_beh_" + std::to_string(b);
-    appendMetricsRow(out / (stem + ".csv"), info, behavior_values[b]);
-    if (m.options.hunav_txt) appendTxtSummary(out / (stem + ".txt"), info.experiment_tag, behavior_values[b]);
-  }
-  writeRunJson(m.options.run_dir / "run.json", info, result.metrics);
   result.info = std::move(info);
+  if (m.options.write_files) writeRunSummaries(result, m.options.out_dir, m.options.run_dir, m.options.hunav_txt);
   return result;
+}
+
+void writeRunSummaries(RunResult& result, const fs::path& out_dir, const fs::path& run_dir, bool hunav_txt) {
+  const RunInfo& info = result.info;
+  fs::create_directories(out_dir);
+  fs::create_directories(run_dir);
+  result.run_dir = run_dir;
+  result.metrics_csv = appendMetricsRow(out_dir / "metrics.csv", info, result.metrics);
+  if (hunav_txt) appendTxtSummary(out_dir / "metrics.txt", info.experiment_tag, result.metrics);
+  for (const auto& [b, values] : result.behavior_metrics) {
+    const std::string stem = "metrics_beh_" + std::to_string(b);
+    appendMetricsRow(out_dir / (stem + ".csv"), info, values);
+    if (hunav_txt) appendTxtSummary(out_dir / (stem + ".txt"), info.experiment_tag, values);
+  }
+  writeRunJson(run_dir / "run.json", info, result.metrics);
 }
 
 RunResult writeRunOutputs(const MetricRegistry& registry, const Recording& recording, RunInfo info,

@@ -42,6 +42,10 @@ struct OutputOptions {
   // Write the per-tick files (metrics_steps.csv, metrics_beh_<b>_steps.csv and their txt). Off: the
   // same metrics and summaries, without formatting a row per file per sample.
   bool per_tick_files = true;
+  // Write any file at all. Off: no folder is created and nothing is written (the folders above are
+  // not used); the same metrics, per behavior too, in finish()'s RunResult (writeRunSummaries()
+  // writes its files later).
+  bool write_files = true;
 };
 
 class RunEvaluation {
@@ -63,7 +67,8 @@ class RunEvaluation {
   std::vector<MetricValue> values() const;
   // Hands the buffered per-tick rows to the OS.
   void flush();
-  // Closes the per-tick files, appends the metrics.csv rows (run and behaviors), writes run.json.
+  // Closes the per-tick files, appends the metrics.csv rows (run and behaviors), writes run.json
+  // (writeRunSummaries; nothing without OutputOptions::write_files).
   // `info` is the run's provenance (profile included). `extra` (the counterfactual_* metrics) follow
   // the run's own metrics in its metrics.csv row and run.json (not in the per-behavior files).
   // Throws std::runtime_error on I/O errors.

@@ -45,7 +45,8 @@ def main():
     start = time.perf_counter()
     worlds = min(args.worlds, args.episodes)
     seeds = list(range(1, args.episodes + 1))
-    vs = hunav.VectorSimulation(worlds, args.scenario, seeds=seeds[:worlds], threads=args.threads)
+    # files=False: the metrics in memory, no result folder per episode (nothing here reads one).
+    vs = hunav.VectorSimulation(worlds, args.scenario, seeds=seeds[:worlds], threads=args.threads, files=False)
     obs = vs.reset()
     playing = seeds[:worlds]  # the seed each world plays (None: no episode left for it)
     pending = seeds[worlds:]

@@ -34,6 +34,14 @@ episode then ends with status "collision", its own, and a reason naming what the
 got stuck; truncated: the scenario's time limit. A step() after the episode ended raises RuntimeError
 (call reset()), as Gymnasium's order checks would; so do step() and reset() after close().
 
+Result files: none by default (no folder, no temporary file: the metrics are computed in memory,
+env.sim.metrics(), info's fingerprint). results_dir=DIR writes every file of every episode (what
+hunav_run writes: metrics.csv, run.json, states.csv, the per-tick and per-behavior files) into
+DIR/seed<s> (DIR/seed<s>-2, -3, ... for a seed played again or a folder already there; env.run_dir
+is the episode's). save(out_dir) after an episode without results_dir writes the files that need no
+samples (metrics.csv, the per-behavior metrics files, run.json) and warns that states.csv and the
+per-tick files need results_dir=.
+
 Seeds: reset(seed=s) plays the episode of seed s (the scenario's random people and sensor noise) and
 seeds env.np_random; reset() without a seed plays the next seed (s + 1, s + 2, ...: every episode a
 new one; the first reset() without any seed plays the `seed` given to HuNavEnv, else the scenario's).
@@ -44,6 +52,7 @@ observation_space, the step 5-tuple's types, reset(seed) determinism, np_random,
 metadata.
 """
 import math
+import os
 
 import numpy as np
 
@@ -176,6 +185,25 @@ def default_reward(env, before, after, info, weights=None):
     return float(r)
 
 
+def episode_folder(results_dir, seed, taken=()):
+    """results_dir/seed<seed>, or seed<seed>-2, -3, ... when that folder exists or is in `taken`."""
+    base = os.path.join(results_dir, f"seed{seed}")
+    path, n = base, 1
+    while path in taken or os.path.exists(path):
+        n += 1
+        path = f"{base}-{n}"
+    return path
+
+
+def _simulation_kwargs(sim_kwargs):
+    """The keyword arguments for the environments' simulations: no file unless results_dir asks."""
+    for key in ("out_dir", "files"):
+        if key in sim_kwargs:
+            raise ValueError(f"{key}= is not an environment's option: results_dir=DIR writes every episode's "
+                             "result files (default: none)")
+    return dict(sim_kwargs, files=False)
+
+
 def collision_reason(sim):
     """What the robot touched, in words: the nearest person when one is in contact, else an obstacle."""
     state = sim.state()
@@ -198,18 +226,23 @@ class HuNavEnv(_EnvBase):
     reward_fn(env, before, after, info) -> float replaces default_reward (before/after: sim.state());
     terminate_on_collision: end the episode at the robot's first contact;
     render_mode: "rgb_array" (render() returns the top view) or None; render_size: (width, height)
-    in pixels (default: 20 pixels per metre of the scenario's bounds).
-    Further keyword arguments go to hunav.Simulation (duration, sample_rate, profile, out_dir...).
+    in pixels (default: 20 pixels per metre of the scenario's bounds); results_dir: where every
+    episode's result files go (module docstring; default None: no file at all).
+    Further keyword arguments go to hunav.Simulation (duration, sample_rate, profile, metrics,
+    format, states_csv...).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
     spec = None  # gymnasium.make() sets it on the environments it makes
 
     def __init__(self, scenario, seed=None, max_people=None, reward_fn=None, reward_weights=None,
-                 terminate_on_collision=True, render_mode="rgb_array", render_size=None, **sim_kwargs):
+                 terminate_on_collision=True, render_mode="rgb_array", render_size=None, results_dir=None,
+                 **sim_kwargs):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']}")
-        self.sim = _hunav.Simulation(scenario, seed=seed, planner=None, **sim_kwargs)
+        self.sim = _hunav.Simulation(scenario, seed=seed, planner=None, **_simulation_kwargs(sim_kwargs))
+        self.results_dir = None if results_dir is None else os.fspath(results_dir)
+        self.run_dir = None  # the episode's result folder (results_dir only)
         self.scenario = scenario
         self.reward_fn = reward_fn
         self.reward_weights = reward_weights or RewardWeights()
@@ -290,7 +323,9 @@ class HuNavEnv(_EnvBase):
             self.action_space.seed(seed)
         else:
             seed = self._next_seed
-        self.sim.reset(seed=seed)
+        if self.results_dir is not None:
+            self.run_dir = episode_folder(self.results_dir, seed)
+        self.sim.reset(seed=seed, out_dir=self.run_dir)
         self._next_seed = seed + 1
         self._started = True
         self._robot_collisions = 0
@@ -343,11 +378,13 @@ class HuNavEnv(_EnvBase):
 
     def save(self, out_dir):
         """Copies the ended episode's result files (metrics.csv, states.csv, run.json, ...) into
-        out_dir and returns it; RuntimeError while the episode runs."""
+        out_dir and returns it; RuntimeError while the episode runs. Without results_dir there are
+        none: it writes metrics.csv, the per-behavior metrics files and run.json from the episode's
+        results and warns (UserWarning) that states.csv and the per-tick files need results_dir=."""
         self._require_open()
         if not self._started:
             raise RuntimeError("call reset() before save()")
-        return self.sim.save(str(out_dir))
+        return self.sim.save(os.fspath(out_dir))
 
     def close(self):
         """Frees the simulation; the environment cannot be used afterwards (closing twice is fine)."""
@@ -415,8 +452,8 @@ class HuNavVectorEnv(_VecBase):
 
     A world's episode that ends by a collision (terminate_on_collision) ends with status "collision"
     and a reason, as HuNavEnv's; infos["final_info"][i] holds the ended episode's "status" and
-    "reason". save_dir: every ended episode's result files are copied into
-    save_dir/world<i>_seed<seed> before the world is reset (infos["final_info"][i]["saved_to"]).
+    "reason". Result files: none by default; results_dir=DIR writes every file of every episode
+    into DIR/seed<s> (as HuNavEnv's; infos["final_info"][i]["run_dir"]).
 
     seeds: the first episodes' seeds (default: the scenario's seed + i); threads: the pool's
     threads (default: the machine's cores, at most num_envs); reward_fn(env, before, after, infos)
@@ -429,9 +466,9 @@ class HuNavVectorEnv(_VecBase):
     render_mode = None
 
     def __init__(self, scenario, num_envs, seeds=None, threads=None, max_people=None, reward_fn=None,
-                 reward_weights=None, terminate_on_collision=True, save_dir=None, **sim_kwargs):
+                 reward_weights=None, terminate_on_collision=True, results_dir=None, **sim_kwargs):
         self.vsim = _hunav.VectorSimulation(num_envs, scenario, seeds=seeds, planner=None, threads=threads,
-                                            **sim_kwargs)
+                                            **_simulation_kwargs(sim_kwargs))
         self.num_envs = int(num_envs)
         self.scenario = scenario
         self.reward_fn = reward_fn
@@ -455,7 +492,8 @@ class HuNavVectorEnv(_VecBase):
         self._goal_distance = None
         self._robot_collisions = None
         self._next_seed = None
-        self.save_dir = save_dir
+        self.results_dir = None if results_dir is None else os.fspath(results_dir)
+        self.run_dirs = [None] * self.num_envs  # each world's episode's result folder (results_dir only)
         self._np_random = None
         self._np_random_seed = None
 
@@ -477,7 +515,7 @@ class HuNavVectorEnv(_VecBase):
         else:
             seeds = [int(s) for s in seed]
         seeds = [int(s) for s in seeds]
-        self.vsim.reset(seeds=seeds)
+        self.vsim.reset(seeds=seeds, out_dirs=self._out_dirs(range(self.num_envs), seeds))
         self._next_seed = [s + self.num_envs for s in seeds]
         self._started = True
         self._after_reset()
@@ -529,13 +567,13 @@ class HuNavVectorEnv(_VecBase):
                 world = self.vsim.world(int(i))
                 final["status"] = str(final["status"])
                 final["reason"] = world.info()["reason"]
-                if self.save_dir is not None:
-                    final["saved_to"] = world.save(f"{self.save_dir}/world{i}_seed{world.seed}")
+                if self.results_dir is not None:
+                    final["run_dir"] = self.run_dirs[i]
                 infos["final_info"][i] = final
             seeds = [self._next_seed[i] for i in ended]
             for i in ended:
                 self._next_seed[i] += self.num_envs
-            self.vsim.reset(seeds=seeds, indices=[int(i) for i in ended])
+            self.vsim.reset(seeds=seeds, indices=[int(i) for i in ended], out_dirs=self._out_dirs(ended, seeds))
             fresh = self._observe()
             for k in obs:
                 obs[k][ended] = fresh[k][ended]
@@ -549,6 +587,16 @@ class HuNavVectorEnv(_VecBase):
     def _require_open(self):
         if self.vsim is None:
             raise RuntimeError("the environment is closed")
+
+    def _out_dirs(self, worlds, seeds):
+        """The result folders of these worlds' next episodes (None: no files), distinct."""
+        if self.results_dir is None:
+            return None
+        taken = set()
+        for i, seed in zip(worlds, seeds):
+            self.run_dirs[i] = episode_folder(self.results_dir, seed, taken)
+            taken.add(self.run_dirs[i])
+        return [self.run_dirs[i] for i in worlds]
 
     def _after_reset(self):
         d, _, collisions = self.vsim.reward_terms(self.reward_weights.personal_distance)

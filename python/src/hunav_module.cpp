@@ -244,14 +244,17 @@ class Simulation {
              std::optional<double> duration, std::optional<double> sample_rate, std::string planner_config,
              std::string profile, std::string out_dir, std::optional<std::string> experiment_tag, std::string run_id,
              std::string metrics_file, std::string format, bool evaluator_thread = true, bool states_csv = true,
-             bool per_tick_files = true)
+             bool per_tick_files = true, bool files = true)
       : file_(std::move(scenario_file)),
         duration_(duration.value_or(0.0)),
         sample_rate_(sample_rate),
         metrics_file_(std::move(metrics_file)),
         experiment_tag_(std::move(experiment_tag)),
-        keep_out_dir_(!out_dir.empty()) {
+        keep_out_dir_(!out_dir.empty()),
+        files_(files) {
     if (seed && *seed < 0) throw std::invalid_argument("seed must be >= 0");
+    if (!files && !out_dir.empty())
+      throw std::invalid_argument("out_dir is for result files, and files=False writes none: give one of them");
     // 0 is no duration (it kept the scenario's time limit): None is how to keep it.
     if (duration && !(*duration > 0.0 && *duration <= hunav::kMaxTimeLimit))
       throw std::invalid_argument("duration must be a number of seconds in (0, 1e7] (None: the scenario's time limit)");
@@ -284,12 +287,13 @@ class Simulation {
     removeTempDir();
   }
 
-  py::dict reset(std::optional<long long> seed) {
+  py::dict reset(std::optional<long long> seed, std::optional<std::string> out_dir) {
     checkSeed(seed);
+    checkOutDir(out_dir);
     {
       const BusyFlag::Hold hold = busy_.hold();
       py::gil_scoped_release release;
-      resetNative(seed);
+      resetNative(seed, out_dir);
     }
     return observation();
   }
@@ -311,12 +315,22 @@ class Simulation {
   static void checkSeed(std::optional<long long> seed) {
     if (seed && *seed < 0) throw std::invalid_argument("seed must be >= 0");
   }
-  void resetNative(std::optional<long long> seed) {
+  static void checkOutDir(const std::optional<std::string>& out_dir) {
+    if (out_dir && out_dir->empty()) throw std::invalid_argument("out_dir is empty (None: the simulation's own)");
+  }
+  // out_dir: this episode's result folder; else the constructor's out_dir, a temporary folder, or
+  // (files=False) no files at all.
+  void resetNative(std::optional<long long> seed, const std::optional<std::string>& out_dir = std::nullopt) {
     if (seed && static_cast<std::uint64_t>(*seed) != scenario_.seed) load(*seed);
     run_.reset();
     removeTempDir();
     hunav::runner::RunOptions o = options_;
-    if (o.out_dir.empty()) o.out_dir = (temp_dir_ = makeTempDir()).string();
+    if (out_dir)
+      o.out_dir = *out_dir;
+    else if (!files_)
+      o.write_files = false;
+    else if (o.out_dir.empty())
+      o.out_dir = (temp_dir_ = makeTempDir()).string();
     run_ = std::make_unique<SteppedRun>(scenario_, o, external_);
     run_->start();
   }
@@ -458,11 +472,25 @@ class Simulation {
     return info();
   }
 
-  // Copies the episode's result files (metrics.csv, states.csv, run.json, ...) into out_dir.
+  // Copies the episode's result files (metrics.csv, states.csv, run.json, ...) into out_dir. An
+  // episode recorded without files gets those that need no samples (writeRunSummaries), and a
+  // UserWarning naming what is missing and how to have it.
   std::string save(const std::string& out_dir) const {
     const SteppedRun& r = started();
     if (!r.ended() || !r.outcome()->result)
       throw std::logic_error("the episode is still running: step() or run() it to the end first");
+    if (r.outcome()->result->metrics_csv.empty()) {
+      hunav::evaluator::RunResult result = *r.outcome()->result;
+      hunav::evaluator::writeRunSummaries(result, out_dir, out_dir, options_.hunav_txt);
+      if (PyErr_WarnEx(PyExc_UserWarning,
+                       "save() wrote metrics.csv, the per-behavior metrics files and run.json only: states.csv and the "
+                       "per-tick metric files need the rows of every sample, which an episode recorded without files "
+                       "does not keep (HuNavEnv / HuNavVectorEnv: give results_dir=; Simulation: files=True, or "
+                       "reset(out_dir=...))",
+                       1) != 0)
+        throw py::error_already_set();
+      return fs::path(out_dir).string();
+    }
     const fs::path from = r.outcome()->result->metrics_csv.parent_path();
     fs::create_directories(out_dir);
     fs::copy(from, out_dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
@@ -575,6 +603,7 @@ class Simulation {
   std::string metrics_file_;
   std::optional<std::string> experiment_tag_;
   bool keep_out_dir_;
+  bool files_;  // false: episodes reset without an out_dir write no file
   bool external_ = false;
   std::unique_ptr<hunav::ThreadPool> threads_;  // before run_: outlives its nodes
   hunav::runner::RunOptions options_;
@@ -596,7 +625,7 @@ class VectorSimulation {
                    std::optional<double> duration, std::optional<double> sample_rate, const std::string& planner_config,
                    const std::string& profile, std::optional<std::string> experiment_tag,
                    const std::string& metrics_file, const std::string& format, bool evaluator_thread, bool states_csv,
-                   bool per_tick_files) {
+                   bool per_tick_files, bool files) {
     if (n < 1) throw std::invalid_argument("n must be >= 1");
     if (seeds && seeds->size() != static_cast<std::size_t>(n))
       throw std::invalid_argument("seeds has " + std::to_string(seeds->size()) + " values for " + std::to_string(n) +
@@ -606,7 +635,7 @@ class VectorSimulation {
     auto make = [&](std::optional<long long> seed) {
       return std::make_shared<Simulation>(scenario, seed, planner, duration, sample_rate, planner_config, profile, "",
                                           experiment_tag, "", metrics_file, format, evaluator_thread, states_csv,
-                                          per_tick_files);
+                                          per_tick_files, files);
     };
     // Default seeds: the scenario's seed, then one more per world.
     sims_.push_back(make(seeds ? std::optional<long long>((*seeds)[0]) : std::nullopt));
@@ -629,7 +658,8 @@ class VectorSimulation {
   std::size_t maxPeople() const { return max_people_; }
   std::shared_ptr<Simulation> world(long long i) const { return sims_.at(index(i)); }
 
-  py::dict reset(std::optional<std::vector<long long>> seeds, std::optional<std::vector<long long>> indices) {
+  py::dict reset(std::optional<std::vector<long long>> seeds, std::optional<std::vector<long long>> indices,
+                 std::optional<std::vector<std::optional<std::string>>> out_dirs) {
     busy_.check();
     std::vector<std::size_t> worlds;
     if (indices) {
@@ -648,8 +678,14 @@ class VectorSimulation {
                                   std::to_string(worlds.size()) + " worlds");
     if (seeds)
       for (long long s : *seeds) Simulation::checkSeed(s);
+    if (out_dirs && out_dirs->size() != worlds.size())
+      throw std::invalid_argument("out_dirs has " + std::to_string(out_dirs->size()) + " values for " +
+                                  std::to_string(worlds.size()) + " worlds");
+    if (out_dirs)
+      for (const auto& d : *out_dirs) Simulation::checkOutDir(d);
     parallel(worlds.size(), [&](std::size_t k) {
-      sims_[worlds[k]]->resetNative(seeds ? std::optional<long long>((*seeds)[k]) : std::nullopt);
+      sims_[worlds[k]]->resetNative(seeds ? std::optional<long long>((*seeds)[k]) : std::nullopt,
+                                    out_dirs ? (*out_dirs)[k] : std::nullopt);
     });
     return observation();
   }
@@ -936,13 +972,14 @@ PYBIND11_MODULE(_hunav, m) {
   py::class_<Simulation, std::shared_ptr<Simulation>>(m, "Simulation")
       .def(py::init<std::string, std::optional<long long>, std::optional<std::string>, std::optional<double>,
                     std::optional<double>, std::string, std::string, std::string, std::optional<std::string>,
-                    std::string, std::string, std::string, bool, bool, bool>(),
+                    std::string, std::string, std::string, bool, bool, bool, bool>(),
            py::arg("scenario"), py::arg("seed") = py::none(), py::arg("planner") = py::none(),
            py::arg("duration") = py::none(), py::arg("sample_rate") = py::none(), py::arg("planner_config") = "",
            py::arg("profile") = "default", py::arg("out_dir") = "", py::arg("experiment_tag") = py::none(),
            py::arg("run_id") = "", py::arg("metrics") = "", py::arg("format") = "csv",
-           py::arg("evaluator_thread") = true, py::arg("states_csv") = true, py::arg("per_tick_files") = true)
-      .def("reset", &Simulation::reset, py::arg("seed") = py::none())
+           py::arg("evaluator_thread") = true, py::arg("states_csv") = true, py::arg("per_tick_files") = true,
+           py::arg("files") = true)
+      .def("reset", &Simulation::reset, py::arg("seed") = py::none(), py::arg("out_dir") = py::none())
       .def("step", &Simulation::step, py::arg("v"), py::arg("w"), py::arg("vy") = 0.0)
       .def("run", &Simulation::run)
       .def("observation", &Simulation::observation)
@@ -971,13 +1008,15 @@ PYBIND11_MODULE(_hunav, m) {
   py::class_<VectorSimulation>(m, "VectorSimulation")
       .def(py::init<int, std::string, std::optional<std::vector<long long>>, std::optional<std::string>,
                     std::optional<int>, std::optional<int>, std::optional<double>, std::optional<double>, std::string,
-                    std::string, std::optional<std::string>, std::string, std::string, bool, bool, bool>(),
+                    std::string, std::optional<std::string>, std::string, std::string, bool, bool, bool, bool>(),
            py::arg("n"), py::arg("scenario"), py::arg("seeds") = py::none(), py::arg("planner") = py::none(),
            py::arg("threads") = py::none(), py::arg("max_people") = py::none(), py::arg("duration") = py::none(),
            py::arg("sample_rate") = py::none(), py::arg("planner_config") = "", py::arg("profile") = "default",
            py::arg("experiment_tag") = py::none(), py::arg("metrics") = "", py::arg("format") = "csv",
-           py::arg("evaluator_thread") = false, py::arg("states_csv") = true, py::arg("per_tick_files") = true)
-      .def("reset", &VectorSimulation::reset, py::arg("seeds") = py::none(), py::arg("indices") = py::none())
+           py::arg("evaluator_thread") = false, py::arg("states_csv") = true, py::arg("per_tick_files") = true,
+           py::arg("files") = true)
+      .def("reset", &VectorSimulation::reset, py::arg("seeds") = py::none(), py::arg("indices") = py::none(),
+           py::arg("out_dirs") = py::none())
       .def("step", &VectorSimulation::step, py::arg("actions"))
       .def("run", &VectorSimulation::run)
       .def("observation", &VectorSimulation::observation)

@@ -25,6 +25,7 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   if (options.counterfactual) e.robot_free_run = robotFreeRunOf(scenario, options.threads);
   e.states_csv = options.states_csv;
   e.per_tick_files = options.per_tick_files;
+  e.write_files = options.write_files;
   return e;
 }
 

@@ -176,7 +176,8 @@ def test_a_collision_ends_the_episode_with_its_status_reason_and_results(tmp_pat
     assert env.sim.info()["status"] == "collision"
     with pytest.raises(RuntimeError, match="collision"):
         env.step([0.0, 0.0])
-    out = env.save(tmp_path / "saved")
+    with pytest.warns(UserWarning, match="results_dir="):  # no states.csv: made without results_dir
+        out = env.save(tmp_path / "saved")
     run = json.loads((tmp_path / "saved" / "run.json").read_text())
     assert run["status"] == "collision" and run["reason"] == info["reason"]
     rows = list(csv.DictReader(open(f"{out}/metrics.csv")))
@@ -205,7 +206,7 @@ def test_the_vector_env_follows_the_same_rules(passing, tmp_path):
 
 
 def test_a_vector_worlds_collision_has_its_status_and_its_results_saved(tmp_path):
-    env = HuNavVectorEnv(wall_ahead(tmp_path), num_envs=2, threads=1, save_dir=str(tmp_path / "episodes"))
+    env = HuNavVectorEnv(wall_ahead(tmp_path), num_envs=2, threads=1, results_dir=str(tmp_path / "episodes"))
     env.reset(seed=1)
     actions = np.array([[0.6, 0.0], [0.0, 0.0]])  # world 0 drives into the wall, world 1 stands
     for _ in range(100):
@@ -215,7 +216,8 @@ def test_a_vector_worlds_collision_has_its_status_and_its_results_saved(tmp_path
     assert terminated[0] and not terminated[1]
     final = infos["final_info"][0]
     assert final["status"] == "collision" and "touched an obstacle" in final["reason"]
-    run = json.loads(open(f"{final['saved_to']}/run.json").read())
+    assert final["run_dir"] == str(tmp_path / "episodes" / "seed1")
+    run = json.loads(open(f"{final['run_dir']}/run.json").read())
     assert run["status"] == "collision" and run["seed"] == 1
     assert infos["status"][0] == "collision"
     assert env.vsim.status[0] == "running"  # world 0 was reset at once (same-step autoreset)

@@ -95,11 +95,17 @@ struct EvaluatorOptions {
   bool states_csv = true;
   // Write the per-tick metric files (OutputOptions::per_tick_files); off: the same metrics.
   bool per_tick_files = true;
+  // Write any file. Off: no folder, no lock and no file at all (out_dir is not used and may be
+  // empty; states_csv and per_tick_files do not apply); every metric, the per-behavior ones and the
+  // fingerprints exactly as with files, in lastResult() (whose run_dir and metrics_csv stay empty:
+  // writeRunSummaries() writes its metrics.csv rows and run.json later). For learning loops that
+  // read the metrics in memory (hunav.gym); not with robot_free_run, which reads states.csv back.
+  bool write_files = true;
 };
 
 class EvaluatorNode {
  public:
-  // Locks out_dir until finished() (results::FolderLock: one writer per results folder; ConfigError
+  // With write_files, locks out_dir until finished() (results::FolderLock: one writer per results folder; ConfigError
   // when another run holds it), then subscribes WORLD_STATE and EPISODE_EVENT (unbounded queues) on
   // `bus` until it is destroyed.
   // `threads`: the process's pool (outliving the node), whose lane takes the per-sample work

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hunav/results/metric_catalog.hpp"
@@ -46,8 +47,10 @@ struct RunInfo {
 struct RunResult {
   RunInfo info;
   std::vector<MetricValue> metrics;
-  std::filesystem::path run_dir;      // where states.csv and run.json are
-  std::filesystem::path metrics_csv;  // the file the row went to
+  // The metrics of the people of each behavior present (code 1..6, ascending): metrics_beh_<b>.csv's rows.
+  std::vector<std::pair<int, std::vector<MetricValue>>> behavior_metrics;
+  std::filesystem::path run_dir;      // where states.csv and run.json are (empty: no files written)
+  std::filesystem::path metrics_csv;  // the file the row went to (empty: no files written)
 
   // formatMetricsTable(metrics): what the in-process runner prints after a run.
   std::string formatTable() const;

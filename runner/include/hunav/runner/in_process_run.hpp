@@ -57,6 +57,9 @@ struct RunOptions {
   bool states_csv = true;
   // Write the per-tick metric files (EvaluatorOptions::per_tick_files); off: the same metrics.
   bool per_tick_files = true;
+  // Write any result file (EvaluatorOptions::write_files); off: none at all, out_dir unused, the same
+  // metrics and fingerprint in RunOutcome::result.
+  bool write_files = true;
 };
 
 struct RunOutcome {
