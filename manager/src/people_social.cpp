@@ -93,6 +93,7 @@ struct PairBatch {
   alignas(64) double theta[kSize];
   alignas(64) double ux[kSize];
   alignas(64) double uy[kSize];
+  alignas(64) double keep[kSize];  // with a tolerance: 1 when the pair's force may reach it, else 0
   alignas(64) int i[kSize];
   alignas(64) int j[kSize + 8];
 };
@@ -103,6 +104,19 @@ __attribute__((always_inline)) inline void batchLoop(PairBatch& s, int n, const 
                  s.cos_theta[l]);
   for (int l = 0; l < n; ++l) s.theta[l] = polyAtan2(s.sin_theta[l], s.cos_theta[l]);
   for (int l = 0; l < n; ++l) pairForce(s.tx[l], s.ty[l], s.d_over_b[l], s.b[l], s.theta[l], p, s.ux[l], s.uy[l]);
+}
+
+// keep[l] for the pairs [from, n): 0 when the pair's force is certainly below the tolerance
+// (dropNegligiblePairs). No branch, no library call but the square root: vectorised as batchLoop.
+__attribute__((always_inline)) inline void keepLoop(PairBatch& s, int from, int n, const KernelParams& p) {
+  const double lambda2 = p.lambda * p.lambda, two_lambda = 2.0 * p.lambda, reach2 = p.negligible_reach2;
+  for (int l = from; l < n; ++l) {
+    const double dx = s.dx[l], dy = s.dy[l], dvx = s.dvx[l], dvy = s.dvy[l];
+    const double d2 = dx * dx + dy * dy;
+    const double d = std::sqrt(d2 > 0.0 ? d2 : 1.0);
+    const double len2 = lambda2 * (dvx * dvx + dvy * dvy) + two_lambda * (dvx * dx + dvy * dy) / d + 1.0;
+    s.keep[l] = d2 <= reach2 * len2 ? 1.0 : 0.0;
+  }
 }
 
 // The bodies in the grid's order (structure of arrays).
@@ -142,6 +156,13 @@ __attribute__((target("avx512f,avx512dq,prefer-vector-width=512"))) void batchAv
   batchLoop(b, n, p);
 }
 // What the CPU offers, asked once (after __builtin_cpu_init, whatever the order of static initialisers).
+__attribute__((target("avx2"))) void keepAvx2(PairBatch& b, int from, int n, const KernelParams& p) {
+  keepLoop(b, from, n, p);
+}
+__attribute__((target("avx512f,avx512dq,prefer-vector-width=512"))) void keepAvx512(PairBatch& b, int from, int n,
+                                                                                    const KernelParams& p) {
+  keepLoop(b, from, n, p);
+}
 bool haveAvx512() {
   static const bool yes =
       (__builtin_cpu_init(), __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"));
@@ -246,25 +267,27 @@ KernelParams kernelParams(const SfmParams& p) { return KernelParams{p.lambda, p.
 // tolerance: |u| <= sqrt(2) exp(-d/B) with B = gamma |D| (both exponentials of pairForce are at
 // most exp(-d/B)), so exp(-d/B) < tolerance, that is d > gamma |D| ln(1/tolerance), bounds |u|
 // by tolerance times the largest force of one pair (sqrt(2)). reach2 = (gamma ln(1/tolerance))^2,
-// the test d^2 > reach2 |D|^2, with |D|^2 = lambda^2 |dv|^2 + 2 lambda dv.e + 1: a square root and
-// a division, no exp or atan2. Coincident bodies are kept (pairForce gives them no force).
+// the test d^2 > reach2 |D|^2, with |D|^2 = lambda^2 |dv|^2 + 2 lambda dv.e + 1 (keepLoop): a square
+// root and a division, no exp or atan2. Coincident bodies are kept (pairForce gives them no force).
 // Pairs [0, from) were checked before; returns the pairs left.
 int dropNegligiblePairs(PairBatch& b, int from, int n, const KernelParams& p) {
-  const double reach2 = p.negligible_reach2;
+#ifdef HUNAV_X86_SIMD
+  if (haveAvx512())
+    keepAvx512(b, from, n, p);
+  else if (haveAvx2())
+    keepAvx2(b, from, n, p);
+  else
+#endif
+    keepLoop(b, from, n, p);
   int out = from;
   for (int l = from; l < n; ++l) {
-    const double dx = b.dx[l], dy = b.dy[l], dvx = b.dvx[l], dvy = b.dvy[l];
-    const double d2 = dx * dx + dy * dy;
-    const double d = std::sqrt(d2);
-    const double along = d > 0.0 ? (dvx * dx + dvy * dy) / d : 0.0;
-    const double len2 = p.lambda * p.lambda * (dvx * dvx + dvy * dvy) + 2.0 * p.lambda * along + 1.0;
-    b.dx[out] = dx;
-    b.dy[out] = dy;
-    b.dvx[out] = dvx;
-    b.dvy[out] = dvy;
+    b.dx[out] = b.dx[l];
+    b.dy[out] = b.dy[l];
+    b.dvx[out] = b.dvx[l];
+    b.dvy[out] = b.dvy[l];
     b.i[out] = b.i[l];
     b.j[out] = b.j[l];
-    out += d2 <= reach2 * len2 ? 1 : 0;
+    out += b.keep[l] != 0.0 ? 1 : 0;
   }
   return out;
 }

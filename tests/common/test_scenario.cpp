@@ -336,12 +336,16 @@ TEST(Scenario, PeopleModelKeys) {
   EXPECT_EQ(d.people_model.navigation, hunav::PeopleNavigation::Path);
   EXPECT_DOUBLE_EQ(d.people_model.route_resolution, 0.1);
   EXPECT_FALSE(d.people_model.give_way);
+  EXPECT_EQ(d.people_model.force_tolerance, 0.0);
   EXPECT_EQ(d.stuck_timeout, 60.0);
   EXPECT_EQ(d.stuck_distance, 0.5);
   const hunav::Scenario m = loadScenario(writeFile(
       "people_mean.yaml",
-      people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: true\n"));
+      people +
+          "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: true\n"
+          "  force_tolerance: 1e-4\n"));
   EXPECT_TRUE(m.people_model.give_way);
+  EXPECT_DOUBLE_EQ(m.people_model.force_tolerance, 1e-4);
   EXPECT_EQ(m.people_model.obstacle_points, hunav::ObstaclePoints::Mean);
   EXPECT_EQ(m.people_model.navigation, hunav::PeopleNavigation::Direct);
   EXPECT_DOUBLE_EQ(m.people_model.route_resolution, 0.05);
@@ -353,6 +357,8 @@ TEST(Scenario, PeopleModelKeys) {
   expectError("people_nav.yaml", people + "  navigation: astar\n", 15, "people.navigation");
   expectError("people_res.yaml", people + "  route_resolution: 0.001\n", 15, "people.route_resolution");
   expectError("people_give_way.yaml", people + "  give_way: sometimes\n", 15, "people.give_way");
+  expectError("people_tolerance.yaml", people + "  force_tolerance: 0.5\n", 15, "people.force_tolerance");
+  expectError("people_tolerance_nan.yaml", people + "  force_tolerance: .nan\n", 15, "people.force_tolerance");
   expectError("stuck_neg.yaml", std::string(kMinimal) + "stuck_timeout: -1\n", 10, "stuck_timeout");
   expectError("stuck_dist.yaml", std::string(kMinimal) + "stuck_distance: 0\n", 10, "stuck_distance");
 }
