@@ -339,11 +339,10 @@ TEST(Scenario, PeopleModelKeys) {
   EXPECT_EQ(d.people_model.force_tolerance, 0.0);
   EXPECT_EQ(d.stuck_timeout, 60.0);
   EXPECT_EQ(d.stuck_distance, 0.5);
-  const hunav::Scenario m = loadScenario(writeFile(
-      "people_mean.yaml",
-      people +
-          "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: true\n"
-          "  force_tolerance: 1e-4\n"));
+  const hunav::Scenario m = loadScenario(
+      writeFile("people_mean.yaml",
+                people + "  obstacle_points: mean\n  navigation: direct\n  route_resolution: 0.05\n  give_way: true\n"
+                         "  force_tolerance: 1e-4\n"));
   EXPECT_TRUE(m.people_model.give_way);
   EXPECT_DOUBLE_EQ(m.people_model.force_tolerance, 1e-4);
   EXPECT_EQ(m.people_model.obstacle_points, hunav::ObstaclePoints::Mean);
