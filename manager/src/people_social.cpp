@@ -155,7 +155,7 @@ __attribute__((target("avx512f,avx512dq,prefer-vector-width=512"))) void batchAv
                                                                                      const KernelParams& p) {
   batchLoop(b, n, p);
 }
-// What the CPU offers, asked once (after __builtin_cpu_init, whatever the order of static initialisers).
+// The tolerance's test, the same two ways.
 __attribute__((target("avx2"))) void keepAvx2(PairBatch& b, int from, int n, const KernelParams& p) {
   keepLoop(b, from, n, p);
 }
@@ -163,6 +163,7 @@ __attribute__((target("avx512f,avx512dq,prefer-vector-width=512"))) void keepAvx
                                                                                     const KernelParams& p) {
   keepLoop(b, from, n, p);
 }
+// What the CPU offers, asked once (after __builtin_cpu_init, whatever the order of static initialisers).
 bool haveAvx512() {
   static const bool yes =
       (__builtin_cpu_init(), __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"));

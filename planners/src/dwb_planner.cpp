@@ -19,8 +19,8 @@ constexpr double kStandingSpeed = 0.05;
 constexpr double kSightingPeriod = 0.5;  // s between two records of where people are (reroute)
 // m a blocked place keeps from the robot and from the goal (beyond its radius and the robot's).
 constexpr double kKeepOutClearance = 0.2;
-constexpr double kBlockSearchFactor =
-    2.0;                                   // reroute looks for a narrow place up to this many look-aheads along the way
+// Reroute looks for a place that closes the way up to this many look-aheads along it.
+constexpr double kBlockSearchFactor = 2.0;
 constexpr double kTrailStep = 0.25;        // m between the points of the robot's trail (give way)
 constexpr std::size_t kTrailPoints = 80;   // the trail's last 20 m
 constexpr double kGiveWayClearance = 0.5;  // m between the place the robot gives way at and anyone
@@ -263,10 +263,10 @@ bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {
     int rank;       // 0: narrow, within block_lookahead; 1: narrow, within twice that; 2: open
   };
   // A disc that closes the passage for the robot is worth blocking first: one in open space, or
-  // along a single wall, only steps the path aside. The
-  // narrow places within the look-ahead; when there are none, those up to twice as far (the robot
-  // may keep turning back before the doorway it needs); when there are none either, any place
-  // within the look-ahead (in open space the path then steps aside where people walk).
+  // along a single wall, only steps the path aside. The narrow places within the look-ahead; when
+  // there are none, those up to twice as far (the robot may keep turning back before the doorway it
+  // needs); when there are none either, any place within the look-ahead (in open space the path
+  // then steps aside where people walk).
   std::vector<Place> places;
   const double farthest = kBlockSearchFactor * rp.block_lookahead;
   for (std::size_t k = 0; k < route.size() && route.remaining(0) - route.remaining(k) <= farthest; ++k) {
@@ -275,18 +275,19 @@ bool DwbPlanner::blockPassageAhead(const robot_observation_t& obs) {
     const double radius = std::min(rp.block_radius, costmap_.staticDistance(cx, cy));
     const double keep_off = radius + obs.radius + kKeepOutClearance;
     if ((route[k] - robot).norm() < keep_off || (route[k] - goal).norm() < keep_off + obs.goal.radius) continue;
+    // Closed: beside the disc, across the way, on both sides, the robot would touch a wall.
+    const Vec2 along = route[std::min(k + 1, route.size() - 1)] - route[k > 0 ? k - 1 : 0];
+    const double along_length = along.norm();
+    const Vec2 across = along_length > 0.0 ? Vec2(-along.y() / along_length, along.x() / along_length) : Vec2(0, 0);
+    const bool narrow = along_length > 0.0 && !roomFor(route[k] + (radius + obs.radius) * across, obs.radius) &&
+                        !roomFor(route[k] - (radius + obs.radius) * across, obs.radius);
+    const bool beyond = route.remaining(0) - route.remaining(k) > rp.block_lookahead;
+    if (beyond && !narrow) continue;
     // A person at most a body's width beyond the disc stood in the passage it blocks.
     const double reach2 = std::pow(radius + 2.0 * obs.radius, 2);
     const int seen = static_cast<int>(std::count_if(sightings_.begin(), sightings_.end(), [&](const Sighting& s) {
       return (s.position - route[k]).squaredNorm() <= reach2;
     }));
-    // Closed: beside the disc, across the way, on both sides, the robot would touch a wall.
-    const Vec2 along = route[std::min(k + 1, route.size() - 1)] - route[k > 0 ? k - 1 : 0];
-    const Vec2 across = along.norm() > 0.0 ? Vec2(Vec2(-along.y(), along.x()) / along.norm()) : Vec2(Vec2::Zero());
-    const bool narrow = along.norm() > 0.0 && !roomFor(route[k] + (radius + obs.radius) * across, obs.radius) &&
-                        !roomFor(route[k] - (radius + obs.radius) * across, obs.radius);
-    const bool beyond = route.remaining(0) - route.remaining(k) > rp.block_lookahead;
-    if (beyond && !narrow) continue;
     places.push_back({route[k], radius, seen, narrow ? (beyond ? 1 : 0) : 2});
   }
   // Keep only the best rank present.

@@ -104,7 +104,8 @@ class DwbPlanner : public Planner {
   // Recovery's ClearAndReplan: forgets the path and the critics' memory (the next lines replan).
   void clearPathAndMemory();
   // Recovery's Reroute: on the way the robot would go with nobody about (A* on the static map),
-  // within block_lookahead ahead (and out of the robot's and the goal's way), the place people were
+  // within block_lookahead ahead (and out of the robot's and the goal's way) a place whose disc
+  // closes the way (else such a place up to twice as far, else any place), the one people were
   // seen nearest most often in the last occupancy_memory s (the narrowest of those seen at least
   // half as often; with nobody seen, the narrowest place) is kept out of for block_time, as a disc
   // no wider than the free space around it (up to block_radius). False when there is no such place.
