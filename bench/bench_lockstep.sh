@@ -14,7 +14,7 @@
 # the other core(s) cannot delay a wake-up at all; the processes block between messages, and the
 # kernel's real-time throttling keeps the machine responsive in any case.
 # --url: the LCM URL inside the namespace (default: run_experiment.sh's, with channel_ports=1: STEP_REQUEST
-# and STEP_REPLY on ports of their own, common/include/hunav/channels.hpp); drop &channel_ports=1 to
+# and STEP_REPLY on ports of their own, common/transport/include/hunav/channels.hpp); drop &channel_ports=1 to
 # put every channel on one port. The evaluator gets the URL without that option, as in run_experiment.sh.
 # After the runs of a planner: the median real-time factor and CPU per tick over the repeats.
 # Figures of one port against channel ports: lcmtypes/README.md, "Ports".

@@ -17,8 +17,8 @@ function(hunav_sanitizer_exceptions)
   if(NOT HUNAV_SANITIZE)
     return()
   endif()
-  set_source_files_properties(${PROJECT_SOURCE_DIR}/common/src/lcm_bus.cpp DIRECTORY ${PROJECT_SOURCE_DIR}/common
-                              PROPERTIES COMPILE_OPTIONS -fno-sanitize=vptr)
+  set_source_files_properties(${PROJECT_SOURCE_DIR}/common/transport/src/lcm_bus.cpp
+                              DIRECTORY ${PROJECT_SOURCE_DIR}/common/transport PROPERTIES COMPILE_OPTIONS -fno-sanitize=vptr)
   if(TARGET example_planner)
     target_compile_options(example_planner PRIVATE -fno-sanitize=vptr)
   endif()

@@ -103,14 +103,14 @@ check_file() { if [ ! -f "$2" ] || [ ! -r "$2" ]; then usage_error "$1: cannot r
 # The LCM bus and the run's private network namespace
 # ---------------------------------------------------------------------------------------------------
 # default_lcm_url: the bus our processes use when told none (kDefaultLcmUrl in
-# common/include/hunav/open_bus.hpp, its one definition), asked of the build rather than written here.
+# common/transport/include/hunav/open_bus.hpp, its one definition), asked of the build rather than written here.
 default_lcm_url() {
   need_bin hunav_record
   env -u LCM_DEFAULT_URL "$bin_dir/hunav_record" --print-url
 }
 # with_url_option URL OPTION: URL with OPTION (name=value) added to its query.
 with_url_option() { if [[ $1 == *\?* ]]; then printf '%s&%s' "$1" "$2"; else printf '%s?%s' "$1" "$2"; fi; }
-# plain_lcm_url URL: URL without our option channel_ports=1 (common/include/hunav/open_bus.hpp): the
+# plain_lcm_url URL: URL without our option channel_ports=1 (common/transport/include/hunav/open_bus.hpp): the
 # URL's own port only, where the evaluator listens.
 plain_lcm_url() { printf '%s' "$1" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//'; }
 # foreign_lcm_url URL: URL without any option of ours (also receive=lcm), for LCM's own tools (lcm-spy).

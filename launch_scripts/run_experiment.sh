@@ -6,7 +6,7 @@
 #   lockstep, realtime   evaluator, manager, planner and world as separate processes over LCM UDP
 #                        multicast, inside a private network namespace made for this run (or on the bus
 #                        given with --shared-bus).
-# Inside the namespace the bus is the default one with channel_ports=1 (common/include/hunav/open_bus.hpp):
+# Inside the namespace the bus is the default one with channel_ports=1 (common/transport/include/hunav/open_bus.hpp):
 # STEP_REQUEST and STEP_REPLY, sent every tick between the world and the manager only, travel on
 # ports 7668 and 7669 of their own, so their datagrams wake only the process that listens (less CPU
 # per tick: docs/performance.md, "Bus backends"). Every other channel, the planner's included, stays
@@ -17,7 +17,7 @@
 # The script supervises what it started: when a process exits before the world ended the episode, or
 # stays stopped (SIGSTOP) for HUNAV_STALL_LIMIT s, or --timeout passes, it writes the reason into
 # $HUNAV_STOP_REASON_FILE and stops the run, so the evaluator (and the world) record it as `aborted`
-# with that reason (common/include/hunav/episode_status.hpp; README.md, "Statuses and exit codes").
+# with that reason (common/core/include/hunav/episode_status.hpp; README.md, "Statuses and exit codes").
 set -euo pipefail
 
 prog=run_experiment

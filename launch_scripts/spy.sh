@@ -58,7 +58,7 @@ done
 # channel_ports=1 and receive=lcm are our options, unknown to lcm-spy: drop them.
 url=$(foreign_lcm_url "$url")
 if [ -n "$step_channel" ]; then
-  # The offsets of common/include/hunav/channels.hpp (kOwnPortChannels).
+  # The offsets of common/transport/include/hunav/channels.hpp (kOwnPortChannels).
   case "$step_channel" in
     STEP_REQUEST) offset=1 ;;
     STEP_REPLY) offset=2 ;;

@@ -1,4 +1,4 @@
-// The command-line helpers every main uses (common/include/hunav/cli.hpp): short messages for bad
+// The command-line helpers every main uses (common/cli/include/hunav/cli.hpp): short messages for bad
 // numbers, and an unknown argument named before a missing required one.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// UdpmBus's own receive sockets (common/src/direct_receiver.hpp) against
+// UdpmBus's own receive sockets (common/transport/src/direct_receiver.hpp) against
 // LCM itself: plain LCM publishers on those ports (short messages and fragmented ones over 64 KB),
 // several receivers on one port, and datagrams that are not LCM's. Runs inside a private network
 // namespace with a multicast route on loopback (tests/common/in_netns.sh does it for ctest).

@@ -16,23 +16,6 @@ bool pointsWithinMagnitude(const std::vector<point2d_t>& points) {
   for (const point2d_t& p : points) ok &= (std::abs(p.x) <= kMaxMagnitude) & (std::abs(p.y) <= kMaxMagnitude);
   return ok;
 }
-// A bound as people write it: "1e5" for 100000, "-1e6", "0.5", "100", "2500000".
-std::string numberText(double v) {
-  if (v == std::floor(v) && std::abs(v) >= 1e4 && std::abs(v) < 1e300) {
-    double mantissa = std::abs(v);
-    int exponent = 0;
-    while (std::fmod(mantissa, 10.0) == 0.0) {
-      mantissa /= 10.0;
-      ++exponent;
-    }
-    if (exponent >= 4 && mantissa < 10.0)
-      return (v < 0 ? "-" : "") + std::to_string(static_cast<long long>(mantissa)) + "e" + std::to_string(exponent);
-  }
-  char text[32];
-  std::snprintf(text, sizeof text, "%.15g", v);
-  return text;
-}
-
 // The bounds of the behavior parameters and the radius (bounds.hpp), beyond the magnitude bound.
 bool withinFieldBounds(const agent_state_t& a) {
   bool ok = kRadiusBound.contains(a.radius);
@@ -40,8 +23,6 @@ bool withinFieldBounds(const agent_state_t& a) {
   return ok;
 }
 }  // namespace
-
-std::string boundText(const Bound& b) { return "[" + numberText(b.lo) + ", " + numberText(b.hi) + "]"; }
 
 void checkAgentState(const agent_state_t& a, const char* what) {
   const behavior_params_t& bp = a.behavior_params;
