@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hunav/occupancy_grid.hpp"
+#include "hunav/bounds.hpp"
 
 namespace hunav {
 

@@ -4,6 +4,7 @@
 // checks them on what it receives (message_checks.hpp): so nothing a file may say is rejected later
 // on the bus (a run aborted with a misleading "did not answer"), and nothing a receiver accepts
 // overflows a computation. lcmtypes/README.md ("Malformed messages") and scenarios/README.md state them.
+#include <cstdint>
 #include <string>
 
 namespace hunav {
@@ -25,6 +26,10 @@ inline constexpr double kMaxYawRate = 100.0;     // rad/s, the robot's max_w
 inline constexpr double kMaxAcceleration = 1e3;  // m/s^2 and rad/s^2, the robot's acceleration limits
 inline constexpr double kMaxSensorRange = 1e3;   // m, laser range_max and perception_range
 inline constexpr double kMaxTimeLimit = 1e7;     // s of simulation time (116 days)
+
+// Cells of an occupancy grid (the MAP message, occupancy_grid.hpp): a MAP message stays within a few
+// megabytes.
+inline constexpr std::int64_t kMaxOccupancyCells = std::int64_t{1} << 22;
 
 // A closed interval; contains() is false for NaN.
 struct Bound {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "hunav/bounds.hpp"
 #include "hunav/geometry.hpp"
 
 namespace hunav {
@@ -26,9 +27,8 @@ struct OccupancyGrid {
   Vec2 cellCenter(int i, int j) const { return origin + (Vec2(i, j) + Vec2(0.5, 0.5)) * resolution; }
 };
 
-// A grid never holds more cells than this: a larger map gets coarser cells (twice the side each
-// time) until it fits, so a MAP message stays within a few megabytes.
-inline constexpr std::int64_t kMaxOccupancyCells = std::int64_t{1} << 22;
+// A grid never holds more cells than kMaxOccupancyCells (bounds.hpp): a larger map gets coarser cells
+// (twice the side each time) until it fits.
 
 // A cell is occupied when a static shape overlaps its interior (a polygon or circle covering any of
 // it, a wall crossing it); touching its border is not enough, so a map_server map comes back cell

@@ -32,7 +32,7 @@ void checkAgentStates(const std::vector<agent_state_t>& agents, int32_t declared
 
 // Throws BadMessage when a MAP (map_t) is not a grid a planner can use: a resolution outside
 // (0, 1e3] m, an origin beyond +-kMaxMagnitude or not finite, a width or height below 1, a cell count
-// other than width * height or above kMaxOccupancyCells (occupancy_grid.hpp), a cell value other than
+// other than width * height or above kMaxOccupancyCells (bounds.hpp), a cell value other than
 // -1 (unknown) or 0..100.
 void checkMap(const map_t& m);
 
