@@ -20,10 +20,12 @@
 #include <vector>
 
 #include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_bus.hpp"
 #include "hunav/open_bus.hpp"
 #include "hunav/testing/lossy_bus.hpp"
+#include "hunav/udpm_bus.hpp"
 
 using hunav::Bus;
 using hunav::InProcessBus;
@@ -38,6 +40,45 @@ hunav::nav_goal_t goal(double x) {
   return g;
 }
 }  // namespace
+
+namespace {
+// Whether a user (outside the backends) can call the backends' machinery on a B: access is checked
+// during substitution, so a private or protected member makes these false.
+template <class B, class = void>
+struct CanAttach : std::false_type {};
+template <class B>
+struct CanAttach<B, std::void_t<decltype(std::declval<B&>().attach(std::declval<hunav::bus_detail::Subscriber&>(), 0))>>
+    : std::true_type {};
+template <class B, class = void>
+struct CanPublishMessage : std::false_type {};
+template <class B>
+struct CanPublishMessage<B, std::void_t<decltype(std::declval<B&>().publishMessage(
+                                std::string_view(), std::declval<const hunav::bus_detail::OutgoingMessage&>()))>>
+    : std::true_type {};
+}  // namespace
+
+// bus.hpp is for users: publish, subscribe, handle, drop counts as values; what backends need
+// (attach, publishMessage) is out of their reach, on the interface and on every backend.
+TEST(Transport, UsersSeeOnlyTheBusInterface) {
+  static_assert(!CanAttach<Bus>::value && !CanAttach<InProcessBus>::value && !CanAttach<LcmBus>::value &&
+                !CanAttach<hunav::UdpmBus>::value && !CanAttach<hunav::ForwardingBus>::value);
+  static_assert(!CanPublishMessage<Bus>::value && !CanPublishMessage<InProcessBus>::value &&
+                !CanPublishMessage<LcmBus>::value && !CanPublishMessage<hunav::UdpmBus>::value &&
+                !CanPublishMessage<hunav::ForwardingBus>::value);
+  static_assert(std::is_same_v<decltype(std::declval<const hunav::Subscription&>().drops()), hunav::SubscriptionDrops>);
+  InProcessBus bus;
+  hunav::Subscription sub =
+      bus.subscribe<hunav::nav_goal_t>("GOAL", [](const hunav::nav_goal_t&) { throw hunav::BadMessage("rejected"); });
+  bus.publish("GOAL", goal(1.0));
+  bus.handleAvailable();
+  const hunav::SubscriptionDrops drops = sub.drops();  // a copy: later drops do not change it
+  bus.publish("GOAL", goal(2.0));
+  bus.handleAvailable();
+  EXPECT_EQ(drops.count, 1u);
+  EXPECT_EQ(drops.last_reason, "rejected");
+  EXPECT_EQ(sub.drops().count, 2u);
+  EXPECT_EQ(bus.droppedMessages(), 2u);
+}
 
 TEST(Transport, LambdaSubscriptionReceivesTypedMessages) {
   lcm::LCM lcm("memq://");
@@ -340,6 +381,12 @@ class TapBus final : public hunav::ForwardingBus {
  public:
   using Tap = std::function<void(const std::string& channel, const void* data, std::size_t size)>;
   TapBus(Bus& inner, Tap tap) : ForwardingBus(inner), tap_(std::move(tap)) {}
+  void publishRaw(std::string_view channel, const void* data, std::size_t size) override {
+    tap_(std::string(channel), data, size);
+    ForwardingBus::publishRaw(channel, data, size);
+  }
+
+ private:
   void publishMessage(std::string_view channel, const hunav::OutgoingMessage& msg) override {
     if (msg.encoded != nullptr) {
       tap_(std::string(channel), msg.encoded, msg.encoded_size);
@@ -349,12 +396,7 @@ class TapBus final : public hunav::ForwardingBus {
     }
     ForwardingBus::publishMessage(channel, msg);
   }
-  void publishRaw(std::string_view channel, const void* data, std::size_t size) override {
-    tap_(std::string(channel), data, size);
-    ForwardingBus::publishRaw(channel, data, size);
-  }
 
- private:
   Tap tap_;
   std::vector<std::uint8_t> buffer_;
 };
@@ -543,24 +585,22 @@ TEST(Transport, SubscriptionsCountTheirOwnDropsWithTheLastReason) {
           if (c.v > 1.0) throw hunav::BadMessage("robot command: v too large");
         });
     const hunav::Subscription goal_sub = bus->subscribe<hunav::nav_goal_t>("NAV_GOAL", [](const hunav::nav_goal_t&) {});
-    const hunav::SubscriptionDrops& commands = command_sub.drops();
-    const hunav::SubscriptionDrops& goals = goal_sub.drops();
     hunav::robot_command_t c{};
     c.v = 2.0;
     bus->publish("ROBOT_COMMAND", c);
     bus->handleAvailable();
-    EXPECT_EQ(commands.count, 1u);
-    EXPECT_EQ(commands.last_reason, "robot command: v too large");
+    EXPECT_EQ(command_sub.drops().count, 1u);
+    EXPECT_EQ(command_sub.drops().last_reason, "robot command: v too large");
     const std::string garbage = "not a robot command";
     bus->publishRaw("ROBOT_COMMAND", garbage.data(), garbage.size());
     bus->handleAvailable();
-    EXPECT_EQ(commands.count, 2u);
-    EXPECT_EQ(commands.last_reason, "a message that does not decode as the channel's type");
+    EXPECT_EQ(command_sub.drops().count, 2u);
+    EXPECT_EQ(command_sub.drops().last_reason, "a message that does not decode as the channel's type");
     c.v = 0.5;
     bus->publish("ROBOT_COMMAND", c);
     bus->handleAvailable();
-    EXPECT_EQ(commands.count, 2u);
-    EXPECT_EQ(goals.count, 0u);
+    EXPECT_EQ(command_sub.drops().count, 2u);
+    EXPECT_EQ(goal_sub.drops().count, 0u);
     EXPECT_EQ(bus->droppedMessages(), 2u);
     EXPECT_EQ(bus->malformedDatagrams(), 0u);
   }

@@ -92,7 +92,7 @@ TEST(TreeSources, BadTreesNamedByStepRequestsAreDroppedAndCountedAndTheManagerGo
     EXPECT_NO_THROW(bus.handleAvailable()) << tree;  // before: a ConfigError out of handle*: exit 2
     EXPECT_EQ(bus.droppedMessages(), ++dropped) << tree;
     EXPECT_EQ(node.requestDrops().count, dropped) << tree;
-    const std::string& reason = node.requestDrops().last_reason;
+    const std::string reason = node.requestDrops().last_reason;
     EXPECT_EQ(reason.rfind("step request: agent 1's behavior_tree '" + tree + "'", 0), 0u) << reason;
     EXPECT_NE(reason.find(why), std::string::npos) << reason;
     EXPECT_TRUE(replies.got.empty()) << tree;

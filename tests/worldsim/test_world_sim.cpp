@@ -764,11 +764,9 @@ namespace {
 struct MapCollector {
   std::vector<hunav::Subscription> subscriptions_;
   explicit MapCollector(Bus& bus) {
-    subscriptions_.push_back(bus.subscribe<map_t>(channels::kMap, [this](const map_t& m) {
+    subscriptions_.push_back(bus.subscribe<map_t>(channels::kMap, [this, &bus](const map_t& m) {
       maps.push_back(m);
-      std::vector<std::uint8_t> bytes;
-      encodeMessage(m, bytes);
-      encoded.push_back(std::move(bytes));
+      encoded.push_back(bus.encode(m));
     }));
     subscriptions_.push_back(bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) {
       if (e.event == episode_event_t::START) starts_before_map.push_back(maps.size());

@@ -284,8 +284,8 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
   const auto limit = first ? options_.startup_limit : options_.silence_limit;
   int sends = 1;
   // Answers that arrived but were dropped (undecodable, or rejected by the checks) are not silence.
-  const SubscriptionDrops& answers = std::string_view(who) == "manager" ? reply_sub_.drops() : command_sub_.drops();
-  const std::uint64_t answers_dropped_before = answers.count;
+  const Subscription& answers = std::string_view(who) == "manager" ? reply_sub_ : command_sub_;
+  const std::uint64_t answers_dropped_before = answers.drops().count;
   while (!arrived) {
     if (options_.stop != nullptr && options_.stop->load()) return false;  // abortWith() labels it
     const Clock::time_point now = Clock::now();
@@ -293,10 +293,11 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
       const std::string within = " within " +
                                  std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(limit).count()) +
                                  " ms (" + std::to_string(sends) + " sends)";
-      const std::uint64_t dropped = answers.count - answers_dropped_before;
+      const SubscriptionDrops answers_dropped = answers.drops();
+      const std::uint64_t dropped = answers_dropped.count - answers_dropped_before;
       if (dropped > 0)
         failure = std::string(who) + "'s answers to seq " + std::to_string(seq) + " were dropped (" +
-                  std::to_string(dropped) + ")" + within + "; the last: " + answers.last_reason;
+                  std::to_string(dropped) + ")" + within + "; the last: " + answers_dropped.last_reason;
       else
         failure = std::string(who) + " did not answer seq " + std::to_string(seq) + within;
       return false;

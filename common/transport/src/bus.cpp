@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "hunav/bus_backend.hpp"
+
 namespace hunav {
 
 namespace {
@@ -17,47 +19,54 @@ Subscription& Subscription::operator=(Subscription&& other) noexcept {
 }
 
 void Subscription::reset() {
-  if (subscriber_ && subscriber_->bus != nullptr) subscriber_->bus->end(*subscriber_);
+  if (subscriber_ && subscriber_->bus_ != nullptr) subscriber_->bus_->end(*subscriber_);
   subscriber_.reset();
 }
 
-const SubscriptionDrops& Subscription::drops() const {
-  static const SubscriptionDrops kNone;
-  return subscriber_ ? subscriber_->drops : kNone;
+SubscriptionDrops Subscription::drops() const {
+  if (!subscriber_) return {};
+  return {subscriber_->drop_count_, subscriber_->last_drop_reason_};
 }
 
-Bus::~Bus() {
+bool Subscription::active() const { return subscriber_ && subscriber_->bus_ != nullptr; }
+
+void Bus::handleAvailable() {
+  while (handleFor(std::chrono::milliseconds(0))) {
+  }
+}
+
+BusBackend::~BusBackend() {
   // A backend has ended its subscriptions already; whatever is left only loses its bus.
-  for (auto& sub : subscribers_) sub->bus = nullptr;
+  for (auto& sub : subscribers_) sub->bus_ = nullptr;
 }
 
-Subscription Bus::add(std::shared_ptr<Subscriber> sub, int queue_capacity) {
-  sub->bus = this;
+Subscription BusBackend::subscribeWith(std::shared_ptr<Subscriber> sub, int queue_capacity) {
+  sub->bus_ = this;
   attach(*sub, queue_capacity);
   subscribers_.push_back(sub);
   return Subscription(std::move(sub));
 }
 
-void Bus::end(Subscriber& sub) {
-  if (sub.bus != this) return;
+void BusBackend::end(Subscriber& sub) {
+  if (sub.bus_ != this) return;
   detach(sub);
-  sub.bus = nullptr;
+  sub.bus_ = nullptr;
   const auto it =
       std::find_if(subscribers_.begin(), subscribers_.end(), [&](const auto& s) { return s.get() == &sub; });
   if (it != subscribers_.end()) subscribers_.erase(it);
 }
 
-void Bus::endEverySubscription() {
+void BusBackend::endEverySubscription() {
   for (auto& sub : subscribers_) {
     detach(*sub);
-    sub->bus = nullptr;
+    sub->bus_ = nullptr;
   }
   subscribers_.clear();
 }
 
 template <class Take>
-void Bus::guardedCall(Subscriber& sub, Take&& take) {
-  if (sub.bus == nullptr) return;
+void BusBackend::guardedCall(Subscriber& sub, Take&& take) {
+  if (sub.bus_ == nullptr) return;
   // Keeps the subscriber alive through its handler, which may end its own subscription.
   const std::shared_ptr<Subscriber> keep = sub.shared_from_this();
   // Nothing may propagate through a backend's dispatch loop (LCM's is C): keep the first error.
@@ -65,18 +74,18 @@ void Bus::guardedCall(Subscriber& sub, Take&& take) {
     if (!take()) throw BadMessage(kUndecodable);
   } catch (const BadMessage& e) {
     ++dropped_;
-    ++sub.drops.count;
-    sub.drops.last_reason = e.what();
+    ++sub.drop_count_;
+    sub.last_drop_reason_ = e.what();
   } catch (...) {
     if (!pending_) pending_ = std::current_exception();
   }
 }
 
-void Bus::deliver(Subscriber& sub, const void* data, std::size_t size) {
+void BusBackend::deliver(Subscriber& sub, const void* data, std::size_t size) {
   guardedCall(sub, [&] { return sub.takeBytes(data, size); });
 }
 
-void Bus::deliver(Subscriber& sub, const MessageBox& box) {
+void BusBackend::deliver(Subscriber& sub, const MessageBox& box) {
   guardedCall(sub, [&] {
     if (sub.takeBox(box)) return true;
     // Another type on this channel: what a subscriber over LCM would get, the bytes (and a drop).
@@ -85,16 +94,11 @@ void Bus::deliver(Subscriber& sub, const MessageBox& box) {
   });
 }
 
-void Bus::rethrowPending() {
+void BusBackend::rethrowPending() {
   if (pending_) {
     auto e = pending_;
     pending_ = nullptr;
     std::rethrow_exception(e);
-  }
-}
-
-void Bus::handleAvailable() {
-  while (handleFor(std::chrono::milliseconds(0))) {
   }
 }
 

@@ -13,7 +13,7 @@ InProcessBus::InProcessBus() : queue_(std::make_unique<Queue>()) {}
 InProcessBus::~InProcessBus() { endEverySubscription(); }
 
 void InProcessBus::attach(Subscriber& sub, int /*queue_capacity: the queue holds what is in flight*/) {
-  queue_->add(queue_->channel(sub.channel), sub);
+  queue_->add(queue_->channel(sub.channel()), sub);
 }
 
 void InProcessBus::detach(Subscriber& sub) { queue_->remove(sub); }

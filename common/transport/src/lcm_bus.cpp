@@ -82,13 +82,13 @@ void LcmBus::deliverFromLcm(Subscriber& sub, const lcm::ReceiveBuffer& rbuf) {
 }
 
 void LcmBus::attach(Subscriber& sub, int queue_capacity) {
-  lcm::LCM& lcm = lcm_->forChannel(sub.channel);
+  lcm::LCM& lcm = lcm_->forChannel(sub.channel());
   auto entry = std::make_unique<Instances::Entry>();
   entry->bus = this;
   entry->sub = &sub;
   entry->lcm = &lcm;
-  entry->handle = lcm.subscribe(sub.channel, &Instances::Entry::onRaw, entry.get());
-  if (entry->handle == nullptr) throw std::runtime_error("cannot subscribe to " + sub.channel);
+  entry->handle = lcm.subscribe(sub.channel(), &Instances::Entry::onRaw, entry.get());
+  if (entry->handle == nullptr) throw std::runtime_error("cannot subscribe to " + sub.channel());
   entry->handle->setQueueCapacity(queue_capacity);
   lcm_->addReceiver(lcm);
   lcm_->entries.push_back(std::move(entry));

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 
 namespace hunav::detail {
 

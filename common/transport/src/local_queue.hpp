@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 
 namespace hunav::detail {
 

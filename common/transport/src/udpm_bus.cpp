@@ -77,8 +77,8 @@ UdpmBus::UdpmBus(const std::string& url, const ReceiveOptions& options) : ports_
 UdpmBus::~UdpmBus() { endEverySubscription(); }
 
 void UdpmBus::attach(Subscriber& sub, int /*queue_capacity: our queue never drops*/) {
-  detail::LocalChannel& ch = ports_->queue.channel(sub.channel);
-  ch.port_offset = ports_->offsetOf(sub.channel);
+  detail::LocalChannel& ch = ports_->queue.channel(sub.channel());
+  ch.port_offset = ports_->offsetOf(sub.channel());
   ports_->receiver(ch.port_offset);
   ports_->queue.add(ch, sub);
   if (ports_->options.filter_unsubscribed_channels) ports_->updateFilter(ch.port_offset);
@@ -86,7 +86,7 @@ void UdpmBus::attach(Subscriber& sub, int /*queue_capacity: our queue never drop
 
 void UdpmBus::detach(Subscriber& sub) {
   ports_->queue.remove(sub);
-  if (ports_->options.filter_unsubscribed_channels) ports_->updateFilter(ports_->offsetOf(sub.channel));
+  if (ports_->options.filter_unsubscribed_channels) ports_->updateFilter(ports_->offsetOf(sub.channel()));
 }
 
 void UdpmBus::publishMessage(std::string_view channel, const OutgoingMessage& msg) {
@@ -116,7 +116,7 @@ std::uint64_t UdpmBus::malformedDatagrams() const {
   return total;
 }
 
-std::uint64_t UdpmBus::droppedMessages() const { return Bus::droppedMessages() + malformedDatagrams(); }
+std::uint64_t UdpmBus::droppedMessages() const { return BusBackend::droppedMessages() + malformedDatagrams(); }
 
 std::uint64_t UdpmBus::datagramsRead() const {
   std::uint64_t total = 0;

@@ -7,22 +7,23 @@
 // (publishRaw) are decoded as over LCM. Single-threaded: nothing arrives while handleFor() waits.
 #include <memory>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 
 namespace hunav {
 
-class InProcessBus final : public Bus {
+class InProcessBus final : public BusBackend {
  public:
   InProcessBus();
   ~InProcessBus() override;
 
-  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void publishRaw(std::string_view channel, const void* data, std::size_t size) override;
   bool handleFor(std::chrono::milliseconds timeout) override;
+
+ private:
+  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void attach(Subscriber& sub, int queue_capacity) override;
   void detach(Subscriber& sub) override;
 
- private:
   struct Queue;
   std::unique_ptr<Queue> queue_;
 };

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 
 namespace hunav {
 
-class LcmBus final : public Bus {
+class LcmBus final : public BusBackend {
  public:
   // Over LCM instances of its own on `url`. Throws when LCM cannot be opened (bad URL, no route).
   explicit LcmBus(const std::string& url);
@@ -20,13 +20,14 @@ class LcmBus final : public Bus {
   explicit LcmBus(lcm::LCM& lcm);
   ~LcmBus() override;
 
-  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void publishRaw(std::string_view channel, const void* data, std::size_t size) override;
   bool handleFor(std::chrono::milliseconds timeout) override;
+
+ private:
+  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void attach(Subscriber& sub, int queue_capacity) override;
   void detach(Subscriber& sub) override;
 
- private:
   struct Instances;
   void deliverFromLcm(Subscriber& sub, const lcm::ReceiveBuffer& rbuf);
   std::unique_ptr<Instances> lcm_;

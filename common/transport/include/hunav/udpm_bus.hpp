@@ -14,12 +14,16 @@
 #include <memory>
 #include <string>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 #include "hunav/open_bus.hpp"
 
 namespace hunav {
 
-class UdpmBus final : public Bus {
+namespace testing {
+class TransportProbe;  // tests/support/hunav/testing/transport_probe.hpp
+}
+
+class UdpmBus final : public BusBackend {
  public:
   static constexpr int kBacklogDrainMessages = 8;
   static constexpr std::chrono::milliseconds kBacklogDrainPeriod{1};
@@ -28,19 +32,20 @@ class UdpmBus final : public Bus {
   explicit UdpmBus(const std::string& url, const ReceiveOptions& options = {});
   ~UdpmBus() override;
 
-  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void publishRaw(std::string_view channel, const void* data, std::size_t size) override;
   bool handleFor(std::chrono::milliseconds timeout) override;
   std::uint64_t droppedMessages() const override;
   std::uint64_t malformedDatagrams() const override;
   ReceiveLosses receiveLosses() const override;
-  void attach(Subscriber& sub, int queue_capacity) override;
-  void detach(Subscriber& sub) override;
-
-  // Datagrams the sockets read (those a socket filter dropped never count).
-  std::uint64_t datagramsRead() const;
 
  private:
+  friend class testing::TransportProbe;
+  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
+  void attach(Subscriber& sub, int queue_capacity) override;
+  void detach(Subscriber& sub) override;
+  // Datagrams the sockets read (those a socket filter dropped never count): for tests.
+  std::uint64_t datagramsRead() const;
+
   struct Ports;
   std::unique_ptr<Ports> ports_;
 };

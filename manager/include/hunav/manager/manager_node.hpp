@@ -27,7 +27,7 @@ class ManagerNode {
   std::uint64_t episodesEnded() const { return episodes_ended_; }
   // The step requests it dropped (undecodable, or rejected: bad numbers, a behavior tree that is not
   // one of its own) and why the last one was.
-  const SubscriptionDrops& requestDrops() const { return request_sub_.drops(); }
+  SubscriptionDrops requestDrops() const { return request_sub_.drops(); }
   // Everything it dropped: step requests, events, and (on a socket bus) malformed datagrams.
   std::uint64_t droppedMessages() const;
 

@@ -50,7 +50,7 @@ class PlannerNode {
   // not decode, and (on a socket bus) malformed datagrams.
   std::uint64_t droppedMessages() const;
   // The observations it dropped (undecodable or rejected) and why the last one was.
-  const SubscriptionDrops& observationDrops() const { return observation_sub_.drops(); }
+  SubscriptionDrops observationDrops() const { return observation_sub_.drops(); }
 
   std::int64_t episodesEnded() const { return episodes_ended_; }
   std::uint64_t plansComputed() const { return plans_computed_; }

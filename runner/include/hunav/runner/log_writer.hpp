@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 
 namespace hunav::runner {
 
@@ -16,12 +16,12 @@ class LogWriter final : public ForwardingBus {
   // Opens `path` for writing (throws when it cannot) and records what is published through this.
   LogWriter(Bus& inner, const std::string& path);
 
-  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void publishRaw(std::string_view channel, const void* data, std::size_t size) override;
 
   std::int64_t eventsWritten() const { return events_; }
 
  private:
+  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override;
   void write(std::string_view channel, const void* data, std::size_t size);
 
   lcm::LogFile log_;

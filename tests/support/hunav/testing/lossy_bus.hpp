@@ -3,7 +3,7 @@
 // that the step protocol survives loss: wrap the bus the components share and hand them this.
 #include <cstdint>
 
-#include "hunav/bus.hpp"
+#include "hunav/bus_backend.hpp"
 
 namespace hunav::testing {
 
@@ -12,9 +12,6 @@ class LossyBus final : public ForwardingBus {
   LossyBus(Bus& inner, double probability, std::uint64_t seed)
       : ForwardingBus(inner), probability_(probability), state_(seed) {}
 
-  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override {
-    if (!loseNext()) ForwardingBus::publishMessage(channel, msg);
-  }
   void publishRaw(std::string_view channel, const void* data, std::size_t size) override {
     if (!loseNext()) ForwardingBus::publishRaw(channel, data, size);
   }
@@ -22,6 +19,9 @@ class LossyBus final : public ForwardingBus {
   std::uint64_t lost() const { return lost_; }
 
  private:
+  void publishMessage(std::string_view channel, const OutgoingMessage& msg) override {
+    if (!loseNext()) ForwardingBus::publishMessage(channel, msg);
+  }
   bool loseNext() {
     // splitmix64: a tiny reproducible generator.
     state_ += 0x9E3779B97F4A7C15ULL;
