@@ -1,6 +1,7 @@
 // hunav_evaluator: records episodes from LCM and writes their metrics, or recomputes the metrics of
 // a run from its states.csv. See `hunav_evaluator --help` and evaluator/README.md.
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -9,10 +10,10 @@
 #include "hunav/cli.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/episode_status.hpp"
+#include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/offline.hpp"
 #include "hunav/open_bus.hpp"
-#include "hunav/runner/robot_free_run.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/signals.hpp"
 
@@ -51,6 +52,7 @@ struct Options {
   std::string format = "csv";
   bool no_live_metrics = false;
   bool counterfactual = false;
+  std::string robot_free_program;  // --counterfactual: the program that runs the robot-free episode
   bool tag_given = false;  // --experiment-tag, or the metrics file's tag (offline: else the source's)
 };
 
@@ -152,6 +154,14 @@ int runOffline(const Options& o) {
   return 0;
 }
 
+// The program of the robot-free run: --robot-free-program, else hunav_run beside this executable.
+std::string robotFreeProgram(const Options& o) {
+  if (!o.robot_free_program.empty()) return o.robot_free_program;
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return (ec ? std::filesystem::path("hunav_run") : self.parent_path() / "hunav_run").string();
+}
+
 // What the options leave to files: the scenario's evaluation.sample_rate and evaluation.metrics,
 // then the metrics file's frequency and experiment_tag (HuNavSim's file), each unless given on the
 // command line; the robot-free run of --counterfactual. Returns an exit code when the input is bad.
@@ -178,7 +188,12 @@ std::optional<int> completeFromFiles(Options& o, bool rate_given, bool tag_given
       std::cerr << "--counterfactual needs --scenario\n";
       return hunav::kExitBadInput;
     }
-    e.robot_free_run = hunav::runner::robotFreeRunOfFile(o.scenario_file);
+    const std::string program = robotFreeProgram(o);
+    if (access(program.c_str(), X_OK) != 0) {
+      std::cerr << "--counterfactual: cannot run " << program << " (give --robot-free-program)\n";
+      return hunav::kExitBadInput;
+    }
+    e.robot_free_run = hunav::evaluator::robotFreeRunByProgram(program, o.scenario_file);
   }
   return std::nullopt;
 }
@@ -261,12 +276,19 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->excludes(states_opt)
       ->excludes(log_opt);
-  app.add_flag("--counterfactual", o.counterfactual,
-               "live, with --scenario: at the end of each episode also run it with its seed without the robot, write "
-               "counterfactual.csv and add the counterfactual_* metrics to its row (docs/metrics.md)")
-      ->excludes(states_opt)
-      ->excludes(log_opt)
-      ->excludes(salvage_opt);
+  CLI::Option* counterfactual_opt =
+      app.add_flag("--counterfactual", o.counterfactual,
+                   "live, with --scenario: at the end of each episode also run it with its seed without the robot, "
+                   "write counterfactual.csv and add the counterfactual_* metrics to its row (docs/metrics.md); "
+                   "the robot-free run is --robot-free-program's")
+          ->excludes(states_opt)
+          ->excludes(log_opt)
+          ->excludes(salvage_opt);
+  app.add_option("--robot-free-program", o.robot_free_program,
+                 "--counterfactual: the program that runs the episode without the robot (hunav_run, given "
+                 "--robot-free-of; default: the hunav_run beside this program)")
+      ->check(CLI::ExistingFile)
+      ->needs(counterfactual_opt);
   if (auto code = hunav::cli::parse(app, argc, argv)) return *code;
   if (out_opt->count() == 0 && salvage_opt->count() == 0) {
     std::cerr << "--out is required\nRun with --help for more information.\n";

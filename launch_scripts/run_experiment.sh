@@ -223,6 +223,7 @@ if [ "$mode" = inprocess ]; then
   need_bin hunav_run
 else
   for b in hunav_worldsim hunav_manager hunav_evaluator; do need_bin "$b"; done
+  [ "$counterfactual" -eq 0 ] || need_bin hunav_run  # the evaluator's robot-free run
   [ "$planner" = none ] || [ -n "$planner_cmd" ] || need_bin hunav_planner
   [ "$record" -eq 0 ] || need_bin hunav_record
   # The bus inside the run's own namespace (not the user's $LCM_DEFAULT_URL, which is for the host).
@@ -488,7 +489,9 @@ eval_args=()
 [ -z "$metrics" ] || eval_args+=(--metrics "$metrics")
 [ -z "$format" ] || eval_args+=(--format "$format")
 [ "$counterfactual" -eq 0 ] || eval_args+=(--counterfactual)
-# The evaluator process runs the robot-free episode after the END: give it time (an in-process episode).
+# The evaluator process has hunav_run run the robot-free episode after the END (it links no
+# simulator): give it time (an in-process episode).
+[ "$counterfactual" -eq 0 ] || [ "$mode" = inprocess ] || eval_args+=(--robot-free-program "$bin_dir/hunav_run")
 [ "$counterfactual" -eq 0 ] || [ -n "${HUNAV_EVAL_GRACE:-}" ] || eval_grace=600
 
 log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
@@ -643,7 +646,13 @@ recorder=evaluator
 if [ "$status_code" -ne 2 ] && [ "${code_of[$recorder]:-0}" -ne 0 ] && ! fresh "$out_dir/run.json"; then
   salvage_reason=${abort_reason:-"$(exit_text "$recorder" "${code_of[$recorder]}") before it wrote run.json"}
   salvage_args=()
-  for ((k = 0; k < ${#eval_args[@]}; k++)); do [ "${eval_args[k]}" = --counterfactual ] || salvage_args+=("${eval_args[k]}"); done
+  for ((k = 0; k < ${#eval_args[@]}; k++)); do
+    case ${eval_args[k]} in
+      --counterfactual) ;;
+      --robot-free-program) k=$((k + 1)) ;;  # and its value
+      *) salvage_args+=("${eval_args[k]}") ;;
+    esac
+  done
   if "$bin_dir/hunav_evaluator" --salvage "$out_dir" --reason "$salvage_reason" --scenario "$scenario" \
     --planner "$planner" --mode "$mode" "${seed_args[@]}" "${salvage_args[@]}" >>"$log_dir/salvage.log" 2>&1; then
     log "the $recorder died before it wrote run.json: run.json written from what it recorded (status aborted)"

@@ -15,6 +15,7 @@
 #include "hunav/runner/episode_list.hpp"
 #include "hunav/runner/expectations.hpp"
 #include "hunav/runner/in_process_run.hpp"
+#include "hunav/runner/robot_free_run.hpp"
 #include "hunav/runner/run_summary.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/thread_pool.hpp"
@@ -85,6 +86,7 @@ struct Options {
   bool no_states_csv = false;
   bool no_per_tick_files = false;
   bool single_thread = false;
+  std::string robot_free_of, robot_free_out;  // --robot-free-of, --robot-free-out
   CLI::Option* experiment_tag = nullptr;  // given on the command line when its count() > 0
 };
 
@@ -146,6 +148,18 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_flag("--no-per-tick-files", o.no_per_tick_files,
                "do not write the per-tick metric files (metrics_steps.csv, metrics_beh_<b>_steps.csv); the metrics "
                "and summaries are the same");
+  CLI::Option* robot_free_of =
+      app.add_option("--robot-free-of", o.robot_free_of,
+                     "instead of an episode: the scenario (with --seed) without the robot at the sample times of this "
+                     "run's states.csv, written as a states.csv to --robot-free-out (what hunav_evaluator "
+                     "--counterfactual has done for a multi-process run)")
+          ->check(CLI::ExistingFile)
+          ->excludes("--seeds")
+          ->excludes("--planners")
+          ->excludes("--counterfactual");
+  app.add_option("--robot-free-out", o.robot_free_out, "the states.csv of --robot-free-of")
+      ->needs(robot_free_of);
+  robot_free_of->needs("--robot-free-out");
 }
 
 // The scenario of one seed (-1: its own), with this invocation's overrides; bad input throws
@@ -250,6 +264,10 @@ int runSeries(const Options& o, const hunav::Scenario& first, const std::vector<
 }
 
 int run(Options& o) {
+  if (!o.robot_free_of.empty()) {
+    hunav::runner::writeRobotFreeStates(scenarioFor(o, o.seed), o.robot_free_of, o.robot_free_out);
+    return 0;
+  }
   hunav::Scenario scenario = prepare(o);
   std::vector<std::string> planners;
   std::vector<long long> seeds;

@@ -5,13 +5,11 @@
 #include <memory>
 #include <string>
 
-#include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/in_process_bus.hpp"
 #include "hunav/lcm_bus.hpp"
-#include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/planners/planner_node.hpp"
 #include "hunav/runner/log_writer.hpp"
+#include "run_assembly.hpp"
 #include "run_components.hpp"
 
 namespace hunav::runner {
@@ -56,23 +54,23 @@ RunOutcome runInProcess(const Scenario& scenario, const RunOptions& options) {
   if (!options.record_file.empty()) log = std::make_unique<LogWriter>(*bus_storage, options.record_file);
   Bus& bus = log ? static_cast<Bus&>(*log) : *bus_storage;
 
-  evaluator::EvaluatorNode evaluator(bus, evaluatorOptions(scenario, options), options.threads);
-  manager::ManagerNode manager(bus, options.threads);
-  manager.manager().useScenario(scenario);
-  std::unique_ptr<planners::PlannerNode> planner;
-  if (planner_object) planner = std::make_unique<planners::PlannerNode>(bus, std::move(planner_object));
-
-  worldsim::WorldSim world(bus, scenario, worldOptions(options));
+  RunParts parts;
+  parts.evaluator = evaluatorOptions(scenario, options);
+  parts.planner = std::move(planner_object);
+  parts.world = worldOptions(options);
+  parts.threads = options.threads;
+  AssembledRun run(bus, scenario, std::move(parts));
+  evaluator::EvaluatorNode& evaluator = *run.evaluator();
 
   RunOutcome outcome;
-  outcome.episode = world.runEpisode();
+  outcome.episode = run.world().runEpisode();
   bus.handleAvailable();  // deliver the last world states and the END event
   if (!evaluator.finished()) evaluator.finishIncomplete("the runner stopped before the episode END was recorded");
   outcome.result = evaluator.lastResult();
   outcome.dropped_messages = bus.droppedMessages();
-  if (planner && options.kept_planner != nullptr)
+  if (run.planner() != nullptr && options.kept_planner != nullptr)
     *options.kept_planner = KeptPlanner{options.planner, options.planner_config, options.kept_planner->config_text,
-                                        planner->releasePlanner()};
+                                        run.planner()->releasePlanner()};
   return outcome;
 }
 

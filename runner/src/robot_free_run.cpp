@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "hunav/cli.hpp"
 #include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/evaluator/result_files.hpp"
 #include "hunav/in_process_bus.hpp"
-#include "hunav/manager/manager_node.hpp"
-#include "hunav/worldsim/world_sim.hpp"
+#include "hunav/results/states_csv.hpp"
+#include "run_assembly.hpp"
 
 namespace hunav::runner {
 
@@ -22,17 +21,15 @@ evaluator::Recording runRobotFree(const Scenario& scenario_in, const std::vector
   // The run's own end decides how far to go: the world must not end first.
   scenario.time_limit = std::max(scenario.time_limit, sample_times.back() + 1.0);
 
-  // Built in the order runInProcess() builds a run (manager, then world) on a bus of its own.
-  InProcessBus bus;
-  manager::ManagerNode manager(bus, threads);
-  manager.manager().useScenario(scenario);
-  manager.manager().setRobotAbsent(true);
-  worldsim::WorldOptions options;
-  options.planner = "none";
-  options.mode = "inprocess";
-  options.run_id = "robot_free";
-  options.robot_absent = true;
-  worldsim::WorldSim world(bus, scenario, options);
+  InProcessBus bus;  // of its own
+  RunParts parts;
+  parts.world.planner = "none";
+  parts.world.mode = "inprocess";
+  parts.world.run_id = "robot_free";
+  parts.world.robot_absent = true;
+  parts.threads = threads;
+  AssembledRun run(bus, scenario, std::move(parts));
+  worldsim::WorldSim& world = run.world();
 
   world.beginEpisode();
   worldsim::EpisodeResult result;
@@ -64,10 +61,16 @@ evaluator::RobotFreeRun robotFreeRunOf(Scenario scenario, ThreadPool* threads) {
   };
 }
 
-evaluator::RobotFreeRun robotFreeRunOfFile(std::string scenario_file) {
-  return [file = std::move(scenario_file)](const evaluator::RunInfo& info, const std::vector<double>& times) {
-    return runRobotFree(cli::loadScenarioFor(file, info.seed, 0.0), times);
-  };
+void writeRobotFreeStates(const Scenario& scenario, const std::filesystem::path& with_robot_states,
+                          const std::filesystem::path& out, ThreadPool* threads) {
+  const evaluator::Recording with_robot = results::readStatesCsv(with_robot_states);
+  std::vector<double> times;
+  times.reserve(with_robot.size());
+  for (const evaluator::Sample& s : with_robot.samples()) times.push_back(s.t);
+  const evaluator::Recording robot_free = runRobotFree(scenario, times, threads);
+  results::StatesCsvWriter writer(out);
+  for (const evaluator::Sample& s : robot_free.samples()) writer.write(robot_free, s);
+  writer.close();
 }
 
 }  // namespace hunav::runner

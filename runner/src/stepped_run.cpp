@@ -6,12 +6,10 @@
 #include <stdexcept>
 
 #include "hunav/channels.hpp"
-#include "hunav/evaluator/evaluator_node.hpp"
 #include "hunav/in_process_bus.hpp"
-#include "hunav/manager/manager_node.hpp"
 #include "hunav/planners/planner.hpp"
-#include "hunav/planners/planner_node.hpp"
 #include "hunav/yaml_reader.hpp"
+#include "run_assembly.hpp"
 #include "run_components.hpp"
 
 namespace hunav::runner {
@@ -43,25 +41,22 @@ SteppedRun::SteppedRun(const Scenario& scenario, const RunOptions& options, bool
   manager::checkBehaviorTrees(scenario);  // a bad behavior_tree file: ConfigError before anything starts
   const std::unique_ptr<YamlReader> planner_config = plannerConfig(options_);
 
-  // Built as runInProcess() builds them (the same subscriptions in the same order): the same results.
   bus_ = std::make_unique<InProcessBus>();
-  evaluator::EvaluatorOptions eval_options = evaluatorOptions(scenario, options_);
-  eval_options.live_metrics = true;  // metrics() while the episode runs
-  evaluator_ = std::make_unique<evaluator::EvaluatorNode>(*bus_, eval_options, options_.threads);
-  manager_ = std::make_unique<manager::ManagerNode>(*bus_, options_.threads);
-  manager_->manager().useScenario(scenario);
+  RunParts parts;
+  parts.evaluator = evaluatorOptions(scenario, options_);
+  parts.evaluator->live_metrics = true;  // metrics() while the episode runs
   if (options_.planner != "none" && !external_)
-    planner_ = std::make_unique<planners::PlannerNode>(
-        *bus_, planners::createPlanner(options_.planner, scenario, planner_config.get()));
+    parts.planner = planners::createPlanner(options_.planner, scenario, planner_config.get());
+  parts.world = worldOptions(options_);
+  parts.world.external_control = external_;
+  parts.threads = options_.threads;
+  run_ = std::make_unique<AssembledRun>(*bus_, scenario, std::move(parts));
+  world_ = &run_->world();
+  // After the planner's own subscription: it answers first. (The world subscribes to neither channel.)
   live_sub_ = bus_->subscribe<live_metrics_t>(channels::kLiveMetrics, [this](const live_metrics_t& m) { live_ = m; });
-  // After the planner's own subscription: it answers first, as in runInProcess().
-  if (planner_)
+  if (run_->planner() != nullptr)
     observation_sub_ = bus_->subscribe<robot_observation_t>(
         channels::kRobotObservation, [this](const robot_observation_t& o) { planner_observation_ = o; });
-
-  worldsim::WorldOptions world_options = worldOptions(options_);
-  world_options.external_control = external_;
-  world_ = std::make_unique<worldsim::WorldSim>(*bus_, scenario, world_options);
 }
 
 SteppedRun::~SteppedRun() = default;
@@ -73,7 +68,7 @@ void SteppedRun::start() {
     return;
   }
   // A built-in planner: up to its first observation (the first tick), which reset() returns.
-  while (planner_ && planner_observation_.seq == 0 && !world_->tick(episode_)) {
+  while (run_->planner() != nullptr && planner_observation_.seq == 0 && !world_->tick(episode_)) {
   }
   if (!episode_.status.empty()) collect();
 }
@@ -117,10 +112,10 @@ void SteppedRun::collect() {
   // As runInProcess() ends a run.
   world_->endEpisode(episode_);
   bus_->handleAvailable();
-  if (!evaluator_->finished()) evaluator_->finishIncomplete("the runner stopped before the episode END was recorded");
+  if (!run_->evaluator()->finished()) run_->evaluator()->finishIncomplete("the runner stopped before the episode END was recorded");
   RunOutcome outcome;
   outcome.episode = episode_;
-  outcome.result = evaluator_->lastResult();
+  outcome.result = run_->evaluator()->lastResult();
   outcome.dropped_messages = bus_->droppedMessages();
   outcome_ = std::move(outcome);
 }

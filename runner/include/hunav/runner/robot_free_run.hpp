@@ -4,7 +4,8 @@
 // from every person's perception (AgentManager::setRobotAbsent), run in this process on a private
 // in-process bus with the same world and manager code as every run. Always in one process: the
 // world-manager exchange gives the same results in every mode, so this stands for a robot-free
-// lockstep run too.
+// lockstep run too (run_experiment.sh's evaluator has hunav_run do it: writeRobotFreeStates).
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,11 @@ evaluator::Recording runRobotFree(const Scenario& scenario, const std::vector<do
 // A RobotFreeRun for the evaluator: `scenario` as given (the in-process runner: seed and overrides
 // already applied), with the run's pool (outliving the evaluator; null: none).
 evaluator::RobotFreeRun robotFreeRunOf(Scenario scenario, ThreadPool* threads = nullptr);
-// The same from a scenario file, loaded again with the seed of the run it is asked for (the
-// evaluator process of run_experiment.sh: hunav_evaluator --counterfactual --scenario FILE).
-evaluator::RobotFreeRun robotFreeRunOfFile(std::string scenario_file);
+
+// The robot-free run at the sample times of a run's states.csv (`with_robot_states`), written as a
+// states.csv to `out`: what hunav_run --robot-free-of does for the evaluator process of a
+// multi-process run (evaluator::robotFreeRunByProgram), which has no simulator of its own.
+void writeRobotFreeStates(const Scenario& scenario, const std::filesystem::path& with_robot_states,
+                          const std::filesystem::path& out, ThreadPool* threads = nullptr);
 
 }  // namespace hunav::runner

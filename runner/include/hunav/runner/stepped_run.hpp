@@ -11,17 +11,9 @@
 
 #include "hunav/runner/in_process_run.hpp"
 
-namespace hunav::evaluator {
-class EvaluatorNode;
-}
-namespace hunav::manager {
-class ManagerNode;
-}
-namespace hunav::planners {
-class PlannerNode;
-}
-
 namespace hunav::runner {
+
+class AssembledRun;  // runner/src/run_assembly.hpp
 
 class SteppedRun {
  public:
@@ -68,10 +60,8 @@ class SteppedRun {
   RunOptions options_;
   bool external_ = false;
   std::unique_ptr<Bus> bus_;
-  std::unique_ptr<evaluator::EvaluatorNode> evaluator_;
-  std::unique_ptr<manager::ManagerNode> manager_;
-  std::unique_ptr<planners::PlannerNode> planner_;
-  std::unique_ptr<worldsim::WorldSim> world_;
+  std::unique_ptr<AssembledRun> run_;  // evaluator, manager, planner and world on bus_
+  worldsim::WorldSim* world_ = nullptr;  // run_'s
   worldsim::EpisodeResult episode_;
   std::optional<RunOutcome> outcome_;
   live_metrics_t live_{};
