@@ -8,6 +8,7 @@
 
 #include "bt_social.hpp"
 #include "hunav/bus.hpp"  // BadMessage
+#include "hunav/manager/hunav_nodes.hpp"
 #include "people_give_way.hpp"
 #include "people_routes.hpp"
 #include "people_social.hpp"
@@ -268,7 +269,7 @@ void turnToward(TickContext& c, const Vec2& target, double max_step) {
 
 AgentManager::AgentManager(ThreadPool* threads)
     : threads_(threads),
-      lib_(NodeLibrary::withBuiltins()),
+      lib_(hunavNodeLibrary()),
       grid_(std::make_unique<NeighborGrid>()),
       people_social_(std::make_unique<PeopleSocialForces>()) {}
 

@@ -164,14 +164,19 @@ class SubTreeNode : public BtNode {
 
 }  // namespace
 
-void registerHunavNodes(NodeLibrary& lib);  // bt_nodes.cpp
-
 void NodeLibrary::add(const std::string& name, Kind kind, std::vector<PortSpec> ports, Factory factory) {
   Entry e;
   e.kind = kind;
   e.ports = std::move(ports);
   e.factory = std::move(factory);
   entries_[name] = std::move(e);
+}
+
+std::vector<std::string> NodeLibrary::names() const {
+  std::vector<std::string> out;
+  out.reserve(entries_.size());
+  for (const auto& entry : entries_) out.push_back(entry.first);
+  return out;
 }
 
 const NodeLibrary::Entry* NodeLibrary::find(const std::string& name) const {
@@ -194,9 +199,6 @@ NodeLibrary NodeLibrary::withBuiltins() {
   lib.addNode<ForceNode>("ForceSuccess", Kind::Decorator, {}, Status::Success);
   lib.addNode<ForceNode>("ForceFailure", Kind::Decorator, {}, Status::Failure);
   lib.addNode<RepeatNode>("Repeat", Kind::Decorator, {{"num_cycles", PortType::Number, true, "", {}}});
-  registerHunavNodes(lib);
-  // Every node of the HuNavSim library takes HuNavSim's agent_id / time_step ports (bt_xml.cpp).
-  for (auto& [name, entry] : lib.entries_) entry.agent_ports = entry.kind == Kind::Leaf;
   // SetBlackboard is resolved when the tree is loaded (bt_xml.cpp); at run time it only succeeds.
   lib.addNode<SucceedNode>("SetBlackboard", Kind::Leaf, {});
   return lib;

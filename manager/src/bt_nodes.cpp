@@ -5,6 +5,7 @@
 #include "bt_social.hpp"
 #include "hunav/manager/agent_manager.hpp"
 #include "hunav/manager/behavior_tree.hpp"
+#include "hunav/manager/hunav_nodes.hpp"
 
 namespace hunav::manager {
 
@@ -96,8 +97,6 @@ class RandomChance : public BtNode {
  private:
   std::uint64_t counter_ = 0;
 };
-
-}  // namespace
 
 void registerHunavNodes(NodeLibrary& lib) {
   // --- conditions
@@ -212,6 +211,21 @@ void registerHunavNodes(NodeLibrary& lib) {
     return true;
   });
   registerSocialNodes(lib);  // HuNavSim 2.0's library (bt_social.cpp)
+}
+
+}  // namespace
+
+NodeLibrary hunavNodeLibrary() {
+  NodeLibrary lib = NodeLibrary::withBuiltins();
+  const std::vector<std::string> engine_nodes = lib.names();
+  registerHunavNodes(lib);
+  // Every leaf of the HuNavSim library takes HuNavSim's agent_id / time_step ports (bt_xml.cpp).
+  for (const std::string& name : lib.names()) {
+    NodeLibrary::Entry* entry = lib.findMutable(name);
+    const bool engine = std::find(engine_nodes.begin(), engine_nodes.end(), name) != engine_nodes.end();
+    if (!engine && entry->kind == Kind::Leaf) entry->agent_ports = true;
+  }
+  return lib;
 }
 
 }  // namespace hunav::manager

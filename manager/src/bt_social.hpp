@@ -12,7 +12,7 @@ namespace hunav::manager {
 
 // Holds the person where it is with zero velocity (a node's "no motion this tick"); bt_nodes.cpp.
 void standStill(TickContext& c);
-// Registers the nodes of bt_social.cpp (called by registerHunavNodes).
+// Registers the nodes of bt_social.cpp (called by hunavNodeLibrary).
 void registerSocialNodes(NodeLibrary& lib);
 // Whether a tree uses a node that reads or writes the social state (NodeLibrary::Entry::social).
 bool usesSocialNodes(const BtSpec& root, const NodeLibrary& lib);

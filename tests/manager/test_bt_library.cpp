@@ -11,6 +11,7 @@
 
 #include "bt_social.hpp"
 #include "hunav/manager/agent_manager.hpp"
+#include "hunav/manager/hunav_nodes.hpp"
 #include "hunav/testing/people.hpp"
 #include "hunav/testing/temp_dir.hpp"
 
@@ -443,7 +444,7 @@ TEST(BtLibrary, LoadErrorsNameTheNodeAndWhatToWrite) {
 }
 
 TEST(BtLibrary, GoalIdsMustBeGlobalGoals) {
-  NodeLibrary lib = NodeLibrary::withBuiltins();
+  NodeLibrary lib = hunavNodeLibrary();
   auto def = TreeDefinition::parse(
       "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n<Sequence>\n<GoTo goal_id=\"5\"/>\n</Sequence>\n"
       "</BehaviorTree>\n</root>\n",
@@ -457,4 +458,23 @@ TEST(BtLibrary, GoalIdsMustBeGlobalGoals) {
               "t.xml:4: GoTo: port goal_id: '5' is not an id of the scenario's global_goals (ids 1, 2); add it "
               "there, or give the point as x and y");
   }
+}
+
+// The tree engine knows no simulator node: its library holds control nodes, decorators and
+// SetBlackboard only; the simulator's library adds HuNavSim's nodes, whose leaves (and only those)
+// take HuNavSim's agent_id / time_step ports.
+TEST(BtLibrary, TheEngineKnowsNoSimulatorNode) {
+  const NodeLibrary engine = NodeLibrary::withBuiltins();
+  EXPECT_EQ(engine.find("RegularNav"), nullptr);
+  EXPECT_EQ(engine.find("IsRobotVisible"), nullptr);
+  ASSERT_NE(engine.find("Sequence"), nullptr);
+  ASSERT_NE(engine.find("SetBlackboard"), nullptr);
+  for (const std::string& name : engine.names()) EXPECT_FALSE(engine.find(name)->agent_ports) << name;
+
+  const NodeLibrary simulator = hunavNodeLibrary();
+  ASSERT_NE(simulator.find("RegularNav"), nullptr);
+  EXPECT_TRUE(simulator.find("RegularNav")->agent_ports);
+  EXPECT_TRUE(simulator.find("IsRobotVisible")->agent_ports);
+  EXPECT_FALSE(simulator.find("SetBlackboard")->agent_ports);
+  EXPECT_FALSE(simulator.find("Sequence")->agent_ports);
 }

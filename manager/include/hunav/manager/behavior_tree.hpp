@@ -128,7 +128,7 @@ class NodeLibrary {
     Placer placer;  // optional: nodes constructed in the tree's own block of memory
     std::size_t size = 0, align = 0;
     // Accepts HuNavSim's agent_id ("{id}") and time_step ("{dt}") ports, which mean this agent and
-    // the world's step here (set for the leaves of withBuiltins()), unless the node declares them.
+    // the world's step here (set for the simulator's leaves: hunav_nodes.hpp), unless the node declares them.
     bool agent_ports = false;
     // Reads or writes the social state (speaking, conversations, looking at): a manager whose
     // trees use such a node publishes PEOPLE_SOCIAL (lcmtypes/README.md).
@@ -149,7 +149,10 @@ class NodeLibrary {
   }
   const Entry* find(const std::string& name) const;
   Entry* findMutable(const std::string& name);
-  // The control nodes and decorators of the engine, plus the HuNavSim node library (bt_nodes.cpp).
+  // The names of every node type, in order.
+  std::vector<std::string> names() const;
+  // The engine's own nodes: control nodes, decorators and SetBlackboard (the simulator adds its
+  // conditions and actions: hunav_nodes.hpp).
   static NodeLibrary withBuiltins();
 
  private:
@@ -203,9 +206,5 @@ class BtTree {
   std::unique_ptr<std::max_align_t[]> storage_;
   BtNode* root_ = nullptr;
 };
-
-// The built-in tree XML of a behavior code (manager/behavior_trees/*.xml, compiled in).
-const std::string& builtinTreeXml(int behavior);
-const char* builtinTreeName(int behavior);
 
 }  // namespace hunav::manager
