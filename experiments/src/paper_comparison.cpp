@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "hunav/config_error.hpp"
+#include "hunav/embedded_files.hpp"
 #include "hunav/results/csv.hpp"
 #include "hunav/results/metric_catalog.hpp"
 #include "hunav/yaml_reader.hpp"
@@ -16,8 +17,8 @@
 
 namespace hunav::experiments {
 
-// Generated at build time from experiments/data/hunav_paper_means.yaml (CMakeLists.txt).
-extern const char* const kBuiltinPaperMeansYaml;
+// experiments/data/ as it was at build time (CMakeLists.txt, hunav_embed_files).
+extern const EmbeddedFiles kPaperData;
 
 namespace {
 
@@ -118,7 +119,7 @@ PaperMeans loadPaperMeans(const std::string& path) {
 }
 
 const PaperMeans& builtinPaperMeans() {
-  static const PaperMeans means = parsePaperMeans(kBuiltinPaperMeansYaml, kBuiltinName);
+  static const PaperMeans means = parsePaperMeans(std::string(kPaperData.text("hunav_paper_means.yaml")), kBuiltinName);
   return means;
 }
 

@@ -10,11 +10,26 @@
 #include <thread>
 
 #include "hunav/config_error.hpp"
+#include "hunav/embedded_files.hpp"
 #include "hunav/message_checks.hpp"
 
 namespace hunav::view {
 
+// The page: view/web/ as it was at build time (CMakeLists.txt, hunav_embed_files).
+extern const EmbeddedFiles kWebFiles;
+
 namespace {
+
+// The Content-Type of a page file, by its extension.
+std::string contentTypeOf(const std::string& path) {
+  const auto endsWith = [&path](const std::string& ext) {
+    return path.size() >= ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+  };
+  if (endsWith(".html")) return "text/html; charset=utf-8";
+  if (endsWith(".js")) return "text/javascript; charset=utf-8";
+  if (endsWith(".css")) return "text/css; charset=utf-8";
+  return "application/octet-stream";
+}
 
 void sendJson(httplib::Response& res, const Json& body, int status = 200) {
   res.status = status;
@@ -219,19 +234,19 @@ void ViewServer::routes() {
 
 void ViewServer::routeAssets() {
   httplib::Server& s = *server_;
-  for (int i = 0; i < kWebAssetCount; ++i) {
-    const WebAsset asset = kWebAssets[i];
+  for (const EmbeddedFile& file : kWebFiles) {
+    const std::string path = "/" + std::string(file.name);
     // The page carries this start's token (a meta element) for the API's writes.
-    std::string body = asset.body;
+    std::string body(file.text);
     for (std::size_t at; (at = body.find(kTokenPlaceholder)) != std::string::npos;)
       body.replace(at, std::strlen(kTokenPlaceholder), token_);
-    auto handler = [body = std::move(body), type = std::string(asset.content_type)](const httplib::Request&,
-                                                                                    httplib::Response& res) {
+    auto handler = [body = std::move(body), type = contentTypeOf(path)](const httplib::Request&,
+                                                                        httplib::Response& res) {
       res.set_header("Cache-Control", "no-store");
       res.set_content(body, type.c_str());
     };
-    s.Get(asset.path, handler);
-    if (std::strcmp(asset.path, "/index.html") == 0) s.Get("/", handler);
+    s.Get(path, handler);
+    if (path == "/index.html") s.Get("/", handler);
   }
 
   // Browsers ask for an icon: none, rather than a 404 in the page's console.

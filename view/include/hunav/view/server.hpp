@@ -89,13 +89,4 @@ class ViewServer {
 void serveUntilStopped(ViewServer& server, Bus* bus, const std::atomic<bool>& stop,
                        const std::function<bool()>& keep_going);
 
-// The page's files, embedded at build time (web_assets.cpp, generated from view/web/).
-struct WebAsset {
-  const char* path;
-  const char* content_type;
-  const char* body;
-};
-extern const WebAsset kWebAssets[];
-extern const int kWebAssetCount;
-
 }  // namespace hunav::view
