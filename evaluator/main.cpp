@@ -1,7 +1,8 @@
 // hunav_evaluator: records episodes from LCM and writes their metrics, or recomputes the metrics of
 // a run from its states.csv. See `hunav_evaluator --help` and evaluator/README.md.
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -53,7 +54,7 @@ struct Options {
   bool no_live_metrics = false;
   bool counterfactual = false;
   std::string robot_free_program;  // --counterfactual: the program that runs the robot-free episode
-  bool tag_given = false;  // --experiment-tag, or the metrics file's tag (offline: else the source's)
+  bool tag_given = false;          // --experiment-tag, or the metrics file's tag (offline: else the source's)
 };
 
 int runLive(const Options& o) {

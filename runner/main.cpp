@@ -87,7 +87,7 @@ struct Options {
   bool no_per_tick_files = false;
   bool single_thread = false;
   std::string robot_free_of, robot_free_out;  // --robot-free-of, --robot-free-out
-  CLI::Option* experiment_tag = nullptr;  // given on the command line when its count() > 0
+  CLI::Option* experiment_tag = nullptr;      // given on the command line when its count() > 0
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -157,8 +157,7 @@ void addOptions(CLI::App& app, Options& o) {
           ->excludes("--seeds")
           ->excludes("--planners")
           ->excludes("--counterfactual");
-  app.add_option("--robot-free-out", o.robot_free_out, "the states.csv of --robot-free-of")
-      ->needs(robot_free_of);
+  app.add_option("--robot-free-out", o.robot_free_out, "the states.csv of --robot-free-of")->needs(robot_free_of);
   robot_free_of->needs("--robot-free-out");
 }
 

@@ -112,7 +112,8 @@ void SteppedRun::collect() {
   // As runInProcess() ends a run.
   world_->endEpisode(episode_);
   bus_->handleAvailable();
-  if (!run_->evaluator()->finished()) run_->evaluator()->finishIncomplete("the runner stopped before the episode END was recorded");
+  if (!run_->evaluator()->finished())
+    run_->evaluator()->finishIncomplete("the runner stopped before the episode END was recorded");
   RunOutcome outcome;
   outcome.episode = episode_;
   outcome.result = run_->evaluator()->lastResult();

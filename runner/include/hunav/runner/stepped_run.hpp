@@ -60,7 +60,7 @@ class SteppedRun {
   RunOptions options_;
   bool external_ = false;
   std::unique_ptr<Bus> bus_;
-  std::unique_ptr<AssembledRun> run_;  // evaluator, manager, planner and world on bus_
+  std::unique_ptr<AssembledRun> run_;    // evaluator, manager, planner and world on bus_
   worldsim::WorldSim* world_ = nullptr;  // run_'s
   worldsim::EpisodeResult episode_;
   std::optional<RunOutcome> outcome_;
