@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Helpers for the integration tests. Sourced; expects REPO and BIN set by the caller (ctest).
 set -euo pipefail
 # Processes are looked for in this test's own process tree only, never machine-wide, so that another
@@ -11,6 +12,7 @@ if ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0) != 0:
     sys.exit("common.sh: prctl(PR_SET_CHILD_SUBREAPER) failed")
 os.execv("/bin/bash", ["bash"] + sys.argv[1:])' "$0" "$@"
 fi
+# shellcheck disable=SC2034  # used by the tests that source this file
 RUN="$REPO/launch_scripts/run_experiment.sh"
 export HUNAV_BIN_DIR="$BIN"
 WORK=$(mktemp -d /tmp/hunav_it.XXXXXX)

@@ -38,7 +38,7 @@ for mode in inprocess lockstep; do
   # the time of the next state, one dt later at most).
   sim_us=$(python3 -c "import sys; print(round(float(sys.argv[1]) * 1e6))" "$(json_field "$d/run.json" sim_time)")
   last=$(count_of "$WORK/$mode.counts" LAST_STAMP)
-  [ "$last" -ge "$sim_us" ] && [ "$last" -le $((sim_us + 10000)) ] ||
+  { [ "$last" -ge "$sim_us" ] && [ "$last" -le $((sim_us + 10000)) ]; } ||
     fail "$mode: last event stamped $last us, the episode ended at $sim_us us of simulation time"
   "$BIN/hunav_evaluator" --log "$d/run.lcmlog" --out "$WORK/$mode-offline" >"$WORK/$mode-offline.txt" 2>&1 ||
     { cat "$WORK/$mode-offline.txt"; fail "$mode: hunav_evaluator --log failed"; }

@@ -60,8 +60,9 @@ for victim in manager planner; do
   kill -STOP "${pid_of[world]}"
   kill -KILL "${pid_of[$victim]}"
   wait "${pid_of[$victim]}" 2>/dev/null || true
-  start "$victim" "$BIN/hunav_$victim" --lcm-url "$URL" --episodes 1 \
-    $([ "$victim" = planner ] && echo --planner dwb --scenario "$SCENARIO")
+  planner_args=()
+  [ "$victim" != planner ] || planner_args=(--planner dwb --scenario "$SCENARIO")
+  start "$victim" "$BIN/hunav_$victim" --lcm-url "$URL" --episodes 1 "${planner_args[@]}"
   wait_ready "$victim"
   before=$(rows)
   kill -CONT "${pid_of[world]}"
