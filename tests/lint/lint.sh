@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# lint.sh shell: runs the project's linter for that language on every such file of the repository and
-# fails on any finding. shell: shellcheck (settings in .shellcheckrc) on every *.sh and every file with
-# a bash/sh shebang (.ci/run).
+# lint.sh shell|python: runs the project's linter for that language on every such file of the repository
+# and fails on any finding. shell: shellcheck (settings in .shellcheckrc) on every *.sh and every file
+# with a bash/sh shebang (.ci/run). python: flake8 (settings in .flake8) on every *.py and every file
+# with a python shebang.
 # The files are git's list (tracked files); in a copy without .git, every file outside the build
 # folders. A missing linter is a failure: bash launch_scripts/setup.sh installs it (Debian package).
 set -euo pipefail
@@ -45,8 +46,18 @@ case "$kind" in
     done < <(repo_files)
     lint=(shellcheck --format=gcc)
     ;;
+  python)
+    need flake8 flake8
+    while IFS= read -r f; do
+      case "$f" in
+        *.py) files+=("$f") ;;
+        *) if has_shebang "$f" 'python'; then files+=("$f"); fi ;;
+      esac
+    done < <(repo_files)
+    lint=(flake8)
+    ;;
   *)
-    echo "usage: lint.sh shell" >&2
+    echo "usage: lint.sh shell|python" >&2
     exit 2 ;;
 esac
 

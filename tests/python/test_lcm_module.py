@@ -2,7 +2,6 @@
 network), its event log against logs liblcm writes, and its behaviour with exceptions, signals and
 threads. The udpm round trip between processes is tests/python/test_lcm_udpm.py (in a private network
 namespace)."""
-import os
 import signal
 import subprocess
 import threading

@@ -52,7 +52,8 @@ class Browser:
             d = msg["params"]["exceptionDetails"]
             self.exceptions.append(d.get("exception", {}).get("description") or d.get("text"))
         elif method == "Runtime.consoleAPICalled" and msg["params"].get("type") == "error":
-            self.console_errors.append(" ".join(str(a.get("value", a.get("description"))) for a in msg["params"]["args"]))
+            args = msg["params"]["args"]
+            self.console_errors.append(" ".join(str(a.get("value", a.get("description"))) for a in args))
         elif method == "Log.entryAdded" and msg["params"]["entry"].get("level") == "error":
             self.console_errors.append(msg["params"]["entry"].get("text"))
 

@@ -23,7 +23,8 @@ def main():
     env = dict(os.environ, HUNAV_BIN_DIR=bindir)
     run = subprocess.Popen([os.path.join(repo, "launch_scripts", "run_experiment.sh"), "--scenario",
                             os.path.join(repo, "scenarios", "cafe.yaml"), "--mode", "realtime", "--duration", "12",
-                            "--view", "--out", out], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+                            "--view", "--out", out],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
     lines, url_box = [], []
 
     def reader():
@@ -53,8 +54,10 @@ def main():
                 browser.screenshot(os.path.join(work, "hunav_view.png"))
             browser.pump(1.0)
         rtf = browser.eval("window.hunavView.app.frame.rtf")
-        path_points = browser.eval("window.hunavView.app.frame.path ? window.hunavView.app.frame.path.points.length : 0")
-        laser_beams = browser.eval("window.hunavView.app.frame.laser ? window.hunavView.app.frame.laser.ranges.length : 0")
+        path_points = browser.eval("window.hunavView.app.frame.path"
+                                   " ? window.hunavView.app.frame.path.points.length : 0")
+        laser_beams = browser.eval("window.hunavView.app.frame.laser"
+                                   " ? window.hunavView.app.frame.laser.ranges.length : 0")
         metric_rows = browser.eval("document.querySelectorAll('#metrics tr').length")
         scene = browser.eval("window.hunavView.app.scene && window.hunavView.app.scene.shapes.length")
         errors = browser.js_errors()
@@ -69,8 +72,8 @@ def main():
             p, c = compare(snap, states_at(states, snap["t"], tol=1e-6))
             problems += p
             checked += c
-            print("t=%.2f tick %s: robot (%.3f, %.3f), %d people" % (snap["t"], snap["tick"], snap["robot"]["x"],
-                                                                    snap["robot"]["y"], len(snap["people"])))
+            print("t=%.2f tick %s: robot (%.3f, %.3f), %d people"
+                  % (snap["t"], snap["tick"], snap["robot"]["x"], snap["robot"]["y"], len(snap["people"])))
         if len({s["tick"] for s in snapshots}) < 5:
             problems.append("the page did not follow the run: ticks %s" % [s["tick"] for s in snapshots])
         if checked < 10:

@@ -44,7 +44,9 @@ def check_replay(browser, view_args, states_csv, label):
             problems.append("%s: only %d drawn centres could be checked by colour" % (label, checked))
         # Play for a moment at 10x: time moves on.
         browser.eval("window.hunavView.seek(%r)" % times[0])
-        browser.eval("document.getElementById('speed').value = '10'; document.getElementById('speed').dispatchEvent(new Event('change')); document.getElementById('play').click()")
+        browser.eval("document.getElementById('speed').value = '10';"
+                     " document.getElementById('speed').dispatchEvent(new Event('change'));"
+                     " document.getElementById('play').click()")
         browser.pump(1.0)
         t_played = browser.eval("window.hunavView.app.replayTime")
         if not t_played > times[0] + 2:
