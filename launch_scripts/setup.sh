@@ -42,7 +42,7 @@ PACKAGES=(
   parallel libboost-dev  # batches: GNU parallel runs the matrix; Boost.Math (headers) for the Student t statistics
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   libcpp-httplib-dev nlohmann-json3-dev python3-websocket python3-yaml  # hunav_view (view/) and its page tests
-  shellcheck flake8  # the lints of the project's own files (tests/lint/)
+  shellcheck flake8 eslint  # the lints of the project's own files (tests/lint/)
 )
 
 do_install=1

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# lint.sh shell|python: runs the project's linter for that language on every such file of the repository
-# and fails on any finding. shell: shellcheck (settings in .shellcheckrc) on every *.sh and every file
-# with a bash/sh shebang (.ci/run). python: flake8 (settings in .flake8) on every *.py and every file
-# with a python shebang.
+# lint.sh shell|python|js: runs the project's linter for that language on every such file of the
+# repository and fails on any finding. shell: shellcheck (settings in .shellcheckrc) on every *.sh and
+# every file with a bash/sh shebang (.ci/run). python: flake8 (settings in .flake8) on every *.py and
+# every file with a python shebang. js: eslint (settings in .eslintrc.json) on every *.js (the browser's
+# scripts: view/web, report/assets).
 # The files are git's list (tracked files); in a copy without .git, every file outside the build
 # folders. A missing linter is a failure: bash launch_scripts/setup.sh installs it (Debian package).
 set -euo pipefail
@@ -56,8 +57,20 @@ case "$kind" in
     done < <(repo_files)
     lint=(flake8)
     ;;
+  js)
+    need eslint eslint
+    while IFS= read -r f; do
+      case "$f" in
+        *.js) files+=("$f") ;;
+      esac
+    done < <(repo_files)
+    # Debian's eslint loads its modules from /usr/share/nodejs, where Debian's node looks by itself; a
+    # node from elsewhere (NodeSource's) does not.
+    export NODE_PATH=/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}
+    lint=(eslint --format unix)
+    ;;
   *)
-    echo "usage: lint.sh shell|python" >&2
+    echo "usage: lint.sh shell|python|js" >&2
     exit 2 ;;
 esac
 
