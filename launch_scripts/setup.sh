@@ -124,8 +124,14 @@ if [ "$do_build" -eq 1 ]; then
     *) build_path="$repo_root/$build_dir" ;;
   esac
   jobs=$(nproc 2>/dev/null || echo 2)
+  configure=(-DCMAKE_BUILD_TYPE=Release)
+  # In CI (the runner exports CI=true) a compiler warning fails the build; a user's build stays lenient.
+  if [ -n "${CI:-}" ] && [ "${CI}" != false ]; then
+    configure+=(-DHUNAV_WERROR=ON)
+    echo "setup.sh: CI is set: compiler warnings are errors (HUNAV_WERROR=ON)"
+  fi
   echo "setup.sh: configuring $build_path (Release)"
-  cmake -S "$repo_root" -B "$build_path" -DCMAKE_BUILD_TYPE=Release
+  cmake -S "$repo_root" -B "$build_path" "${configure[@]}"
   if [ "$build_all" -eq 1 ]; then
     echo "setup.sh: building everything (tests and benchmarks too) with -j$jobs"
     cmake --build "$build_path" -j"$jobs"
