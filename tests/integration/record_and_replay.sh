@@ -57,7 +57,8 @@ ip route add 224.0.0.0/4 dev lo
 url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
 "$BIN/hunav_record" --out "$WORK/replayed.lcmlog" --lcm-url "$url" >"$WORK/recorder.txt" 2>&1 &
 recorder=$!
-for _ in $(seq 100); do grep -qx ready "$WORK/recorder.txt" && break; sleep 0.1; done
+# (This shell has none of common.sh's helpers.) Ready within 60 s, however loaded the machine.
+for _ in $(seq 600); do grep -qx ready "$WORK/recorder.txt" && break; sleep 0.1; done
 grep -qx ready "$WORK/recorder.txt" || { echo "hunav_record did not start"; cat "$WORK/recorder.txt"; exit 1; }
 timeout 120 lcm-logplayer --speed 20 --lcm-url "$url" "$WORK/lockstep/run.lcmlog"
 kill -TERM "$recorder"

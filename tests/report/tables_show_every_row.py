@@ -50,7 +50,7 @@ def check_page(browser, url, label):
     browser.call("Emulation.setEmulatedMedia", media="")
     browser.call("Page.navigate", url=url)
     browser.wait_for("document.documentElement"
-                     " && document.documentElement.getAttribute('data-report-status') === 'drawn'", 30)
+                     " && document.documentElement.getAttribute('data-report-status') === 'drawn'")
     errors = browser.exceptions + browser.console_errors
     if errors:
         fail("%s: JavaScript errors: %s" % (label, errors))

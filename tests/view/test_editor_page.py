@@ -11,7 +11,7 @@ import subprocess
 import sys
 import tempfile
 
-from cdp import Browser
+from cdp import GENEROUS, Browser
 from viewproc import View
 
 
@@ -22,12 +22,12 @@ def canvas_origin(browser):
 
 def open_file(browser, path):
     browser.eval("document.getElementById('ed-files').value = %r; document.getElementById('ed-open').click()" % path)
-    browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === %r" % path, 10)
+    browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === %r" % path)
     browser.eval("window.hunavView.redraw()")
 
 
 def set_field(browser, name, value):
-    browser.wait_for("document.querySelector('#ed-props [name=%s]')" % name, 5)
+    browser.wait_for("document.querySelector('#ed-props [name=%s]')" % name)
     browser.eval("{ const f = document.querySelector('#ed-props [name=%s]'); f.value = %r;"
                  " f.dispatchEvent(new Event('change')); }" % (name, value))
 
@@ -35,7 +35,7 @@ def set_field(browser, name, value):
 def save_as(browser, path, saves):
     browser.eval("document.getElementById('ed-path').value = %r; document.getElementById('ed-save').click()" % path)
     try:
-        browser.wait_for("window.hunavView.app.ed.saved === %d" % saves, 15)
+        browser.wait_for("window.hunavView.app.ed.saved === %d" % saves)
     except AssertionError:
         print("status:", browser.eval("document.getElementById('ed-status').textContent"), browser.js_errors())
         raise
@@ -100,7 +100,7 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     # The scene is checked again by the server after the save: wait for its answer (a busy machine
     # can take longer than the save's own round trip), then look.
     try:
-        browser.wait_for("window.hunavView.app.ed.scene && window.hunavView.app.ed.scene.agents.length === 40", 30)
+        browser.wait_for("window.hunavView.app.ed.scene && window.hunavView.app.ed.scene.agents.length === 40")
     except AssertionError:
         pass
     drawn_people = browser.eval("window.hunavView.app.ed.scene.agents.length")
@@ -110,7 +110,7 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     # run: saves, runs in the server (sfw), and replays the result.
     open_file(browser, "scenarios/passing.yaml")
     browser.eval("document.getElementById('ed-planner').value = 'sfw'; document.getElementById('ed-run').click()")
-    browser.wait_for("window.hunavView.app.lastRun && window.hunavView.app.replay", 60)
+    browser.wait_for("window.hunavView.app.lastRun && window.hunavView.app.replay")
     run = browser.eval("window.hunavView.app.lastRun")
     status = browser.eval("document.getElementById('ed-status').textContent")
     print("run:", run, status)
@@ -130,7 +130,7 @@ def cross_origin_pages_cannot_write(browser, view, root, problems):
     import http.server
     import threading
     import urllib.request
-    with urllib.request.urlopen(view.url + "/api/editor/open?path=scenarios/passing.yaml", timeout=10) as r:
+    with urllib.request.urlopen(view.url + "/api/editor/open?path=scenarios/passing.yaml", timeout=GENEROUS) as r:
         doc = json.load(r)["doc"]
     target = view.url + "/api/editor/save"
 
@@ -167,7 +167,7 @@ Promise.allSettled([
     threading.Thread(target=server.serve_forever, daemon=True).start()
     try:
         browser.call("Page.navigate", url="http://127.0.0.1:%d/" % server.server_address[1])
-        browser.wait_for("document.title === 'done'", 20)
+        browser.wait_for("document.title === 'done'")
         print("cross-origin fetches:", browser.eval("window.results"))
     finally:
         server.shutdown()
@@ -192,7 +192,7 @@ def main():
         # Open cafe.yaml with the controls: choose it in the list, press open.
         browser.eval("document.getElementById('ed-files').value = 'scenarios/cafe.yaml';"
                      " document.getElementById('ed-open').click()")
-        browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === 'scenarios/cafe.yaml'", 10)
+        browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === 'scenarios/cafe.yaml'")
         browser.eval("window.hunavView.redraw()")
         agent = browser.eval("window.hunavView.drawn.editor.find((h) => h.role === 'person' && h.name === 'agent3')")
         scale = browser.eval("window.hunavView.view.scale")
@@ -204,7 +204,7 @@ def main():
         want_x = round(agent["x"] + 10 / scale, 2)
         want_y = round(agent["y"] + 40 / scale, 2)
         # The form of the selected person: its behavior becomes 'scared'.
-        browser.wait_for("document.querySelector('#ed-props select[name=type]')", 5)
+        browser.wait_for("document.querySelector('#ed-props select[name=type]')")
         browser.eval("{ const s = document.querySelector('#ed-props select[name=type]'); s.value = 'scared';"
                      " s.dispatchEvent(new Event('change')); }")
         # A wall through the button, then save under a new name with the save button.
@@ -212,7 +212,7 @@ def main():
         browser.eval("document.getElementById('ed-path').value = 'scenarios/cafe_edited.yaml';"
                      " document.getElementById('ed-save').click()")
         try:
-            browser.wait_for("window.hunavView.app.ed.saved === 1", 15)
+            browser.wait_for("window.hunavView.app.ed.saved === 1")
         except AssertionError:
             print("status:", browser.eval("document.getElementById('ed-status').textContent"), browser.js_errors())
             raise
@@ -238,10 +238,10 @@ def main():
         # Select agent3 again with a click where it was dragged to.
         browser.mouse("mousePressed", x0 + 10, y0 - 40)
         browser.mouse("mouseReleased", x0 + 10, y0 - 40, buttons=0)
-        browser.wait_for("document.querySelector('#ed-props input[name=max_vel]')", 5)
+        browser.wait_for("document.querySelector('#ed-props input[name=max_vel]')")
         browser.eval("{ const f = document.querySelector('#ed-props input[name=max_vel]'); f.value = '-3';"
                      " f.dispatchEvent(new Event('change')); }")
-        browser.wait_for("document.querySelector('#ed-props .field.bad')", 10)
+        browser.wait_for("document.querySelector('#ed-props .field.bad')")
         err = browser.eval("document.querySelector('#ed-props .field.bad .field-error').textContent")
         print("field error:", err)
         if "scenarios/cafe_edited.yaml:" not in err or "max_vel" not in err:

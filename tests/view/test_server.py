@@ -14,6 +14,7 @@ import tempfile
 import threading
 import urllib.parse
 
+from cdp import GENEROUS
 from viewproc import View
 
 
@@ -64,7 +65,7 @@ def hostile_cases(view, root, work, doc, expect, failures):
     nested = b'{"path": "d.yaml", "doc": ' + b'{"a":' * 1000 + b'1' + b'}' * 1001
     expect("a doc nested 1000 deep", *view.request(save, raw=nested), 400, "nests deeper")
     # A body larger than 8 MB: refused from its Content-Length (the server does not read it).
-    with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+    with socket.create_connection(("127.0.0.1", port), timeout=GENEROUS) as sock:
         sock.sendall(("POST %s HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nContent-Type: application/json\r\n"
                       "X-HuNav-Token: %s\r\nContent-Length: %d\r\n\r\n" % (save, port, view.token(), 9 << 20)).encode())
         reply = b""
@@ -173,7 +174,7 @@ def main():
         for raw in [b"GARBAGE\r\n\r\n", b"GET /api/info HTTP/1.1\r\nContent-Length: 99999999999999999999\r\n\r\n",
                     b"POST /api/editor/save HTTP/1.1\r\nHost: x\r\nContent-Length: 10\r\n\r\n{\"pa"]:
             host, port = urllib.parse.urlparse(base).hostname, urllib.parse.urlparse(base).port
-            with socket.create_connection((host, port), timeout=10) as s:
+            with socket.create_connection((host, port), timeout=GENEROUS) as s:
                 s.sendall(raw)
                 s.shutdown(socket.SHUT_WR)
                 reply = s.recv(200)
