@@ -109,7 +109,8 @@ for planner in $planners; do
     start world "$bin/hunav_worldsim" --scenario "$scenario" --planner "$planner" --mode lockstep --lcm-url "$url"
     wait "${pids[-1]}" || true
     # The manager itself, not the timing wrapper (which would die without writing its figures).
-    kill -TERM $(ps -o pid= --ppid "$manager_pid") 2>/dev/null || true
+    mapfile -t manager_children < <(pgrep -P "$manager_pid")
+    [ "${#manager_children[@]}" -eq 0 ] || kill -TERM "${manager_children[@]}" 2>/dev/null || true
     for pid in "${pids[@]}"; do wait "$pid" || true; done
     pids=()
     python3 - "$out/run.json" "$planner" "$work" "${names[@]}" >>"$work/summary_$planner" <<'PY'

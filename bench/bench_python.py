@@ -21,8 +21,9 @@ end (goal, time limit or stuck), resets included in the time. Figures (the best 
 
 "CPU" is the CPU time per step of the stepping thread and, after the slash, of the whole process
 (the evaluator's worker threads and the pool's too: 1e6 / that is what one core would do), the
-figures least disturbed by other work on the machine. Each line ends with a digest of the episodes' fingerprints: equal digests, equal episodes (the
-C++ and Python loops, and a vector and a single simulation, give the same). python/README.md, "Speed".
+figures least disturbed by other work on the machine. Each line ends with a digest of the episodes' fingerprints:
+equal digests, equal episodes (the C++ and Python loops, and a vector and a single simulation, give the same).
+python/README.md, "Speed".
 """
 import argparse
 import math
@@ -124,8 +125,8 @@ def bench_vector(scenario, seeds, worlds, threads):
         actions = np.stack([np.where(np.abs(err) < 0.5, 0.6, 0.1), np.clip(2.0 * err, -1.2, 1.2)], axis=1)
         steps += int((~done).sum())
         obs = vs.step(actions)
-    return steps, time.perf_counter() - start, [prints[s] for s in seeds], (time.thread_time() - cpu,
-                                                                     time.process_time() - proc)
+    cpu_times = (time.thread_time() - cpu, time.process_time() - proc)
+    return steps, time.perf_counter() - start, [prints[s] for s in seeds], cpu_times
 
 
 def best_of(repeat, fn, *args):

@@ -17,8 +17,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import threading
-import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(REPO, "tests", "view"))
@@ -67,20 +65,23 @@ def main():
                     if f is not None:
                         frames.append(f)
                     shutil.rmtree(out, ignore_errors=True)
-                print("round %d: %s" % (i + 1, ", ".join("%s %.1fx" % (k, v[-1]) for k, v in series.items())), flush=True)
+                latest = ", ".join("%s %.1fx" % (k, v[-1]) for k, v in series.items())
+                print("round %d: %s" % (i + 1, latest), flush=True)
             browser.close()
             base = statistics.median(series["without viewer"])
             print("\nlockstep, %s, median of %d interleaved runs:" % (os.path.basename(args.scenario), args.repeat))
             for name, values in series.items():
                 med = statistics.median(values)
-                print("  %-28s %7.1fx real time (%+.1f%%; min %.1f, max %.1f)" % (name, med, 100 * (med / base - 1),
-                                                                            min(values), max(values)))
+                print("  %-28s %7.1fx real time (%+.1f%%; min %.1f, max %.1f)"
+                      % (name, med, 100 * (med / base - 1), min(values), max(values)))
             print("  frames the page received per run: %s" % frames)
         if not args.skip_fps:
             out = os.path.join(work, "crowd")
-            subprocess.run([os.path.join(args.bin, "hunav_run"), "--scenario", os.path.join(REPO, "scenarios", "crowd_1000.yaml"),
+            subprocess.run([os.path.join(args.bin, "hunav_run"),
+                            "--scenario", os.path.join(REPO, "scenarios", "crowd_1000.yaml"),
                             "--out", out, "--duration", "10"], check=True, stdout=subprocess.DEVNULL)
-            view = subprocess.Popen([os.path.join(args.bin, "hunav_view"), "--results", out, "--port", "0", "--no-editor"],
+            view = subprocess.Popen([os.path.join(args.bin, "hunav_view"),
+                                     "--results", out, "--port", "0", "--no-editor"],
                                     stdout=subprocess.PIPE, text=True)
             url = None
             for line in view.stdout:

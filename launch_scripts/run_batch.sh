@@ -11,6 +11,7 @@ set -euo pipefail
 # action when the signal comes while it expands a command substitution (exit 2, "unexpected EOF
 # while looking for matching `)'"), and this process expands none.
 if [ -z "${HUNAV_BATCH_CHILD:-}" ] && [ "${1:-}" != --run-one ] && [ "${1:-}" != --run-chunk ]; then
+  # shellcheck disable=SC2317  # reachable: the traps below call it
   stop_batch() {
     trap '' INT TERM
     [ -n "${batch_pid:-}" ] || exit "$2"
@@ -36,7 +37,7 @@ if [ -z "${HUNAV_BATCH_CHILD:-}" ] && [ "${1:-}" != --run-one ] && [ "${1:-}" !=
 fi
 
 prog=run_batch
-# shellcheck source=launch_scripts/lib.sh
+# shellcheck source=lib.sh
 source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 
 usage() {
@@ -118,9 +119,9 @@ EOF
 # finished RUN_DIR: the episode ended on its own (goal reached, time limit or stuck; not aborted by a
 # signal or a silent component) and its results were written. The statuses of episode_status.hpp.
 finished() {
-  local done
-  IFS=$'\t' read -r _ done _ < <(run_states "$1")
-  [ "$done" = 1 ]
+  local is_done
+  IFS=$'\t' read -r _ is_done _ < <(run_states "$1")
+  [ "$is_done" = 1 ]
 }
 
 # run_states RUN_DIR...: one line per folder, in the order given, tab-separated: the folder, 1 when
@@ -141,23 +142,23 @@ run_states() {
 # Reads the run's state from `states` (run_states' lines by folder) when it holds it.
 declare -A states=()
 judge_run() {
-  local run_dir=$1 log=$3 done=0 status="" reason="" sim="" expect_failed=0 line
+  local run_dir=$1 log=$3 is_done=0 status="" reason="" sim="" expect_failed=0 line
   rc=$2
   line=${states[$run_dir]-}
   [ -n "$line" ] || line=$(run_states "$run_dir")
-  IFS=$'\t' read -r _ done status reason sim expect_failed <<<"$line"
+  IFS=$'\t' read -r _ is_done status reason sim expect_failed <<<"$line"
   [ "$status" != - ] || status=""
   [ "$reason" != - ] || reason=""
   [ "$sim" != - ] || sim=""
-  if [ "$done" -eq 1 ] && { [ "$rc" -eq 3 ] || [ "$expect_failed" -eq 1 ]; }; then
+  if [ "$is_done" -eq 1 ] && { [ "$rc" -eq 3 ] || [ "$expect_failed" -eq 1 ]; }; then
     # A finished run that failed its scenario's expect: conditions: a result (junit.xml), not an error.
     result="$status, expectations FAILED (see $run_dir/expect.json)"
     rc=0
-  elif [ "$done" -eq 1 ] && [ "$rc" -ne 0 ]; then
+  elif [ "$is_done" -eq 1 ] && [ "$rc" -ne 0 ]; then
     # Complete results, but the run did not exit cleanly (a crash at exit?): keep them, say so.
     result="results complete, but the run exited $rc (see $log)"
     printf '%s\n' "${run_dir##*/}" >>"$out/.exited_nonzero"
-  elif [ "$done" -eq 1 ]; then
+  elif [ "$is_done" -eq 1 ]; then
     printf -v sim '%.2f' "$sim"
     result="$status after $sim s of simulation"
   elif [ -s "$run_dir/run.json" ]; then
@@ -173,11 +174,11 @@ judge_run() {
 # finished_among RUN_DIR...: sets `finished_dirs` (the finished ones among them, as keys).
 declare -A finished_dirs=()
 finished_among() {
-  local dir done
+  local dir is_done
   finished_dirs=()
   [ "$#" -gt 0 ] || return 0
-  while IFS=$'\t' read -r dir done _; do
-    [ "$done" -eq 0 ] || finished_dirs[$dir]=1
+  while IFS=$'\t' read -r dir is_done _; do
+    [ "$is_done" -eq 0 ] || finished_dirs[$dir]=1
   done < <(run_states "$@")
 }
 
@@ -338,8 +339,8 @@ if [ "${1:-}" = --run-chunk ]; then
     # hunav_run's exit code covers the chunk: judge each run by its files (a run that did not finish
     # counts as failed whatever the code).
     run_rc=0
-    IFS=$'\t' read -r _ done _ <<<"${states[$run_dir]}"
-    [ "$done" = 1 ] || run_rc=$((hunav_rc == 0 ? 1 : hunav_rc))
+    IFS=$'\t' read -r _ is_done _ <<<"${states[$run_dir]}"
+    [ "$is_done" = 1 ] || run_rc=$((hunav_rc == 0 ? 1 : hunav_rc))
     judge_run "$run_dir" "$run_rc" "$chunk_log"
     lines+=("$scenario $planner seed ${chunk_seeds[k]}" "$result")
     [ "$rc" -eq 0 ] || chunk_rc=$rc

@@ -21,7 +21,7 @@
 set -euo pipefail
 
 prog=run_experiment
-# shellcheck source=launch_scripts/lib.sh
+# shellcheck source=lib.sh
 source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 ready_timeout=${HUNAV_READY_TIMEOUT:-30}  # s to wait for a process's "ready" line
 eval_grace=${HUNAV_EVAL_GRACE:-60}        # s the evaluator gets to write its files
@@ -250,7 +250,7 @@ if [ "$view" -eq 1 ] && [ "$in_netns" -eq 0 ]; then
   view_url=""
   for _ in $(seq 100); do
     view_url=$(sed -n -E 's#^hunav_view: open (http://[^ ]+) .*#\1#p' "$view_log" | head -n 1)
-    [ -z "$view_url" ] && kill -0 $! 2>/dev/null || break
+    if [ -n "$view_url" ] || ! kill -0 $! 2>/dev/null; then break; fi
     sleep 0.1
   done
   [ -n "$view_url" ] || { err "hunav_view did not start (see $view_log)"; cat "$view_log" >&2; exit 1; }
@@ -589,20 +589,19 @@ else
     # event (--episodes 1); without one, stop it. Your planner is stopped (the contract does not ask
     # it to count episodes).
     stop manager TERM "$stop_grace"
-    for name in planner; do
-      [ -n "${pid_of[$name]:-}" ] || continue
+    if [ -n "${pid_of[planner]:-}" ]; then
       case "${code_of[world]}" in
         0 | 1)
           # Ours exits by itself after END, unless it is stopped (SIGSTOP): a stalled planner is not waited for.
-          proc_state "${pid_of[$name]}"
+          proc_state "${pid_of[planner]}"
           if [ -n "$planner_cmd" ] || [ "$state" = T ] || [ "$state" = t ]; then
-            stop "$name" TERM "$stop_grace"
+            stop planner TERM "$stop_grace"
           else
-            wait_exit "$name" 3 || stop "$name" TERM "$stop_grace"
+            wait_exit planner 3 || stop planner TERM "$stop_grace"
           fi ;;
-        *) stop "$name" TERM "$stop_grace" ;;
+        *) stop planner TERM "$stop_grace" ;;
       esac
-    done
+    fi
   fi
 fi
 

@@ -42,6 +42,7 @@ PACKAGES=(
   parallel libboost-dev  # batches: GNU parallel runs the matrix; Boost.Math (headers) for the Student t statistics
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   libcpp-httplib-dev nlohmann-json3-dev python3-websocket python3-yaml  # hunav_view (view/) and its page tests
+  shellcheck flake8 eslint  # the lints of the project's own files (tests/lint/)
 )
 
 do_install=1
@@ -123,8 +124,14 @@ if [ "$do_build" -eq 1 ]; then
     *) build_path="$repo_root/$build_dir" ;;
   esac
   jobs=$(nproc 2>/dev/null || echo 2)
+  configure=(-DCMAKE_BUILD_TYPE=Release)
+  # In CI (the runner exports CI=true) a compiler warning fails the build; a user's build stays lenient.
+  if [ -n "${CI:-}" ] && [ "${CI}" != false ]; then
+    configure+=(-DHUNAV_WERROR=ON)
+    echo "setup.sh: CI is set: compiler warnings are errors (HUNAV_WERROR=ON)"
+  fi
   echo "setup.sh: configuring $build_path (Release)"
-  cmake -S "$repo_root" -B "$build_path" -DCMAKE_BUILD_TYPE=Release
+  cmake -S "$repo_root" -B "$build_path" "${configure[@]}"
   if [ "$build_all" -eq 1 ]; then
     echo "setup.sh: building everything (tests and benchmarks too) with -j$jobs"
     cmake --build "$build_path" -j"$jobs"

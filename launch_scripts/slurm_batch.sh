@@ -5,7 +5,7 @@
 set -euo pipefail
 
 prog=slurm_batch
-# shellcheck source=launch_scripts/lib.sh
+# shellcheck source=lib.sh
 source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 run_batch="$repo_root/launch_scripts/run_batch.sh"
 
@@ -78,7 +78,7 @@ case "${1:-}" in
       commands+=("$(printf '%q ' "$run_batch" --run-chunk "$out" "$g_file" "$g_scenario" "$g_planner" "$seeds" "${options[@]}")")
       seeds=""
     }
-    while IFS=$'\t' read -r index file scenario planner seed; do
+    while IFS=$'\t' read -r _ file scenario planner seed; do
       [ "$dry_run" -eq 0 ] || printf 'task %s: scenario %s planner %s seed %s (%s)\n' "$SLURM_ARRAY_TASK_ID" "$scenario" "$planner" "$seed" "$file"
       if [ "$mode" = inprocess ] && [ "$per_task" -gt 1 ]; then
         [ "$file"$'\t'"$scenario"$'\t'"$planner" = "$group" ] || flush_group

@@ -6,7 +6,7 @@
 set -euo pipefail
 
 prog=spy.sh
-# shellcheck source=launch_scripts/lib.sh
+# shellcheck source=lib.sh
 source "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/lib.sh"
 
 usage() {

@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced before running tests of a HUNAV_SANITIZE=ON build (README.md, "Sanitizers"):
 #   source tools/sanitizer_env.sh && ctest --test-dir build-asan ...
 # The binaries the tests start inherit it. Every report ends the process with a non-zero exit.

@@ -17,35 +17,35 @@ stamp() {  # stamp DIR -> the commit text the script writes for DIR
 mkdir "$WORK/plain"
 [ "$(stamp "$WORK/plain")" = unknown ] || fail "outside git: expected unknown, got $(stamp "$WORK/plain")"
 
-repo="$WORK/repo"
-mkdir "$repo"
-git -C "$repo" init -q
-git -C "$repo" config user.email test@example.invalid
-git -C "$repo" config user.name test
-echo one > "$repo/a.txt"
-git -C "$repo" add a.txt
-git -C "$repo" commit -q -m one
-first=$(git -C "$repo" rev-parse --short HEAD)
-[ "$(stamp "$repo")" = "$first" ] || fail "clean tree: expected $first, got $(stamp "$repo")"
+scratch="$WORK/repo"
+mkdir "$scratch"
+git -C "$scratch" init -q
+git -C "$scratch" config user.email test@example.invalid
+git -C "$scratch" config user.name test
+echo one > "$scratch/a.txt"
+git -C "$scratch" add a.txt
+git -C "$scratch" commit -q -m one
+first=$(git -C "$scratch" rev-parse --short HEAD)
+[ "$(stamp "$scratch")" = "$first" ] || fail "clean tree: expected $first, got $(stamp "$scratch")"
 
 # Unchanged text: the header is not rewritten (so nothing that includes it is rebuilt).
 touch -d '2000-01-01' "$WORK/out.hpp"
 before=$(stat -c %Y "$WORK/out.hpp")
-stamp "$repo" > /dev/null
+stamp "$scratch" > /dev/null
 [ "$(stat -c %Y "$WORK/out.hpp")" = "$before" ] || fail "an unchanged stamp rewrote the header"
 
-echo scratch > "$repo/untracked.txt"
-[ "$(stamp "$repo")" = "$first" ] || fail "an untracked file made the tree dirty"
-touch "$repo/a.txt"
-[ "$(stamp "$repo")" = "$first" ] || fail "a touched but unchanged file made the tree dirty"
+echo scratch > "$scratch/untracked.txt"
+[ "$(stamp "$scratch")" = "$first" ] || fail "an untracked file made the tree dirty"
+touch "$scratch/a.txt"
+[ "$(stamp "$scratch")" = "$first" ] || fail "a touched but unchanged file made the tree dirty"
 
-echo two > "$repo/a.txt"
-[ "$(stamp "$repo")" = "$first-dirty" ] || fail "changed tracked file: expected $first-dirty, got $(stamp "$repo")"
+echo two > "$scratch/a.txt"
+[ "$(stamp "$scratch")" = "$first-dirty" ] || fail "changed tracked file: expected $first-dirty, got $(stamp "$scratch")"
 
-git -C "$repo" commit -q -am two
-second=$(git -C "$repo" rev-parse --short HEAD)
+git -C "$scratch" commit -q -am two
+second=$(git -C "$scratch" rev-parse --short HEAD)
 [ "$second" != "$first" ] || fail "the scratch repository did not get a new commit"
-[ "$(stamp "$repo")" = "$second" ] || fail "new commit: expected $second, got $(stamp "$repo")"
+[ "$(stamp "$scratch")" = "$second" ] || fail "new commit: expected $second, got $(stamp "$scratch")"
 
 # This build: run.json says what this build's header says.
 built=$(sed -n 's/^#define HUNAV_GIT_COMMIT_DEFAULT "\(.*\)"$/\1/p' "$STAMP")

@@ -12,7 +12,7 @@ expect() {  # expect WHAT GOT WANTED
   fi
 }
 prog=launch_lib
-# shellcheck source=/dev/null
+# shellcheck source=../../launch_scripts/lib.sh
 source "$repo/launch_scripts/lib.sh"
 
 expect plain "$(plain_lcm_url 'udpm://239.255.76.67:7667?ttl=0&channel_ports=1&recv_buf_size=5')" \

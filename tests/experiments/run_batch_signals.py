@@ -42,7 +42,7 @@ def catches_signals(pid, bound_s=10.0):
     while time.monotonic() < deadline:
         try:
             with open("/proc/%d/status" % pid) as f:
-                caught = int(next(l for l in f if l.startswith("SigCgt:")).split()[1], 16)
+                caught = int(next(line for line in f if line.startswith("SigCgt:")).split()[1], 16)
             if caught & (1 << (signal.SIGTERM - 1)):
                 return True
         except (OSError, StopIteration):
@@ -116,7 +116,8 @@ def main():
                 log.close()
                 with open(os.path.join(work, "b%d.log" % k)) as f:
                     tail = f.read()[-1500:]
-                problems.append("%s after %.2f s: exit %d, expected %d; its output:\n%s" % (sig.name, delay, rc, want, tail))
+                problems.append("%s after %.2f s: exit %d, expected %d; its output:\n%s"
+                                % (sig.name, delay, rc, want, tail))
             left = left_behind()
             if left:
                 problems.append("%s after %.2f s: processes left: %s" % (sig.name, delay, sorted(left)))

@@ -13,7 +13,7 @@ trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 BATCH="$REPO/launch_scripts/run_batch.sh"
 out="$WORK/batch"
-args=(--scenarios passing --planners dwb,sfw --seeds 1-2 --jobs 2 --duration 5 --out "$out")
+args=(--scenarios passing --planners "dwb,sfw" --seeds 1-2 --jobs 2 --duration 5 --out "$out")
 
 "$BATCH" "${args[@]}" >"$WORK/first.log" 2>&1 || { cat "$WORK/first.log"; fail "first invocation failed"; }
 grep -q 'run_batch: \[4/4\]' "$WORK/first.log" || { cat "$WORK/first.log"; fail "no progress line [4/4]"; }
@@ -28,7 +28,7 @@ done
 for p in dwb sfw; do
   for s in 1 2; do
     d="$out/runs/passing__${p}__seed$s"
-    [ -s "$d/metrics.csv" ] && [ -s "$d/run.json" ] && [ -s "$d/states.csv" ] || fail "incomplete run folder $d"
+    { [ -s "$d/metrics.csv" ] && [ -s "$d/run.json" ] && [ -s "$d/states.csv" ]; } || fail "incomplete run folder $d"
     # In-process batches run chunks of seeds in one hunav_run: each run's part of its output.
     grep -q "^run passing_${p}_s$s: " "$d/logs/hunav_run.log" || fail "no console log in $d/logs"
     grep -q "^results in $d\$" "$d/logs/hunav_run.log" || fail "$d/logs/hunav_run.log holds another run's output"
@@ -128,7 +128,7 @@ lean="$WORK/lean"
 "$BATCH" --scenarios passing --planners dwb,sfw --seeds 1-2 --jobs 2 --duration 5 --no-states-csv --no-per-tick-files \
   --out "$lean" >"$WORK/lean.log" 2>&1 || { cat "$WORK/lean.log"; fail "the lean batch failed"; }
 for d in "$lean"/runs/*; do
-  [ ! -e "$d/states.csv" ] && [ -z "$(find "$d" -name '*_steps.csv')" ] || fail "$d holds states.csv or per-tick files"
+  { [ ! -e "$d/states.csv" ] && [ -z "$(find "$d" -name '*_steps.csv')" ]; } || fail "$d holds states.csv or per-tick files"
   cmp -s "$d/metrics.csv" "$WORK/first_metrics/${d##*/}.csv" || fail "${d##*/}: the metrics differ from the full batch's"
 done
 [ "$(find "$lean/runs" -name metrics.csv | wc -l)" -eq 4 ] || fail "the lean batch did not write 4 runs"
@@ -156,6 +156,6 @@ rc=0
 "$BATCH" --scenarios passing --planners dwb --seeds 1 --duration 5 --out "$held" >/dev/null 2>"$WORK/held.err" || rc=$?
 [ "$rc" -eq 2 ] || { cat "$WORK/held.err"; fail "a batch into a held folder exited $rc, expected 2"; }
 grep -q 'another run is writing into' "$WORK/held.err" || { cat "$WORK/held.err"; fail "no message naming the held folder"; }
-[ ! -e "$held/runs" ] && [ "$(cat "$held/marker")" = "the holder's" ] || fail "the refused batch wrote into $held"
+{ [ ! -e "$held/runs" ] && [ "$(cat "$held/marker")" = "the holder's" ]; } || fail "the refused batch wrote into $held"
 exec {holder_fd}<&-
 echo "PASS run_batch_small"

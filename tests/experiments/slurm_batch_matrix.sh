@@ -10,7 +10,7 @@ WORK=$(mktemp -d /tmp/hunav_slurm_test.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 SLURM="$REPO/launch_scripts/slurm_batch.sh"
-matrix=(--scenarios passing,crossing --planners dwb,scl,sfw --seeds 3-4,9)
+matrix=(--scenarios "passing,crossing" --planners "dwb,scl,sfw" --seeds "3-4,9")
 
 # The matrix is run_batch.sh's, indexed (scenario * 3 + planner) * 3 + seed.
 "$SLURM" "${matrix[@]}" --print-matrix >"$WORK/matrix.tsv"
@@ -61,7 +61,7 @@ SLURM_ARRAY_TASK_ID=18 "$SLURM" --task "$out" >/dev/null 2>&1 || rc=$?
 
 # Two tasks for real (the stored --duration 2 applies), then the aggregation job.
 for t in 0 13; do SLURM_ARRAY_TASK_ID=$t "$SLURM" --task "$out" >/dev/null; done
-[ -s "$out/runs/passing__dwb__seed3/run.json" ] && [ -s "$out/runs/crossing__scl__seed4/run.json" ] || fail "task runs missing"
+{ [ -s "$out/runs/passing__dwb__seed3/run.json" ] && [ -s "$out/runs/crossing__scl__seed4/run.json" ]; } || fail "task runs missing"
 grep -q '"sim_time": 2' "$out/runs/crossing__scl__seed4/run.json" || fail "the task ignored --duration 2"
 grep -q "planner parameters from $WORK/dwb_params.yaml" "$out/runs/passing__dwb__seed3/logs/run_experiment.log" ||
   fail "the dwb task did not get --planner-config"
@@ -106,8 +106,8 @@ SBATCH_LOG="$WORK/sbatch.log" PATH="$WORK/bin:$PATH" "$SLURM" "${matrix[@]}" --d
 dry=$(SLURM_ARRAY_TASK_ID=3 "$SLURM" --task "$chunked" --dry-run)
 [ "$(grep -c '^task 3: scenario crossing' <<<"$dry")" -eq 4 ] || fail "task 3 rows: $dry"
 [ "$(grep -c -- '--run-chunk' <<<"$dry")" -eq 2 ] || fail "task 3 should be two chunks: $dry"
-plain=$(tr -d '\\' <<<"$dry")  # printf %q escapes the commas
-grep -q -- "--run-chunk .* scl 3,4,9 " <<<"$plain" && grep -q -- "--run-chunk .* sfw 3 " <<<"$plain" || fail "task 3 chunks: $dry"
+plain=${dry//\\/}  # printf %q escapes the commas
+{ grep -q -- "--run-chunk .* scl 3,4,9 " <<<"$plain" && grep -q -- "--run-chunk .* sfw 3 " <<<"$plain"; } || fail "task 3 chunks: $dry"
 rc=0
 SLURM_ARRAY_TASK_ID=5 "$SLURM" --task "$chunked" >/dev/null 2>&1 || rc=$?
 [ "$rc" -eq 2 ] || fail "task 5 of 5 (beyond the matrix) exited $rc, expected 2"

@@ -38,7 +38,7 @@ expect_2 no_such_map.yaml --map "$WORK/no_such_map.yaml" --out "$WORK/bad"
 diff -r "$WORK/a" "$WORK/b" > /dev/null || fail "the same seeds gave different files"
 [ "$(grep -c '^wrote ' "$WORK/a.txt")" = 3 ] || { cat "$WORK/a.txt"; fail "not one line per scenario"; }
 for seed in 42 43 44; do
-  [ -f "$WORK/a/gen_$seed.yaml" ] && [ -f "$WORK/a/maps/gen_$seed.yaml" ] && [ -f "$WORK/a/maps/gen_$seed.pgm" ] ||
+  { [ -f "$WORK/a/gen_$seed.yaml" ] && [ -f "$WORK/a/maps/gen_$seed.yaml" ] && [ -f "$WORK/a/maps/gen_$seed.pgm" ]; } ||
     fail "seed $seed: missing files"
 done
 

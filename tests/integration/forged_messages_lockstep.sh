@@ -16,7 +16,7 @@ clean=$("$BIN/hunav_run" --scenario "$SCENARIO" --planner dwb --out "$WORK/clean
 
 "$BIN/forge_messages" "$URL" 120 31 >"$WORK/forger.log" 2>&1 &
 forger=$!
-for _ in $(seq 100); do grep -q -x ready "$WORK/forger.log" && break; sleep 0.1; done
+wait_printed_ready "$WORK/forger.log"
 rc=0
 "$RUN" --scenario "$SCENARIO" --planner dwb --mode lockstep --shared-bus "$URL" --out "$WORK/forged" \
   >"$WORK/run.txt" 2>&1 || rc=$?

@@ -17,8 +17,7 @@ for case in realtime:planner realtime:manager lockstep:planner lockstep:manager 
     > "$WORK/$mode-$victim.txt" 2>&1 &
   script=$!
   if [ "$mode" = realtime ]; then
-    wait_for_rows "$out/states.csv" 10
-    sleep 4  # 4 s into the run
+    wait_for_sim_time "$out/states.csv" 4  # 4 s into the run
   else
     wait_for_rows "$out/states.csv" 2000
   fi

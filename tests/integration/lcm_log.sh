@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Reading LCM log files in the integration tests. Sourced after common.sh.
 
 # log_counts LOG: "CHANNEL COUNT" per channel of an LCM log file; fails when the event stamps decrease.

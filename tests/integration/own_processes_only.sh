@@ -9,16 +9,16 @@ source "$(dirname "$0")/common.sh"
 bash -c "exec -a '$BIN/hunav_manager --decoy' sleep 30" &
 decoy=$!
 trap 'kill "$decoy" 2>/dev/null || true; cleanup_work' EXIT
-sleep 0.2
+named_like_ours() { [[ $(tr '\0' ' ' 2>/dev/null < "/proc/$1/cmdline") == "$BIN/hunav_"* ]]; }
+wait_until 60 "the decoy never took its name" named_like_ours "$decoy"
 # A fresh test shell (a script of its own, so common.sh makes it a subreaper): MODE clean or orphan.
 cat > "$WORK/checker.sh" <<'CHECKER'
 source "$REPO/tests/integration/common.sh"
 if [ "$1" = orphan ]; then
   # A process of its own tree whose parent exits at once: re-parented to this shell, still its own.
   bash -c "exec -a '$BIN/hunav_planner --orphan' sleep 30 &"
-  sleep 0.2
-  pid=$(our_pid planner)
-  [ -n "$pid" ] || fail "the orphan is not seen in the own tree"
+  orphan_seen() { pid=$(our_pid planner) && [ -n "$pid" ]; }
+  wait_until 60 "the orphan is not seen in the own tree" orphan_seen
   kill "$pid"
   echo "orphan seen: $pid"
 else

@@ -54,9 +54,10 @@ no_orphans
 for bad in "--planner-cmd mine=true" "--planners dwb --planner-cmd mine=true --mode lockstep" \
            "--planners mine --mode lockstep" "--planners dwb --planner-config dwb=$WORK/nowhere.yaml"; do
   rc=0
-  # shellcheck disable=SC2086 # $bad holds options
-  "$REPO/launch_scripts/run_batch.sh" --scenarios passing --seeds 1 --out "$WORK/badbatch" \
-    $( [[ $bad == *--planners* ]] || echo --planners mine ) $bad > "$WORK/badbatch.txt" 2>&1 || rc=$?
+  read -ra bad_args <<<"$bad"
+  [[ $bad == *--planners* ]] || bad_args=(--planners mine "${bad_args[@]}")
+  "$REPO/launch_scripts/run_batch.sh" --scenarios passing --seeds 1 --out "$WORK/badbatch" "${bad_args[@]}" \
+    > "$WORK/badbatch.txt" 2>&1 || rc=$?
   [ "$rc" -eq 2 ] || { cat "$WORK/badbatch.txt"; fail "run_batch.sh $bad: exit $rc, expected 2"; }
 done
 

@@ -33,13 +33,13 @@ start() {  # start NAME CMD...: in the background, output into $WORK/NAME.log
   "$@" > "$WORK/$name.log" 2>&1 < /dev/null &
   pid_of[$name]=$!
 }
-wait_ready() {  # wait_ready NAME: until NAME prints "ready" (bounded: 30 s)
-  for _ in $(seq 300); do
-    grep -q -x ready "$WORK/$1.log" 2>/dev/null && return 0
+wait_ready() {  # wait_ready NAME: until NAME prints "ready" (bounded: 120 s)
+  local end=$((SECONDS + 120))
+  until printed_ready "$WORK/$1.log"; do
     kill -0 "${pid_of[$1]}" 2>/dev/null || { cat "$WORK/$1.log" >&2; fail "$1 exited before it was ready"; }
+    [ "$SECONDS" -lt "$end" ] || fail "$1 never printed ready"
     sleep 0.1
   done
-  fail "$1 never printed ready"
 }
 rows() { if [ -f "$OUT/states.csv" ]; then wc -l < "$OUT/states.csv"; else echo 0; fi; }
 
@@ -60,8 +60,9 @@ for victim in manager planner; do
   kill -STOP "${pid_of[world]}"
   kill -KILL "${pid_of[$victim]}"
   wait "${pid_of[$victim]}" 2>/dev/null || true
-  start "$victim" "$BIN/hunav_$victim" --lcm-url "$URL" --episodes 1 \
-    $([ "$victim" = planner ] && echo --planner dwb --scenario "$SCENARIO")
+  planner_args=()
+  [ "$victim" != planner ] || planner_args=(--planner dwb --scenario "$SCENARIO")
+  start "$victim" "$BIN/hunav_$victim" --lcm-url "$URL" --episodes 1 "${planner_args[@]}"
   wait_ready "$victim"
   before=$(rows)
   kill -CONT "${pid_of[world]}"

@@ -12,8 +12,7 @@ run_and_stop() {  # run_and_stop NAME VICTIM EXPECTED_REASON_PREFIX MAX_SECONDS 
   local out="$WORK/$name" script pid stopped_at rc=0 took
   env "$@" "$RUN" --scenario "$scenario" --mode realtime --out "$out" > "$WORK/$name.txt" 2>&1 &
   script=$!
-  wait_for_rows "$out/states.csv" 10
-  sleep 2
+  wait_for_sim_time "$out/states.csv" 2  # 2 s into the run
   pid=$(our_pid "$victim")
   [ -n "$pid" ] || fail "$name: no $victim process"
   stopped_at=$(date +%s.%N)

@@ -52,7 +52,8 @@ ip route add 224.0.0.0/4 dev lo
 plain='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
 "$BIN/hunav_record" --out "$WORK/plain.lcmlog" --lcm-url "$plain" >"$WORK/plain_recorder.txt" 2>&1 &
 recorder=$!
-for _ in $(seq 100); do grep -qx ready "$WORK/plain_recorder.txt" && break; sleep 0.1; done
+# (This shell has none of common.sh's helpers.) Ready within 60 s, however loaded the machine.
+for _ in $(seq 600); do grep -qx ready "$WORK/plain_recorder.txt" && break; sleep 0.1; done
 grep -qx ready "$WORK/plain_recorder.txt" || { echo "hunav_record did not start"; cat "$WORK/plain_recorder.txt"; exit 1; }
 "$RUN" --scenario "$REPO/scenarios/passing.yaml" --mode lockstep --record --out "$WORK/shared" \
   --shared-bus "$plain&channel_ports=1" || { cat "$WORK"/shared/logs/*.log; exit 1; }

@@ -2,6 +2,7 @@
 # A bad behavior_tree file (missing, malformed XML, unknown node) stops hunav_manager --scenario,
 # hunav_run and run_experiment.sh (both modes) before anything starts: file:line: key: what on
 # stderr, exit 2, no result written, nothing left running.
+# shellcheck source=../integration/common.sh
 source "$REPO/tests/integration/common.sh"
 
 mkdir -p "$WORK/trees"

@@ -80,6 +80,7 @@ def test_reset_seed_determinism(passing):
     assert env.np_random.bit_generator.state == rng_123.bit_generator.state  # not re-seeded
     env.reset(seed=456)
     assert env.np_random.bit_generator.state != rng_123.bit_generator.state
+
     # The whole episode of a seed is the same, step for step.
     def play(seed):
         env.reset(seed=seed)

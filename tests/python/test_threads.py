@@ -64,7 +64,8 @@ def test_a_second_thread_gets_runtime_error_while_a_simulation_runs(passing):
         assert busy_while(sim.run, call), f"{name}() never saw the simulation busy"
     # The object is sound afterwards: the same episode as a fresh one.
     sim.reset()
-    assert sim.run()["fingerprint"] == hunav.Simulation(passing, seed=1, planner="none", duration=50).run()["fingerprint"]
+    fresh = hunav.Simulation(passing, seed=1, planner="none", duration=50)
+    assert sim.run()["fingerprint"] == fresh.run()["fingerprint"]
 
 
 def test_a_world_of_a_vector_used_alone_while_the_vector_steps_raises(passing):

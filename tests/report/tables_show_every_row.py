@@ -49,7 +49,8 @@ def fail(msg):
 def check_page(browser, url, label):
     browser.call("Emulation.setEmulatedMedia", media="")
     browser.call("Page.navigate", url=url)
-    browser.wait_for("document.documentElement && document.documentElement.getAttribute('data-report-status') === 'drawn'", 30)
+    browser.wait_for("document.documentElement"
+                     " && document.documentElement.getAttribute('data-report-status') === 'drawn'")
     errors = browser.exceptions + browser.console_errors
     if errors:
         fail("%s: JavaScript errors: %s" % (label, errors))
@@ -63,8 +64,8 @@ def check_page(browser, url, label):
             if t["rows"] <= 0:
                 fail("%s (%s): table %s is empty" % (label, media, t["name"]))
             if t["cut"]:
-                fail("%s (%s): table %s (%d rows, %.0f px) is cut by %s" % (label, media, t["name"], t["rows"],
-                                                                          t["height"], "; ".join(t["cut"])))
+                fail("%s (%s): table %s (%d rows, %.0f px) is cut by %s"
+                     % (label, media, t["name"], t["rows"], t["height"], "; ".join(t["cut"])))
         tallest = max(tallest, max(t["height"] for t in tables))
         print("  %s, %s: %d tables, every row shown (tallest %.0f px)" % (label, media, len(tables), tallest))
     browser.call("Emulation.setEmulatedMedia", media="")
@@ -91,7 +92,8 @@ def main():
         batch = os.path.join(work, "batch")
         env = dict(os.environ, HUNAV_BIN_DIR=BIN)
         r = subprocess.run([os.path.join(REPO, "launch_scripts", "run_batch.sh"), "--scenarios", "passing",
-                            "--planners", "dwb,sfw", "--seeds", "1-3", "--jobs", "2", "--duration", "5", "--out", batch],
+                            "--planners", "dwb,sfw", "--seeds", "1-3", "--jobs", "2", "--duration", "5",
+                            "--out", batch],
                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
         if r.returncode != 0:
             fail("run_batch.sh failed:\n" + r.stdout)

@@ -20,8 +20,8 @@ run all
 run no_states --no-states-csv
 run no_ticks --no-per-tick-files
 run neither --no-states-csv --no-per-tick-files
-[ -s "$work/all/states.csv" ] && [ -s "$work/all/metrics_steps.csv" ] || fail "files missing by default"
-[ "$(ls "$work/all" | grep -c '^metrics_beh_[1-6]_steps.csv$')" -ge 2 ] || fail "cafe should have several behaviors"
+{ [ -s "$work/all/states.csv" ] && [ -s "$work/all/metrics_steps.csv" ]; } || fail "files missing by default"
+[ "$(find "$work/all" -maxdepth 1 -name 'metrics_beh_[1-6]_steps.csv' | wc -l)" -ge 2 ] || fail "cafe should have several behaviors"
 
 # compare NAME PATTERN: NAME holds exactly all's files except those matching PATTERN, each the same.
 compare() {
@@ -46,5 +46,5 @@ rc=0
 "$bin/hunav_run" --scenario "$repo/scenarios/passing.yaml" --no-states-csv --counterfactual --out "$work/bad" \
   >"$work/bad.log" 2>&1 || rc=$?
 [ "$rc" = 2 ] || fail "--no-states-csv with --counterfactual exited $rc (expected 2)"
-grep -q -- "--no-states-csv" "$work/bad.log" && grep -q -- "--counterfactual" "$work/bad.log" || fail "$(cat "$work/bad.log")"
+{ grep -q -- "--no-states-csv" "$work/bad.log" && grep -q -- "--counterfactual" "$work/bad.log"; } || fail "$(cat "$work/bad.log")"
 echo "fewer files: $(wc -l <"$work/files_neither") files left, each the same as in a full run"

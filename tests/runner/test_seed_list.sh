@@ -12,8 +12,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 # scenario duration: short limits keep the test bounded; the crowd holds 300 people.
 cases=("passing 0" "combined 20" "cafe 10" "crowd 2")
 for c in "${cases[@]}"; do
-  set -- $c
-  scenario=$1 duration=$2
+  read -r scenario duration <<<"$c"
   dur=()
   [ "$duration" = 0 ] || dur=(--duration "$duration")
   "$bin/hunav_run" --scenario "$repo/scenarios/$scenario.yaml" --planners dwb,scl,sfw --seeds 1-2 \
@@ -49,9 +48,9 @@ same_files "$work/single" "$work/list" "$work/list.files" "the list run"
 # --single-thread (what run_batch.sh's chunks use when every core runs one): the same files again, for
 # the combined behaviors and the 300-person crowd (whose pair forces otherwise use the pool's helper).
 for scenario in combined crowd; do
-  dur=20
-  [ "$scenario" != crowd ] || dur=2
-  "$bin/hunav_run" --scenario "$repo/scenarios/$scenario.yaml" --planners dwb,scl,sfw --seeds 1-2 --duration "$dur" \
+  limit=20
+  [ "$scenario" != crowd ] || limit=2
+  "$bin/hunav_run" --scenario "$repo/scenarios/$scenario.yaml" --planners dwb,scl,sfw --seeds 1-2 --duration "$limit" \
     --single-thread --out "$work/single_thread" --quiet >/dev/null || fail "the --single-thread run of $scenario exited $?"
 done
 (cd "$work/single_thread" && find . -type f | sort) >"$work/single_thread.files"

@@ -12,9 +12,14 @@ import urllib.request
 
 import websocket
 
+# The bound of every wait here, in s: a condition is polled until it holds, so a loaded machine (CI's
+# two cores running two tests) makes a test slower, never fail, and a passing test waits only as long as
+# the condition takes. (A fixed 20 s for the page to load failed view_page_replay under load.)
+GENEROUS = 120.0
+
 
 class Browser:
-    def __init__(self, width=1280, height=800, timeout=30.0):
+    def __init__(self, width=1280, height=800, timeout=GENEROUS):
         self.profile = tempfile.mkdtemp(prefix="hunav_view_chromium.")
         self.log_path = os.path.join(self.profile, "chromium.log")
         self.log = open(self.log_path, "w")
@@ -36,7 +41,7 @@ class Browser:
             m = re.search(r"DevTools listening on ws://[^:]+:(\d+)/", open(self.log_path).read())
             if m:
                 port = int(m.group(1))
-        targets = json.load(urllib.request.urlopen("http://127.0.0.1:%d/json" % port, timeout=10))
+        targets = json.load(urllib.request.urlopen("http://127.0.0.1:%d/json" % port, timeout=GENEROUS))
         page = next(t for t in targets if t.get("type") == "page")
         self.ws = websocket.create_connection(page["webSocketDebuggerUrl"], timeout=timeout)
         self.next_id = 0
@@ -52,7 +57,8 @@ class Browser:
             d = msg["params"]["exceptionDetails"]
             self.exceptions.append(d.get("exception", {}).get("description") or d.get("text"))
         elif method == "Runtime.consoleAPICalled" and msg["params"].get("type") == "error":
-            self.console_errors.append(" ".join(str(a.get("value", a.get("description"))) for a in msg["params"]["args"]))
+            args = msg["params"]["args"]
+            self.console_errors.append(" ".join(str(a.get("value", a.get("description"))) for a in args))
         elif method == "Log.entryAdded" and msg["params"]["entry"].get("level") == "error":
             self.console_errors.append(msg["params"]["entry"].get("text"))
 
@@ -79,11 +85,11 @@ class Browser:
                 except websocket.WebSocketTimeoutException:
                     pass
         finally:
-            self.ws.settimeout(30)
+            self.ws.settimeout(GENEROUS)
 
     def goto(self, url):
         self.call("Page.navigate", url=url)
-        self.wait_for("window.hunavView && window.hunavView.ready === true", 20)
+        self.wait_for("window.hunavView && window.hunavView.ready === true")
 
     def eval(self, expr, await_promise=False):
         r = self.call("Runtime.evaluate", expression=expr, returnByValue=True, awaitPromise=await_promise)
@@ -91,7 +97,7 @@ class Browser:
             raise RuntimeError("JavaScript error in %r: %s" % (expr[:80], r["exceptionDetails"]))
         return r["result"].get("value")
 
-    def wait_for(self, expr, timeout):
+    def wait_for(self, expr, timeout=GENEROUS):
         end = time.time() + timeout
         while time.time() < end:
             if self.eval("!!(%s)" % expr):

@@ -19,7 +19,9 @@ def compare(snapshot, expected, tolerance_px=1.5):
     how many centres were checked by colour."""
     problems = []
     s = snapshot["scale"]
-    to_px = lambda x, y: (snapshot["ox"] + x * s, snapshot["oy"] - y * s)
+
+    def to_px(x, y):
+        return (snapshot["ox"] + x * s, snapshot["oy"] - y * s)
     if "robot" not in expected:
         return ["no states.csv rows at t=%r" % snapshot["t"]], 0
     ids = sorted(k for k in expected if k != "robot")
@@ -38,7 +40,8 @@ def compare(snapshot, expected, tolerance_px=1.5):
             problems.append("t=%r: %s drawn at (%.1f, %.1f) px, published (%.3f, %.3f) m = (%.1f, %.1f) px" %
                             (snapshot["t"], name, drawn["px"], drawn["py"], x, y, ex, ey))
         # The colour at the centre, where no other body overlaps it (3 radii).
-        crowded = any(other is not drawn and ((other["px"] - drawn["px"]) ** 2 + (other["py"] - drawn["py"]) ** 2) ** 0.5
+        crowded = any(other is not drawn
+                      and ((other["px"] - drawn["px"]) ** 2 + (other["py"] - drawn["py"]) ** 2) ** 0.5
                       < 3 * max(drawn.get("r", 5), 5) for _, other, _, _ in entities)
         if crowded:
             continue

@@ -11,30 +11,31 @@ import subprocess
 import sys
 import tempfile
 
-from cdp import Browser
+from cdp import GENEROUS, Browser
 from viewproc import View
 
 
 def canvas_origin(browser):
-    return browser.eval("(() => { const r = document.getElementById('canvas').getBoundingClientRect(); return [r.left, r.top]; })()")
+    return browser.eval("(() => { const r = document.getElementById('canvas').getBoundingClientRect();"
+                        " return [r.left, r.top]; })()")
 
 
 def open_file(browser, path):
     browser.eval("document.getElementById('ed-files').value = %r; document.getElementById('ed-open').click()" % path)
-    browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === %r" % path, 10)
+    browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === %r" % path)
     browser.eval("window.hunavView.redraw()")
 
 
 def set_field(browser, name, value):
-    browser.wait_for("document.querySelector('#ed-props [name=%s]')" % name, 5)
-    browser.eval("{ const f = document.querySelector('#ed-props [name=%s]'); f.value = %r; f.dispatchEvent(new Event('change')); }"
-                 % (name, value))
+    browser.wait_for("document.querySelector('#ed-props [name=%s]')" % name)
+    browser.eval("{ const f = document.querySelector('#ed-props [name=%s]'); f.value = %r;"
+                 " f.dispatchEvent(new Event('change')); }" % (name, value))
 
 
 def save_as(browser, path, saves):
     browser.eval("document.getElementById('ed-path').value = %r; document.getElementById('ed-save').click()" % path)
     try:
-        browser.wait_for("window.hunavView.app.ed.saved === %d" % saves, 15)
+        browser.wait_for("window.hunavView.app.ed.saved === %d" % saves)
     except AssertionError:
         print("status:", browser.eval("document.getElementById('ed-status').textContent"), browser.js_errors())
         raise
@@ -44,11 +45,13 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     import yaml
     # HuNavSim's agents.yaml (tests/data/hunav_files, MIT) named by a scenario: an open room around it.
     os.makedirs(os.path.join(root, "room"))
-    shutil.copy(os.path.join(repo, "tests", "data", "hunav_files", "agents.yaml"), os.path.join(root, "room", "agents.yaml"))
+    shutil.copy(os.path.join(repo, "tests", "data", "hunav_files", "agents.yaml"),
+                os.path.join(root, "room", "agents.yaml"))
     with open(os.path.join(root, "room", "room.yaml"), "w") as f:
         f.write("name: room\ndt: 0.01\ntime_limit: 10.0\nseed: 1\nmap:\n  walls:\n"
                 "    - [[-15, -15], [15, -15], [15, 15], [-15, 15], [-15, -15]]\n"
-                "robot:\n  radius: 0.3\n  start: {x: 12.0, y: 0.0, yaw: 3.14159}\n  goal: {x: -12.0, y: 0.0, radius: 0.3}\n"
+                "robot:\n  radius: 0.3\n  start: {x: 12.0, y: 0.0, yaw: 3.14159}\n"
+                "  goal: {x: -12.0, y: 0.0, radius: 0.3}\n"
                 "people: agents.yaml\n")
     browser.eval("window.hunavView.editor.files()", await_promise=True)
     open_file(browser, "room/room.yaml")
@@ -69,7 +72,8 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     agents = yaml.safe_load(open(os.path.join(root, "room", "agents.yaml")))["hunav_loader"]["ros__parameters"]
     a4 = agents["agent4"]
     if abs(a4["init_pose"]["x"] - want_x) > 0.011 or a4["behavior"]["type"] != "curious":
-        problems.append("agents.yaml's agent4 saved as %s / %r, want x %s, curious" % (a4["init_pose"], a4["behavior"], want_x))
+        problems.append("agents.yaml's agent4 saved as %s / %r, want x %s, curious"
+                        % (a4["init_pose"], a4["behavior"], want_x))
     if yaml.safe_load(open(os.path.join(root, "room", "room.yaml")))["people"] != "agents.yaml":
         problems.append("the scenario no longer names its agents file")
     if agents["agents"] != ["agent1", "agent2", "agent7", "agent4", "agent5"]:
@@ -96,7 +100,7 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     # The scene is checked again by the server after the save: wait for its answer (a busy machine
     # can take longer than the save's own round trip), then look.
     try:
-        browser.wait_for("window.hunavView.app.ed.scene && window.hunavView.app.ed.scene.agents.length === 40", 30)
+        browser.wait_for("window.hunavView.app.ed.scene && window.hunavView.app.ed.scene.agents.length === 40")
     except AssertionError:
         pass
     drawn_people = browser.eval("window.hunavView.app.ed.scene.agents.length")
@@ -106,7 +110,7 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
     # run: saves, runs in the server (sfw), and replays the result.
     open_file(browser, "scenarios/passing.yaml")
     browser.eval("document.getElementById('ed-planner').value = 'sfw'; document.getElementById('ed-run').click()")
-    browser.wait_for("window.hunavView.app.lastRun && window.hunavView.app.replay", 60)
+    browser.wait_for("window.hunavView.app.lastRun && window.hunavView.app.replay")
     run = browser.eval("window.hunavView.app.lastRun")
     status = browser.eval("document.getElementById('ed-status').textContent")
     print("run:", run, status)
@@ -126,10 +130,12 @@ def cross_origin_pages_cannot_write(browser, view, root, problems):
     import http.server
     import threading
     import urllib.request
-    with urllib.request.urlopen(view.url + "/api/editor/open?path=scenarios/passing.yaml", timeout=10) as r:
+    with urllib.request.urlopen(view.url + "/api/editor/open?path=scenarios/passing.yaml", timeout=GENEROUS) as r:
         doc = json.load(r)["doc"]
     target = view.url + "/api/editor/save"
-    body = lambda name: json.dumps({"path": name, "doc": doc})
+
+    def body(name):
+        return json.dumps({"path": name, "doc": doc})
     page = """<!doctype html><html><body>
 <form id="f" method="post" action="%s" enctype="text/plain" target="sink"><input name='%s' value='"}'></form>
 <iframe name="sink" id="sink"></iframe>
@@ -144,8 +150,9 @@ Promise.allSettled([
   document.getElementById('sink').onload = () => { document.title = 'done'; };
   document.getElementById('f').submit();
 });
-</script></body></html>""" % (target, body("evil_form.yaml")[:-1].replace("'", "&#39;") + ', "pad": "', json.dumps(target),
-                             json.dumps(body("evil_fetch.yaml")), json.dumps(body("evil_cors.yaml")))
+</script></body></html>""" % (
+        target, body("evil_form.yaml")[:-1].replace("'", "&#39;") + ', "pad": "',
+        json.dumps(target), json.dumps(body("evil_fetch.yaml")), json.dumps(body("evil_cors.yaml")))
 
     class Handler(http.server.BaseHTTPRequestHandler):
         def do_GET(self):
@@ -160,7 +167,7 @@ Promise.allSettled([
     threading.Thread(target=server.serve_forever, daemon=True).start()
     try:
         browser.call("Page.navigate", url="http://127.0.0.1:%d/" % server.server_address[1])
-        browser.wait_for("document.title === 'done'", 20)
+        browser.wait_for("document.title === 'done'")
         print("cross-origin fetches:", browser.eval("window.results"))
     finally:
         server.shutdown()
@@ -183,26 +190,29 @@ def main():
         if "scenarios/cafe.yaml" not in files:
             problems.append("the file list misses scenarios/cafe.yaml: %s" % files)
         # Open cafe.yaml with the controls: choose it in the list, press open.
-        browser.eval("document.getElementById('ed-files').value = 'scenarios/cafe.yaml'; document.getElementById('ed-open').click()")
-        browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === 'scenarios/cafe.yaml'", 10)
+        browser.eval("document.getElementById('ed-files').value = 'scenarios/cafe.yaml';"
+                     " document.getElementById('ed-open').click()")
+        browser.wait_for("window.hunavView.app.ed && window.hunavView.app.ed.path === 'scenarios/cafe.yaml'")
         browser.eval("window.hunavView.redraw()")
         agent = browser.eval("window.hunavView.drawn.editor.find((h) => h.role === 'person' && h.name === 'agent3')")
         scale = browser.eval("window.hunavView.view.scale")
-        # Drag agent3 by (+10, -40) px: (+10/scale, +40/scale) m, north, clear of walls and tables. Mouse events are in the window's
-        # pixels, the drawn positions in the canvas's.
-        left, top = browser.eval("(() => { const r = document.getElementById('canvas').getBoundingClientRect(); return [r.left, r.top]; })()")
+        # Drag agent3 by (+10, -40) px: (+10/scale, +40/scale) m, north, clear of walls and tables. Mouse events
+        # are in the window's pixels, the drawn positions in the canvas's.
+        left, top = canvas_origin(browser)
         x0, y0 = agent["px"] + left, agent["py"] + top
         browser.drag(x0, y0, x0 + 10, y0 - 40)
         want_x = round(agent["x"] + 10 / scale, 2)
         want_y = round(agent["y"] + 40 / scale, 2)
         # The form of the selected person: its behavior becomes 'scared'.
-        browser.wait_for("document.querySelector('#ed-props select[name=type]')", 5)
-        browser.eval("{ const s = document.querySelector('#ed-props select[name=type]'); s.value = 'scared'; s.dispatchEvent(new Event('change')); }")
+        browser.wait_for("document.querySelector('#ed-props select[name=type]')")
+        browser.eval("{ const s = document.querySelector('#ed-props select[name=type]'); s.value = 'scared';"
+                     " s.dispatchEvent(new Event('change')); }")
         # A wall through the button, then save under a new name with the save button.
         browser.eval("document.getElementById('ed-add-wall').click()")
-        browser.eval("document.getElementById('ed-path').value = 'scenarios/cafe_edited.yaml'; document.getElementById('ed-save').click()")
+        browser.eval("document.getElementById('ed-path').value = 'scenarios/cafe_edited.yaml';"
+                     " document.getElementById('ed-save').click()")
         try:
-            browser.wait_for("window.hunavView.app.ed.saved === 1", 15)
+            browser.wait_for("window.hunavView.app.ed.saved === 1")
         except AssertionError:
             print("status:", browser.eval("document.getElementById('ed-status').textContent"), browser.js_errors())
             raise
@@ -214,21 +224,24 @@ def main():
         doc = yaml.safe_load(text)
         a3 = doc["people"]["hunav_loader"]["ros__parameters"]["agent3"]
         if abs(a3["init_pose"]["x"] - want_x) > 0.011 or abs(a3["init_pose"]["y"] - want_y) > 0.011:
-            problems.append("agent3 saved at (%s, %s), dragged to (%s, %s)" % (a3["init_pose"]["x"], a3["init_pose"]["y"], want_x, want_y))
+            problems.append("agent3 saved at (%s, %s), dragged to (%s, %s)"
+                            % (a3["init_pose"]["x"], a3["init_pose"]["y"], want_x, want_y))
         if a3["behavior"]["type"] != "scared":
             problems.append("agent3's behavior saved as %r" % a3["behavior"]["type"])
         if len(doc["map"].get("walls", [])) != 1:
             problems.append("the added wall is not in the file: %s" % doc["map"])
         # Untouched keys stay: the other agents and the map file.
-        if doc["map"]["map_server"] != "maps/map_cafe2.yaml" or len(doc["people"]["hunav_loader"]["ros__parameters"]["agents"]) != 6:
+        agent_names = doc["people"]["hunav_loader"]["ros__parameters"]["agents"]
+        if doc["map"]["map_server"] != "maps/map_cafe2.yaml" or len(agent_names) != 6:
             problems.append("untouched keys changed")
         # A bad value through a field shows the loader's file:line: key next to the field.
         # Select agent3 again with a click where it was dragged to.
         browser.mouse("mousePressed", x0 + 10, y0 - 40)
         browser.mouse("mouseReleased", x0 + 10, y0 - 40, buttons=0)
-        browser.wait_for("document.querySelector('#ed-props input[name=max_vel]')", 5)
-        browser.eval("{ const f = document.querySelector('#ed-props input[name=max_vel]'); f.value = '-3'; f.dispatchEvent(new Event('change')); }")
-        browser.wait_for("document.querySelector('#ed-props .field.bad')", 10)
+        browser.wait_for("document.querySelector('#ed-props input[name=max_vel]')")
+        browser.eval("{ const f = document.querySelector('#ed-props input[name=max_vel]'); f.value = '-3';"
+                     " f.dispatchEvent(new Event('change')); }")
+        browser.wait_for("document.querySelector('#ed-props .field.bad')")
         err = browser.eval("document.querySelector('#ed-props .field.bad .field-error').textContent")
         print("field error:", err)
         if "scenarios/cafe_edited.yaml:" not in err or "max_vel" not in err:

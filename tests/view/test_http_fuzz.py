@@ -47,7 +47,8 @@ def random_json(rng, depth):
     if kind == 5:
         return {"__map": [[random_text(rng, 3).decode("utf-8", "replace"), random_json(rng, depth + 1)]
                           for _ in range(rng.randrange(4))]}
-    return {random_text(rng, 3).decode("utf-8", "replace"): random_json(rng, depth + 1) for _ in range(rng.randrange(3))}
+    return {random_text(rng, 3).decode("utf-8", "replace"): random_json(rng, depth + 1)
+            for _ in range(rng.randrange(3))}
 
 
 def mutate_doc(rng, doc):
@@ -108,7 +109,10 @@ class Fuzzer:
 
     def one(self, rng):
         post = rng.random() < 0.6
-        method = rng.choice(["POST", "POST", "PUT", "DELETE"]) if post and rng.random() < 0.2 else ("POST" if post else "GET")
+        if post and rng.random() < 0.2:
+            method = rng.choice(["POST", "POST", "PUT", "DELETE"])
+        else:
+            method = "POST" if post else "GET"
         path = rng.choice(API_POSTS if post else API_GETS)
         query = b""
         if not post and rng.random() < 0.7:
@@ -120,7 +124,8 @@ class Fuzzer:
         page = True
         tamper = rng.random()
         if tamper < 0.12:
-            headers["Host"] = rng.choice(["evil.example", "127.0.0.1:1", "localhost", "", "127.0.0.1:%d.evil" % self.port])
+            headers["Host"] = rng.choice(["evil.example", "127.0.0.1:1", "localhost", "",
+                                          "127.0.0.1:%d.evil" % self.port])
             page = False
         elif tamper < 0.24:
             headers["Origin"] = rng.choice(["http://evil.example", "null", "https://127.0.0.1:%d" % self.port,
@@ -221,8 +226,8 @@ def main():
             t.start()
         for t in threads:
             t.join()
-        print("%d requests in %.1f s (seed %d), statuses %s" % (total, time.time() - started, seed,
-                                                              sorted(fuzzer.counts.items())))
+        print("%d requests in %.1f s (seed %d), statuses %s"
+              % (total, time.time() - started, seed, sorted(fuzzer.counts.items())))
         problems += fuzzer.problems
         if not view.alive():
             problems.append("hunav_view died")

@@ -12,7 +12,7 @@ import tempfile
 import threading
 import time
 
-from cdp import Browser, states_at
+from cdp import GENEROUS, Browser, states_at
 from pagecheck import SNAPSHOT_JS, compare
 
 
@@ -21,9 +21,13 @@ def main():
     work = tempfile.mkdtemp(prefix="hunav_view_live.")
     out = os.path.join(work, "live")
     env = dict(os.environ, HUNAV_BIN_DIR=bindir)
+    # The browser first (its start is the slow part on a loaded machine): the realtime run's 12 s are
+    # left for the page to follow.
+    browser = Browser()
     run = subprocess.Popen([os.path.join(repo, "launch_scripts", "run_experiment.sh"), "--scenario",
                             os.path.join(repo, "scenarios", "cafe.yaml"), "--mode", "realtime", "--duration", "12",
-                            "--view", "--out", out], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+                            "--view", "--out", out],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
     lines, url_box = [], []
 
     def reader():
@@ -32,34 +36,43 @@ def main():
             m = re.search(r"watch this run live: (http://\S+)", line)
             if m:
                 url_box.append(m.group(1))
-    threading.Thread(target=reader, daemon=True).start()
+    reading = threading.Thread(target=reader, daemon=True)
+    reading.start()
     problems, snapshots, metric_times = [], [], set()
-    browser = None
     try:
-        deadline = time.time() + 30
+        deadline = time.time() + GENEROUS
         while not url_box and time.time() < deadline and run.poll() is None:
             time.sleep(0.1)
         if not url_box:
             raise AssertionError("run_experiment.sh printed no URL:\n" + "".join(lines))
         url = url_box[0]
         print("view at", url)
-        browser = Browser()
         browser.goto(url)
-        browser.wait_for("window.hunavView.drawn.people.length === 6 && window.hunavView.drawn.t > 0.5", 30)
+        browser.wait_for("window.hunavView.drawn.people.length === 6 && window.hunavView.drawn.t > 0.5")
+        # Eight snapshots 1 s of simulated time apart (about 1 s of wall-clock time in realtime), while the
+        # run lasts: the page must follow it and the metrics panel update.
+        sampling_end = time.time() + GENEROUS
         for k in range(8):
             snapshots.append(browser.eval(SNAPSHOT_JS))
             metric_times.add(browser.eval("document.getElementById('metrics-time').textContent"))
             if k == 4:
                 browser.screenshot(os.path.join(work, "hunav_view.png"))
-            browser.pump(1.0)
+            next_t = snapshots[-1]["t"] + 1.0
+            while (run.poll() is None and time.time() < sampling_end
+                   and not browser.eval("window.hunavView.drawn.t >= %r" % next_t)):
+                browser.pump(0.1)
+            if run.poll() is not None or time.time() >= sampling_end:
+                break
         rtf = browser.eval("window.hunavView.app.frame.rtf")
-        path_points = browser.eval("window.hunavView.app.frame.path ? window.hunavView.app.frame.path.points.length : 0")
-        laser_beams = browser.eval("window.hunavView.app.frame.laser ? window.hunavView.app.frame.laser.ranges.length : 0")
+        path_points = browser.eval("window.hunavView.app.frame.path"
+                                   " ? window.hunavView.app.frame.path.points.length : 0")
+        laser_beams = browser.eval("window.hunavView.app.frame.laser"
+                                   " ? window.hunavView.app.frame.laser.ranges.length : 0")
         metric_rows = browser.eval("document.querySelectorAll('#metrics tr').length")
         scene = browser.eval("window.hunavView.app.scene && window.hunavView.app.scene.shapes.length")
         errors = browser.js_errors()
-        run.wait(120)
-        time.sleep(0.5)
+        run.wait(GENEROUS)
+        reading.join(GENEROUS)  # the script's last lines
         print("".join(lines[-6:]))
         if run.returncode != 0:
             problems.append("run_experiment.sh exited %s" % run.returncode)
@@ -69,8 +82,8 @@ def main():
             p, c = compare(snap, states_at(states, snap["t"], tol=1e-6))
             problems += p
             checked += c
-            print("t=%.2f tick %s: robot (%.3f, %.3f), %d people" % (snap["t"], snap["tick"], snap["robot"]["x"],
-                                                                    snap["robot"]["y"], len(snap["people"])))
+            print("t=%.2f tick %s: robot (%.3f, %.3f), %d people"
+                  % (snap["t"], snap["tick"], snap["robot"]["x"], snap["robot"]["y"], len(snap["people"])))
         if len({s["tick"] for s in snapshots}) < 5:
             problems.append("the page did not follow the run: ticks %s" % [s["tick"] for s in snapshots])
         if checked < 10:
@@ -96,8 +109,7 @@ def main():
         if target:
             shutil.copy(os.path.join(work, "hunav_view.png"), target)
     finally:
-        if browser:
-            browser.close()
+        browser.close()
         if run.poll() is None:
             run.terminate()
             run.wait(30)

@@ -14,6 +14,7 @@ import tempfile
 import threading
 import urllib.parse
 
+from cdp import GENEROUS
 from viewproc import View
 
 
@@ -35,7 +36,8 @@ def hostile_cases(view, root, work, doc, expect, failures):
     expect("the page for Host evil.example", *view.request("/", headers={"Host": "evil.example:%d" % port}), 403,
            "refused")
     expect("a cross-origin text/plain save (no preflight)",
-           *view.request(save, good, token=False, headers={"Origin": "http://evil.example", "Content-Type": "text/plain"}),
+           *view.request(save, good, token=False,
+                         headers={"Origin": "http://evil.example", "Content-Type": "text/plain"}),
            403, "cross-origin")
     expect("a text/plain save with the token", *view.request(save, good, headers={"Content-Type": "text/plain"}), 415,
            "application/json")
@@ -60,10 +62,10 @@ def hostile_cases(view, root, work, doc, expect, failures):
     # JSON that nests deep (parsing it overflowed the stack: SIGSEGV), or is too large, or is no UTF-8.
     deep = b"[" * 300000 + b"]" * 300000
     expect("a body of 300000 nested arrays", *view.request(save, raw=deep), 400, "nests deeper")
-    expect("a doc nested 1000 deep", *view.request(save, raw=b'{"path": "d.yaml", "doc": ' + b'{"a":' * 1000 + b'1'
-                                                    + b'}' * 1001), 400, "nests deeper")
+    nested = b'{"path": "d.yaml", "doc": ' + b'{"a":' * 1000 + b'1' + b'}' * 1001
+    expect("a doc nested 1000 deep", *view.request(save, raw=nested), 400, "nests deeper")
     # A body larger than 8 MB: refused from its Content-Length (the server does not read it).
-    with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+    with socket.create_connection(("127.0.0.1", port), timeout=GENEROUS) as sock:
         sock.sendall(("POST %s HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nContent-Type: application/json\r\n"
                       "X-HuNav-Token: %s\r\nContent-Length: %d\r\n\r\n" % (save, port, view.token(), 9 << 20)).encode())
         reply = b""
@@ -81,12 +83,10 @@ def hostile_cases(view, root, work, doc, expect, failures):
         status, text = view.request(save, {"path": target, "doc": doc})
         expect("save to %r" % target, status, text, 403, "")
     for planner in ["../../escape", "dwb/../../../escape", "nonesuch"]:
-        expect("run with planner %r" % planner, *view.request("/api/editor/run", {"path": "passing.yaml",
-                                                                                   "planner": planner}), 400,
-               "unknown planner")
-    expect("run with a duration that is no number", *view.request("/api/editor/run", {"path": "passing.yaml",
-                                                                                       "duration": "x"}), 400,
-           "duration")
+        expect("run with planner %r" % planner,
+               *view.request("/api/editor/run", {"path": "passing.yaml", "planner": planner}), 400, "unknown planner")
+    expect("run with a duration that is no number",
+           *view.request("/api/editor/run", {"path": "passing.yaml", "duration": "x"}), 400, "duration")
     # Saves of different files at once, through the server's threads: each file keeps its own document.
     errors = []
 
@@ -125,8 +125,9 @@ def main():
     os.symlink(os.path.join(outside, "secret.yaml"), os.path.join(root, "evil.yaml"))
     view = View(["--no-live", "--editor", root])
     base = view.url
-    request = lambda url, body=None, raw=None, method=None, headers=None, token=True: view.request(
-        url[len(base):], body=body, raw=raw, method=method, headers=headers, token=token)
+
+    def request(url, body=None, raw=None, method=None, headers=None, token=True):
+        return view.request(url[len(base):], body=body, raw=raw, method=method, headers=headers, token=token)
     failures = []
 
     def expect(what, status, body, want_status, want_text):
@@ -140,24 +141,30 @@ def main():
             failures.append("%s: got %d %s, want %d with %r" % (what, status, body, want_status, want_text))
 
     try:
-        q = lambda p: base + "/api/editor/open?path=" + urllib.parse.quote(p)
+        def q(p):
+            return base + "/api/editor/open?path=" + urllib.parse.quote(p)
+        save = base + "/api/editor/save"
         expect("open a file inside", *request(q("passing.yaml")), 200, '"path":"passing.yaml"')
         expect("open ../", *request(q("../outside/secret.yaml")), 403, "'..' is refused")
-        expect("open an absolute path", *request(q(os.path.join(outside, "secret.yaml"))), 403, "absolute paths are refused")
+        expect("open an absolute path", *request(q(os.path.join(outside, "secret.yaml"))), 403,
+               "absolute paths are refused")
         expect("open a symlinked file out", *request(q("evil.yaml")), 403, "leads out of")
         expect("open through a symlinked folder", *request(q("out/secret.yaml")), 403, "leads out of")
         expect("open a missing file", *request(q("nothing.yaml")), 403, "no such file")
         expect("open without a path", *request(base + "/api/editor/open"), 400, "missing query parameter 'path'")
         doc = json.loads(request(q("passing.yaml"))[1])["doc"]
         for bad in ["../escape.yaml", os.path.join(work, "escape.yaml"), "out/escape.yaml"]:
-            expect("save to " + bad, *request(base + "/api/editor/save", {"path": bad, "doc": doc}), 403, "refused" if not bad.startswith("out") else "leads out of")
-        expect("save: body not JSON", *request(base + "/api/editor/save", raw=b"{not json"), 400, "must be a JSON object")
-        expect("save: JSON but not an object", *request(base + "/api/editor/save", raw=b"[1,2]"), 400, "must be a JSON object")
-        expect("save: no path", *request(base + "/api/editor/save", {"doc": doc}), 400, "missing string field 'path'")
-        expect("save: no doc", *request(base + "/api/editor/save", {"path": "x.yaml"}), 400, "missing field 'doc'")
-        expect("save: a doc that is no YAML tree", *request(base + "/api/editor/save", {"path": "x.yaml", "doc": {"a": 1}}), 400, "__map")
-        expect("save: a bad scenario", *request(base + "/api/editor/save", {"path": "x.yaml", "doc": {"__map": [["dt", "-1"]]}}), 200, '"message":"x.yaml:1: dt: must be in')
-        expect("validate a good one", *request(base + "/api/editor/validate", {"path": "copy.yaml", "doc": doc}), 200, '"ok":true')
+            expect("save to " + bad, *request(save, {"path": bad, "doc": doc}), 403,
+                   "refused" if not bad.startswith("out") else "leads out of")
+        expect("save: body not JSON", *request(save, raw=b"{not json"), 400, "must be a JSON object")
+        expect("save: JSON but not an object", *request(save, raw=b"[1,2]"), 400, "must be a JSON object")
+        expect("save: no path", *request(save, {"doc": doc}), 400, "missing string field 'path'")
+        expect("save: no doc", *request(save, {"path": "x.yaml"}), 400, "missing field 'doc'")
+        expect("save: a doc that is no YAML tree", *request(save, {"path": "x.yaml", "doc": {"a": 1}}), 400, "__map")
+        expect("save: a bad scenario", *request(save, {"path": "x.yaml", "doc": {"__map": [["dt", "-1"]]}}), 200,
+               '"message":"x.yaml:1: dt: must be in')
+        expect("validate a good one", *request(base + "/api/editor/validate", {"path": "copy.yaml", "doc": doc}), 200,
+               '"ok":true')
         expect("run a path out", *request(base + "/api/editor/run", {"path": "../x.yaml"}), 403, "'..' is refused")
         expect("replay a folder out", *request(base + "/api/editor/replay?path=out"), 403, "leads out of")
         expect("live stream in editor mode", *request(base + "/api/stream"), 404, "not a live view")
@@ -167,7 +174,7 @@ def main():
         for raw in [b"GARBAGE\r\n\r\n", b"GET /api/info HTTP/1.1\r\nContent-Length: 99999999999999999999\r\n\r\n",
                     b"POST /api/editor/save HTTP/1.1\r\nHost: x\r\nContent-Length: 10\r\n\r\n{\"pa"]:
             host, port = urllib.parse.urlparse(base).hostname, urllib.parse.urlparse(base).port
-            with socket.create_connection((host, port), timeout=10) as s:
+            with socket.create_connection((host, port), timeout=GENEROUS) as s:
                 s.sendall(raw)
                 s.shutdown(socket.SHUT_WR)
                 reply = s.recv(200)

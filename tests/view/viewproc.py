@@ -7,9 +7,11 @@ import time
 import urllib.error
 import urllib.request
 
+from cdp import GENEROUS
+
 
 class View:
-    def __init__(self, args, timeout=20.0):
+    def __init__(self, args, timeout=GENEROUS):
         self.bin = os.path.join(os.environ["BIN"], "hunav_view")
         self.proc = subprocess.Popen([self.bin, "--port", "0"] + args, stdout=subprocess.PIPE,
                                      stderr=subprocess.PIPE, text=True)
@@ -31,7 +33,7 @@ class View:
         """The token of this start, as the page carries it (<meta name="hunav-token">)."""
         if getattr(self, "_token", None):
             return self._token
-        with urllib.request.urlopen(self.url + "/", timeout=10) as r:
+        with urllib.request.urlopen(self.url + "/", timeout=GENEROUS) as r:
             page = r.read().decode()
         m = re.search(r'<meta name="hunav-token" content="([0-9a-f]+)">', page)
         if not m:
@@ -39,7 +41,7 @@ class View:
         self._token = m.group(1)
         return self._token
 
-    def request(self, path, body=None, raw=None, method=None, headers=None, token=True, timeout=10):
+    def request(self, path, body=None, raw=None, method=None, headers=None, token=True, timeout=GENEROUS):
         """(status, text) of a request to this view; POSTs carry the page's token unless token=False,
         and the JSON content type unless headers say otherwise."""
         data = raw if raw is not None else (json.dumps(body).encode() if body is not None else None)

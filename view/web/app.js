@@ -528,7 +528,7 @@ function edHandles() {
   edGenerators().forEach((g, gi) => { const h = regionHandle(g, gi); if (h) hs.push(h); });
   const map = mget(doc, 'map');
   const walls = isMap(map) ? mget(map, 'walls') : undefined;
-  if (Array.isArray(walls)) walls.forEach((w, wi) => Array.isArray(w) && w.forEach((p, pi) => {
+  if (Array.isArray(walls)) walls.forEach((w, wi) => Array.isArray(w) && w.forEach((p) => {
     if (Array.isArray(p)) hs.push({ x: num(p[0]), y: num(p[1]), role: 'wall', wall: wi, select: { kind: 'wall', index: wi }, set: (x, y) => { p[0] = x; p[1] = y; } });
   }));
   const boxes = isMap(map) ? mget(map, 'boxes') : undefined;
@@ -731,37 +731,46 @@ function edResult(res, what) {
   return !!res.ok;
 }
 // Each check or save of the document is numbered: a check answered after a later request (the
-// server generates a large crowd slowly) describes an older document and is dropped.
+// server generates a large crowd slowly) describes an older document and is dropped, and so is an
+// answer about a document no longer open (another file opened meanwhile).
 let edRequests = 0;
 async function edValidate() {
-  if (!app.ed) return false;
+  const ed = app.ed;
+  if (!ed) return false;
   const request = ++edRequests;
-  const res = await edPost('/api/editor/validate', { path: edTarget(), doc: app.ed.doc, people_doc: app.ed.peopleDoc || null });
-  if (request !== edRequests) return false;
+  const res = await edPost('/api/editor/validate', { path: edTarget(), doc: ed.doc, people_doc: ed.peopleDoc || null });
+  if (request !== edRequests || app.ed !== ed) return false;
   return edResult(res, 'the scenario loads');
 }
 async function edSave() {
-  if (!app.ed) return false;
+  const ed = app.ed;
+  if (!ed) return false;
   const path = edTarget();
   clearTimeout(edTimer);  // the save checks the document itself
   ++edRequests;
-  const res = await edPost('/api/editor/save', { path, doc: app.ed.doc, people_doc: app.ed.peopleDoc || null });
+  const res = await edPost('/api/editor/save', { path, doc: ed.doc, people_doc: ed.peopleDoc || null });
+  if (app.ed !== ed) return false;
   const ok = edResult(res, 'saved ' + path + (res.people_path ? ' and ' + res.people_path : ''));
-  if (ok) { app.ed.path = path; app.ed.saved = (app.ed.saved || 0) + 1; }
+  if (ok) { ed.path = path; ed.saved = (ed.saved || 0) + 1; }
   return ok;
 }
 async function edRun() {
   if (!(await edSave())) return;
-  edStatus('running ' + app.ed.path + ' …', false);
-  const res = await edPost('/api/editor/run', { path: app.ed.path, planner: $('ed-planner').value });
+  const ed = app.ed;  // the replay shows the run of this document, whatever is opened meanwhile
+  edStatus('running ' + ed.path + ' …', false);
+  const res = await edPost('/api/editor/run', { path: ed.path, planner: $('ed-planner').value });
   if (!res.ok) { edStatus((res.error && (res.error.message || res.error)) || 'the run failed', true); return; }
   edStatus('ran: ' + res.status + ' after ' + fmt(res.sim_time, 1) + ' s, fingerprint ' + res.fingerprint + '; results in ' + res.out_dir, false);
   const data = await (await fetch('/api/editor/replay?path=' + encodeURIComponent(res.out_dir))).json();
-  app.scene = app.ed.scene;
+  showRunReplay(ed, res, data);
+}
+// The replay of a run the editor started, in place of the editor.
+function showRunReplay(ed, run, data) {
+  app.scene = ed.scene;
   setEditing(false);
-  $('banner').textContent = 'replay of the run of ' + app.ed.path + ' (' + res.out_dir + ')';
+  $('banner').textContent = 'replay of the run of ' + ed.path + ' (' + run.out_dir + ')';
   startReplay(data);
-  app.lastRun = res;
+  app.lastRun = run;
 }
 async function edFiles() {
   const r = await fetch('/api/editor/files');
