@@ -35,6 +35,17 @@ function(lcm_add_types)
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
     COMMENT "Wire checks of the LCM types")
   list(APPEND headers ${wire_checks})
+  # <PACKAGE>/wire_codec.hpp: each type's encoding after its hash, written and read inline, the byte
+  # layout taken from the .lcm files (see the script).
+  set(wire_codec ${cpp_dir}/${ARG_PACKAGE}/wire_codec.hpp)
+  set(wire_codec_script ${CMAKE_CURRENT_SOURCE_DIR}/gen_wire_codec.py)
+  add_custom_command(
+    OUTPUT ${wire_codec}
+    COMMAND ${Python3_EXECUTABLE} ${wire_codec_script} ${wire_codec} ${ARG_PACKAGE} ${ARG_FILES}
+    DEPENDS ${ARG_FILES} ${wire_codec_script} ${wire_checks_script}
+    WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
+    COMMENT "Wire codec of the LCM types")
+  list(APPEND headers ${wire_codec})
   add_custom_target(${ARG_TARGET}_generate DEPENDS ${headers})
 
   # Python: <PACKAGE>/<type>.py and the package's __init__.py (plain `struct` code; the lcm module

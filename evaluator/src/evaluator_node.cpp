@@ -301,8 +301,10 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
 }
 
 // Reads the entities back from a world state's LCM encoding as written by encodeWorldState
-// (fingerprint.cpp: the fields in declaration order, big-endian): the same numbers bit for bit as
-// toEntity() takes from the message, when its arrays hold as many elements as their counts.
+// (wire_codec.hpp: the fields in declaration order, big-endian): the same numbers bit for bit as
+// toEntity() takes from the message, when its arrays hold as many elements as their counts. Written
+// here rather than wire::readBody into a world_state_t, which costs the worker 6% more CPU with
+// 1000 people (docs/performance.md, "Crowds").
 class EncodedWorldState {
  public:
   explicit EncodedWorldState(const std::vector<std::uint8_t>& bytes) : p_(bytes.data()) {

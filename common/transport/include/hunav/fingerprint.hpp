@@ -23,9 +23,10 @@ class Fingerprint {
 };
 
 // The LCM encoding of a world state, byte for byte what world_state_t::encode() writes (fingerprint
-// hash, then every field big-endian in declaration order), without the generated code's call per
-// field: the world encodes the whole crowd every tick (for the fingerprint and the LCM publish),
-// where the generated encoder's calls cost far more than the bytes (docs/performance.md, "Crowds").
+// hash, then every field big-endian in declaration order), written inline by the codec generated
+// from the .lcm files (wire_codec.hpp) instead of lcm-gen's call per field: the world encodes the
+// whole crowd every tick (for the fingerprint and the LCM publish), where those calls cost far more
+// than the bytes (docs/performance.md, "Crowds").
 // Replaces `out` (its storage is reused). As the generated encoder, it writes num_goals /
 // num_obstacles / num_agents / num_collisions elements; the counts must not exceed the arrays. A
 // string holding a NUL throws std::runtime_error, as Bus::encode does for it (LCM would size and

@@ -1,0 +1,232 @@
+#!/usr/bin/env python3
+"""Generates wire_codec.hpp: for every type of lcmtypes/*.lcm, its LCM encoding after the 8-byte type
+hash, written and read inline, field by field in the order the .lcm file declares them.
+
+The bytes are those of lcm-gen's encode() and decode(): integers and floats big-endian, a boolean as
+one byte, a string as an int32 length (its characters and the NUL) then the bytes, an array as its
+elements (as many as its count field says, or its literal size). lcm-gen's code makes a call per
+field and per array element; the world encodes every person every tick (the fingerprint, the publish)
+and the evaluator reads them back, where those calls cost more than the bytes. Generating the layout
+here keeps both in step with the .lcm files: no offsets written by hand.
+
+  bodySize(m)         the bytes writeBody(w, m) writes; a string holding a NUL throws
+                      std::runtime_error (LCM would size and write it differently)
+  writeBody(w, m)     the fields of m, after bodySize(m)
+  readBody(r, m)      the fields into m, reusing its strings' and vectors' storage; trusts the bytes
+                      (check them first with wire_checks.hpp's safeToDecode when they come from
+                      outside)
+
+Usage: gen_wire_codec.py OUTPUT.hpp PACKAGE FILE.lcm...
+The subset of the LCM language gen_wire_checks.py accepts (its parser is used).
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gen_wire_checks import parse, fail  # noqa: E402
+
+# LCM type -> (C++ type as lcm-gen declares it, Writer/Reader method).
+PRIMITIVES = {
+    "int8_t": ("int8_t", "i8"), "int16_t": ("int16_t", "i16"), "int32_t": ("int32_t", "i32"),
+    "int64_t": ("int64_t", "i64"), "byte": ("uint8_t", "u8"), "boolean": ("int8_t", "i8"),
+    "float": ("float", "f32"), "double": ("double", "f64"),
+}
+SIZES = {"i8": 1, "u8": 1, "i16": 2, "i32": 4, "i64": 8, "f32": 4, "f64": 8}
+
+PRELUDE = r"""
+namespace hunav::wire {
+
+// LCM's byte order is big-endian; this machine's is little-endian (x86-64, arm64).
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "wire_codec.hpp swaps bytes: a little-endian machine");
+template <class U>
+U swapBytes(U v) {
+  if constexpr (sizeof(U) == 2)
+    return __builtin_bswap16(v);
+  else if constexpr (sizeof(U) == 4)
+    return __builtin_bswap32(v);
+  else
+    return __builtin_bswap64(v);
+}
+
+// Writes big-endian at a position the caller sized (bodySize).
+class Writer {
+ public:
+  explicit Writer(std::uint8_t* at) : p_(at) {}
+  void i8(std::int8_t v) { *p_++ = static_cast<std::uint8_t>(v); }
+  void u8(std::uint8_t v) { *p_++ = v; }
+  void i16(std::int16_t v) { bigEndian(static_cast<std::uint16_t>(v)); }
+  void i32(std::int32_t v) { bigEndian(static_cast<std::uint32_t>(v)); }
+  void i64(std::int64_t v) { bigEndian(static_cast<std::uint64_t>(v)); }
+  void f32(float v) { bigEndian(bitsOf<std::uint32_t>(v)); }
+  void f64(double v) { bigEndian(bitsOf<std::uint64_t>(v)); }
+  void str(const std::string& s) {  // after stringSize(s) (bodySize): no NUL inside
+    i32(static_cast<std::int32_t>(s.size() + 1));
+    std::memcpy(p_, s.data(), s.size());
+    p_ += s.size();
+    *p_++ = 0;
+  }
+  std::uint8_t* position() const { return p_; }
+
+ private:
+  template <class U, class F>
+  static U bitsOf(F v) {
+    U u;
+    std::memcpy(&u, &v, sizeof u);
+    return u;
+  }
+  template <class U>
+  void bigEndian(U v) {
+    const U swapped = swapBytes(v);
+    std::memcpy(p_, &swapped, sizeof swapped);
+    p_ += sizeof swapped;
+  }
+  std::uint8_t* p_;
+};
+
+// Reads what a Writer wrote (the caller knows the bytes are there).
+class Reader {
+ public:
+  explicit Reader(const std::uint8_t* at) : p_(at) {}
+  std::int8_t i8() { return static_cast<std::int8_t>(*p_++); }
+  std::uint8_t u8() { return *p_++; }
+  std::int16_t i16() { return static_cast<std::int16_t>(bigEndian<std::uint16_t>()); }
+  std::int32_t i32() { return static_cast<std::int32_t>(bigEndian<std::uint32_t>()); }
+  std::int64_t i64() { return static_cast<std::int64_t>(bigEndian<std::uint64_t>()); }
+  float f32() { return valueOf<float>(bigEndian<std::uint32_t>()); }
+  double f64() { return valueOf<double>(bigEndian<std::uint64_t>()); }
+  void str(std::string& s) {
+    const std::int32_t length = i32();  // with the NUL
+    s.assign(reinterpret_cast<const char*>(p_), static_cast<std::size_t>(length - 1));
+    p_ += length;
+  }
+  const std::uint8_t* position() const { return p_; }
+
+ private:
+  template <class F, class U>
+  static F valueOf(U u) {
+    F v;
+    std::memcpy(&v, &u, sizeof v);
+    return v;
+  }
+  template <class U>
+  U bigEndian() {
+    U v;
+    std::memcpy(&v, p_, sizeof v);
+    p_ += sizeof v;
+    return swapBytes(v);
+  }
+  const std::uint8_t* p_;
+};
+
+// The bytes of a string. lcm-gen's code sizes a string by size() but writes it up to its first NUL,
+// and Bus::encode refuses such a message: so does this.
+inline std::size_t stringSize(const std::string& s) {
+  if (std::memchr(s.data(), 0, s.size()) != nullptr)
+    throw std::runtime_error("cannot encode a message (a string holds a NUL)");
+  return 4 + s.size() + 1;
+}
+"""
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    out_path, package, files = sys.argv[1], sys.argv[2], sys.argv[3:]
+    structs = dict(parse(f) for f in files)
+
+    def count_of(name, fname, dim, fields):
+        if dim.isdigit():
+            return dim
+        earlier = [f for t, f, d in fields[:[f for _, f, _ in fields].index(fname)] if not d]
+        if dim not in earlier:
+            fail(f"{name}.{fname}", f"the count '{dim}' is not an earlier field")
+        return f"m.{dim}"
+
+    lines = [
+        "// Generated by lcmtypes/gen_wire_codec.py from lcmtypes/*.lcm: do not edit.",
+        "#pragma once",
+        "#include <cstddef>",
+        "#include <cstdint>",
+        "#include <cstring>",
+        "#include <stdexcept>",
+        "#include <string>",
+        "",
+    ]
+    lines += [f"#include <{package}/{name}.hpp>" for name in sorted(structs)]
+    lines += PRELUDE.split("\n")
+    for name in sorted(structs):
+        t = f"{package}::{name}"
+        lines += [
+            f"inline std::size_t bodySize(const {t}& m);",
+            f"inline void writeBody(Writer& w, const {t}& m);",
+            f"inline void readBody(Reader& r, {t}& m);",
+        ]
+    lines.append("")
+
+    for name in sorted(structs):
+        fields = structs[name]
+        t = f"{package}::{name}"
+        size, write, read = [], [], []
+        fixed = 0
+        for ftype, fname, dim in fields:
+            if ftype not in PRIMITIVES and ftype != "string" and ftype not in structs:
+                fail(f"{name}.{fname}", f"unknown type '{ftype}'")
+            if dim:
+                count = count_of(name, fname, dim, fields)
+                n = f"static_cast<std::size_t>({count})"
+                if not dim.isdigit():
+                    read.append(f"  m.{fname}.resize({n});")
+                if ftype in PRIMITIVES:
+                    method = PRIMITIVES[ftype][1]
+                    size.append(f"  size += {n} * {SIZES[method]};  // {fname}")
+                    write.append(f"  for (std::size_t k = 0; k < {n}; ++k) w.{method}(m.{fname}[k]);")
+                    read.append(f"  for (std::size_t k = 0; k < {n}; ++k) m.{fname}[k] = r.{method}();")
+                elif ftype == "string":
+                    size.append(f"  for (std::size_t k = 0; k < {n}; ++k) size += stringSize(m.{fname}[k]);")
+                    write.append(f"  for (std::size_t k = 0; k < {n}; ++k) w.str(m.{fname}[k]);")
+                    read.append(f"  for (std::size_t k = 0; k < {n}; ++k) r.str(m.{fname}[k]);")
+                else:
+                    size.append(f"  for (std::size_t k = 0; k < {n}; ++k) size += bodySize(m.{fname}[k]);")
+                    write.append(f"  for (std::size_t k = 0; k < {n}; ++k) writeBody(w, m.{fname}[k]);")
+                    read.append(f"  for (std::size_t k = 0; k < {n}; ++k) readBody(r, m.{fname}[k]);")
+            elif ftype in PRIMITIVES:
+                method = PRIMITIVES[ftype][1]
+                fixed += SIZES[method]
+                write.append(f"  w.{method}(m.{fname});")
+                read.append(f"  m.{fname} = r.{method}();")
+            elif ftype == "string":
+                size.append(f"  size += stringSize(m.{fname});")
+                write.append(f"  w.str(m.{fname});")
+                read.append(f"  r.str(m.{fname});")
+            else:
+                size.append(f"  size += bodySize(m.{fname});")
+                write.append(f"  writeBody(w, m.{fname});")
+                read.append(f"  readBody(r, m.{fname});")
+        # A type without fields names no parameter (no unused-parameter warning).
+        m_size, m_write, m_read = (" m" if size else ""), (" m" if write else ""), (" m" if read else "")
+        lines.append(f"inline std::size_t bodySize(const {t}&{m_size}) {{")
+        lines.append(f"  std::size_t size = {fixed};  // the fields of fixed size")
+        lines += size
+        lines.append("  return size;")
+        lines.append("}")
+        lines.append(f"inline void writeBody(Writer&{' w' if write else ''}, const {t}&{m_write}) {{")
+        lines += write
+        lines.append("}")
+        lines.append(f"inline void readBody(Reader&{' r' if read else ''}, {t}&{m_read}) {{")
+        lines += read
+        lines.append("}")
+        lines.append("")
+
+    lines += ["}  // namespace hunav::wire", ""]
+    text = "\n".join(lines)
+    try:
+        if open(out_path, encoding="utf-8").read() == text:
+            return
+    except OSError:
+        pass
+    with open(out_path, "w", encoding="utf-8") as out:
+        out.write(text)
+
+
+if __name__ == "__main__":
+    main()
