@@ -27,6 +27,17 @@ def fail(where, what):
     sys.exit(f"gen_wire_checks.py: {where}: {what}")
 
 
+def write_if_changed(path, text):
+    """Writes `text` to `path` unless the file holds it already (what includes it is not rebuilt)."""
+    try:
+        if open(path, encoding="utf-8").read() == text:
+            return
+    except OSError:
+        pass
+    with open(path, "w", encoding="utf-8") as out:
+        out.write(text)
+
+
 def parse(path):
     text = open(path, encoding="utf-8").read()
     text = re.sub(r"//[^\n]*", "", text)
@@ -177,14 +188,7 @@ def main():
             "}",
         ]
     lines += ["", "}  // namespace hunav::wire", ""]
-    text = "\n".join(lines)
-    try:
-        if open(out_path, encoding="utf-8").read() == text:
-            return
-    except OSError:
-        pass
-    with open(out_path, "w", encoding="utf-8") as out:
-        out.write(text)
+    write_if_changed(out_path, "\n".join(lines))
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gen_wire_checks import parse, fail  # noqa: E402
+from gen_wire_checks import fail, parse, write_if_changed  # noqa: E402
 
 # LCM type -> (C++ type as lcm-gen declares it, Writer/Reader method).
 PRIMITIVES = {
@@ -218,14 +218,7 @@ def main():
         lines.append("")
 
     lines += ["}  // namespace hunav::wire", ""]
-    text = "\n".join(lines)
-    try:
-        if open(out_path, encoding="utf-8").read() == text:
-            return
-    except OSError:
-        pass
-    with open(out_path, "w", encoding="utf-8") as out:
-        out.write(text)
+    write_if_changed(out_path, "\n".join(lines))
 
 
 if __name__ == "__main__":
