@@ -14,7 +14,7 @@ ManagerNode::ManagerNode(Bus& bus, ThreadPool* threads, bool count_episodes) : b
 }
 
 std::uint64_t ManagerNode::droppedMessages() const {
-  return request_sub_.drops().count + event_sub_.drops().count + bus_.malformedDatagrams();
+  return request_sub_.droppedCount() + event_sub_.droppedCount() + bus_.malformedDatagrams();
 }
 
 void ManagerNode::onEvent(const episode_event_t& e) {

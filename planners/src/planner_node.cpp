@@ -26,7 +26,7 @@ PlannerNode::PlannerNode(Bus& bus, std::unique_ptr<Planner> planner, std::string
 }
 
 std::uint64_t PlannerNode::droppedMessages() const {
-  return observation_sub_.drops().count + event_sub_.drops().count + bus_.malformedDatagrams() + forged_dropped_;
+  return observation_sub_.droppedCount() + event_sub_.droppedCount() + bus_.malformedDatagrams() + forged_dropped_;
 }
 
 void PlannerNode::announce() {

@@ -77,7 +77,10 @@ TEST(Transport, UsersSeeOnlyTheBusInterface) {
   EXPECT_EQ(drops.count, 1u);
   EXPECT_EQ(drops.last_reason, "rejected");
   EXPECT_EQ(sub.drops().count, 2u);
+  EXPECT_EQ(sub.droppedCount(), 2u);
   EXPECT_EQ(bus.droppedMessages(), 2u);
+  sub.reset();
+  EXPECT_EQ(sub.droppedCount(), 0u);  // an ended subscription has no subscriber to ask
 }
 
 TEST(Transport, LambdaSubscriptionReceivesTypedMessages) {

@@ -285,7 +285,7 @@ bool WorldSim::awaitReply(const std::function<void()>& send, const bool& arrived
   int sends = 1;
   // Answers that arrived but were dropped (undecodable, or rejected by the checks) are not silence.
   const Subscription& answers = std::string_view(who) == "manager" ? reply_sub_ : command_sub_;
-  const std::uint64_t answers_dropped_before = answers.drops().count;
+  const std::uint64_t answers_dropped_before = answers.droppedCount();
   while (!arrived) {
     if (options_.stop != nullptr && options_.stop->load()) return false;  // abortWith() labels it
     const Clock::time_point now = Clock::now();
@@ -611,7 +611,8 @@ bool WorldSim::tick(EpisodeResult& result) {
 
 std::uint64_t WorldSim::droppedMessages() const {
   // The bus's malformed datagrams are the world's own: in process the bus has no socket.
-  return reply_sub_.drops().count + command_sub_.drops().count + ready_sub_.drops().count + bus_.malformedDatagrams();
+  return reply_sub_.droppedCount() + command_sub_.droppedCount() + ready_sub_.droppedCount() +
+         bus_.malformedDatagrams();
 }
 
 void WorldSim::command(double v, double vy, double w) {

@@ -28,6 +28,8 @@ SubscriptionDrops Subscription::drops() const {
   return {subscriber_->drop_count_, subscriber_->last_drop_reason_};
 }
 
+std::uint64_t Subscription::droppedCount() const { return subscriber_ ? subscriber_->drop_count_ : 0; }
+
 bool Subscription::active() const { return subscriber_ && subscriber_->bus_ != nullptr; }
 
 void Bus::handleAvailable() {

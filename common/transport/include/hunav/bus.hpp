@@ -62,6 +62,8 @@ class [[nodiscard]] Subscription {
   void reset();
   // What this subscription dropped so far (a component sharing a bus with others can tell its own).
   SubscriptionDrops drops() const;
+  // drops().count without copying the reason: components sum it on every step.
+  std::uint64_t droppedCount() const;
   bool active() const;
 
  private:
