@@ -15,6 +15,12 @@ here keeps both in step with the .lcm files: no offsets written by hand.
   readBody(r, m)      the fields into m, reusing its strings' and vectors' storage; trusts the bytes
                       (check them first with wire_checks.hpp's safeToDecode when they come from
                       outside)
+  readFields<Keep>(r, m)
+                      readBody, but only the fields Keep names (Fields<&T::x, ...>, any types'
+                      fields); the others are stepped over and left as they were. An array's count
+                      is always read. For a reader that needs a few fields of a large message.
+  skipBody(r, Type<T>{})
+                      steps over a T
 
 Usage: gen_wire_codec.py OUTPUT.hpp PACKAGE FILE.lcm...
 The subset of the LCM language gen_wire_checks.py accepts (its parser is used).
@@ -99,6 +105,11 @@ class Reader {
     s.assign(reinterpret_cast<const char*>(p_), static_cast<std::size_t>(length - 1));
     p_ += length;
   }
+  void skip(std::size_t bytes) { p_ += bytes; }
+  void skipString() {
+    const std::int32_t length = i32();  // with the NUL
+    p_ += length;
+  }
   const std::uint8_t* position() const { return p_; }
 
  private:
@@ -118,6 +129,19 @@ class Reader {
   const std::uint8_t* p_;
 };
 
+// The fields readFields<Keep> reads: Fields<&agent_state_t::x, &agent_state_t::y, ...>.
+template <auto Member>
+struct FieldTag {};
+template <auto... Members>
+struct Fields {
+  template <auto Member>
+  static constexpr bool keeps() {
+    return (std::is_same_v<FieldTag<Member>, FieldTag<Members>> || ...);
+  }
+};
+template <class T>
+struct Type {};
+
 // The bytes of a string. lcm-gen's code sizes a string by size() but writes it up to its first NUL,
 // and Bus::encode refuses such a message: so does this.
 inline std::size_t stringSize(const std::string& s) {
@@ -126,6 +150,88 @@ inline std::size_t stringSize(const std::string& s) {
   return 4 + s.size() + 1;
 }
 """
+
+
+def fixed_size(name, structs):
+    """The bytes of every `name`, or None when strings or counted arrays make it vary."""
+    if name in PRIMITIVES:
+        return SIZES[PRIMITIVES[name][1]]
+    if name == "string":
+        return None
+    total = 0
+    for ftype, _, dim in structs[name]:
+        one = fixed_size(ftype, structs)
+        if one is None or (dim and not dim.isdigit()):
+            return None
+        total += one * (int(dim) if dim else 1)
+    return total
+
+
+def partial_reader(name, fields, structs, package):
+    """readFields<Keep> and skipBody for one type."""
+    t = f"{package}::{name}"
+    counts = {dim for _, _, dim in fields if dim and not dim.isdigit()}
+
+    def skip_one(ftype):
+        size = fixed_size(ftype, structs)
+        if size is not None:
+            return f"r.skip({size});"
+        if ftype == "string":
+            return "r.skipString();"
+        return f"skipBody(r, Type<{package}::{ftype}>{{}});"
+
+    def skip_array(ftype, n):
+        size = fixed_size(ftype, structs)
+        if size is not None:
+            return [f"r.skip({n} * {size});"]
+        return [f"for (std::size_t k = 0; k < {n}; ++k) {skip_one(ftype)}"]
+
+    read, skip = [], []
+    for ftype, fname, dim in fields:
+        keeps = f"Keep::template keeps<&{t}::{fname}>()"
+        if dim:
+            count = dim if dim.isdigit() else f"m.{dim}"
+            n = f"static_cast<std::size_t>({count})"
+            if ftype in PRIMITIVES:
+                element = f"m.{fname}[k] = r.{PRIMITIVES[ftype][1]}();"
+            elif ftype == "string":
+                element = f"r.str(m.{fname}[k]);"
+            else:
+                element = f"readFields<Keep>(r, m.{fname}[k]);"
+            read.append(f"  if constexpr ({keeps}) {{")
+            if not dim.isdigit():
+                read.append(f"    m.{fname}.resize({n});")
+            read.append(f"    for (std::size_t k = 0; k < {n}; ++k) {element}")
+            read.append("  } else {")
+            read += [f"    {line}" for line in skip_array(ftype, n)]
+            read.append("  }")
+            skip_n = f"static_cast<std::size_t>({dim})"
+            skip += [f"  {line}" for line in skip_array(ftype, skip_n)]
+        elif ftype in PRIMITIVES:
+            method = PRIMITIVES[ftype][1]
+            if fname in counts:
+                read.append(f"  m.{fname} = r.{method}();  // a count: always read")
+                skip.append(f"  const auto {fname} = r.{method}();")
+            else:
+                read.append(f"  if constexpr ({keeps}) m.{fname} = r.{method}(); else r.skip({SIZES[method]});")
+                skip.append(f"  r.skip({SIZES[method]});  // {fname}")
+        elif ftype == "string":
+            read.append(f"  if constexpr ({keeps}) r.str(m.{fname}); else r.skipString();")
+            skip.append(f"  r.skipString();  // {fname}")
+        else:
+            read.append(f"  if constexpr ({keeps}) readFields<Keep>(r, m.{fname}); else {skip_one(ftype)}")
+            skip.append(f"  {skip_one(ftype)}  // {fname}")
+    size = fixed_size(name, structs)
+    if size is not None:
+        skip = [f"  r.skip({size});"]
+    r, m = (" r", " m") if read else ("", "")
+    lines = ["template <class Keep>", f"inline void readFields(Reader&{r}, {t}&{m}) {{"]
+    lines += read
+    lines.append("}")
+    lines.append(f"inline void skipBody(Reader&{' r' if skip else ''}, Type<{t}>) {{")
+    lines += skip
+    lines.append("}")
+    return lines
 
 
 def main():
@@ -150,6 +256,7 @@ def main():
         "#include <cstring>",
         "#include <stdexcept>",
         "#include <string>",
+        "#include <type_traits>",
         "",
     ]
     lines += [f"#include <{package}/{name}.hpp>" for name in sorted(structs)]
@@ -160,6 +267,9 @@ def main():
             f"inline std::size_t bodySize(const {t}& m);",
             f"inline void writeBody(Writer& w, const {t}& m);",
             f"inline void readBody(Reader& r, {t}& m);",
+            "template <class Keep>",
+            f"inline void readFields(Reader& r, {t}& m);",
+            f"inline void skipBody(Reader& r, Type<{t}>);",
         ]
     lines.append("")
 
@@ -215,6 +325,7 @@ def main():
         lines.append(f"inline void readBody(Reader&{' r' if read else ''}, {t}&{m_read}) {{")
         lines += read
         lines.append("}")
+        lines += partial_reader(name, fields, structs, package)
         lines.append("")
 
     lines += ["}  // namespace hunav::wire", ""]

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <exception>
 #include <hunav/live_metrics_t.hpp>
+#include <hunav/wire_codec.hpp>
 #include <mutex>
 #include <stdexcept>
 #include <utility>
@@ -300,87 +301,15 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
   return e;
 }
 
-// Reads the entities back from a world state's LCM encoding as written by encodeWorldState
-// (wire_codec.hpp: the fields in declaration order, big-endian): the same numbers bit for bit as
-// toEntity() takes from the message, when its arrays hold as many elements as their counts. Written
-// here rather than wire::readBody into a world_state_t, which costs the worker 6% more CPU with
-// 1000 people (docs/performance.md, "Crowds").
-class EncodedWorldState {
- public:
-  explicit EncodedWorldState(const std::vector<std::uint8_t>& bytes) : p_(bytes.data()) {
-    p_ += 4 * 8;  // hash, utime, tick, episode
-  }
-  // The next agent (the robot first, then each of numAgents()).
-  EntityState nextEntity(Recording& rec, std::vector<Vec2>& points) {
-    EntityState e;
-    p_ += 8;  // utime
-    e.id = i32();
-    p_ += 1;       // type
-    skipString();  // name
-    e.behavior = i8();
-    e.behavior_state = i8();
-    p_ += 1 + 8 + 1 + 6 * 8;  // behavior_params: configuration, duration, once, vel .. other_force_factor
-    skipString();             // behavior_tree
-    e.group = i32();
-    e.x = f64();
-    e.y = f64();
-    e.yaw = f64();
-    e.vx = f64();
-    e.vy = f64();
-    e.vyaw = f64();
-    e.linear_vel = f64();
-    e.angular_vel = f64();
-    e.radius = f64();
-    p_ += 8;  // desired_speed
-    const std::int32_t goals = i32();
-    if (goals > 0) {
-      e.has_goal = true;
-      e.goal_x = f64();
-      e.goal_y = f64();
-      p_ += 16 * static_cast<std::size_t>(goals - 1);
-      e.goal_radius = f64();
-    } else {
-      p_ += 8;  // goal_radius
-    }
-    p_ += 1;  // cyclic_goals
-    const std::int32_t obstacles = i32();
-    points.clear();
-    for (std::int32_t k = 0; k < obstacles; ++k) {
-      const double x = f64();
-      points.emplace_back(x, f64());
-    }
-    p_ += 1;  // robot_in_sight
-    e.obstacles_begin = rec.addObstacles(points);
-    e.obstacles_count = static_cast<std::uint32_t>(points.size());
-    return e;
-  }
-  // Read after the robot.
-  std::int32_t numAgents() { return i32(); }
-
- private:
-  std::int8_t i8() { return static_cast<std::int8_t>(*p_++); }
-  std::int32_t i32() {
-    std::uint32_t be;
-    std::memcpy(&be, p_, 4);
-    p_ += 4;
-    return static_cast<std::int32_t>(__builtin_bswap32(be));
-  }
-  double f64() {
-    std::uint64_t be;
-    std::memcpy(&be, p_, 8);
-    p_ += 8;
-    const std::uint64_t bits = __builtin_bswap64(be);
-    double v;
-    std::memcpy(&v, &bits, 8);
-    return v;
-  }
-  void skipString() {
-    const std::int32_t n = i32();  // with the NUL
-    p_ += n;
-  }
-
-  const std::uint8_t* p_;
-};
+// The fields entityOf() and toEntity() take: the evaluator's worker reads only these back from a
+// world state's encoding (wire::readFields), which keeps it as fast as a reader written by hand
+// (docs/performance.md, "Smaller costs").
+using RecordedFields =
+    wire::Fields<&world_state_t::robot, &world_state_t::agents, &agent_state_t::id, &agent_state_t::group_id,
+                 &agent_state_t::behavior, &agent_state_t::behavior_state, &agent_state_t::x, &agent_state_t::y,
+                 &agent_state_t::yaw, &agent_state_t::vx, &agent_state_t::vy, &agent_state_t::vyaw,
+                 &agent_state_t::linear_vel, &agent_state_t::angular_vel, &agent_state_t::radius, &agent_state_t::goals,
+                 &agent_state_t::goal_radius, &agent_state_t::obstacles, &point2d_t::x, &point2d_t::y>;
 
 }  // namespace
 
@@ -405,7 +334,7 @@ EvaluatorNode::EvaluatorNode(Bus& bus, EvaluatorOptions options, ThreadPool* thr
 
 std::uint64_t EvaluatorNode::droppedMessages() const {
   // The bus's malformed datagrams are the evaluator's own: in process the bus has no socket.
-  return event_sub_.drops().count + state_sub_.drops().count + bus_.malformedDatagrams() + forged_dropped_;
+  return event_sub_.droppedCount() + state_sub_.droppedCount() + bus_.malformedDatagrams() + forged_dropped_;
 }
 
 // The worker finishes what was received (errors ignored, as an unfinished episode's are) before the
@@ -594,11 +523,12 @@ void EvaluatorNode::processEncoded(Episode& ep, std::vector<std::uint8_t>& bytes
   if (!keep) return;
   Recording& sample = ep.sample;
   sample.clear();
-  EncodedWorldState reader(encode_buffer_);
-  const EntityState robot = reader.nextEntity(sample, points_scratch_);
-  const std::int32_t agents = reader.numAgents();
+  wire::Reader reader(encode_buffer_.data() + 8);  // after the type hash
+  wire::readFields<RecordedFields>(reader, decoded_scratch_);
+  const EntityState robot = toEntity(decoded_scratch_.robot, sample, points_scratch_);
   agents_scratch_.clear();
-  for (std::int32_t i = 0; i < agents; ++i) agents_scratch_.push_back(reader.nextEntity(sample, points_scratch_));
+  for (const agent_state_t& a : decoded_scratch_.agents)
+    agents_scratch_.push_back(toEntity(a, sample, points_scratch_));
   record(ep, sample, t, robot);
 }
 

@@ -203,3 +203,80 @@ TEST(WireCodec, EveryKindOfFieldIsLcmsEncodingByteForByte) {
   EXPECT_EQ(back.names, live.names);
   EXPECT_EQ(lcmEncoding(back), bytes);
 }
+
+// readFields<Keep> reads what Keep names as readBody does, steps over the rest (strings, nested
+// messages, arrays of messages) and leaves those fields as they were; skipBody steps over a whole
+// message. Both end where LCM's decoder ends.
+TEST(WireCodec, ReadFieldsReadsWhatItNamesAndStepsOverTheRest) {
+  using Keep = wire::Fields<&world_state_t::agents, &agent_state_t::id, &agent_state_t::name, &agent_state_t::y,
+                            &agent_state_t::obstacles, &point2d_t::x>;
+  std::mt19937_64 rng(13);
+  std::vector<std::uint8_t> ours;
+  world_state_t partial{};
+  for (int round = 0; round < 100; ++round) {
+    world_state_t ws{};
+    ws.tick = round;
+    ws.robot = randomAgent(rng);
+    ws.agents.resize(rng() % 30);
+    for (auto& a : ws.agents) a = randomAgent(rng);
+    ws.num_agents = static_cast<std::int32_t>(ws.agents.size());
+    ws.collisions.resize(rng() % 3);
+    ws.num_collisions = static_cast<std::int32_t>(ws.collisions.size());
+    encodeWorldState(ws, ours);
+
+    partial.tick = -1;
+    partial.robot.id = -7;
+    const std::size_t before = partial.agents.size();
+    for (auto& a : partial.agents) {  // what the previous round left: only what Keep names changes
+      a.x = 0.5;
+      a.behavior_tree = "left";
+    }
+    wire::Reader r(ours.data() + 8);
+    wire::readFields<Keep>(r, partial);
+    ASSERT_EQ(r.position(), ours.data() + ours.size()) << "round " << round;
+    EXPECT_EQ(partial.tick, -1);                           // not named
+    EXPECT_EQ(partial.robot.id, -7);                       // the robot is not named: stepped over whole
+    EXPECT_EQ(partial.num_collisions, ws.num_collisions);  // a count is always read
+    EXPECT_TRUE(partial.collisions.empty());
+    ASSERT_EQ(partial.agents.size(), ws.agents.size());
+    for (std::size_t i = 0; i < ws.agents.size(); ++i) {
+      const agent_state_t& got = partial.agents[i];
+      const agent_state_t& want = ws.agents[i];
+      EXPECT_EQ(got.id, want.id);
+      EXPECT_EQ(got.name, want.name);
+      EXPECT_EQ(std::memcmp(&got.y, &want.y, sizeof got.y), 0);  // NaN bits included
+      if (i < before) {                                          // not named: as the previous round left them
+        EXPECT_EQ(got.x, 0.5);
+        EXPECT_EQ(got.behavior_tree, "left");
+      }
+      EXPECT_EQ(got.num_goals, want.num_goals);  // the count, not the goals
+      ASSERT_EQ(got.obstacles.size(), want.obstacles.size());
+      for (std::size_t k = 0; k < want.obstacles.size(); ++k)
+        EXPECT_EQ(std::memcmp(&got.obstacles[k].x, &want.obstacles[k].x, sizeof(double)), 0);
+    }
+
+    wire::Reader skipper(ours.data() + 8);
+    wire::skipBody(skipper, wire::Type<world_state_t>{});
+    EXPECT_EQ(skipper.position(), ours.data() + ours.size()) << "round " << round;
+  }
+
+  // Arrays of strings and of bytes, stepped over and read.
+  live_metrics_t live{};
+  live.names = {"completed", "", "time_to_reach_goal"};
+  live.values = {1.0, 2.0, 3.0};
+  live.num_metrics = 3;
+  const std::vector<std::uint8_t> bytes = lcmEncoding(live);
+  live_metrics_t back{};
+  wire::Reader r(bytes.data() + 8);
+  wire::readFields<wire::Fields<&live_metrics_t::values>>(r, back);
+  EXPECT_EQ(r.position(), bytes.data() + bytes.size());
+  EXPECT_TRUE(back.names.empty());
+  EXPECT_EQ(back.values, live.values);
+  map_t map{};
+  map.cells = {0, 100, -1};
+  map.num_cells = 3;
+  const std::vector<std::uint8_t> map_bytes = lcmEncoding(map);
+  wire::Reader map_reader(map_bytes.data() + 8);
+  wire::skipBody(map_reader, wire::Type<map_t>{});
+  EXPECT_EQ(map_reader.position(), map_bytes.data() + map_bytes.size());
+}

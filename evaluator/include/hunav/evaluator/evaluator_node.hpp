@@ -193,6 +193,7 @@ class EvaluatorNode {
   std::optional<RunResult> last_result_;
   // process()'s buffers (the worker's once it has taken over).
   std::vector<std::uint8_t> encode_buffer_;
+  world_state_t decoded_scratch_;  // the worker's: what it reads back from encode_buffer_
   std::vector<EntityState> agents_scratch_;
   std::vector<Vec2> points_scratch_;
   std::vector<std::int32_t> ids_scratch_;                     // checkAgentStates' sort of ids out of order
