@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "hunav/evaluator/metrics.hpp"
@@ -100,6 +101,11 @@ struct SumOf {
   double value() const { return sum; }
 };
 
+// One type per function: two functions are the same template argument exactly when they are one
+// function. (Comparing their addresses in a constant expression fails under GCC 12's sanitizers.)
+template <PerSampleFn F>
+struct FunctionTag {};
+
 // (1/N) sum_k f_k. N = 0: 0. Per tick: column_k (f_k itself unless another function is given).
 template <PerSampleFn F, PerSampleFn ColumnF = F>
 struct MeanOf {
@@ -109,7 +115,7 @@ struct MeanOf {
     const double f = F(s);
     sum += f;
     ++n;
-    if constexpr (ColumnF == F) {
+    if constexpr (std::is_same_v<FunctionTag<ColumnF>, FunctionTag<F>>) {
       return f;
     } else {
       return ColumnF(s);
