@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+#include "hunav/open_bus.hpp"
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -252,7 +254,7 @@ int runRaw(const std::string& role, int count, int size) {
 int main(int argc, char** argv) {
   CLI::App app{"bench_lcm_roundtrip: round trip between two processes over LCM udpm or bare UDP multicast"};
   std::string role, transport = "lcm", wait = "block";
-  std::string url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
+  std::string url = hunav::kDefaultLcmUrl;
   int count = 20000, size = 800;
   app.add_option("--role", role, "ping, pong or listen")->required()->check(CLI::IsMember({"ping", "pong", "listen"}));
   app.add_option("--transport", transport, "lcm or raw")->check(CLI::IsMember({"lcm", "raw"}));

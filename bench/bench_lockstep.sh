@@ -26,7 +26,7 @@ repeat=3
 planners="dwb none"
 nice_level=0
 rt_prio=0
-url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304&channel_ports=1'
+url=''  # below: our processes' default bus (asked of the build), with channel_ports=1
 while [ $# -gt 0 ]; do
   case $1 in
     --bin) bin=$2; shift 2 ;;
@@ -39,9 +39,13 @@ while [ $# -gt 0 ]; do
     *) echo "usage: $0 [--bin DIR] [--scenario FILE] [--repeat N] [--planners LIST] [--nice N] [--url URL] [--rt PRIO]" >&2; exit 2 ;;
   esac
 done
-for exe in hunav_worldsim hunav_manager hunav_planner hunav_evaluator; do
+for exe in hunav_worldsim hunav_manager hunav_planner hunav_evaluator hunav_record; do
   [ -x "$bin/$exe" ] || { echo "$exe not built in $bin" >&2; exit 2; }
 done
+if [ -z "$url" ]; then
+  url=$(env -u LCM_DEFAULT_URL "$bin/hunav_record" --print-url)  # kDefaultLcmUrl, its one definition
+  if [[ $url == *\?* ]]; then url="$url&channel_ports=1"; else url="$url?channel_ports=1"; fi
+fi
 # "${timed[@]}" FILE PROGRAM ARGS...: runs PROGRAM and writes its user and system CPU seconds and its
 # voluntary and involuntary context switches into FILE.
 timed=(python3 -c '
