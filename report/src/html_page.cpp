@@ -140,28 +140,12 @@ window.addEventListener('error', function (e) { window.hunavRecordError(e.messag
   return html;
 }
 
+// run.json's fields, with the status's badge class and the times rounded for display.
 Json infoJson(const results::RunInfo& info) {
-  Json j;
-  j["run_id"] = info.run_id;
-  j["experiment_tag"] = info.experiment_tag;
-  j["scenario"] = info.scenario;
-  j["scenario_file"] = info.scenario_file;
-  j["planner"] = info.planner;
-  j["seed"] = info.seed;
-  j["mode"] = info.mode;
-  j["profile"] = info.profile;
-  j["status"] = info.status;
+  Json j = results::runInfoJson(info);
   j["statusClass"] = statusClass(info.status);
-  j["reason"] = info.reason;
   j["sim_time"] = significant(info.sim_time, 9);
   j["wall_time"] = significant(info.wall_time, 6);
-  j["ticks"] = info.ticks;
-  j["recorded_ticks"] = info.recorded_ticks;
-  j["lost_ticks"] = info.lost_ticks;
-  j["dropped_messages"] = info.dropped_messages;
-  j["fingerprint"] = info.fingerprint;
-  j["git_commit"] = info.git_commit;
-  j["complete"] = info.complete;
   return j;
 }
 

@@ -28,7 +28,7 @@ double finiteOrZero(double v) { return std::isfinite(v) ? v + 0.0 : 0.0; }
 }  // namespace
 
 // The keys in this order (ordered_json), so that the files of two runs compare line by line.
-void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<MetricValue>& metrics) {
+nlohmann::ordered_json runInfoJson(const RunInfo& info) {
   nlohmann::ordered_json j;
   j["run_id"] = info.run_id;
   j["experiment_tag"] = info.experiment_tag;
@@ -56,6 +56,11 @@ void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<M
   j["git_commit"] = info.git_commit;
   j["complete"] = info.complete;
   j["states_file"] = info.states_file;
+  return j;
+}
+
+void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<MetricValue>& metrics) {
+  nlohmann::ordered_json j = runInfoJson(info);
   auto& values = j["metrics"] = nlohmann::ordered_json::object();
   for (const MetricValue& m : metrics)
     values[m.name] = m.kind == MetricKind::Bool ? nlohmann::ordered_json(m.value != 0.0)

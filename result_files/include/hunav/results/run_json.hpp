@@ -3,6 +3,7 @@
 // evaluator, read by the offline tools (hunav_report, hunav_summary, hunav_view's replay).
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,6 +61,9 @@ struct RunResult {
 // `git rev-parse --short HEAD` of the last build, with "-dirty" when tracked files had changes then
 // (cmake/GitCommit.cmake), else "unknown".
 std::string gitCommit();
+
+// The RunInfo fields as run.json holds them, in its order (the report's pages embed them too).
+nlohmann::ordered_json runInfoJson(const RunInfo& info);
 
 // Writes run.json atomically (writeJsonFile, nlohmann-json indented by 2): every RunInfo field plus a
 // "metrics" object (name -> number, or true/false for a boolean metric). A double is written as the
