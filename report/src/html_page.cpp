@@ -2,21 +2,86 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
+#include <nlohmann/json.hpp>
+#include <utility>
 
 #include "hunav/episode_status.hpp"
 #include "hunav/report/assets.hpp"
-#include "hunav/report/json_writer.hpp"
 #include "hunav/results/metric_catalog.hpp"
 
 namespace hunav::report {
 
 namespace {
 
+using Json = nlohmann::ordered_json;
+
 constexpr int kPositionDecimals = 2;  // cm: finer than anything the map can show
 constexpr int kAngleDecimals = 2;
 constexpr int kTimeDecimals = 3;  // ms: finer than the smallest dt (0.001 s)
-constexpr int kValueDigits = 5;
+constexpr int kValueDigits = 5;   // the run page's series
+constexpr int kBatchDigits = 6;   // the batch page's numbers
+
+// The double nearest to a decimal text, -0 as 0: nlohmann writes it back as the shortest text that
+// reads as the same double, so the digits of `text` (and ".0" when it is integral).
+double decimalValue(const std::string& text) {
+  double v = 0.0;
+  std::from_chars(text.data(), text.data() + text.size(), v);
+  return v + 0.0;
+}
+
+// `v` rounded to `decimals` places: 1.23456 at 2 is written 1.23, 2 is written 2.0. Rounded as
+// printf does, on the double's exact value (-2.675 is -2.67499999...: -2.67), where
+// std::round(v * 100) / 100 would round the product, -267.5, to -2.68. NaN and infinities stay
+// what they are, and nlohmann writes them as null.
+double rounded(double v, int decimals) {
+  return std::isfinite(v) ? decimalValue(fmt::format("{:.{}f}", v, decimals)) : v;
+}
+
+// `v` with `digits` significant digits (123456.789 at 4 digits is written 123500.0, 1.23456e-17
+// 1.235e-17); NaN and infinities as rounded().
+double significant(double v, int digits) {
+  return std::isfinite(v) ? decimalValue(fmt::format("{:.{}g}", v, digits)) : v;
+}
+
+Json roundedArray(const std::vector<double>& v, int decimals) {
+  Json out = Json::array();
+  for (const double x : v) out.push_back(rounded(x, decimals));
+  return out;
+}
+
+Json significantArray(const std::vector<double>& v, int digits) {
+  Json out = Json::array();
+  for (const double x : v) out.push_back(significant(x, digits));
+  return out;
+}
+
+// Points as one flat array x0, y0, x1, y1, ... (the page's scripts read them in pairs).
+Json flatPoints(const std::vector<Vec2>& points) {
+  Json out = Json::array();
+  for (const Vec2& p : points) {
+    out.push_back(rounded(p.x(), kPositionDecimals));
+    out.push_back(rounded(p.y(), kPositionDecimals));
+  }
+  return out;
+}
+
+// The data as compact JSON text that can sit inside a <script> element: '<' occurs only inside
+// strings, where \u003c is the same character, so no "</script>" can end the element early and no
+// "<!--" can start a comment in it. Bytes that are not UTF-8 are replaced by U+FFFD.
+std::string scriptJson(const Json& data) {
+  const std::string text = data.dump(-1, ' ', /*ensure_ascii=*/false, Json::error_handler_t::replace);
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    if (c == '<')
+      out += "\\u003c";
+    else
+      out += c;
+  }
+  return out;
+}
 
 std::string htmlEscape(const std::string& s) {
   std::string out;
@@ -75,105 +140,74 @@ window.addEventListener('error', function (e) { window.hunavRecordError(e.messag
   return html;
 }
 
-void writeInfo(JsonWriter& j, const results::RunInfo& info) {
-  j.key("info").beginObject();
-  j.key("run_id").value(info.run_id);
-  j.key("experiment_tag").value(info.experiment_tag);
-  j.key("scenario").value(info.scenario);
-  j.key("scenario_file").value(info.scenario_file);
-  j.key("planner").value(info.planner);
-  j.key("seed").value(info.seed);
-  j.key("mode").value(info.mode);
-  j.key("profile").value(info.profile);
-  j.key("status").value(info.status);
-  j.key("statusClass").value(statusClass(info.status));
-  j.key("reason").value(info.reason);
-  j.key("sim_time").number(info.sim_time, 9);
-  j.key("wall_time").number(info.wall_time, 6);
-  j.key("ticks").value(info.ticks);
-  j.key("recorded_ticks").value(info.recorded_ticks);
-  j.key("lost_ticks").value(info.lost_ticks);
-  j.key("dropped_messages").value(info.dropped_messages);
-  j.key("fingerprint").value(info.fingerprint);
-  j.key("git_commit").value(info.git_commit);
-  j.key("complete").value(info.complete);
-  j.endObject();
+// run.json's fields, with the status's badge class and the times rounded for display.
+Json infoJson(const results::RunInfo& info) {
+  Json j = results::runInfoJson(info);
+  j["statusClass"] = statusClass(info.status);
+  j["sim_time"] = significant(info.sim_time, 9);
+  j["wall_time"] = significant(info.wall_time, 6);
+  return j;
 }
 
-void writeMap(JsonWriter& j, const RunData& d) {
-  j.key("map").beginObject();
-  j.key("source").value(d.map_source);
-  j.key("polylines").beginArray();
+Json mapJson(const RunData& d) {
+  Json polylines = Json::array();
+  Json polygons = Json::array();
+  Json circles = Json::array();
   for (const auto& s : d.shapes) {
-    if (s.kind != Shape::Kind::Polyline) continue;
-    j.beginArray();
-    for (const auto& p : s.points) j.fixed(p.x(), kPositionDecimals).fixed(p.y(), kPositionDecimals);
-    j.endArray();
-  }
-  j.endArray();
-  j.key("polygons").beginArray();
-  for (const auto& s : d.shapes) {
-    if (s.kind != Shape::Kind::Polygon) continue;
-    j.beginArray();
-    for (const auto& p : s.points) j.fixed(p.x(), kPositionDecimals).fixed(p.y(), kPositionDecimals);
-    j.endArray();
-  }
-  j.endArray();
-  j.key("circles").beginArray();
-  for (const auto& s : d.shapes)
+    if (s.kind == Shape::Kind::Polyline) polylines.push_back(flatPoints(s.points));
+    if (s.kind == Shape::Kind::Polygon) polygons.push_back(flatPoints(s.points));
     if (s.kind == Shape::Kind::Circle)
-      j.beginArray()
-          .fixed(s.center.x(), kPositionDecimals)
-          .fixed(s.center.y(), kPositionDecimals)
-          .fixed(s.radius, kPositionDecimals)
-          .endArray();
-  j.endArray();
-  j.key("points").beginArray();
-  for (const auto& p : d.obstacle_points) j.fixed(p.x(), kPositionDecimals).fixed(p.y(), kPositionDecimals);
-  j.endArray();
-  j.endObject();
+      circles.push_back({rounded(s.center.x(), kPositionDecimals), rounded(s.center.y(), kPositionDecimals),
+                         rounded(s.radius, kPositionDecimals)});
+  }
+  Json j;
+  j["source"] = d.map_source;
+  j["polylines"] = std::move(polylines);
+  j["polygons"] = std::move(polygons);
+  j["circles"] = std::move(circles);
+  j["points"] = flatPoints(d.obstacle_points);
+  return j;
 }
 
-void writeTracks(JsonWriter& j, const RunData& d) {
+Json tracksJson(const RunData& d) {
   // Headings of people only while few enough to draw them readably.
   const bool people_yaw = d.tracks.size() <= 101;
-  j.key("tracks").beginArray();
+  Json tracks = Json::array();
   for (const auto& t : d.tracks) {
-    j.beginObject();
-    j.key("robot").value(t.robot);
-    j.key("id").value(t.id);
-    j.key("behavior").value(t.behavior);
-    j.key("group").value(t.group);
-    j.key("radius").fixed(t.radius, 3);
-    j.key("x").fixedArray(t.x, kPositionDecimals);
-    j.key("y").fixedArray(t.y, kPositionDecimals);
-    if (t.robot || people_yaw) j.key("yaw").fixedArray(t.yaw, kAngleDecimals);
-    j.key("goals").beginArray();
-    for (const auto& g : t.goals) j.fixed(g.x(), kPositionDecimals).fixed(g.y(), kPositionDecimals);
-    j.endArray();
-    j.endObject();
+    Json j;
+    j["robot"] = t.robot;
+    j["id"] = t.id;
+    j["behavior"] = t.behavior;
+    j["group"] = t.group;
+    j["radius"] = rounded(t.radius, 3);
+    j["x"] = roundedArray(t.x, kPositionDecimals);
+    j["y"] = roundedArray(t.y, kPositionDecimals);
+    if (t.robot || people_yaw) j["yaw"] = roundedArray(t.yaw, kAngleDecimals);
+    j["goals"] = flatPoints(t.goals);
+    tracks.push_back(std::move(j));
   }
-  j.endArray();
+  return tracks;
 }
 
-void writeSeries(JsonWriter& j, const RunData& d, const ReportLimits& limits) {
-  j.key("series").beginArray();
+Json seriesJson(const RunData& d, const ReportLimits& limits) {
+  Json series = Json::array();
   for (const auto& s : d.series) {
-    const auto keep = decimateMinMax(s.v, limits.max_plot_points);
-    j.beginObject();
-    j.key("key").value(s.key);
-    j.key("label").value(s.label);
-    j.key("unit").value(s.unit);
-    j.key("samples").value(static_cast<std::int64_t>(s.v.size()));
-    j.key("t").beginArray();
-    for (const auto k : keep) j.fixed(s.t[k], kTimeDecimals);
-    j.endArray();
-    j.key("v").beginArray();
-    for (const auto k : keep) j.number(s.v[k], kValueDigits);
-    j.endArray();
-    j.endObject();
+    Json t = Json::array();
+    Json v = Json::array();
+    for (const auto k : decimateMinMax(s.v, limits.max_plot_points)) {
+      t.push_back(rounded(s.t[k], kTimeDecimals));
+      v.push_back(significant(s.v[k], kValueDigits));
+    }
+    Json j;
+    j["key"] = s.key;
+    j["label"] = s.label;
+    j["unit"] = s.unit;
+    j["samples"] = s.v.size();
+    j["t"] = std::move(t);
+    j["v"] = std::move(v);
+    series.push_back(std::move(j));
   }
-  j.endArray();
+  return series;
 }
 
 }  // namespace
@@ -186,193 +220,109 @@ std::string statusClass(const std::string& status) {
 }
 
 std::string runPageJson(const RunData& d, const ReportLimits& limits, const std::string& batch_link) {
-  JsonWriter j;
-  j.beginObject();
-  j.key("kind").value("run");
-  writeInfo(j, d.info);
-  j.key("metrics").beginArray();
-  for (const auto& m : d.metrics) j.beginArray().value(m.name).value(m.unit).value(m.value).endArray();
-  j.endArray();
-  j.key("behaviorMetrics").beginObject();
-  for (const auto& [b, values] : d.behavior_metrics) {
-    j.key(std::to_string(b)).beginObject();
-    for (const auto& [name, value] : values) j.key(name).value(value);
-    j.endObject();
-  }
-  j.endObject();
-  j.key("counterfactual").beginObject();
-  j.key("header").beginArray();
-  for (const auto& h : d.counterfactual_header) j.value(h);
-  j.endArray();
-  j.key("rows").beginArray();
-  for (const auto& row : d.counterfactual_rows) {
-    j.beginArray();
-    for (const auto& v : row) j.value(v);
-    j.endArray();
-  }
-  j.endArray();
-  j.endObject();
-  writeMap(j, d);
-  j.key("bounds").beginArray();
-  j.fixed(d.lo.x(), kPositionDecimals).fixed(d.lo.y(), kPositionDecimals);
-  j.fixed(d.hi.x(), kPositionDecimals).fixed(d.hi.y(), kPositionDecimals);
-  j.endArray();
-  j.key("samples").value(static_cast<std::int64_t>(d.samples));
-  j.key("frameStride").value(static_cast<std::int64_t>(d.frame_stride));
-  j.key("frameT").fixedArray(d.frame_t, kTimeDecimals);
-  writeTracks(j, d);
-  j.key("active").beginArray();
+  Json j;
+  j["kind"] = "run";
+  j["info"] = infoJson(d.info);
+  Json& metrics = j["metrics"] = Json::array();
+  for (const auto& m : d.metrics) metrics.push_back({m.name, m.unit, m.value});
+  Json& behavior_metrics = j["behaviorMetrics"] = Json::object();
+  for (const auto& [b, values] : d.behavior_metrics) behavior_metrics[std::to_string(b)] = values;
+  j["counterfactual"] = {{"header", d.counterfactual_header}, {"rows", d.counterfactual_rows}};
+  j["map"] = mapJson(d);
+  j["bounds"] = flatPoints({d.lo, d.hi});
+  j["samples"] = d.samples;
+  j["frameStride"] = d.frame_stride;
+  j["frameT"] = roundedArray(d.frame_t, kTimeDecimals);
+  j["tracks"] = tracksJson(d);
+  Json& active = j["active"] = Json::array();
   for (const auto& a : d.active)
-    j.beginArray()
-        .value(static_cast<std::int64_t>(a.track))
-        .value(a.behavior)
-        .fixed(a.t0, kTimeDecimals)
-        .fixed(a.t1, kTimeDecimals)
-        .endArray();
-  j.endArray();
-  writeSeries(j, d, limits);
-  j.key("seriesSource").value(d.series_source);
-  j.key("notes").beginArray();
-  for (const auto& n : d.notes) j.value(n);
-  j.endArray();
-  j.key("batchLink").value(batch_link);
-  j.endObject();
-  return j.str();
+    active.push_back({a.track, a.behavior, rounded(a.t0, kTimeDecimals), rounded(a.t1, kTimeDecimals)});
+  j["series"] = seriesJson(d, limits);
+  j["seriesSource"] = d.series_source;
+  j["notes"] = d.notes;
+  j["batchLink"] = batch_link;
+  return scriptJson(j);
 }
 
 namespace {
 
-void writeUnits(JsonWriter& j) {
-  j.key("units").beginObject();
-  for (const auto& s : results::metricCatalog("default")) j.key(s.name).value(s.unit);
-  for (const auto& s : results::counterfactualCatalog()) j.key(s.name).value(s.unit);
-  j.endObject();
+Json unitsJson() {
+  Json units = Json::object();
+  for (const auto& s : results::metricCatalog("default")) units[s.name] = s.unit;
+  for (const auto& s : results::counterfactualCatalog()) units[s.name] = s.unit;
+  return units;
 }
 
-void writeBatchRuns(JsonWriter& j, const BatchData& d) {
-  j.key("runs").beginArray();
+Json batchRunsJson(const BatchData& d) {
+  Json runs = Json::array();
   for (const auto& r : d.runs) {
-    j.beginObject();
-    j.key("scenario").value(r.scenario);
-    j.key("planner").value(r.planner);
-    j.key("seed").value(static_cast<std::int64_t>(r.seed));
-    j.key("status").value(r.status);
-    j.key("statusClass").value(statusClass(r.status));
-    j.key("sim_time").number(r.sim_time);
-    j.key("wall_time").number(r.wall_time);
-    j.key("run_dir").value(r.run_dir_text);
-    j.key("link").value(r.page_link);
-    j.key("note").value(r.page_note);
-    j.key("metrics").numberArray(r.metrics);
-    j.endObject();
+    Json j;
+    j["scenario"] = r.scenario;
+    j["planner"] = r.planner;
+    j["seed"] = r.seed;
+    j["status"] = r.status;
+    j["statusClass"] = statusClass(r.status);
+    j["sim_time"] = significant(r.sim_time, kBatchDigits);
+    j["wall_time"] = significant(r.wall_time, kBatchDigits);
+    j["run_dir"] = r.run_dir_text;
+    j["link"] = r.page_link;
+    j["note"] = r.page_note;
+    j["metrics"] = significantArray(r.metrics, kBatchDigits);
+    runs.push_back(std::move(j));
   }
-  j.endArray();
+  return runs;
 }
 
 // summary_stats.csv and paired.csv, one array per row.
-void writeBatchStatistics(JsonWriter& j, const BatchData& d) {
-  j.key("stats").beginArray();
+void addBatchStatistics(Json& j, const BatchData& d) {
+  Json& stats = j["stats"] = Json::array();
   for (const auto& s : d.stats)
-    j.beginArray()
-        .value(s.scenario)
-        .value(s.planner)
-        .value(s.behavior)
-        .value(s.metric)
-        .value(static_cast<std::int64_t>(s.n))
-        .number(s.mean)
-        .number(s.std)
-        .number(s.ci_low)
-        .number(s.ci_high)
-        .endArray();
-  j.endArray();
-  j.key("hasPaired").value(d.has_paired);
-  j.key("paired").beginArray();
+    stats.push_back({s.scenario, s.planner, s.behavior, s.metric, s.n, significant(s.mean, kBatchDigits),
+                     significant(s.std, kBatchDigits), significant(s.ci_low, kBatchDigits),
+                     significant(s.ci_high, kBatchDigits)});
+  j["hasPaired"] = d.has_paired;
+  Json& paired = j["paired"] = Json::array();
   for (const auto& p : d.paired)
-    j.beginArray()
-        .value(p.scenario)
-        .value(p.planner_a)
-        .value(p.planner_b)
-        .value(p.metric)
-        .value(static_cast<std::int64_t>(p.n))
-        .number(p.mean_diff)
-        .number(p.ci_low)
-        .number(p.ci_high)
-        .value(p.significant)
-        .endArray();
-  j.endArray();
+    paired.push_back({p.scenario, p.planner_a, p.planner_b, p.metric, p.n, significant(p.mean_diff, kBatchDigits),
+                      significant(p.ci_low, kBatchDigits), significant(p.ci_high, kBatchDigits), p.significant});
 }
 
 // The comparison with the paper's means and orderings, one array per row.
-void writeBatchPaper(JsonWriter& j, const BatchData& d) {
-  j.key("paper").beginArray();
+void addBatchPaper(Json& j, const BatchData& d) {
+  Json& paper = j["paper"] = Json::array();
   for (const auto& p : d.paper)
-    j.beginArray()
-        .value(p.scenario)
-        .value(p.behavior)
-        .value(p.metric)
-        .value(p.paper_metric)
-        .value(p.planner)
-        .number(p.paper_mean)
-        .value(static_cast<std::int64_t>(p.n))
-        .number(p.mean)
-        .number(p.ci_low)
-        .number(p.ci_high)
-        .value(p.paper_in_ci)
-        .endArray();
-  j.endArray();
-  j.key("paperOrderings").beginArray();
+    paper.push_back({p.scenario, p.behavior, p.metric, p.paper_metric, p.planner,
+                     significant(p.paper_mean, kBatchDigits), p.n, significant(p.mean, kBatchDigits),
+                     significant(p.ci_low, kBatchDigits), significant(p.ci_high, kBatchDigits), p.paper_in_ci});
+  Json& orderings = j["paperOrderings"] = Json::array();
   for (const auto& o : d.paper_orderings)
-    j.beginArray()
-        .value(o.scenario)
-        .value(o.behavior)
-        .value(o.metric)
-        .value(o.planner_a)
-        .value(o.planner_b)
-        .value(o.paper)
-        .value(o.ours)
-        .value(o.verdict)
-        .value(o.significant)
-        .endArray();
-  j.endArray();
+    orderings.push_back(
+        {o.scenario, o.behavior, o.metric, o.planner_a, o.planner_b, o.paper, o.ours, o.verdict, o.significant});
 }
 
-void writeBatchExpectations(JsonWriter& j, const BatchData& d) {
-  j.key("expectations").beginArray();
+Json batchExpectationsJson(const BatchData& d) {
+  Json expectations = Json::array();
   for (const auto& e : d.expectations)
-    j.beginArray()
-        .value(e.scenario)
-        .value(e.planner)
-        .value(static_cast<std::int64_t>(e.seed))
-        .value(e.metric)
-        .value(e.condition)
-        .value(e.value)
-        .value(e.pass)
-        .endArray();
-  j.endArray();
+    expectations.push_back({e.scenario, e.planner, e.seed, e.metric, e.condition, e.value, e.pass});
+  return expectations;
 }
 
 }  // namespace
 
 std::string batchPageJson(const BatchData& d) {
-  JsonWriter j;
-  j.beginObject();
-  j.key("kind").value("batch");
-  j.key("dir").value(d.dir.filename().empty() ? d.dir.parent_path().filename().string() : d.dir.filename().string());
-  j.key("path").value(d.dir.string());
-  j.key("metricNames").beginArray();
-  for (const auto& m : d.metric_names) j.value(m);
-  j.endArray();
-  writeUnits(j);
-  writeBatchRuns(j, d);
-  writeBatchStatistics(j, d);
-  writeBatchPaper(j, d);
-  writeBatchExpectations(j, d);
-  j.key("summaryMd").value(d.has_summary_md ? "summary.md" : "");
-  j.key("notes").beginArray();
-  for (const auto& n : d.notes) j.value(n);
-  j.endArray();
-  j.endObject();
-  return j.str();
+  Json j;
+  j["kind"] = "batch";
+  j["dir"] = d.dir.filename().empty() ? d.dir.parent_path().filename().string() : d.dir.filename().string();
+  j["path"] = d.dir.string();
+  j["metricNames"] = d.metric_names;
+  j["units"] = unitsJson();
+  j["runs"] = batchRunsJson(d);
+  addBatchStatistics(j, d);
+  addBatchPaper(j, d);
+  j["expectations"] = batchExpectationsJson(d);
+  j["summaryMd"] = d.has_summary_md ? "summary.md" : "";
+  j["notes"] = d.notes;
+  return scriptJson(j);
 }
 
 std::string renderRunPage(const RunData& d, const ReportLimits& limits, const std::string& batch_link) {

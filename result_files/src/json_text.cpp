@@ -1,11 +1,13 @@
 #include "hunav/results/json_text.hpp"
 
-#include <fmt/format.h>
-
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "hunav/config_error.hpp"
@@ -14,43 +16,18 @@ namespace hunav::results {
 
 namespace fs = std::filesystem;
 
-std::string jsonString(std::string_view s, bool html_safe) {
-  std::string out = "\"";
-  out.reserve(s.size() + 2);
-  for (const char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '<':
-      case '>':
-      case '&':
-        if (html_safe) {
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
-          break;
-        }
-        out += c;
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        else
-          out += c;
-    }
+void writeJsonFile(const fs::path& file, const nlohmann::ordered_json& json, int indent) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot open: " + std::strerror(errno));
+    out << json.dump(indent, ' ', /*ensure_ascii=*/false, nlohmann::ordered_json::error_handler_t::replace) << '\n';
+    out.flush();
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot write: " + std::strerror(errno));
   }
-  return out + "\"";
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec) throw std::runtime_error(file.string() + ": cannot write: " + ec.message());
 }
 
 namespace {

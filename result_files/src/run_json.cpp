@@ -1,13 +1,7 @@
 #include "hunav/results/run_json.hpp"
 
-#include <fmt/format.h>
-
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <stdexcept>
 
 #include "hunav/results/json_text.hpp"
 #include "hunav/results/number_text.hpp"
@@ -26,64 +20,52 @@ std::string gitCommit() {
 
 namespace {
 
-// JSON has no NaN or infinity: a non-finite double (which RunInfo never holds by construction) is
-// written as 0 rather than producing an unreadable file.
-std::string jsonNumber(double v) { return std::isfinite(v) ? numberText(v + 0.0) : std::string("0"); }
+// JSON has no NaN or infinity, and nlohmann would write null, which the readers refuse where they
+// expect a number: a non-finite double (which RunInfo never holds by construction) is written as 0;
+// -0 as 0.
+double finiteOrZero(double v) { return std::isfinite(v) ? v + 0.0 : 0.0; }
 
 }  // namespace
 
-// The text is laid out here rather than by nlohmann's dump(), which writes an integral double as
-// "26.0" where the files have always had fmt's "26" (numberText), and escapes strings its own way.
-void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<MetricValue>& metrics) {
-  std::string j = "{\n";
-  auto str = [&j](const char* key, const std::string& v) { j += fmt::format("  \"{}\": {},\n", key, jsonString(v)); };
-  auto num = [&j](const char* key, double v) { j += fmt::format("  \"{}\": {},\n", key, jsonNumber(v)); };
-  auto integer = [&j](const char* key, std::int64_t v) { j += fmt::format("  \"{}\": {},\n", key, v); };
-  str("run_id", info.run_id);
-  str("experiment_tag", info.experiment_tag);
-  str("profile", info.profile);
-  str("scenario", info.scenario);
-  str("scenario_file", info.scenario_file);
-  str("planner", info.planner);
-  integer("seed", info.seed);
-  str("mode", info.mode);
-  integer("episode", info.episode);
-  str("status", info.status);
-  str("reason", info.reason);
-  num("sim_time", info.sim_time);
-  num("wall_time", info.wall_time);
-  integer("ticks", info.ticks);
-  integer("recorded_ticks", info.recorded_ticks);
-  num("sample_rate", info.sample_rate);
-  integer("lost_ticks", info.lost_ticks);
-  integer("dropped_messages", info.dropped_messages);
-  integer("world_dropped_messages", info.world_dropped_messages);
-  integer("manager_dropped_messages", info.manager_dropped_messages);
-  integer("planner_dropped_messages", info.planner_dropped_messages);
-  str("fingerprint", info.fingerprint);
-  str("recorded_fingerprint", info.recorded_fingerprint);
-  str("git_commit", info.git_commit);
-  j += fmt::format("  \"complete\": {},\n", info.complete ? "true" : "false");
-  str("states_file", info.states_file);
-  j += "  \"metrics\": {";
-  for (std::size_t i = 0; i < metrics.size(); ++i) {
-    const auto& m = metrics[i];
-    j += fmt::format("{}\n    {}: {}", i == 0 ? "" : ",", jsonString(m.name),
-                     m.kind == MetricKind::Bool ? formatMetricValue(m) : jsonNumber(m.value));
-  }
-  j += metrics.empty() ? "}\n}\n" : "\n  }\n}\n";
+// The keys in this order (ordered_json), so that the files of two runs compare line by line.
+nlohmann::ordered_json runInfoJson(const RunInfo& info) {
+  nlohmann::ordered_json j;
+  j["run_id"] = info.run_id;
+  j["experiment_tag"] = info.experiment_tag;
+  j["profile"] = info.profile;
+  j["scenario"] = info.scenario;
+  j["scenario_file"] = info.scenario_file;
+  j["planner"] = info.planner;
+  j["seed"] = info.seed;
+  j["mode"] = info.mode;
+  j["episode"] = info.episode;
+  j["status"] = info.status;
+  j["reason"] = info.reason;
+  j["sim_time"] = finiteOrZero(info.sim_time);
+  j["wall_time"] = finiteOrZero(info.wall_time);
+  j["ticks"] = info.ticks;
+  j["recorded_ticks"] = info.recorded_ticks;
+  j["sample_rate"] = finiteOrZero(info.sample_rate);
+  j["lost_ticks"] = info.lost_ticks;
+  j["dropped_messages"] = info.dropped_messages;
+  j["world_dropped_messages"] = info.world_dropped_messages;
+  j["manager_dropped_messages"] = info.manager_dropped_messages;
+  j["planner_dropped_messages"] = info.planner_dropped_messages;
+  j["fingerprint"] = info.fingerprint;
+  j["recorded_fingerprint"] = info.recorded_fingerprint;
+  j["git_commit"] = info.git_commit;
+  j["complete"] = info.complete;
+  j["states_file"] = info.states_file;
+  return j;
+}
 
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot open: " + std::strerror(errno));
-    out << j;
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write: " + std::strerror(errno));
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) throw std::runtime_error(file.string() + ": cannot write: " + ec.message());
+void writeRunJson(const fs::path& file, const RunInfo& info, const std::vector<MetricValue>& metrics) {
+  nlohmann::ordered_json j = runInfoJson(info);
+  auto& values = j["metrics"] = nlohmann::ordered_json::object();
+  for (const MetricValue& m : metrics)
+    values[m.name] = m.kind == MetricKind::Bool ? nlohmann::ordered_json(m.value != 0.0)
+                                                : nlohmann::ordered_json(finiteOrZero(m.value));
+  writeJsonFile(file, j, 2);
 }
 
 RunInfo readRunJson(const fs::path& file) {

@@ -62,7 +62,7 @@ SLURM_ARRAY_TASK_ID=18 "$SLURM" --task "$out" >/dev/null 2>&1 || rc=$?
 # Two tasks for real (the stored --duration 2 applies), then the aggregation job.
 for t in 0 13; do SLURM_ARRAY_TASK_ID=$t "$SLURM" --task "$out" >/dev/null; done
 { [ -s "$out/runs/passing__dwb__seed3/run.json" ] && [ -s "$out/runs/crossing__scl__seed4/run.json" ]; } || fail "task runs missing"
-grep -q '"sim_time": 2' "$out/runs/crossing__scl__seed4/run.json" || fail "the task ignored --duration 2"
+grep -q '"sim_time": 2.0,' "$out/runs/crossing__scl__seed4/run.json" || fail "the task ignored --duration 2"
 grep -q "planner parameters from $WORK/dwb_params.yaml" "$out/runs/passing__dwb__seed3/logs/run_experiment.log" ||
   fail "the dwb task did not get --planner-config"
 if grep -q "planner parameters" "$out/runs/crossing__scl__seed4/logs/run_experiment.log"; then

@@ -1,8 +1,9 @@
 // Data extraction of the run page: hand-computed values on the tiny run of report_test_helpers.hpp.
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "hunav/config_error.hpp"
-#include "hunav/report/json_writer.hpp"
+#include "hunav/report/html_page.hpp"
 #include "hunav/report/run_data.hpp"
 #include "report_test_helpers.hpp"
 
@@ -253,20 +254,52 @@ TEST(Decimation, CumulativePercentAndFrameStride) {
   EXPECT_EQ(frameStride(6001, 1001, limits), 25u);  // ceil(6001 * 1001 / 250000) = ceil(24.03) = 25
 }
 
-TEST(Json, EscapesAndNumbers) {
-  EXPECT_EQ(jsonQuote("a\"b</script>\n"), "\"a\\\"b\\u003c/script\\u003e\\n\"");
-  EXPECT_EQ(formatFixed(1.23456, 2), "1.23");
-  EXPECT_EQ(formatFixed(2.0, 2), "2");
-  EXPECT_EQ(formatFixed(-0.001, 2), "0");
-  EXPECT_EQ(formatFixed(std::nan(""), 2), "null");
-  JsonWriter j;
-  j.beginObject()
-      .key("a")
-      .fixedArray({1.5, std::nan("")}, 1)
-      .key("b")
-      .number(123456.789, 4)
-      .key("c")
-      .value(true)
-      .endObject();
-  EXPECT_EQ(j.str(), "{\"a\":[1.5,null],\"b\":1.235e+05,\"c\":true}");
+// The page's data is nlohmann-json's compact text, made safe for a <script> element.
+TEST(PageJson, NoScriptEndCommentOrInvalidUtf8CanLeaveTheScriptElement) {
+  RunData d;
+  d.info.scenario = "a</script><!--b";  // would end the element, or start a comment in it
+  d.info.planner = "caf\xe9";           // Latin-1, not UTF-8: not a reason to fail
+  const std::string json = runPageJson(d, ReportLimits{});
+  EXPECT_EQ(json.find('<'), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("scenario":"a\u003c/script>\u003c!--b")"), std::string::npos) << json;
+  // The browser's JSON.parse reads \u003c as '<'; the bad byte became U+FFFD (EF BF BD).
+  const auto parsed = nlohmann::json::parse(json);
+  EXPECT_EQ(parsed["info"]["scenario"], "a</script><!--b");
+  EXPECT_EQ(parsed["info"]["planner"], "caf\xef\xbf\xbd");
+  BatchData b;
+  b.notes = {"x</SCRIPT>"};
+  EXPECT_NE(batchPageJson(b).find(R"("notes":["x\u003c/SCRIPT>"])"), std::string::npos);
+}
+
+TEST(PageJson, NumbersAreRoundedAndNaNIsNull) {
+  RunData d;
+  Track t;
+  // At 2 decimals: 1.23456 -> 1.23; NaN (not in this sample) -> null; -0.001 -> -0 -> 0;
+  // 2 -> 2 (nlohmann writes an integral double as 2.0); -2.675, whose double is -2.67499999... ->
+  // -2.67 (not -2.68: -2.675 * 100 is the double -267.5).
+  t.x = {1.23456, std::nan(""), -0.001, 2.0, -2.675};
+  t.radius = 0.35;
+  d.tracks = {t};
+  d.info.sim_time = 26.0;
+  d.info.wall_time = 1.0 / 3.0;  // 6 significant digits: 0.333333
+  // 5 significant digits: 123456.789 -> 123460; 0.000123456789 -> 0.00012346; 1.23456e-17 ->
+  // 1.2346e-17; -1e-300 -> -1e-300; infinity -> null.
+  d.series = {TimeSeries{
+      "k", "K", "u", {0.0, 0.1, 0.2, 0.3, 0.4}, {123456.789, 0.000123456789, 1.23456e-17, -1e-300, HUGE_VAL}}};
+  d.frame_t = {0.1 + 0.2};  // 0.30000000000000004 at 3 decimals: 0.3
+  const std::string json = runPageJson(d, ReportLimits{});
+  EXPECT_NE(json.find(R"("x":[1.23,null,0.0,2.0,-2.67])"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("radius":0.35,)"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("sim_time":26.0,"wall_time":0.333333,)"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("t":[0.0,0.1,0.2,0.3,0.4],"v":[123460.0,0.00012346,1.2346e-17,-1e-300,null])"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find(R"("frameT":[0.3])"), std::string::npos) << json;
+  // The keys in the order the page's scripts were written against.
+  const auto parsed = nlohmann::ordered_json::parse(json);
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : parsed.items()) keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"kind", "info", "metrics", "behaviorMetrics", "counterfactual", "map",
+                                            "bounds", "samples", "frameStride", "frameT", "tracks", "active", "series",
+                                            "seriesSource", "notes", "batchLink"}));
 }

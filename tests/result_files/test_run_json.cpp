@@ -2,6 +2,7 @@
 // malformed files named by file, line and key.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include "config_error_of.hpp"
@@ -94,6 +95,31 @@ TEST(Results, RunJsonReadsBackAndEscapesStrings) {
       0);
 }
 
+// JSON has no NaN: a non-finite number is written 0 (nlohmann's null would stop the readers), -0 as
+// 0. A name that is not UTF-8 (a Latin-1 byte) gets U+FFFD instead of failing the run's last write.
+TEST(Results, RunJsonWritesNonFiniteAsZeroAndReplacesInvalidUtf8) {
+  const auto dir = testDir().path();
+  RunInfo info;
+  info.scenario = "caf\xe9";
+  info.sim_time = std::nan("");
+  info.wall_time = -0.0;
+  info.sample_rate = HUGE_VAL;
+  writeRunJson(dir / "run.json", info,
+               {{"path_length", "m", MetricKind::Real, -HUGE_VAL}, {"completed", "bool", MetricKind::Bool, 1.0}});
+  const std::string json = readFile(dir / "run.json");
+  EXPECT_NE(json.find("  \"sim_time\": 0.0,\n  \"wall_time\": 0.0,\n"), std::string::npos) << json;
+  EXPECT_NE(json.find("  \"sample_rate\": 0.0,\n"), std::string::npos) << json;
+  EXPECT_NE(json.find("    \"path_length\": 0.0,\n    \"completed\": true\n"), std::string::npos) << json;
+  const RunInfo back = readRunJson(dir / "run.json");
+  EXPECT_EQ(back.scenario, "caf\xef\xbf\xbd");
+  EXPECT_EQ(back.sim_time, 0.0);
+  EXPECT_FALSE(std::signbit(back.wall_time));
+  const auto metrics = readRunJsonMetrics(dir / "run.json");
+  ASSERT_EQ(metrics.size(), 2u);
+  EXPECT_EQ(metrics[0].value, "0");
+  EXPECT_EQ(metrics[1].value, "true");
+}
+
 TEST(Results, TableListsNameValueAndUnit) {
   const std::string table = formatMetricsTable(twoMetrics());
   EXPECT_EQ(table,
@@ -116,7 +142,7 @@ TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
   info.episode = 2;
   info.status = "goal_reached";
   info.reason = "the robot is within its goal radius";
-  info.sim_time = 26.0;  // integral: written "26", as fmt writes it
+  info.sim_time = 26.0;  // integral: nlohmann writes "26.0"
   info.wall_time = 1e-07;
   info.ticks = 2601;
   info.recorded_ticks = 261;
@@ -138,7 +164,41 @@ TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
   const RunInfo back = readRunJson(dir / "a.json");
   writeRunJson(dir / "b.json", back, metrics);
   EXPECT_EQ(readFile(dir / "a.json"), readFile(dir / "b.json"));
-  EXPECT_NE(readFile(dir / "a.json").find("  \"sim_time\": 26,\n  \"wall_time\": 1e-07,\n"), std::string::npos);
+  // Every key in its place, numbers as the shortest text that reads back as the same double.
+  EXPECT_EQ(readFile(dir / "a.json"),
+            "{\n"
+            "  \"run_id\": \"passing_dwb_s1\",\n"
+            "  \"experiment_tag\": \"exp\",\n"
+            "  \"profile\": \"hunav_v1\",\n"
+            "  \"scenario\": \"passing\",\n"
+            "  \"scenario_file\": \"scenarios/passing.yaml\",\n"
+            "  \"planner\": \"dwb\",\n"
+            "  \"seed\": 7,\n"
+            "  \"mode\": \"lockstep\",\n"
+            "  \"episode\": 2,\n"
+            "  \"status\": \"goal_reached\",\n"
+            "  \"reason\": \"the robot is within its goal radius\",\n"
+            "  \"sim_time\": 26.0,\n"
+            "  \"wall_time\": 1e-07,\n"
+            "  \"ticks\": 2601,\n"
+            "  \"recorded_ticks\": 261,\n"
+            "  \"sample_rate\": 10.0,\n"
+            "  \"lost_ticks\": 1,\n"
+            "  \"dropped_messages\": 2,\n"
+            "  \"world_dropped_messages\": 3,\n"
+            "  \"manager_dropped_messages\": -1,\n"
+            "  \"planner_dropped_messages\": 4,\n"
+            "  \"fingerprint\": \"0efeb9d775cf1036\",\n"
+            "  \"recorded_fingerprint\": \"1234\",\n"
+            "  \"git_commit\": \"abc-dirty\",\n"
+            "  \"complete\": true,\n"
+            "  \"states_file\": \"/tmp/x/states.csv\",\n"
+            "  \"metrics\": {\n"
+            "    \"path_length\": 14.853800000000001,\n"
+            "    \"time_to_reach_goal\": 3.0,\n"
+            "    \"completed\": false\n"
+            "  }\n"
+            "}\n");
   EXPECT_EQ(back.manager_dropped_messages, -1);
   EXPECT_EQ(back.git_commit, "abc-dirty");
   // The metrics read back as the text they were written with, in file order.
@@ -146,7 +206,7 @@ TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
   ASSERT_EQ(values.size(), 3u);
   EXPECT_EQ(values[0].name, "path_length");
   EXPECT_EQ(values[0].value, "14.853800000000001");
-  EXPECT_EQ(values[1].value, "3");
+  EXPECT_EQ(values[1].value, "3");  // the file's 3.0, as metrics.csv writes it
   EXPECT_EQ(values[2].value, "false");
 }
 

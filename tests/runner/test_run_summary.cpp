@@ -80,14 +80,14 @@ TEST(RunFolderState, AFinishedRunAndItsVerdict) {
   EXPECT_TRUE(s.finished);
   EXPECT_EQ(s.status, "time_limit");
   EXPECT_EQ(s.reason, "time limit, 40 s");
-  EXPECT_EQ(s.sim_time, "40");  // as run.json has it
+  EXPECT_EQ(s.sim_time, "40.0");  // as run.json has it
   EXPECT_FALSE(s.expect_failed);
   // hunav_expect's own expect.json with a failed condition.
   hunav::runner::writeExpectJson(dir / "a" / "expect.json", "crossing_dwb_3", "time_limit",
                                  {{"time_to_reach_goal", "< 30", "40", false}, {"collisions", "== 0", "0", true}});
   s = readRunFolderState(dir / "a", false);
   EXPECT_TRUE(s.expect_failed);
-  EXPECT_EQ(formatRunFolderState(dir / "a", s), (dir / "a").string() + "\t1\ttime_limit\ttime limit, 40 s\t40\t1\n");
+  EXPECT_EQ(formatRunFolderState(dir / "a", s), (dir / "a").string() + "\t1\ttime_limit\ttime limit, 40 s\t40.0\t1\n");
   // A batch with --counterfactual also wants counterfactual.csv.
   EXPECT_FALSE(readRunFolderState(dir / "a", true).finished);
   std::ofstream(dir / "a" / "counterfactual.csv") << "t,id\n";
@@ -120,7 +120,7 @@ TEST(RunFolderState, ATabOrLineBreakInTheReasonStaysOnItsField) {
   info.reason = "robot stuck\tfor 5 s\nnear (1, 2)";
   writeRun(dir / "r", info);
   EXPECT_EQ(formatRunFolderState(dir / "r", readRunFolderState(dir / "r", false)),
-            (dir / "r").string() + "\t1\tstuck\trobot stuck for 5 s near (1, 2)\t40\t0\n");
+            (dir / "r").string() + "\t1\tstuck\trobot stuck for 5 s near (1, 2)\t40.0\t0\n");
 }
 
 }  // namespace

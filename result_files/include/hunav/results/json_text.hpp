@@ -1,21 +1,18 @@
 #pragma once
-// JSON text of the result files: strings written as JSON (run.json, the report's pages), and JSON
-// files read through nlohmann-json with every problem reported as a ConfigError naming file, line
-// and key (run.json, expect.json). Objects keep the order of the file (nlohmann::ordered_json).
+// JSON text of the result files, read and written with nlohmann-json: files written atomically
+// (run.json), and JSON files read with every problem reported as a ConfigError naming file, line and
+// key (run.json, expect.json). Objects keep the order of the file (nlohmann::ordered_json).
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <string_view>
 
 namespace hunav::results {
 
-// `s` as a JSON string literal, quotes included. Escapes '"', '\\' and control characters (\n, \r,
-// \t, else \u00XX); html_safe: also '<', '>' and '&' (as \u003c, \u003e, \u0026), so that no
-// "</script>" or "<!--" can end a <script> element embedding the text early. Written here rather
-// than by nlohmann's serializer, which writes \b and \f differently, throws on invalid UTF-8 and has
-// no HTML-safe mode: the files keep their bytes.
-std::string jsonString(std::string_view s, bool html_safe = false);
+// Writes `json` to `file` as nlohmann's dump with `indent` spaces (-1: one line) and a final line
+// break, atomically (temporary file + rename). Strings that are not valid UTF-8 have their bad bytes
+// replaced by U+FFFD rather than throwing. Throws std::runtime_error on I/O errors.
+void writeJsonFile(const std::filesystem::path& file, const nlohmann::ordered_json& json, int indent);
 
 // A JSON file parsed with nlohmann-json, which remembers the line of every key so that errors about
 // a value name the line it is on. Keys are named by their path: "seed", "metrics.completed",

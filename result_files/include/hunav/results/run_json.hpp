@@ -3,6 +3,7 @@
 // evaluator, read by the offline tools (hunav_report, hunav_summary, hunav_view's replay).
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,15 +62,21 @@ struct RunResult {
 // (cmake/GitCommit.cmake), else "unknown".
 std::string gitCommit();
 
-// Writes run.json atomically (temporary file + rename): every RunInfo field plus a "metrics"
-// object (name -> value). Throws std::runtime_error on I/O errors.
+// The RunInfo fields as run.json holds them, in its order (the report's pages embed them too).
+nlohmann::ordered_json runInfoJson(const RunInfo& info);
+
+// Writes run.json atomically (writeJsonFile, nlohmann-json indented by 2): every RunInfo field plus a
+// "metrics" object (name -> number, or true/false for a boolean metric). A double is written as the
+// shortest text that reads back as it, with ".0" when integral ("26.0"); a non-finite one as 0.
+// Throws std::runtime_error on I/O errors.
 void writeRunJson(const std::filesystem::path& file, const RunInfo& info, const std::vector<MetricValue>& metrics);
 
 // Reads the provenance fields of a run.json (scenario, planner, seed, mode, status, ...): missing
 // keys keep their RunInfo defaults. Throws ConfigError (file:line: key: what) on a malformed file.
 RunInfo readRunJson(const std::filesystem::path& file);
 
-// One value of run.json's "metrics", as text: the number as the evaluator writes it, or true/false.
+// One value of run.json's "metrics", as text: the number as numberText writes it (the file's 3.0 is
+// "3", as in metrics.csv), or true/false.
 struct RunJsonMetric {
   std::string name;
   std::string value;
