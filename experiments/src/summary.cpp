@@ -15,6 +15,7 @@
 #include "hunav/experiments/expectations_summary.hpp"
 #include "hunav/experiments/metric_scales.hpp"
 #include "hunav/experiments/paper_comparison.hpp"
+#include "hunav/results/atomic_file.hpp"
 #include "hunav/results/csv.hpp"
 #include "hunav/results/metric_catalog.hpp"
 #include "hunav/scenario.hpp"
@@ -105,17 +106,6 @@ std::string outcomeTable(const Batch& b, const std::string& scenario, const std:
                       others == 0 ? std::string("0") : fmt::format("{} ({})", others, names));
   }
   return md;
-}
-
-void writeAtomically(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
 }
 
 std::string unitOf(const std::string& metric) { return results::metricUnit(metric, "default"); }
@@ -508,18 +498,19 @@ Batch writeBatchSummary(const fs::path& batch_dir, const PaperMeans& paper) {
   const auto stats = summaryStats(batch);
   const auto paired = pairedComparisons(batch);
   const auto versus = paperComparison(paper, stats, paired);
-  writeAtomically(batch_dir / "summary.csv", summaryCsv(batch));
-  writeAtomically(batch_dir / "summary_stats.csv", statsCsv(stats));
-  writeAtomically(batch_dir / "paired.csv", pairedCsv(paired));
-  writeAtomically(batch_dir / "paper_comparison.csv", paperComparisonCsv(versus));
-  writeAtomically(batch_dir / "paper_orderings.csv", paperOrderingsCsv(versus));
+  results::writeFileAtomically(batch_dir / "summary.csv", summaryCsv(batch));
+  results::writeFileAtomically(batch_dir / "summary_stats.csv", statsCsv(stats));
+  results::writeFileAtomically(batch_dir / "paired.csv", pairedCsv(paired));
+  results::writeFileAtomically(batch_dir / "paper_comparison.csv", paperComparisonCsv(versus));
+  results::writeFileAtomically(batch_dir / "paper_orderings.csv", paperOrderingsCsv(versus));
   // Only for batches of scenarios with `expect:`; a stale file from an earlier summary would show
   // verdicts of runs that are gone.
   if (anyJudged(batch))
-    writeAtomically(batch_dir / "expectations.csv", expectationsCsv(batch));
+    results::writeFileAtomically(batch_dir / "expectations.csv", expectationsCsv(batch));
   else
     fs::remove(batch_dir / "expectations.csv");
-  writeAtomically(batch_dir / "summary.md", summaryMarkdown(batch, stats, paired, scenarioOrder(batch_dir), &paper));
+  results::writeFileAtomically(batch_dir / "summary.md",
+                               summaryMarkdown(batch, stats, paired, scenarioOrder(batch_dir), &paper));
   return batch;
 }
 

@@ -1,11 +1,11 @@
 #include "hunav/report/report.hpp"
 
-#include <fstream>
 #include <stdexcept>
 
 #include "hunav/config_error.hpp"
 #include "hunav/report/batch_data.hpp"
 #include "hunav/report/html_page.hpp"
+#include "hunav/results/atomic_file.hpp"
 
 namespace hunav::report {
 
@@ -14,17 +14,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::uintmax_t writeAtomically(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) throw std::runtime_error(file.string() + ": cannot write: " + ec.message());
+  results::writeFileAtomically(file, text);
   return text.size();
 }
 

@@ -1,8 +1,6 @@
 #include "hunav/results/json_text.hpp"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -11,23 +9,15 @@
 #include <vector>
 
 #include "hunav/config_error.hpp"
+#include "hunav/results/atomic_file.hpp"
 
 namespace hunav::results {
 
 namespace fs = std::filesystem;
 
 void writeJsonFile(const fs::path& file, const nlohmann::ordered_json& json, int indent) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot open: " + std::strerror(errno));
-    out << json.dump(indent, ' ', /*ensure_ascii=*/false, nlohmann::ordered_json::error_handler_t::replace) << '\n';
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write: " + std::strerror(errno));
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) throw std::runtime_error(file.string() + ": cannot write: " + ec.message());
+  writeFileAtomically(
+      file, json.dump(indent, ' ', /*ensure_ascii=*/false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
 }
 
 namespace {

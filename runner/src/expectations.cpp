@@ -12,12 +12,13 @@
 #include <system_error>
 
 #include "hunav/config_error.hpp"
+#include "hunav/results/atomic_file.hpp"
 #include "hunav/results/json_text.hpp"
 
 namespace hunav::runner {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
+using Json = nlohmann::ordered_json;
 
 namespace {
 
@@ -104,22 +105,14 @@ std::string formatVerdicts(const std::vector<Verdict>& verdicts) {
 
 void writeExpectJson(const fs::path& file, const std::string& run_id, const std::string& status,
                      const std::vector<Verdict>& verdicts) {
-  json j;
+  Json j;
   j["run_id"] = run_id;
   j["status"] = status;
   j["passed"] = allPass(verdicts);
-  j["conditions"] = json::array();
+  j["conditions"] = Json::array();
   for (const Verdict& v : verdicts)
     j["conditions"].push_back({{"metric", v.metric}, {"condition", v.condition}, {"value", v.value}, {"pass", v.pass}});
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
+  results::writeJsonFile(file, j, 2);
 }
 
 RunJsonResult readRunResult(const fs::path& run_json) {
@@ -213,12 +206,10 @@ JunitCounts writeBatchJunit(const fs::path& batch_dir, const fs::path& junit_fil
     e->SetAttribute("failures", counts.failures);
     e->SetAttribute("errors", counts.errors);
   }
-  const fs::path tmp = junit_file.string() + ".tmp";
-  if (doc.SaveFile(tmp.c_str()) != tinyxml2::XML_SUCCESS) throw std::runtime_error("cannot write " + tmp.string());
-  std::error_code ec;
-  fs::rename(tmp, junit_file, ec);
-  if (ec)
-    throw std::runtime_error("cannot rename " + tmp.string() + " to " + junit_file.string() + ": " + ec.message());
+  tinyxml2::XMLPrinter printer;
+  doc.Print(&printer);
+  results::writeFileAtomically(junit_file,
+                               std::string_view(printer.CStr(), static_cast<std::size_t>(printer.CStrSize() - 1)));
   return counts;
 }
 

@@ -7,6 +7,7 @@
 
 #include "config_error_of.hpp"
 #include "hunav/config_error.hpp"
+#include "hunav/results/atomic_file.hpp"
 #include "hunav/results/expect_json.hpp"
 #include "hunav/results/metrics_csv.hpp"
 #include "hunav/results/run_json.hpp"
@@ -303,4 +304,20 @@ TEST(Results, CatalogueUnitsAndOrder) {
   EXPECT_EQ(metricUnit("counterfactual_delay", "no_such_profile"), "s");
   EXPECT_EQ(metricUnit("no_such_metric"), "");
   EXPECT_THROW(metricCatalog("no_such_profile"), std::invalid_argument);
+}
+
+// The one way result files are written whole: the text, nothing left beside it, an older file
+// replaced; a folder that is not there is an error naming the file.
+TEST(Results, FilesAreWrittenWholeThroughATemporaryFile) {
+  const std::filesystem::path dir = hunav::testing::testDir().path();
+  hunav::results::writeFileAtomically(dir / "a.txt", "first, longer text\n");
+  hunav::results::writeFileAtomically(dir / "a.txt", std::string_view("second\0!", 8));  // bytes, NUL included
+  EXPECT_EQ(readFile(dir / "a.txt"), std::string("second\0!", 8));
+  EXPECT_FALSE(std::filesystem::exists(dir / "a.txt.tmp"));
+  try {
+    hunav::results::writeFileAtomically(dir / "missing" / "b.txt", "x");
+    FAIL() << "no error for a missing folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("missing/b.txt"), std::string::npos) << e.what();
+  }
 }
