@@ -51,6 +51,23 @@ def catches_signals(pid, bound_s=10.0):
     return False
 
 
+def wait_reaping(p, bound_s):
+    """p's exit code, reaping meanwhile the orphans that come to this test (a child subreaper) as init
+    would: run_batch.sh waits until its job group is gone, and a zombie nobody reaps stays in it.
+    None after bound_s."""
+    deadline = time.monotonic() + bound_s
+    while p.returncode is None and time.monotonic() < deadline:  # p.poll() may have reaped it
+        try:
+            pid, status = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            pid, status = 0, 0
+        if pid == p.pid:
+            p.returncode = os.waitstatus_to_exitcode(status)
+        elif pid == 0:
+            time.sleep(0.01)
+    return p.returncode
+
+
 def left_behind(bound_s=30.0):
     """Processes of this test's tree still alive after bound_s (orphans come to this test, a child
     subreaper); zombies are reaped."""
@@ -103,9 +120,8 @@ def main():
             alive = p.poll() is None
             if alive:
                 os.kill(p.pid, sig)
-            try:
-                rc = p.wait(timeout=120)
-            except subprocess.TimeoutExpired:
+            rc = wait_reaping(p, 120)
+            if rc is None:
                 p.kill()
                 rc = p.wait()
                 problems.append("%s after %.2f s: still running 120 s later" % (sig.name, delay))
