@@ -54,6 +54,15 @@ U swapBytes(U v) {
     return __builtin_bswap64(v);
 }
 
+// The same bits as another type of the same size (std::bit_cast, C++20).
+template <class To, class From>
+To bitCast(From v) {
+  static_assert(sizeof(To) == sizeof(From));
+  To out;
+  std::memcpy(&out, &v, sizeof out);
+  return out;
+}
+
 // Writes big-endian at a position the caller sized (bodySize).
 class Writer {
  public:
@@ -63,8 +72,8 @@ class Writer {
   void i16(std::int16_t v) { bigEndian(static_cast<std::uint16_t>(v)); }
   void i32(std::int32_t v) { bigEndian(static_cast<std::uint32_t>(v)); }
   void i64(std::int64_t v) { bigEndian(static_cast<std::uint64_t>(v)); }
-  void f32(float v) { bigEndian(bitsOf<std::uint32_t>(v)); }
-  void f64(double v) { bigEndian(bitsOf<std::uint64_t>(v)); }
+  void f32(float v) { bigEndian(bitCast<std::uint32_t>(v)); }
+  void f64(double v) { bigEndian(bitCast<std::uint64_t>(v)); }
   void str(const std::string& s) {  // after stringSize(s) (bodySize): no NUL inside
     i32(static_cast<std::int32_t>(s.size() + 1));
     std::memcpy(p_, s.data(), s.size());
@@ -74,12 +83,6 @@ class Writer {
   std::uint8_t* position() const { return p_; }
 
  private:
-  template <class U, class F>
-  static U bitsOf(F v) {
-    U u;
-    std::memcpy(&u, &v, sizeof u);
-    return u;
-  }
   template <class U>
   void bigEndian(U v) {
     const U swapped = swapBytes(v);
@@ -98,8 +101,8 @@ class Reader {
   std::int16_t i16() { return static_cast<std::int16_t>(bigEndian<std::uint16_t>()); }
   std::int32_t i32() { return static_cast<std::int32_t>(bigEndian<std::uint32_t>()); }
   std::int64_t i64() { return static_cast<std::int64_t>(bigEndian<std::uint64_t>()); }
-  float f32() { return valueOf<float>(bigEndian<std::uint32_t>()); }
-  double f64() { return valueOf<double>(bigEndian<std::uint64_t>()); }
+  float f32() { return bitCast<float>(bigEndian<std::uint32_t>()); }
+  double f64() { return bitCast<double>(bigEndian<std::uint64_t>()); }
   void str(std::string& s) {
     const std::int32_t length = i32();  // with the NUL
     s.assign(reinterpret_cast<const char*>(p_), static_cast<std::size_t>(length - 1));
@@ -113,12 +116,6 @@ class Reader {
   const std::uint8_t* position() const { return p_; }
 
  private:
-  template <class F, class U>
-  static F valueOf(U u) {
-    F v;
-    std::memcpy(&v, &u, sizeof v);
-    return v;
-  }
   template <class U>
   U bigEndian() {
     U v;
