@@ -18,7 +18,7 @@ else()
 endif()
 
 # Frame pointers for readable stacks. -O1 and line tables only (-g1): a sanitizer build compiles
-# everything the tests link, and at -O2 -g it took 21 of the 30 minutes it added on 2 cores.
+# everything the tests link, and compiles faster so (docs/performance.md, "Sanitizers in CI").
 if(HUNAV_SANITIZER)
   add_compile_options(-O1 -g1)  # after the build type's -O2 -g, so these win
 endif()

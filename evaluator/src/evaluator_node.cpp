@@ -302,8 +302,8 @@ EntityState toEntity(const agent_state_t& a, Recording& rec, std::vector<Vec2>& 
 }
 
 // The fields entityOf() and toEntity() take: the evaluator's worker reads only these back from a
-// world state's encoding (wire::readFields), stepping over the rest: nearly what a reader written by
-// hand cost (+2%, where reading every field cost +6%: docs/performance.md, "Crowds").
+// world state's encoding (wire::readFields), stepping over the rest, which costs the worker nearly
+// what a reader written by hand did, and less than reading every field (docs/performance.md, "Crowds").
 using RecordedFields =
     wire::Fields<&world_state_t::robot, &world_state_t::agents, &agent_state_t::id, &agent_state_t::group_id,
                  &agent_state_t::behavior, &agent_state_t::behavior_state, &agent_state_t::x, &agent_state_t::y,
