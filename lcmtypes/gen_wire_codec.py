@@ -231,6 +231,17 @@ def partial_reader(name, fields, structs, package):
     return lines
 
 
+def value_code(ftype, value):
+    """What bodySize, writeBody and readBody do with one value (a field or an array element) of type
+    `ftype`: the size statement (None for a primitive, whose size is fixed), the write, the read."""
+    if ftype in PRIMITIVES:
+        method = PRIMITIVES[ftype][1]
+        return None, f"w.{method}({value});", f"{value} = r.{method}();"
+    if ftype == "string":
+        return f"size += stringSize({value});", f"w.str({value});", f"r.str({value});"
+    return f"size += bodySize({value});", f"writeBody(w, {value});", f"readBody(r, {value});"
+
+
 def main():
     if len(sys.argv) < 4:
         sys.exit(__doc__)
@@ -283,32 +294,22 @@ def main():
                 n = f"static_cast<std::size_t>({count})"
                 if not dim.isdigit():
                     read.append(f"  m.{fname}.resize({n});")
-                if ftype in PRIMITIVES:
-                    method = PRIMITIVES[ftype][1]
-                    size.append(f"  size += {n} * {SIZES[method]};  // {fname}")
-                    write.append(f"  for (std::size_t k = 0; k < {n}; ++k) w.{method}(m.{fname}[k]);")
-                    read.append(f"  for (std::size_t k = 0; k < {n}; ++k) m.{fname}[k] = r.{method}();")
-                elif ftype == "string":
-                    size.append(f"  for (std::size_t k = 0; k < {n}; ++k) size += stringSize(m.{fname}[k]);")
-                    write.append(f"  for (std::size_t k = 0; k < {n}; ++k) w.str(m.{fname}[k]);")
-                    read.append(f"  for (std::size_t k = 0; k < {n}; ++k) r.str(m.{fname}[k]);")
-                else:
-                    size.append(f"  for (std::size_t k = 0; k < {n}; ++k) size += bodySize(m.{fname}[k]);")
-                    write.append(f"  for (std::size_t k = 0; k < {n}; ++k) writeBody(w, m.{fname}[k]);")
-                    read.append(f"  for (std::size_t k = 0; k < {n}; ++k) readBody(r, m.{fname}[k]);")
-            elif ftype in PRIMITIVES:
-                method = PRIMITIVES[ftype][1]
-                fixed += SIZES[method]
-                write.append(f"  w.{method}(m.{fname});")
-                read.append(f"  m.{fname} = r.{method}();")
-            elif ftype == "string":
-                size.append(f"  size += stringSize(m.{fname});")
-                write.append(f"  w.str(m.{fname});")
-                read.append(f"  r.str(m.{fname});")
+                if ftype in PRIMITIVES:  # a primitive array's size is one product
+                    size.append(f"  size += {n} * {SIZES[PRIMITIVES[ftype][1]]};  // {fname}")
+                loop = f"for (std::size_t k = 0; k < {n}; ++k) "
+                one_size, one_write, one_read = value_code(ftype, f"m.{fname}[k]")
+                if one_size:
+                    size.append(f"  {loop}{one_size}")
+                write.append(f"  {loop}{one_write}")
+                read.append(f"  {loop}{one_read}")
             else:
-                size.append(f"  size += bodySize(m.{fname});")
-                write.append(f"  writeBody(w, m.{fname});")
-                read.append(f"  readBody(r, m.{fname});")
+                one_size, one_write, one_read = value_code(ftype, f"m.{fname}")
+                if ftype in PRIMITIVES:
+                    fixed += SIZES[PRIMITIVES[ftype][1]]
+                else:
+                    size.append(f"  {one_size}")
+                write.append(f"  {one_write}")
+                read.append(f"  {one_read}")
         # A type without fields names no parameter (no unused-parameter warning).
         m_size, m_write, m_read = (" m" if size else ""), (" m" if write else ""), (" m" if read else "")
         lines.append(f"inline std::size_t bodySize(const {t}&{m_size}) {{")
