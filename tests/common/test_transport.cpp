@@ -456,6 +456,38 @@ TEST(Transport, InProcessTypedDeliveryEqualsDecodedBytes) {
   EXPECT_EQ(received(direct), via_memq);
 }
 
+TEST(Transport, EncodedSubscriptionsGetThePublishedBytesUndecoded) {
+  // subscribeEncoded (a monitor that decodes only what it samples, hunav_view): over memq and on the
+  // in-process bus the very bytes published; decodeMessage gives the message back, and refuses bytes
+  // that are not one, as a typed subscription would (a truncated scan).
+  auto received = [](Bus& bus) {
+    std::vector<std::vector<std::uint8_t>> seen;
+    const hunav::Subscription sub = bus.subscribeEncoded(
+        "SCAN", [&](const std::uint8_t* data, std::size_t size) { seen.emplace_back(data, data + size); });
+    bus.publish("SCAN", scan({1.0f, 2.5f, 8.0f}));
+    bus.publishRaw("SCAN", "junk", 4);  // handed over as it is: nothing is decoded, nothing dropped
+    bus.publish("SCAN", scan({}));
+    bus.handleAvailable();
+    EXPECT_EQ(bus.droppedMessages(), 0u);
+    return seen;
+  };
+  lcm::LCM lcm("memq://");
+  LcmBus memq(lcm);
+  InProcessBus direct;
+  const auto via_memq = received(memq);
+  ASSERT_EQ(via_memq.size(), 3u);
+  EXPECT_EQ(via_memq[0], encoded(scan({1.0f, 2.5f, 8.0f})));
+  EXPECT_EQ(via_memq[1], (std::vector<std::uint8_t>{'j', 'u', 'n', 'k'}));
+  EXPECT_EQ(via_memq[2], encoded(scan({})));
+  EXPECT_EQ(received(direct), via_memq);
+  hunav::laser_scan_t back;
+  ASSERT_TRUE(hunav::decodeMessage(via_memq[0].data(), via_memq[0].size(), back));
+  EXPECT_EQ(encoded(back), via_memq[0]);
+  hunav::laser_scan_t bad;
+  EXPECT_FALSE(hunav::decodeMessage(via_memq[0].data(), via_memq[0].size() - 1, bad));
+  EXPECT_FALSE(hunav::decodeMessage(via_memq[1].data(), via_memq[1].size(), bad));
+}
+
 TEST(Transport, ConsecutiveMessagesDoNotShareArrays) {
   // LCM 1.3.1's decoders leave a primitive array untouched when its count is 0, and the in-process
   // bus recycles the objects it queues: a shorter array after a longer one must arrive whole, as

@@ -29,6 +29,13 @@
 
 namespace hunav {
 
+// Decodes a message's bytes (from subscribeEncoded) into `msg`, a default-constructed one; false
+// when they are not a Msg (checked before lcm-gen's decoder runs, as every subscription does).
+template <class Msg>
+bool decodeMessage(const void* data, std::size_t size, Msg& msg) {
+  return bus_detail::decodeChecked(data, size, msg);
+}
+
 // Thrown by a handler that rejects a message it cannot use (NaN, impossible sizes, unknown ids).
 struct BadMessage : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -85,6 +92,15 @@ class Bus {
   template <class Msg, class Handler>
   Subscription subscribe(std::string_view channel, Handler&& handler, int queue_capacity = kUnbounded) {
     return subscribeWith(bus_detail::newSubscriber<Msg>(std::string(channel), std::forward<Handler>(handler)),
+                         queue_capacity);
+  }
+
+  // Calls `handler` with the encoded bytes of each message on `channel`, undecoded (valid during the
+  // call): for a monitor that keeps the newest and decodes only what it samples (decodeMessage()).
+  // The in-process bus encodes its typed messages for it.
+  Subscription subscribeEncoded(std::string_view channel, bus_detail::EncodedSubscriber::Handler handler,
+                                int queue_capacity = kUnbounded) {
+    return subscribeWith(std::make_shared<bus_detail::EncodedSubscriber>(std::string(channel), std::move(handler)),
                          queue_capacity);
   }
 

@@ -26,6 +26,19 @@ void encodeMessage(const Msg& msg, std::vector<std::uint8_t>& out) {
   if (msg.encode(out.data(), 0, size) != size) throw std::runtime_error("cannot encode a message");
 }
 
+// Decodes `size` bytes into `msg` (a fresh one: see TypedSubscriber); false when they are not a
+// Msg. lcm-gen's decoder trusts string lengths and array counts (a bad one crashes or allocates
+// gigabytes): the bytes are checked first (lcmtypes/gen_wire_checks.py).
+template <class Msg>
+bool decodeChecked(const void* data, std::size_t size, Msg& msg) {
+  if (!wire::safeToDecode<Msg>(data, static_cast<unsigned>(size))) return false;
+  try {
+    return msg.decode(data, 0, static_cast<int>(size)) >= 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 // A message of an LCM type held by a backend that does not know the type (the in-process queue).
 class MessageBox {
  public:
@@ -123,18 +136,9 @@ class TypedSubscriber final : public Subscriber {
   TypedSubscriber(std::string channel, Handler&& handler)
       : Subscriber(std::move(channel)), handler_(std::forward<Handler>(handler)) {}
   bool takeBytes(const void* data, std::size_t size) override {
-    // lcm-gen's decoder trusts string lengths and array counts (a bad one crashes or allocates
-    // gigabytes): the bytes are checked first (lcmtypes/gen_wire_checks.py). A fresh message
-    // each time: LCM 1.3.1 leaves a primitive array untouched when its count is 0.
-    if (!wire::safeToDecode<Msg>(data, static_cast<unsigned>(size))) return false;
+    // A fresh message each time: LCM 1.3.1 leaves a primitive array untouched when its count is 0.
     Msg msg;
-    int decoded = -1;
-    try {
-      decoded = msg.decode(data, 0, static_cast<int>(size));
-    } catch (const std::exception&) {
-      decoded = -1;
-    }
-    if (decoded < 0) return false;
+    if (!decodeChecked(data, size, msg)) return false;
     handler_(msg);
     return true;
   }
@@ -146,6 +150,23 @@ class TypedSubscriber final : public Subscriber {
 
  private:
   std::function<void(const Msg&)> handler_;
+};
+
+// A subscription to a channel's encoded bytes (Bus::subscribeEncoded): never decodes. A boxed
+// message (the in-process bus) is not taken, so the backend hands over its encoding instead.
+class EncodedSubscriber final : public Subscriber {
+ public:
+  using Handler = std::function<void(const std::uint8_t* data, std::size_t size)>;
+  EncodedSubscriber(std::string channel, Handler handler)
+      : Subscriber(std::move(channel)), handler_(std::move(handler)) {}
+  bool takeBytes(const void* data, std::size_t size) override {
+    handler_(static_cast<const std::uint8_t*>(data), size);
+    return true;
+  }
+  bool takeBox(const MessageBox&) override { return false; }
+
+ private:
+  Handler handler_;
 };
 
 template <class Msg, class Handler>
