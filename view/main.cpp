@@ -131,8 +131,9 @@ int run(const Options& o, const std::atomic<bool>& stop) {
     return o.netns_pid == 0 || processAlive(static_cast<pid_t>(o.netns_pid));  // else the run is over
   });
   if (feed)
-    std::cerr << "hunav_view: " << feed->worldStates() << " world states received, " << feed->framesBuilt()
-              << " frames sent\n";
+    std::cerr << "hunav_view: " << feed->worldStates() << " world states received, " << feed->statesDecoded()
+              << " decoded, " << feed->framesBuilt() << " frames sent, " << feed->undecodable()
+              << " sampled messages dropped as undecodable\n";
   return 0;
 }
 

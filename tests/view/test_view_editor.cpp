@@ -12,13 +12,10 @@
 #include <thread>
 #include <vector>
 
-#include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
-#include "hunav/in_process_bus.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/testing/temp_dir.hpp"
 #include "hunav/view/editor.hpp"
-#include "hunav/view/live_feed.hpp"
 #include "hunav/view/replay.hpp"
 
 namespace fs = std::filesystem;
@@ -375,34 +372,6 @@ TEST(ViewEditor, FilesThatAreNotUtf8OpenWithReplacementCharacters) {
   EXPECT_THROW((void)opened.dump(), nlohmann::json::type_error);
   const std::string text = hunav::view::jsonText(opened);
   EXPECT_NE(text.find("caf\xef\xbf\xbd\xef\xbf\xbd"), std::string::npos) << text;
-}
-
-// Issue 31: strings from the bus reach the page. An episode event whose text is not UTF-8 is dropped
-// (it ended the view: nlohmann's dump() threw in the bus thread); the frames stay JSON.
-TEST(ViewLiveFeed, EventsWhoseTextIsNotUtf8AreDroppedAndFramesStayJson) {
-  hunav::InProcessBus bus;
-  hunav::view::FrameHub hub;
-  hunav::view::SceneStore scene;
-  hunav::view::LiveOptions options;
-  options.follow_episode_scenario = false;
-  hunav::view::LiveFeed feed(bus, hub, scene, options);
-  hunav::episode_event_t start{};
-  start.event = hunav::episode_event_t::START;
-  start.episode = 1;
-  start.mode = std::string(10000, '\xff');
-  bus.publish(hunav::channels::kEpisodeEvent, start);
-  start.mode = "lockstep";
-  start.run_id = "real";
-  bus.publish(hunav::channels::kEpisodeEvent, start);
-  hunav::world_state_t ws{};
-  ws.episode = 1;
-  ws.robot.radius = 0.3;
-  bus.publish(hunav::channels::kWorldState, ws);
-  bus.handleAvailable();
-  EXPECT_EQ(bus.droppedMessages(), 1u);
-  const Json frame = Json::parse(hub.latest());  // throws if it is not JSON
-  EXPECT_EQ(frame["run"]["run_id"], "real");
-  EXPECT_EQ(frame["run"]["mode"], "lockstep");
 }
 
 TEST(ViewReplay, ResultsFolderErrorsNameTheFile) {

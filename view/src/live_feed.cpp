@@ -85,18 +85,27 @@ LiveFeed::LiveFeed(Bus& bus, FrameHub& hub, SceneStore& scene, LiveOptions optio
     : hub_(hub), scene_(scene), options_(options) {
   period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / std::max(options_.fps, 0.1)));
-  // Bounded queues: a monitor may drop what it cannot keep up with (it only samples).
+  // Bounded queues: a monitor may drop what it cannot keep up with (it only samples). The frequent
+  // channels are kept as bytes, decoded when a frame is built (buildNewest).
   constexpr int kQueue = 64;
-  subscriptions_.push_back(bus.subscribe<world_state_t>(
-      channels::kWorldState, [this](const world_state_t& ws) { onWorldState(ws); }, kQueue));
-  subscriptions_.push_back(bus.subscribe<robot_observation_t>(
-      channels::kRobotObservation, [this](const robot_observation_t& o) { laser_ = laserJson(o); }, kQueue));
-  subscriptions_.push_back(bus.subscribe<planned_path_t>(
-      channels::kRobotPath, [this](const planned_path_t& p) { path_ = pathJson(p); }, kQueue));
-  subscriptions_.push_back(bus.subscribe<live_metrics_t>(
-      channels::kLiveMetrics, [this](const live_metrics_t& m) { metrics_ = metricsJson(m); }, kQueue));
+  subscriptions_.push_back(bus.subscribeEncoded(
+      channels::kWorldState, [this](const std::uint8_t* data, std::size_t size) { onWorldState(data, size); }, kQueue));
+  subscriptions_.push_back(bus.subscribeEncoded(
+      channels::kRobotObservation,
+      [this](const std::uint8_t* data, std::size_t size) { laser_bytes_.keep(data, size); }, kQueue));
+  subscriptions_.push_back(bus.subscribeEncoded(
+      channels::kRobotPath, [this](const std::uint8_t* data, std::size_t size) { path_bytes_.keep(data, size); },
+      kQueue));
+  subscriptions_.push_back(bus.subscribeEncoded(
+      channels::kLiveMetrics, [this](const std::uint8_t* data, std::size_t size) { metrics_bytes_.keep(data, size); },
+      kQueue));
   subscriptions_.push_back(
       bus.subscribe<episode_event_t>(channels::kEpisodeEvent, [this](const episode_event_t& e) { onEpisodeEvent(e); }));
+}
+
+void LiveFeed::Newest::keep(const std::uint8_t* data, std::size_t size) {
+  bytes.assign(data, data + size);  // reuses the capacity: no allocation once the largest has come
+  fresh = true;
 }
 
 void LiveFeed::onEpisodeEvent(const episode_event_t& e) {
@@ -109,15 +118,15 @@ void LiveFeed::onEpisodeEvent(const episode_event_t& e) {
     path_ = nullptr;
     metrics_ = nullptr;
     laser_ = nullptr;
+    laser_bytes_.fresh = path_bytes_.fresh = metrics_bytes_.fresh = false;
     clock_.clear();
     if (options_.follow_episode_scenario && !e.scenario_file.empty() && e.scenario_file != scene_.file())
       scene_.load(e.scenario_file);
   } else if (e.event == episode_event_t::END) {
     ended_ = true;
     // The final state (whatever the frame rate skipped), marked ended: pages close their stream.
-    if (last_) {
-      build(*last_);
-    } else if (last_frame_.is_object()) {
+    if (state_.fresh && buildNewest()) return;
+    if (last_frame_.is_object()) {
       last_frame_["ended"] = true;
       last_frame_["run"] = run_;
       hub_.publish(jsonText(last_frame_));
@@ -125,20 +134,36 @@ void LiveFeed::onEpisodeEvent(const episode_event_t& e) {
   }
 }
 
-void LiveFeed::onWorldState(const world_state_t& ws) {
+void LiveFeed::onWorldState(const std::uint8_t* data, std::size_t size) {
   ++world_states_;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_build_ < period_) {
-    last_ = ws;
-    return;
-  }
-  last_build_ = now;
-  build(ws);
-  last_.reset();
+  state_.keep(data, size);
+  if (std::chrono::steady_clock::now() - last_build_ >= period_) buildNewest();
 }
 
-void LiveFeed::build(const world_state_t& ws) {
+template <class Msg, class ToJson>
+void LiveFeed::sample(Newest& newest, Json& out, ToJson&& to_json) {
+  if (!newest.fresh) return;
+  newest.fresh = false;
+  Msg msg;
+  if (decodeMessage(newest.bytes.data(), newest.bytes.size(), msg))
+    out = to_json(msg);
+  else
+    ++undecodable_;
+}
+
+bool LiveFeed::buildNewest() {
   const auto now = std::chrono::steady_clock::now();
+  last_build_ = now;
+  state_.fresh = false;
+  world_state_t ws;
+  ++states_decoded_;
+  if (!decodeMessage(state_.bytes.data(), state_.bytes.size(), ws)) {
+    ++undecodable_;
+    return false;
+  }
+  sample<robot_observation_t>(laser_bytes_, laser_, [](const robot_observation_t& o) { return laserJson(o); });
+  sample<planned_path_t>(path_bytes_, path_, [](const planned_path_t& p) { return pathJson(p); });
+  sample<live_metrics_t>(metrics_bytes_, metrics_, [](const live_metrics_t& m) { return metricsJson(m); });
   const double sim = static_cast<double>(ws.utime) * 1e-6;
   // Real-time factor over the last 2 s of wall-clock time.
   clock_.emplace_back(now, sim);
@@ -158,6 +183,7 @@ void LiveFeed::build(const world_state_t& ws) {
   hub_.publish(jsonText(frame));
   last_frame_ = std::move(frame);
   ++frames_built_;
+  return true;
 }
 
 }  // namespace hunav::view

@@ -5,8 +5,10 @@
 //    thread never waits for a browser.
 //  - SceneStore: the static scene (scenario geometry is not on the bus: loaded from --scenario or
 //    from the scenario file an EPISODE_EVENT START names).
-//  - LiveFeed: the bus handlers. Every message is read (the socket must not fill), but a frame is
-//    built at most `fps` times per second of wall-clock time: the view samples the run.
+//  - LiveFeed: the bus handlers. Every message is read (the socket must not fill) but not decoded:
+//    the newest bytes of each channel are kept, and decoded only when a frame is built, at most
+//    `fps` times per second of wall-clock time (and once more at the episode's end): the view
+//    samples the run.
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -71,14 +73,27 @@ class LiveFeed {
   // Subscribes WORLD_STATE, ROBOT_OBSERVATION, ROBOT_PATH, LIVE_METRICS and EPISODE_EVENT on `bus`.
   LiveFeed(Bus& bus, FrameHub& hub, SceneStore& scene, LiveOptions options = {});
 
-  std::uint64_t worldStates() const { return world_states_; }
+  std::uint64_t worldStates() const { return world_states_; }      // received
+  std::uint64_t statesDecoded() const { return states_decoded_; }  // decoded: one per frame built
+  std::uint64_t undecodable() const { return undecodable_; }       // sampled messages dropped as bad
   std::uint64_t framesBuilt() const { return frames_built_; }
   bool episodeEnded() const { return ended_; }
 
  private:
-  void onWorldState(const world_state_t& ws);
+  // The newest encoded message of a channel, not decoded yet (`fresh`: not used in a frame yet).
+  struct Newest {
+    std::vector<std::uint8_t> bytes;
+    bool fresh = false;
+    void keep(const std::uint8_t* data, std::size_t size);
+  };
+  void onWorldState(const std::uint8_t* data, std::size_t size);
   void onEpisodeEvent(const episode_event_t& e);
-  void build(const world_state_t& ws);
+  // Decodes the newest world state (and the newest laser, path and metrics) into a frame; false
+  // when the state does not decode (counted in undecodable()).
+  bool buildNewest();
+  // Decodes `newest` if fresh and converts it to the frame's JSON in `out` (kept when it is bad).
+  template <class Msg, class ToJson>
+  void sample(Newest& newest, Json& out, ToJson&& to_json);
 
   FrameHub& hub_;
   SceneStore& scene_;
@@ -86,10 +101,12 @@ class LiveFeed {
   std::chrono::steady_clock::duration period_;
   std::chrono::steady_clock::time_point last_build_{};
   std::deque<std::pair<std::chrono::steady_clock::time_point, double>> clock_;  // (wall, sim) for the RTF
+  Newest state_, laser_bytes_, path_bytes_, metrics_bytes_;
   Json laser_ = nullptr, path_ = nullptr, metrics_ = nullptr, run_ = Json::object();
-  std::optional<world_state_t> last_;  // the latest state when not built yet (built at the end)
-  Json last_frame_ = nullptr;          // the latest frame built
+  Json last_frame_ = nullptr;  // the latest frame built
   std::uint64_t world_states_ = 0;
+  std::uint64_t states_decoded_ = 0;
+  std::uint64_t undecodable_ = 0;
   std::uint64_t frames_built_ = 0;
   bool ended_ = false;
   std::vector<Subscription> subscriptions_;  // last, so that they end first
