@@ -17,6 +17,7 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "hunav/bus.hpp"
@@ -431,6 +432,15 @@ std::vector<std::uint8_t> encoded(const hunav::laser_scan_t& s) {
   s.encode(out.data(), 0, static_cast<int>(out.size()));
   return out;
 }
+// The same traffic on a memq:// LcmBus and on an InProcessBus: what each returned (memq first).
+template <class Traffic>
+auto onMemqAndInProcess(Traffic&& traffic) {
+  lcm::LCM lcm("memq://");
+  LcmBus memq(lcm);
+  InProcessBus direct;
+  auto via_memq = traffic(memq);
+  return std::make_pair(std::move(via_memq), traffic(direct));
+}
 }  // namespace
 
 TEST(Transport, InProcessTypedDeliveryEqualsDecodedBytes) {
@@ -446,14 +456,11 @@ TEST(Transport, InProcessTypedDeliveryEqualsDecodedBytes) {
     bus.handleAvailable();
     return seen;
   };
-  lcm::LCM lcm("memq://");
-  LcmBus memq(lcm);
-  InProcessBus direct;
-  const auto via_memq = received(memq);
+  const auto [via_memq, in_process] = onMemqAndInProcess(received);
   ASSERT_EQ(via_memq.size(), 3u);
   EXPECT_EQ(via_memq[0], encoded(scan({1.0f, 2.5f, 8.0f})));
   EXPECT_EQ(via_memq[1], encoded(scan({})));
-  EXPECT_EQ(received(direct), via_memq);
+  EXPECT_EQ(in_process, via_memq);
 }
 
 TEST(Transport, EncodedSubscriptionsGetThePublishedBytesUndecoded) {
@@ -471,15 +478,12 @@ TEST(Transport, EncodedSubscriptionsGetThePublishedBytesUndecoded) {
     EXPECT_EQ(bus.droppedMessages(), 0u);
     return seen;
   };
-  lcm::LCM lcm("memq://");
-  LcmBus memq(lcm);
-  InProcessBus direct;
-  const auto via_memq = received(memq);
+  const auto [via_memq, in_process] = onMemqAndInProcess(received);
   ASSERT_EQ(via_memq.size(), 3u);
   EXPECT_EQ(via_memq[0], encoded(scan({1.0f, 2.5f, 8.0f})));
   EXPECT_EQ(via_memq[1], (std::vector<std::uint8_t>{'j', 'u', 'n', 'k'}));
   EXPECT_EQ(via_memq[2], encoded(scan({})));
-  EXPECT_EQ(received(direct), via_memq);
+  EXPECT_EQ(in_process, via_memq);
   hunav::laser_scan_t back;
   ASSERT_TRUE(hunav::decodeMessage(via_memq[0].data(), via_memq[0].size(), back));
   EXPECT_EQ(encoded(back), via_memq[0]);
