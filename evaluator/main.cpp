@@ -54,6 +54,7 @@ struct Options {
   bool no_live_metrics = false;
   bool counterfactual = false;
   std::string robot_free_program;  // --counterfactual: the program that runs the robot-free episode
+  std::string people_model;        // --people-model
   bool tag_given = false;          // --experiment-tag, or the metrics file's tag (offline: else the source's)
 };
 
@@ -169,9 +170,15 @@ std::string robotFreeProgram(const Options& o) {
 std::optional<int> completeFromFiles(Options& o, bool rate_given, bool tag_given) {
   hunav::evaluator::EvaluatorOptions& e = o.evaluator;
   if (!o.scenario_file.empty()) {
-    const hunav::Scenario scenario = hunav::loadScenario(o.scenario_file);
+    hunav::Scenario scenario = hunav::loadScenario(o.scenario_file);
     if (!rate_given) e.sample_rate = scenario.evaluation_sample_rate;
     if (e.metrics_file.empty()) e.metrics_file = scenario.evaluation_metrics;
+    if (!o.people_model.empty()) hunav::overridePeopleModel(scenario, o.people_model);  // a bad one: exit 2
+    e.people_model = hunav::peopleModelLabel(scenario);
+  } else if (!o.people_model.empty()) {
+    hunav::Scenario none;
+    hunav::overridePeopleModel(none, o.people_model);
+    e.people_model = hunav::peopleModelLabel(none);
   }
   const std::string tag_before = e.experiment_tag;
   hunav::evaluator::applyMetricsFile(e.metrics_file, e.profile, rate_given, e.sample_rate, tag_given, e.experiment_tag);
@@ -194,7 +201,7 @@ std::optional<int> completeFromFiles(Options& o, bool rate_given, bool tag_given
       std::cerr << "--counterfactual: cannot run " << program << " (give --robot-free-program)\n";
       return hunav::kExitBadInput;
     }
-    e.robot_free_run = hunav::evaluator::robotFreeRunByProgram(program, o.scenario_file);
+    e.robot_free_run = hunav::evaluator::robotFreeRunByProgram(program, o.scenario_file, o.people_model);
   }
   return std::nullopt;
 }
@@ -275,6 +282,12 @@ int main(int argc, char** argv) {
                  "live and --salvage: the scenario of the run; its evaluation.sample_rate (scenarios/README.md) is "
                  "the sample rate unless --sample-rate is given (--salvage: also run.json's scenario and seed)")
       ->check(CLI::ExistingFile)
+      ->excludes(states_opt)
+      ->excludes(log_opt);
+  app.add_option("--people-model", o.people_model,
+                 "live: the people model every person walks with (the manager's --people-model): recorded in run.json "
+                 "and metrics.csv, and the robot-free run of --counterfactual walks them with it (default: the "
+                 "scenario's)")
       ->excludes(states_opt)
       ->excludes(log_opt);
   CLI::Option* counterfactual_opt =

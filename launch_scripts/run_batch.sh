@@ -66,6 +66,11 @@ run, at the speed of the simulation); in lockstep and realtime each run is a run
   --metrics FILE     metric selection of every run (run_experiment.sh --metrics; HuNavSim's
                      metrics.yaml too); default: each scenario's evaluation.metrics
   --format F         csv (default) or hunav_txt (run_experiment.sh --format)
+  --people-model M   the model every person of every run walks with (run_experiment.sh
+                     --people-model): sfm (HuNavSim's, the default), sfm_calibrated, orca,
+                     orca_calibrated, ttc, ttc_calibrated or a parameter file; recorded in each run's
+                     run.json and metrics.csv and in the summary. One batch folder per model: runs
+                     finished before are kept whatever model they ran
   --counterfactual   also run every episode with the same seed without the robot and measure the
                      robot's effect on people (run_experiment.sh --counterfactual): counterfactual.csv
                      in each run folder, the counterfactual_* metrics in metrics.csv, and a section of
@@ -354,6 +359,7 @@ fi
 # Arguments
 # ---------------------------------------------------------------------------------------------------
 scenarios="" planners="" seeds="" out="" jobs="" mode=inprocess duration="" timeout="" profile="" metrics="" format=""
+people_model=""
 print_matrix=0 counterfactual=0 no_states_csv=0 no_per_tick_files=0
 planner_specs=()  # --planner-cmd NAME=CMD and --planner-config NAME=FILE, as option-value pairs
 declare -A planner_cmd_of=()
@@ -383,7 +389,8 @@ while [ "$#" -gt 0 ]; do
           usage_error "$opt: planner '$spec_name' given twice"
       done
       planner_specs+=("$opt" "$spec_name=$spec_value") ;;
-    --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile | --metrics | --format)
+    --scenarios | --planners | --seeds | --out | --jobs | --mode | --duration | --timeout | --profile | --metrics | --format | \
+      --people-model)
       option_value "$@"
       case "$opt" in
         --scenarios) scenarios=$value ;;
@@ -397,6 +404,7 @@ while [ "$#" -gt 0 ]; do
         --profile) profile=$value ;;
         --metrics) metrics=$value ;;
         --format) format=$value ;;
+        --people-model) people_model=$value ;;
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
   esac
@@ -423,6 +431,8 @@ check_seconds --duration "$duration"
 check_seconds --timeout "$timeout"
 check_choice --profile "$profile" default hunav_v1
 check_choice --format "$format" csv hunav_txt
+# A parameter file from here (the runs may start elsewhere); a name is checked by hunav_run.
+if [ -n "$people_model" ] && [ -f "$people_model" ]; then people_model=$(readlink -f "$people_model"); fi
 if [ -n "$metrics" ]; then
   check_file --metrics "$metrics"
   metrics=$(readlink -f "$metrics")  # the runs may start in another folder
@@ -545,6 +555,7 @@ run_args=(--mode "$mode")
 [ -z "$profile" ] || run_args+=(--profile "$profile")
 [ -z "$metrics" ] || run_args+=(--metrics "$metrics")
 [ -z "$format" ] || run_args+=(--format "$format")
+[ -z "$people_model" ] || run_args+=(--people-model "$people_model")
 [ "$counterfactual" -eq 0 ] || run_args+=(--counterfactual)
 [ "$no_states_csv" -eq 0 ] || run_args+=(--no-states-csv)
 [ "$no_per_tick_files" -eq 0 ] || run_args+=(--no-per-tick-files)

@@ -67,6 +67,9 @@ Options:
                           --sample-rate / --experiment-tag are given); default: the scenario's
                           evaluation.metrics, else every metric
   --format FORMAT         result files: csv (default), or hunav_txt = csv plus HuNavSim v1's .txt files
+  --people-model M        the model every person walks with: sfm (HuNavSim's social force model, the
+                          default), sfm_calibrated, orca, orca_calibrated, ttc, ttc_calibrated, or a
+                          parameter file (docs/people_models.md); recorded in run.json and metrics.csv
   --counterfactual        also run the episode with the same seed without the robot and measure the
                           robot's effect on each person: DIR/counterfactual.csv and the
                           counterfactual_* metrics in metrics.csv (docs/metrics.md). The robot-free
@@ -128,6 +131,7 @@ planner_config=""
 planner_cmd=""
 view=0
 counterfactual=0
+people_model=""
 
 while [ "$#" -gt 0 ]; do
   split_option "$1"
@@ -137,7 +141,7 @@ while [ "$#" -gt 0 ]; do
     --view) view=1 ;;
     --counterfactual) no_value; counterfactual=1 ;;
     --scenario | --planner | --seed | --mode | --out | --duration | --sample-rate | --shared-bus | --profile | \
-      --experiment-tag | --timeout | --planner-config | --planner-cmd | --metrics | --format)
+      --experiment-tag | --timeout | --planner-config | --planner-cmd | --metrics | --format | --people-model)
       option_value "$@"
       # A next argument that is an option is not this one's value (--opt=--x is taken as written).
       [ "$taken" -eq 0 ] || case "$value" in --*) usage_error "$opt needs a value (got the option '$value')" ;; esac
@@ -156,6 +160,7 @@ while [ "$#" -gt 0 ]; do
         --experiment-tag) tag=$value ;;
         --metrics) metrics=$value ;;
         --format) format=$value ;;
+        --people-model) people_model=$value ;;
         --timeout) timeout=$value ;;
       esac ;;
     *) usage_error "unknown argument '$1'" ;;
@@ -187,6 +192,8 @@ check_seconds --timeout "$timeout"
 check_choice --profile "$profile" default hunav_v1
 case "$tag" in *[,\"$'\n'$'\r']*) usage_error "--experiment-tag must not contain commas, quotes or line breaks" ;; esac
 check_choice --format "$format" csv hunav_txt
+# A parameter file is taken from here (the processes may run elsewhere); a name is checked by them.
+if [ -n "$people_model" ] && [ -f "$people_model" ]; then people_model=$(readlink -f "$people_model"); fi
 if [ -n "$metrics" ]; then
   check_file --metrics "$metrics"
   metrics=$(readlink -f "$metrics")  # the processes may run elsewhere
@@ -492,6 +499,9 @@ eval_args=()
 # The evaluator process has hunav_run run the robot-free episode after the END (it links no
 # simulator): give it time (an in-process episode).
 [ "$counterfactual" -eq 0 ] || [ "$mode" = inprocess ] || eval_args+=(--robot-free-program "$bin_dir/hunav_run")
+model_args=()
+[ -z "$people_model" ] || model_args=(--people-model "$people_model")
+
 [ "$counterfactual" -eq 0 ] || [ -n "${HUNAV_EVAL_GRACE:-}" ] || eval_grace=600
 
 log "scenario $scenario, planner $planner, seed ${seed:-$seed_label (from the scenario)}, mode $mode"
@@ -501,7 +511,7 @@ log "results will be written to $out_dir"
 main=""
 if [ "$mode" = inprocess ]; then
   cmd=("$bin_dir/hunav_run" --scenario "$scenario" --planner "$planner" --out "$out_dir"
-    "${seed_args[@]}" "${duration_args[@]}" "${eval_args[@]}")
+    "${seed_args[@]}" "${duration_args[@]}" "${eval_args[@]}" "${model_args[@]}")
   [ -z "$planner_config" ] || cmd+=(--planner-config "$planner_config")
   [ "$record" -eq 0 ] || cmd+=(--record "$out_dir/run.lcmlog")
   start hunav_run "$log_dir/hunav_run.log" "${cmd[@]}"
@@ -546,11 +556,11 @@ else
     wait_ready recorder || exit_failed recorder
   fi
   start evaluator "$log_dir/evaluator.log" "$bin_dir/hunav_evaluator" --out "$out_dir" --episodes 1 \
-    --lcm-url "$eval_url" --scenario "$scenario" "${eval_args[@]}"
+    --lcm-url "$eval_url" --scenario "$scenario" "${eval_args[@]}" "${model_args[@]}"
   wait_ready evaluator || exit_failed evaluator
   # The manager runs until stopped: without --episodes it listens to STEP_REQUEST alone (on its own
   # port), not to the world states of the URL's port that it would otherwise hear every tick.
-  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url"
+  start manager "$log_dir/manager.log" "$bin_dir/hunav_manager" --scenario "$scenario" --lcm-url "$url" "${model_args[@]}"
   if [ -n "$planner_cmd" ]; then
     # Your planner hears the bus through LCM_DEFAULT_URL (the URL without our channel_ports option:
     # every planner channel is on its port). It need not print "ready": the world waits for its

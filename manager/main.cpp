@@ -16,6 +16,7 @@ struct Options {
   std::string lcm_url;
   std::string scenario_file;
   std::string tree_folder;
+  std::string people_model;
   int episodes = 0;
 };
 
@@ -25,6 +26,10 @@ void addOptions(CLI::App& app, Options& o) {
                  "scenario YAML: its human model (people.obstacle_points, people.navigation: routes over its map) and "
                  "every agent's behavior tree, loaded at start (a bad one: exit 2 before anything runs); without it, "
                  "people walk straight at their goals and every obstacle point sent adds its force");
+  app.add_option("--people-model", o.people_model,
+                 "the model every person walks with, whatever the scenario says: sfm (HuNavSim's social force model, "
+                 "the default), sfm_calibrated, orca, orca_calibrated, ttc, ttc_calibrated, or a parameter file "
+                 "(docs/people_models.md)");
   app.add_option("--tree-folder", o.tree_folder,
                  "a folder of behavior tree files: a step request may name one of them (relative to the folder) "
                  "besides the scenario's trees. A request naming any other file, or a bad one, is dropped and "
@@ -39,6 +44,11 @@ void addOptions(CLI::App& app, Options& o) {
 int run(const Options& o, const std::atomic<bool>& stop) {
   std::optional<hunav::Scenario> scenario;
   if (!o.scenario_file.empty()) scenario = hunav::loadScenario(o.scenario_file);
+  if (scenario && !o.people_model.empty()) hunav::overridePeopleModel(*scenario, o.people_model);
+  // Without a scenario: the model for everybody (a bad name or file: exit 2 before "ready").
+  std::optional<hunav::MotionModel> everyone;
+  if (!scenario && !o.people_model.empty())
+    everyone = hunav::resolveMotionModel(o.people_model, "", "", 0, "--people-model");
   // With --episodes it hears EPISODE_EVENT on the URL's port: the kernel keeps the world states
   // sent there every tick from waking it.
   hunav::ReceiveOptions receive;
@@ -49,6 +59,7 @@ int run(const Options& o, const std::atomic<bool>& stop) {
   hunav::manager::ManagerNode node(bus, &threads, o.episodes > 0);
   // The scenario's human model (obstacle points, routes); a bad tree file: exit 2 before "ready".
   if (scenario) node.manager().useScenario(*scenario);
+  if (everyone) node.manager().setPeopleModels(*everyone);
   if (!o.tree_folder.empty()) node.manager().setTreeFolder(o.tree_folder);
   std::cout << "ready" << std::endl;
   while (!stop.load() && (o.episodes == 0 || node.episodesEnded() < static_cast<std::uint64_t>(o.episodes)))

@@ -81,6 +81,7 @@ struct Options {
   double duration = 0.0;      // 0: the scenario's time limit
   double sample_rate = -1.0;  // < 0: the scenario's evaluation.sample_rate
   std::string seed_list, planner_list, folder_label;
+  std::string people_model;  // --people-model: every person's (empty: the scenario's)
   std::string format = "csv";
   bool quiet = false;
   bool no_states_csv = false;
@@ -121,6 +122,10 @@ void addOptions(CLI::App& app, Options& o) {
                  "output folder (default results/<scenario>_<planner>_<seed>); with --seeds the folder of the runs' "
                  "folders (default results)");
   app.add_option("--record", run.record_file, "also write every message to this LCM log file");
+  app.add_option("--people-model", o.people_model,
+                 "the model every person walks with, whatever the scenario says: sfm (HuNavSim's social force model, "
+                 "the default), sfm_calibrated, orca, orca_calibrated, ttc, ttc_calibrated, or a parameter file "
+                 "(docs/people_models.md); recorded in run.json and metrics.csv");
   app.add_option("--profile", run.profile, "metric profile")->check(CLI::IsMember({"default", "hunav_v1"}));
   o.experiment_tag = app.add_option("--experiment-tag", run.experiment_tag, "experiment tag in metrics.csv");
   app.add_option("--metrics", run.metrics_file,
@@ -166,6 +171,7 @@ void addOptions(CLI::App& app, Options& o) {
 hunav::Scenario scenarioFor(const Options& o, long long seed) {
   hunav::Scenario scenario = hunav::cli::loadScenarioFor(o.scenario_file, seed, o.duration);
   if (o.sample_rate >= 0.0) scenario.evaluation_sample_rate = o.sample_rate;
+  if (!o.people_model.empty()) hunav::overridePeopleModel(scenario, o.people_model);
   return scenario;
 }
 

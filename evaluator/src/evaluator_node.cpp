@@ -17,6 +17,7 @@
 #include "hunav/channels.hpp"
 #include "hunav/episode_status.hpp"
 #include "hunav/message_checks.hpp"
+#include "hunav/scenario.hpp"
 #include "run_outputs.hpp"
 
 namespace hunav::evaluator {
@@ -43,6 +44,20 @@ struct EvaluatorNode::Episode {
   std::chrono::steady_clock::time_point last_flush;
   double next_live = 0.0;  // s, simulation time of the next LIVE_METRICS publication
 };
+
+namespace {
+
+// The people model of a scenario file (peopleModelLabel); "sfm", HuNavSim's, when it cannot be read
+// (a world started from a scenario elsewhere, a test's name).
+std::string peopleModelOfFile(const std::string& scenario_file) {
+  try {
+    return scenario_file.empty() ? "sfm" : peopleModelLabel(loadScenario(scenario_file));
+  } catch (const std::exception&) {
+    return "sfm";
+  }
+}
+
+}  // namespace
 
 namespace {
 constexpr std::size_t kFlushBytes = std::size_t{1} << 20;  // buffered states.csv bytes that force a flush
@@ -414,6 +429,7 @@ void EvaluatorNode::begin(const episode_event_t& start) {
   info.scenario = start.scenario;
   info.scenario_file = start.scenario_file;
   info.planner = start.planner;
+  info.people_model = options_.people_model.empty() ? peopleModelOfFile(start.scenario_file) : options_.people_model;
   info.seed = start.seed;
   info.mode = start.mode;
   info.episode = start.episode;

@@ -40,13 +40,16 @@ int runProgram(const std::vector<std::string>& args) {
 
 }  // namespace
 
-RobotFreeRun robotFreeRunByProgram(std::string program, std::string scenario_file) {
-  return [program = std::move(program), scenario_file = std::move(scenario_file)](
-             const RunInfo& info, const std::vector<double>& sample_times) {
+RobotFreeRun robotFreeRunByProgram(std::string program, std::string scenario_file, std::string people_model) {
+  return [program = std::move(program), scenario_file = std::move(scenario_file),
+          people_model = std::move(people_model)](const RunInfo& info, const std::vector<double>& sample_times) {
     const fs::path states(info.states_file);
     const fs::path out = states.parent_path() / ".robot_free_states.csv";
-    const int status = runProgram({program, "--scenario", scenario_file, "--seed", std::to_string(info.seed),
-                                   "--robot-free-of", states.string(), "--robot-free-out", out.string()});
+    std::vector<std::string> args = {
+        program,           "--scenario",    scenario_file,      "--seed",    std::to_string(info.seed),
+        "--robot-free-of", states.string(), "--robot-free-out", out.string()};
+    if (!people_model.empty()) args.insert(args.end(), {"--people-model", people_model});
+    const int status = runProgram(args);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
       std::error_code ec;
       fs::remove(out, ec);

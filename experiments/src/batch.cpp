@@ -70,6 +70,7 @@ struct MetricsCsv {
   std::vector<std::string> names;
   MetricRow row;
   std::string profile;
+  std::string people_model;
 };
 
 // Throws ConfigError (file:line: key: what).
@@ -77,7 +78,7 @@ MetricsCsv readMetricsCsv(const fs::path& file) {
   const auto csv = results::MetricsCsv::read(file);
   auto last = csv.lastRow();
   if (!last) throw ConfigError(file.string(), 0, "", "no row after the header");
-  return {csv.metricNames(), std::move(last->values), std::move(last->profile)};
+  return {csv.metricNames(), std::move(last->values), std::move(last->profile), std::move(last->people_model)};
 }
 
 void mergeNames(std::vector<std::string>& into, const std::vector<std::string>& names) {
@@ -131,6 +132,7 @@ Batch loadBatch(const fs::path& dir) {
         mergeNames(batch.metric_names, csv.names);
         run.metrics = std::move(csv.row);
         run.profile = std::move(csv.profile);
+        run.people_model = std::move(csv.people_model);
       } catch (const std::exception& e) {
         batch.warnings.push_back(e.what());
       }

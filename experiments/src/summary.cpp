@@ -298,6 +298,19 @@ std::string overviewMarkdown(const Batch& batch) {
     md += ")";
   }
   md += ".\n\n";
+  // The people model the runs walked with (docs/people_models.md): a batch mixing models says so.
+  std::map<std::string, int> models;
+  for (const auto& r : batch.runs)
+    if (!r.people_model.empty()) ++models[r.people_model];
+  if (!models.empty()) {
+    md += models.size() == 1 ? "People model: " : "**People models mixed** (the tables pool them): ";
+    bool first = true;
+    for (const auto& [model, n] : models) {
+      md += fmt::format("{}`{}` ({} run{})", first ? "" : ", ", model, n, n == 1 ? "" : "s");
+      first = false;
+    }
+    md += " (docs/people_models.md).\n\n";
+  }
   const auto excluded =
       std::count_if(batch.runs.begin(), batch.runs.end(), [](const BatchRun& r) { return !r.episodeEnded(); });
   if (excluded > 0)

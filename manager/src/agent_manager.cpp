@@ -9,6 +9,7 @@
 #include "bt_social.hpp"
 #include "hunav/bus.hpp"  // BadMessage
 #include "hunav/manager/hunav_nodes.hpp"
+#include "obstacle_segments.hpp"
 #include "people_give_way.hpp"
 #include "people_routes.hpp"
 #include "people_social.hpp"
@@ -27,60 +28,193 @@ SfmBody bodyOf(const agent_state_t& a) {
   return b;
 }
 
+// Calls f(j) for every agent j other than `index` within `range` of it: through the cut-off grid when
+// there is one that reaches that far, else over every agent (in id order when indexed).
+template <class F>
+void forEachAgentNear(const StepSnapshot& snap, std::size_t index, double range, F&& f) {
+  const Vec2& here = snap.agents[index].position;
+  auto visit = [&](int j) {
+    if (static_cast<std::size_t>(j) != index && (snap.agents[j].position - here).squaredNorm() <= range * range) f(j);
+  };
+  if (snap.grid != nullptr && range <= snap.grid->cell()) {
+    snap.grid->forEachNear(here, range, visit);
+  } else if (snap.by_id.size() == snap.agents.size()) {
+    for (int j : snap.by_id) visit(j);
+  } else {
+    for (std::size_t j = 0; j < snap.agents.size(); ++j) visit(static_cast<int>(j));
+  }
+}
+
+// The group forces on agent `index` with `direction` its desired direction (none outside a group).
+Vec2 groupForceOn(const StepSnapshot& snap, std::size_t index, const Vec2& direction, const SfmParams& p) {
+  const SfmBody& me = snap.agents[index];
+  if (me.group_id < 0) return Vec2::Zero();
+  if (snap.group_of.size() == snap.agents.size()) {
+    const int g = snap.group_of[index];
+    const int from = snap.group_start[g], to = snap.group_start[g + 1];
+    return groupForcesOf(
+               me, static_cast<std::size_t>(to - from - 1),
+               [&](auto&& visit) {
+                 for (int k = from; k < to; ++k)
+                   if (static_cast<std::size_t>(snap.group_members[k]) != index)
+                     visit(snap.agents[snap.group_members[k]]);
+               },
+               direction, p)
+        .total();
+  }
+  std::size_t mates = 0;
+  auto forEachMate = [&](auto&& visit) {
+    for (std::size_t j = 0; j < snap.agents.size(); ++j)
+      if (j != index && snap.agents[j].group_id == me.group_id) visit(snap.agents[j]);
+  };
+  forEachMate([&](const SfmBody&) { ++mates; });
+  return groupForcesOf(me, mates, forEachMate, direction, p).total();
+}
+
+// The obstacle force of the SFM (and TTC) on agent `index`: the points of its state, and the robot
+// when it counts as an obstacle, summed or averaged as the scenario says.
+Vec2 obstacleForceOn(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, RobotAs robot,
+                     const SfmParams& p) {
+  const SfmBody& me = snap.agents[index];
+  Vec2 f = Vec2::Zero();
+  for (const point2d_t& o : a.obstacles) f += obstacleForceFrom(me, Vec2(o.x, o.y), p);
+  if (robot == RobotAs::Obstacle) f += obstacleForceFrom(me, snap.robot.position, p);
+  // lightsfm 2022 averages every point, the robot's too (manager/README.md, "Obstacle points").
+  const std::size_t points = a.obstacles.size() + (robot == RobotAs::Obstacle ? 1 : 0);
+  if (snap.obstacle_points == ObstaclePoints::Mean && points > 1) f /= static_cast<double>(points);
+  return f;
+}
+
 ForceSet forcesImpl(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                     double goal_radius, RobotAs robot, double desired_speed) {
-  const SfmParams p = paramsOf(a);
+  const MotionModel* model = snap.modelOf(index);
+  const bool hunav = model == nullptr || model->isHunavDefault();
+  const SfmParams p = hunav ? paramsOf(a) : model->sfm;
   const SfmBody& me = snap.agents[index];
   if (snap.robot_absent) robot = RobotAs::Ignored;
   ForceSet f;
   Vec2 direction = Vec2::Zero();
   f.desired = desiredForce(me, goal, goal_radius, desired_speed, p, &direction);
+  f.obstacle = obstacleForceOn(snap, index, a, robot, p);
 
-  for (const point2d_t& o : a.obstacles) f.obstacle += obstacleForceFrom(me, Vec2(o.x, o.y), p);
-  if (robot == RobotAs::Obstacle) f.obstacle += obstacleForceFrom(me, snap.robot.position, p);
-  // lightsfm 2022 averages every point, the robot's too (manager/README.md, "Obstacle points").
-  const std::size_t points = a.obstacles.size() + (robot == RobotAs::Obstacle ? 1 : 0);
-  if (snap.obstacle_points == ObstaclePoints::Mean && points > 1) f.obstacle /= static_cast<double>(points);
-
-  if (snap.people_social.size() == snap.agents.size()) {
-    f.social = p.social_weight * snap.people_social[index];
-  } else if (snap.by_id.size() == snap.agents.size()) {
-    for (int j : snap.by_id)
-      if (static_cast<std::size_t>(j) != index) f.social += socialForceFrom(me, snap.agents[j], p);
+  if (!hunav) {
+    // Another parameter set: its own lambda, gamma, n, n' and range, summed here (the shared pair
+    // kernel computes HuNavSim's), the robot as a person within the same range.
+    const double range = model->interaction_range;
+    forEachAgentNear(snap, index, range, [&](int j) { f.social += socialForceFrom(me, snap.agents[j], p); });
+    if (robot == RobotAs::Person && (snap.robot.position - me.position).squaredNorm() <= range * range)
+      f.social += socialForceFrom(me, snap.robot, p);
   } else {
-    for (std::size_t j = 0; j < snap.agents.size(); ++j)
-      if (j != index) f.social += socialForceFrom(me, snap.agents[j], p);
-  }
-  // The robot's push on a person far from it is often too small to change any bit of the people's sum
-  // (then its atan2 and exp calls are skipped; the result is the same).
-  if (robot == RobotAs::Person && !socialForceLeavesUnchanged(f.social, me, snap.robot, p))
-    f.social += socialForceFrom(me, snap.robot, p);
-
-  if (me.group_id >= 0) {
-    if (snap.group_of.size() == snap.agents.size()) {
-      const int g = snap.group_of[index];
-      const int from = snap.group_start[g], to = snap.group_start[g + 1];
-      f.group = groupForcesOf(
-                    me, static_cast<std::size_t>(to - from - 1),
-                    [&](auto&& visit) {
-                      for (int k = from; k < to; ++k)
-                        if (static_cast<std::size_t>(snap.group_members[k]) != index)
-                          visit(snap.agents[snap.group_members[k]]);
-                    },
-                    direction, p)
-                    .total();
+    if (snap.people_social.size() == snap.agents.size()) {
+      f.social = p.social_weight * snap.people_social[index];
+    } else if (snap.by_id.size() == snap.agents.size()) {
+      for (int j : snap.by_id)
+        if (static_cast<std::size_t>(j) != index) f.social += socialForceFrom(me, snap.agents[j], p);
     } else {
-      std::size_t mates = 0;
-      auto forEachMate = [&](auto&& visit) {
-        for (std::size_t j = 0; j < snap.agents.size(); ++j)
-          if (j != index && snap.agents[j].group_id == me.group_id) visit(snap.agents[j]);
-      };
-      forEachMate([&](const SfmBody&) { ++mates; });
-      f.group = groupForcesOf(me, mates, forEachMate, direction, p).total();
+      for (std::size_t j = 0; j < snap.agents.size(); ++j)
+        if (j != index) f.social += socialForceFrom(me, snap.agents[j], p);
     }
+    // The robot's push on a person far from it is often too small to change any bit of the people's
+    // sum (then its atan2 and exp calls are skipped; the result is the same).
+    if (robot == RobotAs::Person && !socialForceLeavesUnchanged(f.social, me, snap.robot, p))
+      f.social += socialForceFrom(me, snap.robot, p);
   }
+  f.group = groupForceOn(snap, index, direction, p);
   f.finish();
   return f;
+}
+
+// The velocity a person would walk at without others: toward the goal at `speed` (none inside the
+// goal circle, or without a goal), bent by `extra` (a reaction's push, m/s^2) over `seconds`.
+Vec2 preferredVelocity(const SfmBody& me, const Vec2* goal, double goal_radius, double speed, const Vec2& extra,
+                       double seconds) {
+  Vec2 v = Vec2::Zero();
+  if (goal != nullptr) {
+    const Vec2 to_goal = *goal - me.position;
+    const double dist = to_goal.norm();
+    if (dist > goal_radius) v = to_goal / dist * speed;
+  }
+  if (std::isfinite(extra.x()) && std::isfinite(extra.y())) v += extra * seconds;
+  const double len = v.norm();
+  return len > speed && len > 0.0 ? Vec2(v * (speed / len)) : v;
+}
+
+// A body's state after dt at velocity `next` (hunav::integrate with the force that reaches it).
+SfmMotion moveAt(const SfmBody& me, double yaw, const Vec2& next, double speed, double dt) {
+  return integrate(me.position, me.velocity, yaw, (next - me.velocity) / dt, speed, dt);
+}
+
+// ORCA (docs/people_models.md): obstacle lines first (the map's segments, else the state's points;
+// the robot as a static disc when it counts as an obstacle), then the nearest people and the robot
+// as a person (which takes no share of the avoidance: full responsibility).
+SfmMotion orcaStep(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                   double goal_radius, RobotAs robot, double speed, const Vec2& extra, double dt,
+                   const MotionModel& model) {
+  const OrcaParams& o = model.orca;
+  const SfmBody& me = snap.agents[index];
+  const double r = o.radius >= 0.0 ? o.radius : me.radius;
+  thread_local std::vector<HalfPlane> planes;
+  thread_local std::vector<std::pair<double, int>> near;
+  planes.clear();
+  const double reach = r + o.obstacle_time_horizon * speed;  // farther obstacles cannot be reached in time
+  if (snap.segments != nullptr) {
+    snap.segments->forEachClosestPoint(me.position, reach, [&](const Vec2& q) {
+      planes.push_back(obstacleHalfPlane(me.position, r, q, o.obstacle_time_horizon));
+    });
+  } else {
+    for (const point2d_t& q : a.obstacles)
+      planes.push_back(obstacleHalfPlane(me.position, r, Vec2(q.x, q.y), o.obstacle_time_horizon));
+  }
+  if (robot == RobotAs::Obstacle) {
+    const Vec2 edge = snap.robot.position + snap.robot.radius * normalizedOrZero(me.position - snap.robot.position);
+    planes.push_back(obstacleHalfPlane(me.position, r, edge, o.obstacle_time_horizon));
+  }
+  const std::size_t hard = planes.size();
+  near.clear();
+  forEachAgentNear(snap, index, o.neighbor_distance,
+                   [&](int j) { near.emplace_back((snap.agents[j].position - me.position).squaredNorm(), j); });
+  // The nearest first (ties by id): the LP meets the most pressing planes first.
+  std::sort(near.begin(), near.end(), [&](const auto& x, const auto& y) {
+    return x.first != y.first ? x.first < y.first : snap.agents[x.second].id < snap.agents[y.second].id;
+  });
+  if (near.size() > static_cast<std::size_t>(o.max_neighbors)) near.resize(static_cast<std::size_t>(o.max_neighbors));
+  for (const auto& [d2, j] : near) {
+    const SfmBody& other = snap.agents[j];
+    planes.push_back(orcaHalfPlane(me.position, me.velocity, r, other.position, other.velocity,
+                                   o.radius >= 0.0 ? o.radius : other.radius, o.time_horizon, o.responsibility, dt));
+  }
+  if (robot == RobotAs::Person && (snap.robot.position - me.position).norm() <= o.neighbor_distance)
+    planes.push_back(orcaHalfPlane(me.position, me.velocity, r, snap.robot.position, snap.robot.velocity,
+                                   snap.robot.radius, o.time_horizon, 1.0, dt));
+  const Vec2 preferred = preferredVelocity(me, goal, goal_radius, speed, extra, model.sfm.relaxation_time);
+  Vec2 next = solveOrcaVelocity(planes, hard, preferred, speed);
+  if (o.relaxation_time > 0.0) next = me.velocity + (next - me.velocity) * std::min(1.0, dt / o.relaxation_time);
+  return moveAt(me, a.yaw, next, speed, dt);
+}
+
+// TTC (Karamouzas et al. 2014): the driving force toward the preferred velocity, the time-to-collision
+// force of every person (and the robot as a person) within reach, the SFM's obstacle and group terms.
+SfmMotion ttcStep(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                  double goal_radius, RobotAs robot, double speed, const Vec2& extra, double dt,
+                  const MotionModel& model) {
+  const TtcParams& t = model.ttc;
+  const SfmBody& me = snap.agents[index];
+  const double r = t.radius >= 0.0 ? t.radius : me.radius;
+  const Vec2 preferred = preferredVelocity(me, goal, goal_radius, speed, Vec2::Zero(), 0.0);
+  Vec2 force = (preferred - me.velocity) / t.relaxation_time;
+  forEachAgentNear(snap, index, t.neighbor_distance, [&](int j) {
+    const SfmBody& other = snap.agents[j];
+    if (!inFieldOfView(me.position, a.yaw, other.position, t.field_of_view)) return;
+    force += ttcForce(me.position - other.position, me.velocity - other.velocity,
+                      r + (t.radius >= 0.0 ? t.radius : other.radius), t);
+  });
+  if (robot == RobotAs::Person && inFieldOfView(me.position, a.yaw, snap.robot.position, t.field_of_view))
+    force += ttcForce(me.position - snap.robot.position, me.velocity - snap.robot.velocity, r + snap.robot.radius, t);
+  force += obstacleForceOn(snap, index, a, robot, model.sfm);
+  force += groupForceOn(snap, index, normalizedOrZero(preferred), model.sfm);
+  if (std::isfinite(extra.x()) && std::isfinite(extra.y())) force += extra;
+  if (!std::isfinite(force.x()) || !std::isfinite(force.y())) force.setZero();
+  return integrate(me.position, me.velocity, a.yaw, force, speed * t.max_speed_factor, dt);
 }
 
 }  // namespace
@@ -171,6 +305,19 @@ SfmParams paramsOf(const agent_state_t& a) {
   return p;
 }
 
+SfmMotion modelStep(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                    double goal_radius, RobotAs robot, double speed, const Vec2& extra, double dt) {
+  const MotionModel* model = snap.modelOf(index);
+  if (snap.robot_absent) robot = RobotAs::Ignored;
+  if (model != nullptr && model->kind == MotionModelKind::Orca)
+    return orcaStep(snap, index, a, goal, goal_radius, robot, speed, extra, dt, *model);
+  if (model != nullptr && model->kind == MotionModelKind::Ttc)
+    return ttcStep(snap, index, a, goal, goal_radius, robot, speed, extra, dt, *model);
+  ForceSet f = forcesImpl(snap, index, a, goal, goal_radius, robot, speed);
+  if (std::isfinite(extra.x()) && std::isfinite(extra.y())) f.total += extra;
+  return integrate(Vec2(a.x, a.y), Vec2(a.vx, a.vy), a.yaw, f.total, speed, dt);
+}
+
 ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                        RobotAs robot, double desired_speed) {
   return forcesImpl(snap, index, a, goal, a.goal_radius, robot, desired_speed);
@@ -229,9 +376,7 @@ void sfmMove(TickContext& c, RobotAs robot, double speed, const Vec2* goal, cons
     if (waypoint != *goal) radius = 0.0;  // a waypoint on the way: no slowing down there
     goal = &waypoint;
   }
-  ForceSet f = forcesImpl(c.snap, c.index, c.in, goal, radius, robot, speed);
-  if (std::isfinite(extra.x()) && std::isfinite(extra.y())) f.total += extra;
-  const SfmMotion m = integrate(Vec2(c.in.x, c.in.y), Vec2(c.in.vx, c.in.vy), c.in.yaw, f.total, speed, c.dt);
+  const SfmMotion m = modelStep(c.snap, c.index, c.in, goal, radius, robot, speed, extra, c.dt);
   c.out.x = m.position.x();
   c.out.y = m.position.y();
   c.out.vx = m.velocity.x();
@@ -309,9 +454,25 @@ void AgentManager::useScenario(const Scenario& scenario) {
     scenario.bounds(lo, hi, 1.0);
     routes_ = std::make_shared<const RouteMap>(scenario.shapes, lo, hi, scenario.people_model.route_resolution);
   }
-  clearMemory();
+  segments_.reset();
+  if (!scenario.shapes.empty()) segments_ = std::make_shared<const ObstacleSegments>(scenario.shapes);
+  std::map<int, MotionModel> by_id;
+  for (const AgentConfig& a : scenario.agents)
+    if (a.people_model) by_id[a.id] = *a.people_model;
+  setPeopleModels(scenario.people_model.model, by_id);
   scenario_file_ = scenario.file;
   loadTrees(scenario);
+}
+
+void AgentManager::setPeopleModels(const MotionModel& everyone, const std::map<int, MotionModel>& by_id) {
+  default_model_ = everyone;
+  agent_models_ = by_id;
+  clearMemory();
+}
+
+const MotionModel& AgentManager::peopleModelOf(int id) const {
+  const auto it = agent_models_.find(id);
+  return it != agent_models_.end() ? it->second : default_model_;
 }
 
 void AgentManager::loadTrees(const Scenario& scenario) {
@@ -396,6 +557,8 @@ AgentMemory& AgentManager::memoryFor(const agent_state_t& a) {
     m.group_override = -2;
     m.outputs.fill(-1.0);
   }
+  const MotionModel& model = peopleModelOf(a.id);
+  m.model = model.isHunavDefault() ? nullptr : &model;
   return m;
 }
 
@@ -457,11 +620,19 @@ void AgentManager::takeSnapshot(const step_request_t& request) {
   const std::size_t count = request.agents.size();
   memory_at_.resize(count);
   social_active_ = false;
+  bool other_models = false;
   for (std::size_t i = 0; i < count; ++i) {
     const AgentMemory& m = memoryAt(i, request.agents[i]);
     social_active_ = social_active_ || m.social_tree;
+    other_models = other_models || m.model != nullptr;
     if (m.group_override != -2) snap.agents[i].group_id = m.group_override;
   }
+  snap.models.clear();  // everybody HuNavSim's: no per-agent lookup
+  if (other_models) {
+    snap.models.resize(count);
+    for (std::size_t i = 0; i < count; ++i) snap.models[i] = memory_at_[i]->model;
+  }
+  snap.segments = segments_.get();
   snap.robot = bodyOf(request.robot);
   snap.robot_absent = robot_absent_;
   snap.index();
@@ -470,8 +641,10 @@ void AgentManager::takeSnapshot(const step_request_t& request) {
   if (cutoff_ > 0.0) {
     grid_->build(snap.agents, snap.by_id, cutoff_);
     people_social_->compute(snap, *grid_, cutoff_, threads_, force_tolerance_);
+    snap.grid = grid_.get();
   } else {
     snap.people_social.clear();
+    snap.grid = nullptr;
   }
 }
 

@@ -21,6 +21,8 @@ class NeighborGrid {
   // Calls f(j) for every body within `radius` (<= cell) of p, in a fixed order.
   template <class F>
   void forEachNear(const Vec2& p, double radius, F&& f) const;
+  // The side of a cell (m): forEachNear reaches this far.
+  double cell() const { return cell_; }
   // Calls f(i, j) once for every unordered pair within `radius` (<= cell), in a fixed order: by
   // cell, then for each body of the cell the rest of its own cell and the forward half of the 3x3
   // neighbourhood, (+1,0), (-1,+1), (0,+1), (+1,+1).

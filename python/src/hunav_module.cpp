@@ -244,8 +244,9 @@ class Simulation {
              std::optional<double> duration, std::optional<double> sample_rate, std::string planner_config,
              std::string profile, std::string out_dir, std::optional<std::string> experiment_tag, std::string run_id,
              std::string metrics_file, std::string format, bool evaluator_thread = true, bool states_csv = true,
-             bool per_tick_files = true, bool files = true)
+             bool per_tick_files = true, bool files = true, std::optional<std::string> people_model = std::nullopt)
       : file_(std::move(scenario_file)),
+        people_model_(std::move(people_model)),
         duration_(duration.value_or(0.0)),
         sample_rate_(sample_rate),
         metrics_file_(std::move(metrics_file)),
@@ -579,6 +580,7 @@ class Simulation {
   void load(long long seed) {
     scenario_ = hunav::cli::loadScenarioFor(file_, seed, duration_);
     if (sample_rate_) scenario_.evaluation_sample_rate = *sample_rate_;
+    if (people_model_) hunav::overridePeopleModel(scenario_, *people_model_);
     options_.metrics_file = metrics_file_.empty() ? scenario_.evaluation_metrics : metrics_file_;
     options_.experiment_tag = experiment_tag_.value_or("exp");
     hunav::evaluator::applyMetricsFile(options_.metrics_file, options_.profile, sample_rate_.has_value(),
@@ -598,6 +600,7 @@ class Simulation {
   }
 
   std::string file_;
+  std::optional<std::string> people_model_;  // every person's model (None: the scenario's)
   double duration_;
   std::optional<double> sample_rate_;
   std::string metrics_file_;
@@ -972,13 +975,13 @@ PYBIND11_MODULE(_hunav, m) {
   py::class_<Simulation, std::shared_ptr<Simulation>>(m, "Simulation")
       .def(py::init<std::string, std::optional<long long>, std::optional<std::string>, std::optional<double>,
                     std::optional<double>, std::string, std::string, std::string, std::optional<std::string>,
-                    std::string, std::string, std::string, bool, bool, bool, bool>(),
+                    std::string, std::string, std::string, bool, bool, bool, bool, std::optional<std::string>>(),
            py::arg("scenario"), py::arg("seed") = py::none(), py::arg("planner") = py::none(),
            py::arg("duration") = py::none(), py::arg("sample_rate") = py::none(), py::arg("planner_config") = "",
            py::arg("profile") = "default", py::arg("out_dir") = "", py::arg("experiment_tag") = py::none(),
            py::arg("run_id") = "", py::arg("metrics") = "", py::arg("format") = "csv",
            py::arg("evaluator_thread") = true, py::arg("states_csv") = true, py::arg("per_tick_files") = true,
-           py::arg("files") = true)
+           py::arg("files") = true, py::arg("people_model") = py::none())
       .def("reset", &Simulation::reset, py::arg("seed") = py::none(), py::arg("out_dir") = py::none())
       .def("step", &Simulation::step, py::arg("v"), py::arg("w"), py::arg("vy") = 0.0)
       .def("run", &Simulation::run)
@@ -998,6 +1001,7 @@ PYBIND11_MODULE(_hunav, m) {
       .def_property_readonly("done", &Simulation::done)
       .def_property_readonly("planner", &Simulation::planner)
       .def_property_readonly("scenario_name", [](const Simulation& s) { return s.scenario().name; })
+      .def_property_readonly("people_model", [](const Simulation& s) { return hunav::peopleModelLabel(s.scenario()); })
       .def_property_readonly("seed", [](const Simulation& s) { return s.scenario().seed; })
       .def_property_readonly("dt", [](const Simulation& s) { return s.scenario().dt; })
       .def_property_readonly("time_limit", [](const Simulation& s) { return s.scenario().time_limit; })

@@ -74,6 +74,11 @@ Dataset readTracks(const std::string& path) {
     Row r;
     r.line = line;
     r.frame = parseInteger(f[0], path, line, "frame");
+    // The files list frames in time order; a frame that goes back is a file put together wrongly.
+    if (!rows.empty() && r.frame < rows.back().frame)
+      throw ConfigError(path, line, "frame",
+                        "frame " + f[0] + " comes after frame " + std::to_string(rows.back().frame) +
+                            ": frames must not decrease from one row to the next");
     const std::int64_t id = parseInteger(f[1], path, line, "id");
     if (id < 0 || id > 1'000'000'000) throw ConfigError(path, line, "id", "expected an id in [0, 1e9], got " + f[1]);
     r.id = static_cast<int>(id);

@@ -309,6 +309,76 @@
       'and jerk are defined or sampled differently (summary.md says how): compare their orderings, not their values.' }));
   }
 
+  // The people models (docs/people_models.md): how each scores on real pedestrians (hunav_realism's
+  // realism.csv: per data set and split the errors, the speed and nearest-neighbour distributions as
+  // 10-50-90 % bars, overlaps) and whether the paper's planner orderings hold under every model
+  // (model_robustness.csv).
+  function whisker(q10, q50, q90, mean, lo, hi) {
+    var w = 140, h = 14, x = function (v) { return 4 + (Math.min(Math.max(v, lo), hi) - lo) / (hi - lo) * (w - 8); };
+    var svg = document.createElementNS('http://www.w3.org/2000/svg', 'svg');
+    svg.setAttribute('width', w); svg.setAttribute('height', h); svg.setAttribute('class', 'whisker');
+    function add(tag, attrs) {
+      var e = document.createElementNS('http://www.w3.org/2000/svg', tag);
+      Object.keys(attrs).forEach(function (k) { e.setAttribute(k, attrs[k]); });
+      svg.appendChild(e);
+    }
+    if (!HR.isNum(q10) || !HR.isNum(q90)) return svg;
+    add('line', { x1: x(q10), x2: x(q90), y1: h / 2, y2: h / 2, stroke: '#555', 'stroke-width': 2 });
+    add('line', { x1: x(q50), x2: x(q50), y1: 2, y2: h - 2, stroke: '#1f77b4', 'stroke-width': 2 });
+    if (HR.isNum(mean)) add('circle', { cx: x(mean), cy: h / 2, r: 2.5, fill: '#d62728' });
+    return svg;
+  }
+  function peopleModelsSection(d, app) {
+    var realism = d.realism || [], robust = d.robustness || [];
+    if (!realism.length && !robust.length) return;
+    var section = el('section', { class: 'panel', id: 'people-models' }, [el('h2', { text: 'People models' })]);
+    app.appendChild(section);
+    if (robust.length) {
+      var models = d.robustnessModels;
+      var count = {};
+      robust.forEach(function (r) { count[r[r.length - 1]] = (count[r[r.length - 1]] || 0) + 1; });
+      section.appendChild(el('h3', { text: 'Does the human model change the verdict?' }));
+      section.appendChild(el('p', { class: 'caption', 'data-holds': String(count.holds || 0), 'data-flips': String(count.flips || 0),
+        text: 'The paper\'s planner orderings in one batch per people model: ' + (count.holds || 0) + ' hold under every model, ' +
+              (count.fails || 0) + ' fail under every model, ' + (count.flips || 0) + ' flip between models' +
+              (count.paper_tie ? ', ' + count.paper_tie + ' equal in the paper' : '') + (count.missing ? ', ' + count.missing + ' missing' : '') + '.' }));
+      var headers = [{ text: 'scenario', class: 'text' }, { text: 'behavior', class: 'text' }, 'metric', { text: 'a vs b', class: 'text' }, 'paper']
+        .concat(models).concat([{ text: 'verdict', class: 'text' }]);
+      var body = robust.map(function (r) {
+        var verdict = r[r.length - 1];
+        return [{ text: r[0], cls: 'text' }, { text: r[1], cls: 'text' }, r[2], { text: r[3] + ' vs ' + r[4], cls: 'text' }, r[5]]
+          .concat(r.slice(6, 6 + models.length)).concat([{ text: verdict, cls: 'text verdict-' + (verdict === 'holds' ? 'agree' : verdict === 'flips' ? 'disagree' : verdict) }]);
+      });
+      section.appendChild(HR.table(headers, body, { class: 'robustness' }));
+    }
+    if (realism.length) {
+      section.appendChild(el('h3', { text: 'How they walk: real pedestrians (ETH/UCY)' }));
+      var keys = unique(realism.map(function (r) { return r[0] + '\u0000' + r[2]; }));
+      keys.forEach(function (key) {
+        var k = key.split('\u0000');
+        var rows = realism.filter(function (r) { return r[0] === k[0] && r[2] === k[1]; });
+        var speeds = rows.map(function (r) { return r[9]; }).concat([0]), nns = rows.map(function (r) { return r[14]; }).concat([0]);
+        var sMax = Math.max.apply(null, speeds.filter(HR.isNum)) * 1.1 || 1, nMax = Math.max.apply(null, nns.filter(HR.isNum)) * 1.1 || 1;
+        var headers = [{ text: 'method', class: 'text' }, 'ADE [m]', 'FDE [m]', { text: 'speed 10-50-90 % [m/s]', class: 'text' }, 'speed W1',
+                       { text: 'nn distance 10-50-90 % [m]', class: 'text' }, 'nn W1', 'overlaps'];
+        var body = rows.map(function (r) {
+          return [{ text: r[1], cls: 'text mono' }, HR.fmt(r[4], 3), HR.fmt(r[5], 3),
+                  { node: whisker(r[7], r[8], r[9], r[6], 0, sMax), cls: 'text', title: 'mean ' + HR.fmt(r[6], 3) + ', 10/50/90 %: ' + [r[7], r[8], r[9]].map(function (v) { return HR.fmt(v, 3); }).join(' / ') },
+                  HR.fmt(r[10], 3),
+                  { node: whisker(r[12], r[13], r[14], r[11], 0, nMax), cls: 'text', title: 'mean ' + HR.fmt(r[11], 3) + ', 10/50/90 %: ' + [r[12], r[13], r[14]].map(function (v) { return HR.fmt(v, 3); }).join(' / ') },
+                  HR.fmt(r[15], 3), HR.isNum(r[16]) ? (100 * r[16]).toFixed(2) + ' %' : '–'];
+        });
+        section.appendChild(el('h4', { text: k[0] + ', split ' + k[1] + ' (' + rows[0][3] + ' samples)' }));
+        section.appendChild(HR.table(headers, body, { class: 'realism', 'data-data': k[0], 'data-split': k[1] }));
+      });
+      section.appendChild(el('p', { class: 'caption', text: 'From ' + d.realismFile + ' (hunav_realism, realism/README.md): every person ' +
+        'seen in 20 frames, 8 observed and 12 predicted among the others as recorded. M: goal extrapolated; M_goal: the recorded ' +
+        'final position is the goal (as in a scenario); _alone: without the others; split test: parameters fitted on the other ' +
+        'scenes. Bars: 10-90 % of the predicted frames, blue the median, red the mean; W1: distance to the data\'s distribution; ' +
+        'overlaps: share of frames within 0.3 m of a recorded person.' }));
+    }
+  }
+
   function runsTable(d, app) {
     var section = el('section', { class: 'panel', id: 'runs' }, [el('h2', { text: 'All runs' })]);
     app.appendChild(section);
@@ -331,6 +401,7 @@
   HR.start(function (d, app) {
     var scenarios = header(d, app);
     scenarios.forEach(function (s) { scenarioSection(d, app, s); });
+    peopleModelsSection(d, app);
     runsTable(d, app);
     app.appendChild(el('footer', { text: 'Written by hunav_report (HuNav-LCM) from ' + d.path + '. Self-contained: open it from disk, no network needed.' }));
   });

@@ -213,6 +213,56 @@ void readExpectations(BatchData& data) {
   }
 }
 
+// The file in the batch folder, else in the folder above it (a model's batch of model_robustness.sh);
+// empty when neither has it.
+fs::path besideOrAbove(const fs::path& dir, const std::string& name) {
+  std::error_code ec;
+  for (const fs::path& at : {dir, fs::absolute(dir, ec).parent_path()})
+    if (fs::is_regular_file(at / name, ec)) return at / name;
+  return {};
+}
+
+// Optional: hunav_realism's table of the people models (realism/README.md).
+void readRealism(BatchData& data) {
+  data.realism_file = besideOrAbove(data.dir, "realism.csv");
+  if (data.realism_file.empty()) return;
+  const CsvTable t = CsvTable::read(data.realism_file);
+  t.requireLeadingColumns({"data", "method", "split", "samples", "ade_m", "fde_m", "speed_mean", "speed_q10",
+                           "speed_q50", "speed_q90", "speed_w1_to_data", "nn_mean", "nn_q10", "nn_q50", "nn_q90",
+                           "nn_w1_to_data", "overlap_rate"});
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    RealismRow row;
+    row.data = t.text(r, 0);
+    row.method = t.text(r, 1);
+    row.split = t.text(r, 2);
+    row.samples = t.integer(r, 3);
+    for (int c = 4; c <= 16; ++c) {
+      double v = kNaN;
+      if (!parseOptionalNumber(t.text(r, c), v))
+        t.fail(r, t.header()[static_cast<std::size_t>(c)], "expected a number");
+      row.values.push_back(v);
+    }
+    data.realism.push_back(std::move(row));
+  }
+}
+
+// Optional: hunav_summary --models' comparison of the paper's orderings across people models.
+void readRobustness(BatchData& data) {
+  data.robustness_file = besideOrAbove(data.dir, "model_robustness.csv");
+  if (data.robustness_file.empty()) return;
+  const CsvTable t = CsvTable::read(data.robustness_file);
+  t.requireLeadingColumns({"scenario", "behavior", "metric", "planner_a", "planner_b", "paper"});
+  const auto& header = t.header();
+  if (header.size() < 8 || header.back() != "verdict")
+    throw ConfigError(data.robustness_file.string(), 1, "verdict", "expected a model column or more, then verdict");
+  data.robustness_models.assign(header.begin() + 6, header.end() - 1);
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    requireOneOf(t, r, static_cast<int>(header.size()) - 1, t.row(r).back(),
+                 {"holds", "fails", "flips", "paper_tie", "missing"});
+    data.robustness.push_back(t.row(r));
+  }
+}
+
 }  // namespace
 
 bool parseOptionalNumber(const std::string& text, double& value) {
@@ -242,6 +292,8 @@ BatchData loadBatchData(const fs::path& dir) {
   readPaired(data);
   readPaper(data);
   readExpectations(data);
+  readRealism(data);
+  readRobustness(data);
   data.has_summary_md = fs::is_regular_file(dir / "summary.md", ec);
   return data;
 }

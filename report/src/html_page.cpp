@@ -300,6 +300,19 @@ void addBatchPaper(Json& j, const BatchData& d) {
         {o.scenario, o.behavior, o.metric, o.planner_a, o.planner_b, o.paper, o.ours, o.verdict, o.significant});
 }
 
+// The people models: hunav_realism's rows and the robustness of the paper's orderings across models.
+void addBatchPeopleModels(Json& j, const BatchData& d) {
+  Json& realism = j["realism"] = Json::array();
+  for (const auto& r : d.realism) {
+    Json row = {r.data, r.method, r.split, r.samples};
+    for (const double v : r.values) row.push_back(significant(v, kBatchDigits));
+    realism.push_back(std::move(row));
+  }
+  j["realismFile"] = d.realism_file.string();
+  j["robustnessModels"] = d.robustness_models;
+  j["robustness"] = d.robustness;
+}
+
 Json batchExpectationsJson(const BatchData& d) {
   Json expectations = Json::array();
   for (const auto& e : d.expectations)
@@ -320,6 +333,7 @@ std::string batchPageJson(const BatchData& d) {
   addBatchStatistics(j, d);
   addBatchPaper(j, d);
   j["expectations"] = batchExpectationsJson(d);
+  addBatchPeopleModels(j, d);
   j["summaryMd"] = d.has_summary_md ? "summary.md" : "";
   j["notes"] = d.notes;
   return scriptJson(j);

@@ -15,8 +15,8 @@ namespace hunav::results {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& metricsCsvProvenanceColumns() {
-  static const std::vector<std::string> columns = {"experiment_tag", "run_id", "scenario",
-                                                   "planner",        "seed",   "profile"};
+  static const std::vector<std::string> columns = {"experiment_tag", "run_id",  "scenario",    "planner",
+                                                   "seed",           "profile", "people_model"};
   return columns;
 }
 
@@ -31,7 +31,7 @@ std::string safeFileName(const std::string& s) {
 }
 
 std::string metricsCsvHeader(const std::vector<std::string>& metric_names) {
-  std::string h = "experiment_tag,run_id,scenario,planner,seed,profile";
+  std::string h = "experiment_tag,run_id,scenario,planner,seed,profile,people_model";
   for (const auto& n : metric_names) h += "," + n;
   return h;
 }
@@ -79,7 +79,8 @@ std::string firstLine(const fs::path& file) {
 
 std::string metricsRow(const RunInfo& info, const std::vector<MetricValue>& metrics) {
   std::string row = csvField(info.experiment_tag) + "," + csvField(info.run_id) + "," + csvField(info.scenario) + "," +
-                    csvField(info.planner) + "," + std::to_string(info.seed) + "," + csvField(info.profile);
+                    csvField(info.planner) + "," + std::to_string(info.seed) + "," + csvField(info.profile) + "," +
+                    csvField(info.people_model);
   for (const auto& m : metrics) row += "," + formatMetricValue(m);
   return row + "\n";
 }
@@ -119,21 +120,26 @@ fs::path appendMetricsRow(const fs::path& file, const RunInfo& info, const std::
 
 MetricsCsv MetricsCsv::read(const fs::path& file) {
   CsvTable table = CsvTable::read(file);
-  table.requireLeadingColumns(metricsCsvProvenanceColumns());
-  return MetricsCsv(std::move(table));
+  // Files written before the people model was recorded end their provenance at `profile` (their
+  // people walked with HuNavSim's model).
+  const auto& columns = metricsCsvProvenanceColumns();
+  const bool with_model =
+      table.header().size() >= columns.size() && table.header()[columns.size() - 1] == columns.back();
+  table.requireLeadingColumns(with_model ? columns : std::vector<std::string>(columns.begin(), columns.end() - 1));
+  const std::size_t first_metric = with_model ? columns.size() : columns.size() - 1;
+  return MetricsCsv(std::move(table), first_metric);
 }
 
 std::vector<std::string> MetricsCsv::metricNames() const {
   const auto& header = table_.header();
-  return {header.begin() + static_cast<std::ptrdiff_t>(metricsCsvProvenanceColumns().size()), header.end()};
+  return {header.begin() + static_cast<std::ptrdiff_t>(first_metric_), header.end()};
 }
 
 MetricsRow MetricsCsv::rowAt(std::size_t r) const {
-  // Columns 1 and 5 of metricsCsvProvenanceColumns().
-  MetricsRow row{table_.text(r, 1), table_.text(r, 5), {}};
+  // Columns 1, 5 and 6 of metricsCsvProvenanceColumns().
+  MetricsRow row{table_.text(r, 1), table_.text(r, 5), first_metric_ > 6 ? table_.text(r, 6) : "sfm", {}};
   const auto& header = table_.header();
-  for (std::size_t c = metricsCsvProvenanceColumns().size(); c < header.size(); ++c)
-    row.values[header[c]] = table_.row(r)[c];
+  for (std::size_t c = first_metric_; c < header.size(); ++c) row.values[header[c]] = table_.row(r)[c];
   return row;
 }
 

@@ -36,6 +36,7 @@ nlohmann::ordered_json runInfoJson(const RunInfo& info) {
   j["scenario"] = info.scenario;
   j["scenario_file"] = info.scenario_file;
   j["planner"] = info.planner;
+  j["people_model"] = info.people_model;
   j["seed"] = info.seed;
   j["mode"] = info.mode;
   j["episode"] = info.episode;
@@ -82,6 +83,7 @@ RunInfo readRunJson(const fs::path& file) {
   text("scenario", info.scenario);
   text("scenario_file", info.scenario_file);
   text("planner", info.planner);
+  text("people_model", info.people_model);  // absent before people models could be chosen: sfm
   integer("seed", info.seed);
   text("mode", info.mode);
   integer("episode", info.episode);

@@ -16,6 +16,7 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   e.out_dir = options.out_dir;
   e.profile = options.profile;
   e.experiment_tag = options.experiment_tag;
+  e.people_model = peopleModelLabel(scenario);
   e.episodes = 1;
   e.sample_rate = scenario.evaluation_sample_rate;
   e.metrics_file = options.metrics_file.empty() ? scenario.evaluation_metrics : options.metrics_file;

@@ -410,3 +410,45 @@ TEST(Scenario, MapServerMapKeepsEachCellsOccupancy) {
   }
   EXPECT_NEAR(area, occupied * 0.05 * 0.05, 1e-6);
 }
+
+TEST(Scenario, PeopleModelChoices) {
+  // docs/people_models.md: people.model for everybody, people_model per agents entry (a name or a file
+  // relative to the file naming it), --people-model over both; the label runs record.
+  const std::string agents =
+      "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1, a2]\n"
+      "      a1: {id: 1, init_pose: {x: 1, y: 1}}\n"
+      "      a2: {id: 2, init_pose: {x: 2, y: 1}, people_model: my_ttc.yaml}\n";
+  writeFile("my_ttc.yaml", "model: ttc\nk: 0.5\n");
+  const Scenario s =
+      loadScenario(writeFile("people_models.yaml", std::string(kMinimal) + agents + "  model: orca_calibrated\n"));
+  EXPECT_EQ(s.people_model.model.kind, MotionModelKind::Orca);
+  EXPECT_EQ(s.people_model.model.name, "orca_calibrated");
+  ASSERT_EQ(s.agents.size(), 2u);
+  EXPECT_FALSE(s.agents[0].people_model.has_value());
+  ASSERT_TRUE(s.agents[1].people_model.has_value());
+  EXPECT_EQ(s.agents[1].people_model->kind, MotionModelKind::Ttc);
+  EXPECT_EQ(s.agents[1].people_model->ttc.k, 0.5);
+  EXPECT_EQ(peopleModelLabel(s), "mixed:my_ttc.yaml+orca_calibrated");
+  // The default: HuNavSim's model, recorded as sfm.
+  const Scenario d = loadScenario(writeFile("people_default_model.yaml", std::string(kMinimal) + agents));
+  EXPECT_TRUE(d.people_model.model.isHunavDefault());
+  // --people-model: everybody, the agents' own choices dropped.
+  Scenario o = s;
+  overridePeopleModel(o, "ttc");
+  EXPECT_EQ(peopleModelLabel(o), "ttc");
+  EXPECT_FALSE(o.agents[1].people_model.has_value());
+  try {
+    overridePeopleModel(o, "walker");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "--people-model");
+  }
+  // A bad name or file: file:line: key.
+  const std::string base = std::string(kMinimal) + agents;
+  expectError("people_bad_model.yaml", base + "  model: walker\n", 16, "people.model");
+  expectError("people_bad_agent_model.yaml",
+              std::string(kMinimal) +
+                  "people:\n  hunav_loader:\n    ros__parameters:\n      agents: [a1]\n"
+                  "      a1: {id: 1, init_pose: {x: 1, y: 1}, people_model: nowhere.yaml}\n",
+              14, "people.hunav_loader.ros__parameters.a1.people_model");
+}

@@ -93,6 +93,16 @@ TEST(RealismErrors, ByHand) {
   EXPECT_NEAR(fde(cv, turn), 6.0, 1e-12);
 }
 
+// A method of `family` (sfm: HuNavSim's) toward `goal`, with or without the others.
+Method methodOf(const std::string& family, GoalMode goal, bool interaction = true) {
+  Method m;
+  m.name = family;
+  m.model = motionModelByName(family);
+  m.goal = goal;
+  m.interaction = interaction;
+  return m;
+}
+
 TEST(RealismErrors, LoneStraightWalkerFollowsItsLine) {
   // Desired speed = mean observed speed = 3.5 m / 2.8 s = 1.25 m/s = its velocity, and the goal lies
   // ahead on its line: the desired force 2 (1.25 e - v) / 0.5 is zero up to rounding, nobody pushes
@@ -103,21 +113,32 @@ TEST(RealismErrors, LoneStraightWalkerFollowsItsLine) {
   for (int k = 0; k < kWindow; ++k) d.frames[k][s.id] = s.truth[k];
   Sample at = s;
   at.first_frame = 0;
-  ModelParams p;
-  EXPECT_NEAR(desiredSpeedOf(at, 0.4, p), 1.25, 1e-12);
-  EXPECT_LT(ade(predictSocialForce(d, at, p, GoalMode::Extrapolated), at), 1e-9);
-  // Its oracle goal, truth[19] = (9.5, 1), is 6 m ahead on the same line, reached at the last frame.
-  EXPECT_LT(fde(predictSocialForce(d, at, p, GoalMode::Oracle), at), 0.1);
+  const Protocol p;
+  EXPECT_NEAR(desiredSpeedOf(at, 0.4, p, motionModelByName("sfm")), 1.25, 1e-12);
+  MotionModel faster = motionModelByName("orca");
+  faster.desired_speed_factor = 1.2;  // 1.25 * 1.2
+  EXPECT_NEAR(desiredSpeedOf(at, 0.4, p, faster), 1.5, 1e-12);
+  EXPECT_LT(ade(predict(d, at, methodOf("sfm", GoalMode::Extrapolated), p), at), 1e-9);
+  // Its recorded goal, truth[19] = (9.5, 1), is 6 m ahead on the same line, reached at the last frame:
+  // every model walks the line (ORCA and TTC too: nobody else is there).
+  for (const char* family : {"sfm", "orca", "ttc"})
+    EXPECT_LT(fde(predict(d, at, methodOf(family, GoalMode::Recorded), p), at), 0.1) << family;
   // Extrapolated goal: truth[7] + 1.25 m/s * 2 horizons * 4.8 s = (3.5 + 12, 1).
   const Vec2 g = goalOf(at, 0.4, p, GoalMode::Extrapolated);
   EXPECT_NEAR(g.x(), 15.5, 1e-12);
   EXPECT_NEAR(g.y(), 1.0, 1e-12);
+  EXPECT_EQ(goalOf(at, 0.4, p, GoalMode::Recorded), Vec2(9.5, 1.0));
 
-  // A person walking head-on at it one metre ahead deflects it, unless the social weight is zero.
+  // A person walking head-on at it one metre ahead deflects it, in every model, unless it walks alone
+  // (the _alone columns) or the social weight is zero.
   for (int k = 0; k < kWindow; ++k) d.frames[k][99] = Vec2(8.0 - 0.5 * (k - 7), 1.0);
-  EXPECT_GT(ade(predictSocialForce(d, at, p, GoalMode::Extrapolated), at), 0.05);
-  p.social_weight = 0.0;
-  EXPECT_LT(ade(predictSocialForce(d, at, p, GoalMode::Extrapolated), at), 1e-9);
+  for (const char* family : {"sfm", "orca", "ttc"}) {
+    EXPECT_GT(ade(predict(d, at, methodOf(family, GoalMode::Recorded), p), at), 0.02) << family;
+    EXPECT_LT(ade(predict(d, at, methodOf(family, GoalMode::Recorded, false), p), at), 0.05) << family;
+  }
+  Method quiet = methodOf("sfm", GoalMode::Extrapolated);
+  quiet.model.sfm.social_weight = 0.0;
+  EXPECT_LT(ade(predict(d, at, quiet, p), at), 1e-9);
 }
 
 TEST(RealismStatistics, QuantilesAndWassersteinByHand) {
@@ -169,6 +190,8 @@ TEST(RealismTracks, MalformedRowsNameFileLineAndKey) {
       {"0.5 1 2.0 3.0\n", 1, "frame"},
       {"0 1.5 2.0 3.0\n", 1, "id"},
       {"0 1 2.0 3.0\n0 1 2.5 3.0\n", 2, "id"},
+      {"0 1 2.0 3.0\n10 1 2.5 3.0\n0 2 2.5 3.0\n", 3, "frame"},  // frames go back
+      {"0 1 2.0 inf\n", 1, "y"},
   };
   for (std::size_t i = 0; i < std::size(cases); ++i) {
     const std::string path = writeFile(dir / ("bad" + std::to_string(i) + ".txt"), cases[i].text);
@@ -215,20 +238,28 @@ TEST(RealismTracks, WindowsAreTwentyConsecutiveFrames) {
 
 TEST(RealismParams, YamlFileAndErrors) {
   const fs::path dir = hunav::testing::testDir().subdir("params");
-  const ModelParams p =
-      readParams(writeFile(dir / "ok.yaml", "goal_weight: 1.5\nsocial_weight: 2.1\ndesired_speed: 1.0\n"), {});
-  EXPECT_EQ(p.goal_weight, 1.5);
-  EXPECT_EQ(p.social_weight, 2.1);
+  Protocol p;
+  SfmParams sfm;
+  readProtocol(writeFile(dir / "ok.yaml", "goal_weight: 1.5\nsocial_weight: 2.1\ndesired_speed: 1.0\n"), p, sfm);
+  EXPECT_EQ(sfm.goal_weight, 1.5);
+  EXPECT_EQ(sfm.social_weight, 2.1);
   EXPECT_EQ(p.desired_speed, 1.0);
-  EXPECT_EQ(p.obstacle_weight, 10.0);  // not in the file: the default
+  EXPECT_EQ(sfm.obstacle_weight, 10.0);  // not in the file: the default
+  EXPECT_EQ(p.overlap_distance, 0.3);
   try {
-    readParams(writeFile(dir / "bad.yaml", "goal_weight: 1.5\nsocial_wieght: 2\n"), {});
+    readProtocol(writeFile(dir / "bad.yaml", "goal_weight: 1.5\nsocial_wieght: 2\n"), p, sfm);
     ADD_FAILURE() << "unknown key read";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.line(), 2);
     EXPECT_EQ(e.key(), "social_wieght");
   }
-  EXPECT_THROW(readParams(writeFile(dir / "neg.yaml", "radius: -1\n"), {}), ConfigError);
+  try {
+    readProtocol(writeFile(dir / "neg.yaml", "dt: 0.01\nradius: -1\n"), p, sfm);
+    ADD_FAILURE() << "negative radius read";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.key(), "radius");
+  }
 }
 
 // The protocol recomputed here from the raw file with the common social force functions (not the
@@ -243,7 +274,7 @@ TEST(RealismRun, BinaryOnTheRealSliceMatchesAnIndependentRecomputation) {
   const double T = 0.4;
   SfmParams sp;  // goal 2, obstacle 10, social 5
   std::size_t n = 0;
-  double cv_ade = 0, cv_fde = 0, sfm_ade = 0, sfm_fde = 0, speed_sum = 0;
+  double cv_ade = 0, cv_fde = 0, sfm_ade = 0, sfm_fde = 0, alone_ade = 0, speed_sum = 0;
   std::size_t speed_n = 0;
   for (const auto& [f0, people] : frames)
     for (const auto& [id, p0] : people) {
@@ -257,14 +288,14 @@ TEST(RealismRun, BinaryOnTheRealSliceMatchesAnIndependentRecomputation) {
       for (int k = 1; k < 8; ++k) path += (tr[k] - tr[k - 1]).norm();
       const double v0 = path / (7 * T);
       const Vec2 goal = tr[7] + v * (2 * 12 * T);
-      SfmBody me;
-      me.position = tr[7];
-      me.velocity = v;
-      double yaw = std::atan2(v.y(), v.x());
-      double e_cv = 0, e_sfm = 0;
+      SfmBody me, alone;
+      me.position = alone.position = tr[7];
+      me.velocity = alone.velocity = v;
+      double yaw = std::atan2(v.y(), v.x()), alone_yaw = yaw;
+      double e_cv = 0, e_sfm = 0, e_alone = 0;
       for (int k = 8; k < 20; ++k) {
-        for (int i = 0; i < 40; ++i) {  // 0.4 s in steps of 0.01 s
-          Vec2 force = desiredForce(me, &goal, 0.3, v0, sp);
+        for (int i = 0; i < 40; ++i) {                        // 0.4 s in steps of 0.01 s
+          Vec2 force = desiredForce(me, &goal, 0.0, v0, sp);  // the protocol's goal radius: 0
           for (const auto& [oid, a] : frames.at(f0 + k - 1)) {
             if (oid == id || !frames.at(f0 + k).count(oid)) continue;
             SfmBody o;
@@ -276,11 +307,18 @@ TEST(RealismRun, BinaryOnTheRealSliceMatchesAnIndependentRecomputation) {
           me.position = m.position;
           me.velocity = m.velocity;
           yaw = m.yaw;
+          // sfm_goal_alone: toward the recorded final position, nobody else.
+          const SfmMotion a =
+              integrate(alone.position, alone.velocity, alone_yaw, desiredForce(alone, &tr[19], 0.0, v0, sp), v0, 0.01);
+          alone.position = a.position;
+          alone.velocity = a.velocity;
+          alone_yaw = a.yaw;
         }
         const double ec = (tr[7] + (k - 7) * (tr[7] - tr[6]) - tr[k]).norm();
         const double es = (me.position - tr[k]).norm();
         e_cv += ec / 12;
         e_sfm += es / 12;
+        e_alone += (alone.position - tr[k]).norm() / 12;
         if (k == 19) {
           cv_fde += ec;
           sfm_fde += es;
@@ -290,38 +328,42 @@ TEST(RealismRun, BinaryOnTheRealSliceMatchesAnIndependentRecomputation) {
       }
       cv_ade += e_cv;
       sfm_ade += e_sfm;
+      alone_ade += e_alone;
     }
   ASSERT_GT(n, 50u);
 
   const fs::path out = hunav::testing::testDir().subdir("run");
-  const BinaryRun r = runBinary(kSlice + " --out " + out.string());
+  const BinaryRun r = runBinary(kSlice + " --out " + out.string() + " --split all --models sfm --no-groups");
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream csv(out / "realism.csv");
   std::string line;
   std::getline(csv, line);
+  EXPECT_EQ(line.rfind("data,method,split,samples,ade_m,fde_m,", 0), 0u) << line;
   std::map<std::string, std::vector<std::string>> rows;  // method -> fields
   while (std::getline(csv, line)) {
     std::vector<std::string> f;
     std::stringstream ss(line);
     for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    if (line.back() == ',') f.push_back("");
-    ASSERT_EQ(f.size(), 17u) << line;
-    rows[f[4]] = f;
+    ASSERT_EQ(f.size(), 19u) << line;
+    EXPECT_EQ(f[2], "all");
+    rows[f[1]] = f;
   }
-  ASSERT_EQ(rows.size(), 4u);  // data, cv, sfm, sfm_oracle
+  ASSERT_EQ(rows.size(), 5u);  // data, cv, sfm, sfm_goal, sfm_goal_alone
   EXPECT_EQ(rows["cv"][0], "Zara1");
   EXPECT_EQ(std::stoul(rows["cv"][3]), n);
-  EXPECT_NEAR(std::stod(rows["cv"][5]), cv_ade / n, 2e-6);
-  EXPECT_NEAR(std::stod(rows["cv"][6]), cv_fde / n, 2e-6);
-  EXPECT_NEAR(std::stod(rows["sfm"][5]), sfm_ade / n, 2e-6);
-  EXPECT_NEAR(std::stod(rows["sfm"][6]), sfm_fde / n, 2e-6);
-  EXPECT_NEAR(std::stod(rows["data"][7]), speed_sum / speed_n, 2e-6);
+  EXPECT_NEAR(std::stod(rows["cv"][4]), cv_ade / n, 2e-6);
+  EXPECT_NEAR(std::stod(rows["cv"][5]), cv_fde / n, 2e-6);
+  EXPECT_NEAR(std::stod(rows["sfm"][4]), sfm_ade / n, 2e-6);
+  EXPECT_NEAR(std::stod(rows["sfm"][5]), sfm_fde / n, 2e-6);
+  EXPECT_NEAR(std::stod(rows["sfm_goal_alone"][4]), alone_ade / n, 2e-6);
+  EXPECT_EQ(rows["data"][4], "");  // the data has no errors
+  EXPECT_NEAR(std::stod(rows["data"][6]), speed_sum / speed_n, 2e-6);
 
   std::ifstream page(out / "realism.html");
   const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_EQ(html.find("<script"), std::string::npos);  // self-contained, no JavaScript
-  EXPECT_TRUE(fs::exists(out / "Zara1_samples.csv"));
+  EXPECT_TRUE(fs::exists(out / "Zara1_all_samples.csv"));
 }
 
 TEST(RealismRun, BadInputExitsTwoNamingFileAndLine) {

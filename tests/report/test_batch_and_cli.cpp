@@ -337,3 +337,34 @@ TEST(Cli, BatchWithABrokenRunStillWritesTheBatchPage) {
   EXPECT_NE(r.output.find("run.json"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::is_regular_file(dir / "report.html"));
 }
+
+TEST(BatchData, PeopleModelsBesideOrAboveTheBatch) {
+  // model_robustness.sh's layout: OUT/<model>/ a batch each, OUT/model_robustness.csv and
+  // OUT/realism.csv beside them; the batch page of OUT/orca shows both.
+  const fs::path out = testDir().subdir("models");
+  const fs::path batch = writeTinyBatch(out / "orca");
+  writeFile(out / "model_robustness.csv",
+            "scenario,behavior,metric,planner_a,planner_b,paper,sfm,orca,verdict\n"
+            "tiny,all,time_to_reach_goal,dwb,sfw,<,<,>,flips\n");
+  writeFile(out / "realism.csv",
+            "data,method,split,samples,ade_m,fde_m,speed_mean,speed_q10,speed_q50,speed_q90,speed_w1_to_data,nn_mean,"
+            "nn_q10,nn_q50,nn_q90,nn_w1_to_data,overlap_rate,file,frame_interval_s\n"
+            "Hotel,data,all,1197,,,0.457,0.1,0.4,0.9,0,1.594,0.5,1.2,3,0,0.001,h.txt,0.4\n"
+            "Hotel,orca_goal,all,1197,0.185,0.279,0.4,0.1,0.4,0.8,0.073,1.6,0.6,1.3,3.1,0.044,0,h.txt,0.4\n");
+  const BatchData d = loadBatchData(batch);
+  EXPECT_EQ(d.robustness_models, (std::vector<std::string>{"sfm", "orca"}));
+  ASSERT_EQ(d.robustness.size(), 1u);
+  EXPECT_EQ(d.robustness[0].back(), "flips");
+  ASSERT_EQ(d.realism.size(), 2u);
+  EXPECT_EQ(d.realism[1].method, "orca_goal");
+  EXPECT_DOUBLE_EQ(d.realism[1].values[0], 0.185);
+  EXPECT_TRUE(std::isnan(d.realism[0].values[0]));  // the data's own row has no error
+  EXPECT_DOUBLE_EQ(d.realism[1].values[12], 0.0);   // overlaps
+  const std::string page = renderBatchPage(d);
+  EXPECT_NE(page.find("\"robustnessModels\":[\"sfm\",\"orca\"]"), std::string::npos);
+  EXPECT_NE(page.find("orca_goal"), std::string::npos);
+  // A malformed table is an error naming it.
+  writeFile(out / "model_robustness.csv",
+            "scenario,behavior,metric,planner_a,planner_b,paper,sfm,verdict\nx,all,m,a,b,<,<,maybe\n");
+  EXPECT_THROW(loadBatchData(batch), hunav::ConfigError);
+}

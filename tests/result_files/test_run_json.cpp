@@ -54,9 +54,10 @@ TEST(Results, MetricsRowsShareOneHeaderAndAnotherHeaderGetsItsOwnFile) {
   info.run_id = "r2";
   EXPECT_EQ(appendMetricsRow(dir / "metrics.csv", info, twoMetrics()), dir / "metrics.csv");
   EXPECT_EQ(readLines(dir / "metrics.csv"),
-            (std::vector<std::string>{"experiment_tag,run_id,scenario,planner,seed,profile,path_length,completed",
-                                      "\"exp,1\",r1,passing,dwb,3,default,0.30000000000000004,true",
-                                      "\"exp,1\",r2,passing,dwb,3,default,0.30000000000000004,true"}));
+            (std::vector<std::string>{
+                "experiment_tag,run_id,scenario,planner,seed,profile,people_model,path_length,completed",
+                "\"exp,1\",r1,passing,dwb,3,default,sfm,0.30000000000000004,true",
+                "\"exp,1\",r2,passing,dwb,3,default,sfm,0.30000000000000004,true"}));
   // Another metric set must not be appended under this header: it goes beside, with its own.
   info.run_id = "r3";
   const auto other = appendMetricsRow(dir / "metrics.csv", info, {twoMetrics()[1]});
@@ -138,6 +139,7 @@ TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
   info.scenario = "passing";
   info.scenario_file = "scenarios/passing.yaml";
   info.planner = "dwb";
+  info.people_model = "orca_calibrated";
   info.seed = 7;
   info.mode = "lockstep";
   info.episode = 2;
@@ -202,6 +204,7 @@ TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
             "}\n");
   EXPECT_EQ(back.manager_dropped_messages, -1);
   EXPECT_EQ(back.git_commit, "abc-dirty");
+  EXPECT_EQ(back.people_model, "orca_calibrated");
   // The metrics read back as the text they were written with, in file order.
   const auto values = readRunJsonMetrics(dir / "a.json");
   ASSERT_EQ(values.size(), 3u);
@@ -287,7 +290,17 @@ TEST(Results, MetricsCsvReadsTheRowsOfARun) {
   EXPECT_EQ(csv.lastRow()->values.at("path_length"), "2.5");
   EXPECT_EQ(csv.lastRowOf("a,1")->values.at("path_length"), "0.30000000000000004");
   EXPECT_EQ(csv.lastRowOf("a,1")->profile, "default");
+  EXPECT_EQ(csv.lastRowOf("a,1")->people_model, "sfm");
   EXPECT_FALSE(csv.lastRowOf("c").has_value());
+  // A file written before the people model was recorded: its metrics start after profile, and its
+  // people walked with HuNavSim's model.
+  writeFile(dir / "old.csv",
+            "experiment_tag,run_id,scenario,planner,seed,profile,path_length,completed\nexp,r,passing,dwb,1,default,"
+            "14.5,true\n");
+  const MetricsCsv old = MetricsCsv::read(dir / "old.csv");
+  EXPECT_EQ(old.metricNames(), (std::vector<std::string>{"path_length", "completed"}));
+  EXPECT_EQ(old.lastRow()->people_model, "sfm");
+  EXPECT_EQ(old.lastRow()->values.at("path_length"), "14.5");
   // A file that is not a metrics file: the column named.
   writeFile(dir / "other.csv", "run_id,experiment_tag\nx,y\n");
   EXPECT_EQ(configErrorOf([&] {

@@ -240,6 +240,12 @@ AgentConfig readListedAgent(const YamlReader& yr, const YAML::Node& params, cons
     yr.fail(m["goal_radius"], YamlReader::join(aw, "goal_radius"), "must be in [0, 1e5] m");
   a.cyclic_goals = yr.get<bool>(m, "cyclic_goals", aw, true);
   a.behavior_tree = readTreePath(yr, m, aw, a.behavior_tree_line);
+  if (const YAML::Node model = yr.child(m, "people_model", aw, false)) {
+    const std::string key = YamlReader::join(aw, "people_model");
+    a.people_model =
+        resolveMotionModel(yr.convert<std::string>(model, key), std::filesystem::path(yr.path()).parent_path().string(),
+                           yr.path(), YamlReader::lineOf(model), key);
+  }
 
   const YAML::Node pose = yr.child(m, "init_pose", aw, true);
   const std::string posew = YamlReader::join(aw, "init_pose");

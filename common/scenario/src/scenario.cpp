@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <system_error>
 #include <utility>
 
@@ -591,6 +592,10 @@ void readPeopleModel(const YamlReader& yr, const YAML::Node& people, PeopleModel
   m.force_tolerance = yr.get<double>(people, "force_tolerance", "people", m.force_tolerance);
   if (!(m.force_tolerance >= 0.0 && m.force_tolerance <= 0.01))
     yr.fail(people["force_tolerance"], "people.force_tolerance", "must be in [0, 0.01]");
+  if (const YAML::Node model = yr.child(people, "model", "people", false))
+    m.model = resolveMotionModel(yr.convert<std::string>(model, "people.model"),
+                                 std::filesystem::path(yr.path()).parent_path().string(), yr.path(),
+                                 YamlReader::lineOf(model), "people.model");
 }
 
 // `expect:` (scenarios/README.md): metric name -> a number or true/false (equality) or {min, max}, and
@@ -760,6 +765,22 @@ void checkStartsAndIds(const YamlReader& yr, const YAML::Node& root, const std::
 }
 
 }  // namespace
+
+void overridePeopleModel(Scenario& s, const std::string& name_or_file) {
+  s.people_model.model = resolveMotionModel(name_or_file, "", "", 0, "--people-model");
+  for (AgentConfig& a : s.agents) a.people_model.reset();
+}
+
+std::string peopleModelLabel(const Scenario& s) {
+  std::set<std::string> names;
+  for (const AgentConfig& a : s.agents) names.insert(a.people_model ? a.people_model->name : s.people_model.model.name);
+  if (names.empty()) names.insert(s.people_model.model.name);
+  std::string label;
+  for (const std::string& n : names) label += (label.empty() ? "" : "+") + n;
+  for (char& c : label)
+    if (c == ',' || c == '\n' || c == '"') c = ';';  // a CSV field of its own
+  return names.size() == 1 ? label : "mixed:" + label;
+}
 
 Scenario loadScenario(const std::string& path, long long seed_override) {
   YamlReader yr(path);

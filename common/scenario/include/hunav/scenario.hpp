@@ -9,6 +9,7 @@
 
 #include "hunav/bounds.hpp"  // the bounds the loader enforces (kMaxCoordinate, ...)
 #include "hunav/geometry.hpp"
+#include "hunav/motion_model.hpp"
 
 namespace hunav {
 
@@ -34,8 +35,9 @@ struct AgentConfig {
   int skin = 0;
   int behavior = 1;
   BehaviorParams params;
-  std::string behavior_tree;   // empty = built-in tree of the behavior; else a path to open
-  int behavior_tree_line = 0;  // of the behavior_tree key, for error messages (0: unknown)
+  std::optional<MotionModel> people_model;  // its own people model (`people_model:`); none: the scenario's
+  std::string behavior_tree;                // empty = built-in tree of the behavior; else a path to open
+  int behavior_tree_line = 0;               // of the behavior_tree key, for error messages (0: unknown)
   int group_id = -1;
   double max_vel = 1.0;  // m/s, desired speed
   double radius = 0.35;  // m
@@ -114,6 +116,7 @@ struct PeopleModel {
   // Pairs of people whose social force is certainly below this fraction of the largest one pair
   // exerts are skipped (0: every pair within the cut-off; manager/README.md, "Crowds").
   double force_tolerance = 0.0;
+  MotionModel model;  // `people.model`: how everybody walks (default HuNavSim's SFM, `sfm`)
 };
 
 // One condition of the scenario's `expect:` block (scenarios/README.md; docs/metrics.md,
@@ -203,6 +206,13 @@ struct OccupancyMapFrame {
   Vec2 origin = Vec2::Zero();
   double yaw = 0.0;  // rad
 };
+// Every person walks with this people model (a preset name, or a parameter file relative to the
+// working directory), whatever the scenario and its agents say: --people-model of hunav_run,
+// hunav_manager and the scripts. Throws ConfigError naming "--people-model".
+void overridePeopleModel(Scenario& s, const std::string& name_or_file);
+// The people model a run records (run.json, metrics.csv, the summary): its name (or file) when every
+// person walks with the same one, else "mixed:" and the names joined by '+' (in name order).
+std::string peopleModelLabel(const Scenario& s);
 
 // Reads a ROS map_server map (`.yaml` with image, resolution, origin, negate, occupied_thresh,
 // free_thresh, mode + a PGM image, P5 or P2, relative to the yaml) and returns its occupied cells merged

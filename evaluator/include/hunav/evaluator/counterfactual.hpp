@@ -57,9 +57,10 @@ using RobotFreeRun = std::function<Recording(const RunInfo& info, const std::vec
 // A RobotFreeRun done by another program, for an evaluator process with no simulator of its own
 // (hunav_evaluator --counterfactual): runs `program` --scenario `scenario_file` --seed <the run's>
 // --robot-free-of <the run's states.csv> --robot-free-out <a file beside it> (hunav_run: runner's
-// writeRobotFreeStates) and reads that states.csv back. Throws std::runtime_error when the program
+// writeRobotFreeStates; with --people-model `people_model` when it is not empty) and reads that
+// states.csv back. Throws std::runtime_error when the program
 // cannot start, fails, or writes other sample times.
-RobotFreeRun robotFreeRunByProgram(std::string program, std::string scenario_file);
+RobotFreeRun robotFreeRunByProgram(std::string program, std::string scenario_file, std::string people_model = "");
 
 // What the evaluator does at the end of a run with a RobotFreeRun: reads the run's states.csv, runs
 // the robot-free episode at its sample times, writes <run_dir>/counterfactual.csv and returns the

@@ -68,6 +68,10 @@ struct EvaluatorOptions {
   std::filesystem::path out_dir;    // created when missing
   std::string profile = "default";  // metric profile (knownProfiles())
   std::string experiment_tag = "exp";
+  // The people model recorded (run.json, metrics.csv): hunav_run's and --people-model's label; empty:
+  // the label of the scenario file each episode's START names (peopleModelLabel), "sfm" when that
+  // file cannot be read.
+  std::string people_model;
   int episodes = 1;          // episodes to record; 0 = no limit
   std::string metrics_file;  // metric selection YAML (metrics.hpp); empty = every metric
   bool hunav_txt = false;    // also write HuNavSim v1's tab-separated files (run_outputs.hpp)

@@ -36,12 +36,13 @@ using ExpectVerdict = results::ExpectVerdict;
 
 struct BatchRun {
   RunKey key;
-  std::string run_dir;    // relative to the batch folder: runs/<folder name>
-  std::string status;     // run.json's status; "failed" without run.json (the run never ended)
-  std::string sim_time;   // s, from run.json (empty without it)
-  std::string wall_time;  // s, from run.json (empty without it)
-  MetricRow metrics;      // the last row of the run's metrics.csv (empty without it)
-  std::string profile;    // its profile column (metric profile: "default", "hunav_v1"; empty without it)
+  std::string run_dir;       // relative to the batch folder: runs/<folder name>
+  std::string status;        // run.json's status; "failed" without run.json (the run never ended)
+  std::string sim_time;      // s, from run.json (empty without it)
+  std::string wall_time;     // s, from run.json (empty without it)
+  MetricRow metrics;         // the last row of the run's metrics.csv (empty without it)
+  std::string profile;       // its profile column (metric profile: "default", "hunav_v1"; empty without it)
+  std::string people_model;  // its people_model column (docs/people_models.md; empty without metrics.csv)
   std::map<std::string, MetricRow> by_behavior;  // behavior name -> the row of metrics_beh_<code>.csv
   bool judged = false;                           // the run folder has an expect.json
   std::vector<ExpectVerdict> expectations;       // its conditions, in the scenario's order

@@ -31,6 +31,7 @@ inline constexpr double kDefaultSocialCutoff = 8.0;
 
 class NeighborGrid;
 class PeopleSocialForces;
+class ObstacleSegments;
 
 class AgentManager {
  public:
@@ -61,6 +62,11 @@ class AgentManager {
   // route grid over its static map; then loads its trees (loadTrees). Without it, people walk
   // straight at their goals and every obstacle point sent adds its force.
   void useScenario(const Scenario& scenario);
+  // The people's models (docs/people_models.md): `everyone` for every person, except the persons whose
+  // id `by_id` names. HuNavSim's SFM (the `sfm` preset) is the default. Clears every agent's memory.
+  void setPeopleModels(const MotionModel& everyone, const std::map<int, MotionModel>& by_id = {});
+  // The model of the person with this id.
+  const MotionModel& peopleModelOf(int id) const;
   // Parses (and caches) a tree file now; throws ConfigError on any error. A step's agent whose
   // behavior_tree is this path then gets it.
   void loadTreeFile(const std::string& path);
@@ -112,8 +118,11 @@ class AgentManager {
   StepSnapshot snap_;
   ObstaclePoints obstacle_points_ = ObstaclePoints::Each;
   std::shared_ptr<const RouteMap> routes_;
-  bool give_way_ = false;         // people.give_way
-  double force_tolerance_ = 0.0;  // people.force_tolerance
+  bool give_way_ = false;                             // people.give_way
+  double force_tolerance_ = 0.0;                      // people.force_tolerance
+  std::shared_ptr<const ObstacleSegments> segments_;  // the scenario's map, for ORCA people
+  MotionModel default_model_;                         // setPeopleModels
+  std::map<int, MotionModel> agent_models_;
   // The scenario's file: agent_state_t.behavior_tree is relative to its folder (useScenario).
   std::string scenario_file_;
   std::string tree_folder_;  // setTreeFolder, normalised; empty: none

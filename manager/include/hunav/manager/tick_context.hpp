@@ -12,6 +12,7 @@
 
 #include "hunav/geometry.hpp"
 #include "hunav/manager/behavior_tree.hpp"
+#include "hunav/motion_model.hpp"
 #include "hunav/scenario.hpp"
 #include "hunav/social_force.hpp"
 
@@ -26,6 +27,8 @@ inline constexpr double kHalfFieldOfView = kPi / 2.0 + 0.17;
 inline constexpr double kTurnRate = kPi;
 
 class RouteMap;
+class NeighborGrid;
+class ObstacleSegments;
 
 // What a person shows the others (bt_social.cpp): whether it speaks, its conversation circle, whom
 // it looks at. Nodes read everybody's entry of the previous step (so the result does not depend on
@@ -67,6 +70,14 @@ struct StepSnapshot {
   const std::map<int, Vec2>* global_goals = nullptr;
   // The robot is not in the world (AgentManager::setRobotAbsent): the request's robot is ignored.
   bool robot_absent = false;
+  // Each agent's people model, in agents order (docs/people_models.md); null, or empty for all: HuNavSim's
+  // SFM with the agent's own weights.
+  std::vector<const MotionModel*> models;
+  // Cut-off mode's grid over the agents (null: none, models visit every agent), and the static map's
+  // segments for ORCA's obstacle lines (null: the obstacle points of the agent's state).
+  const NeighborGrid* grid = nullptr;
+  const ObstacleSegments* segments = nullptr;
+  const MotionModel* modelOf(std::size_t index) const { return index < models.size() ? models[index] : nullptr; }
   // The request's robot, or nullptr when it is absent: what every node that looks at the robot uses.
   const agent_state_t* robotState() const { return robot_absent ? nullptr : &request->robot; }
   // The request index of the person with this id, or -1.
@@ -83,6 +94,12 @@ SfmParams paramsOf(const agent_state_t& a);
 // The forces on agent `index` of the snapshot toward `goal` (nullptr = none) at `desired_speed`.
 ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                        RobotAs robot, double desired_speed);
+// One step of `dt` of agent `index` under its people model (snap.modelOf): the social force model
+// (computeForces toward `goal` with `goal_radius`, plus `extra`, and hunav::integrate), ORCA or TTC
+// (docs/people_models.md, which maps every behavior's request onto each model). What every motion
+// node moves people with (sfmMove), and what hunav_realism scores.
+SfmMotion modelStep(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
+                    double goal_radius, RobotAs robot, double speed, const Vec2& extra, double dt);
 // Compatibility: robot as a person, or as an obstacle point; the agent's own desired speed.
 ForceSet computeForces(const StepSnapshot& snap, std::size_t index, const agent_state_t& a, const Vec2* goal,
                        bool robot_as_obstacle);
@@ -116,6 +133,7 @@ struct AgentMemory {
   bool social_tree = false;                   // the tree uses a node of the social state
   PersonSocial social;                        // this step's social state (written by the nodes)
   int group_override = -2;                    // SetGroupId / SetGroupWalk: the group from the next step on (-2: none)
+  const MotionModel* model = nullptr;         // its people model (null: HuNavSim's SFM, AgentManager::setPeopleModels)
   std::array<double, kOutputKeys> outputs{};  // output entries of the blackboard (-1 until written)
   bool moved = false;                         // a motion action already ran this tick
   // Route following (people.navigation: path): the waypoint chosen for route_target, kept until

@@ -22,8 +22,9 @@ struct Dataset {
 };
 
 // Reads a track file. Throws ConfigError(file, line, key, what) for a row that is not four finite
-// numbers, a frame or id that is not an integer, a repeated (frame, id), a frame number that is not a
-// multiple of the step, or a file that cannot be opened or has no rows.
+// numbers (NaN and infinities included), a frame or id that is not an integer, a frame smaller than
+// the row before's, a repeated (frame, id), a frame number that is not a multiple of the step, or a
+// file that cannot be opened or has no rows.
 Dataset readTracks(const std::string& path);
 
 // The common name of a standard file (biwi_eth -> ETH, biwi_hotel -> Hotel, crowds_zara01 -> Zara1,

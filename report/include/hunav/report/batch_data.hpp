@@ -8,6 +8,9 @@
 //   expectations.csv      scenario,planner,seed,metric,condition,value,pass (the verdicts of the
 //                         scenarios' expect: conditions; only in batches with such scenarios)
 //   summary.md, runs/<scenario>__<planner>__seed<N>/
+// and, in the batch folder or the folder above it (launch_scripts/model_robustness.sh's layout):
+//   realism.csv           hunav_realism's table of the people models on real pedestrians
+//   model_robustness.csv  scenario,behavior,metric,planner_a,planner_b,paper,<model>...,verdict
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -66,6 +69,15 @@ struct ExpectRow {
   bool pass = false;
 };
 
+// One row of hunav_realism's realism.csv (realism/README.md): a model's scores on one data set.
+struct RealismRow {
+  std::string data, method, split;
+  long long samples = 0;
+  // ade, fde (NaN for the data's own row), then speed mean, q10, q50, q90, W1 to the data, nn mean,
+  // q10, q50, q90, W1, and the overlap share.
+  std::vector<double> values;
+};
+
 struct BatchData {
   std::filesystem::path dir;
   std::vector<std::string> metric_names;  // summary.csv's metric columns, in order
@@ -76,6 +88,11 @@ struct BatchData {
   std::vector<PaperRow> paper;  // empty without paper_comparison.csv
   std::vector<PaperOrdering> paper_orderings;
   std::vector<ExpectRow> expectations;  // empty without expectations.csv
+  std::vector<RealismRow> realism;      // empty without realism.csv
+  std::filesystem::path realism_file;
+  std::vector<std::string> robustness_models;        // model_robustness.csv's model columns
+  std::vector<std::vector<std::string>> robustness;  // its rows, as written
+  std::filesystem::path robustness_file;
   bool has_summary_md = false;
   std::vector<std::string> notes;
 };

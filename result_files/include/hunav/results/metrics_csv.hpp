@@ -14,7 +14,8 @@
 
 namespace hunav::results {
 
-// The columns a metrics file starts with: experiment_tag, run_id, scenario, planner, seed, profile.
+// The columns a metrics file starts with: experiment_tag, run_id, scenario, planner, seed, profile,
+// people_model (files written before people models could be chosen end with profile; read as sfm).
 const std::vector<std::string>& metricsCsvProvenanceColumns();
 
 // The metrics.csv header for these metric names.
@@ -36,6 +37,7 @@ std::string safeFileName(const std::string& s);
 struct MetricsRow {
   std::string run_id;
   std::string profile;
+  std::string people_model;
   std::map<std::string, std::string> values;  // metric -> value (a number or true/false)
 };
 
@@ -54,9 +56,10 @@ class MetricsCsv {
   const CsvTable& table() const { return table_; }
 
  private:
-  explicit MetricsCsv(CsvTable table) : table_(std::move(table)) {}
+  MetricsCsv(CsvTable table, std::size_t first_metric) : table_(std::move(table)), first_metric_(first_metric) {}
   MetricsRow rowAt(std::size_t r) const;
   CsvTable table_;
+  std::size_t first_metric_;  // the column of the first metric
 };
 
 }  // namespace hunav::results

@@ -20,6 +20,7 @@ struct RunInfo {
   std::string scenario;
   std::string scenario_file;
   std::string planner;
+  std::string people_model = "sfm";  // the people's model (Scenario: peopleModelLabel); sfm: HuNavSim's
   std::int64_t seed = 0;
   std::string mode;  // inprocess, lockstep, realtime
   std::int64_t episode = 0;
