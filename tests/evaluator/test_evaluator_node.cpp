@@ -117,15 +117,18 @@ TEST_F(EvaluatorNodeTest, WritesFilesThatPassTheChecker) {
   const auto header = split(rows[0]);
   const auto row = split(rows[1]);
   ASSERT_EQ(header.size(), row.size());
-  EXPECT_EQ(std::vector<std::string>(header.begin(), header.begin() + 6),
-            (std::vector<std::string>{"experiment_tag", "run_id", "scenario", "planner", "seed", "profile"}));
-  EXPECT_EQ(std::vector<std::string>(row.begin(), row.begin() + 6),
-            (std::vector<std::string>{"exp", "run-a", "passing", "dwb", "42", "default"}));
+  // The provenance columns, then the metrics. The node's scenario file is not one it can read, so
+  // the people model recorded is HuNavSim's, sfm.
+  EXPECT_EQ(
+      std::vector<std::string>(header.begin(), header.begin() + 7),
+      (std::vector<std::string>{"experiment_tag", "run_id", "scenario", "planner", "seed", "profile", "people_model"}));
+  EXPECT_EQ(std::vector<std::string>(row.begin(), row.begin() + 7),
+            (std::vector<std::string>{"exp", "run-a", "passing", "dwb", "42", "default", "sfm"}));
   const auto& metrics = node.lastResult()->metrics;
-  ASSERT_EQ(header.size(), 6 + metrics.size());
+  ASSERT_EQ(header.size(), 7 + metrics.size());
   for (std::size_t i = 0; i < metrics.size(); ++i) {
-    EXPECT_EQ(header[6 + i], metrics[i].name);
-    EXPECT_EQ(row[6 + i], formatMetricValue(metrics[i]));
+    EXPECT_EQ(header[7 + i], metrics[i].name);
+    EXPECT_EQ(row[7 + i], formatMetricValue(metrics[i]));
   }
   // Spot checks: 30 samples from t = 0.02 to 0.31.
   EXPECT_NEAR(metrics[0].value, 0.29, 1e-12);

@@ -44,7 +44,7 @@ rows = list(csv.reader(open(out + "/summary.csv")))
 head = rows[0]
 assert head[:7] == ["scenario", "planner", "seed", "status", "sim_time", "wall_time", "run_dir"], head
 metrics_head = next(csv.reader(open(out + "/runs/passing__dwb__seed1/metrics.csv")))
-assert head[7:] == metrics_head[6:], "summary.csv metric columns differ from metrics.csv's"
+assert head[7:] == metrics_head[7:], "summary.csv metric columns differ from metrics.csv's"
 body = rows[1:]
 assert [(r[0], r[1], r[2]) for r in body] == [("passing", "dwb", "1"), ("passing", "dwb", "2"),
                                              ("passing", "sfw", "1"), ("passing", "sfw", "2")], body

@@ -78,7 +78,7 @@ rows, names = [], None
 for run_dir in sorted(glob.glob(os.path.join(batch, "runs", "*"))):
     metrics = list(csv.DictReader(open(os.path.join(run_dir, "metrics.csv"))))[-1]
     info = json.load(open(os.path.join(run_dir, "run.json")))
-    names = list(metrics)[6:]
+    names = list(metrics)[7:]  # after the provenance columns (profile, people_model, ...)
     rows.append((info, os.path.relpath(run_dir, batch), metrics))
 def num(v):
     return 1.0 if v == "true" else 0.0 if v == "false" else float(v)

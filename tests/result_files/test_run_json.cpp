@@ -176,6 +176,7 @@ TEST(Results, RunJsonRoundTripKeepsEveryFieldAndEveryByte) {
             "  \"scenario\": \"passing\",\n"
             "  \"scenario_file\": \"scenarios/passing.yaml\",\n"
             "  \"planner\": \"dwb\",\n"
+            "  \"people_model\": \"orca_calibrated\",\n"
             "  \"seed\": 7,\n"
             "  \"mode\": \"lockstep\",\n"
             "  \"episode\": 2,\n"

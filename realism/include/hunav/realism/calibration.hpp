@@ -15,7 +15,7 @@
 namespace hunav::realism {
 
 struct CalibrationOptions {
-  int max_evaluations = 150;            // objective evaluations per start of a fit (the time bound: no wall
+  int max_evaluations = 60;             // objective evaluations per start of a fit (the time bound: no wall
                                         // clock, so the result does not depend on the machine)
   std::size_t samples_per_scene = 300;  // evenly spaced samples of each training scene
   double overlap_penalty = 1.0;         // m of ADE per unit of overlap share beyond the data's
