@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <type_traits>
 #include <utility>
 
 #include "hunav/config_error.hpp"
@@ -20,46 +21,36 @@ namespace {
 
 using K = MotionModelKey;
 
-K field(const char* key, double lo, double hi, double MotionModel::*f) {
-  K k{key, lo, hi};
-  k.field = f;
-  return k;
-}
-K sfm(const char* key, double lo, double hi, double SfmParams::*f) {
-  K k{key, lo, hi};
-  k.sfm = f;
-  return k;
-}
-K orca(const char* key, double lo, double hi, double OrcaParams::*f) {
-  K k{key, lo, hi};
-  k.orca = f;
-  return k;
-}
-K ttc(const char* key, double lo, double hi, double TtcParams::*f) {
-  K k{key, lo, hi};
-  k.ttc = f;
+// A key of the parameter `member` points to: of MotionModel itself, or of its sfm, orca or ttc part.
+template <class Owner>
+K key(const char* name, double lo, double hi, double Owner::*member) {
+  K k{name, lo, hi};
+  if constexpr (std::is_same_v<Owner, MotionModel>) k.field = member;
+  if constexpr (std::is_same_v<Owner, SfmParams>) k.sfm = member;
+  if constexpr (std::is_same_v<Owner, OrcaParams>) k.orca = member;
+  if constexpr (std::is_same_v<Owner, TtcParams>) k.ttc = member;
   return k;
 }
 
 // The group terms (Moussaid 2010) act in SFM and TTC; the speed factor is hunav_realism's.
 std::vector<K> groupAndSpeedKeys() {
-  return {sfm("group_gaze_weight", 0.0, 100.0, &SfmParams::group_gaze_weight),
-          sfm("group_coherence_weight", 0.0, 100.0, &SfmParams::group_coherence_weight),
-          sfm("group_repulsion_weight", 0.0, 100.0, &SfmParams::group_repulsion_weight),
-          field("desired_speed_factor", 0.25, 4.0, &MotionModel::desired_speed_factor)};
+  return {key("group_gaze_weight", 0.0, 100.0, &SfmParams::group_gaze_weight),
+          key("group_coherence_weight", 0.0, 100.0, &SfmParams::group_coherence_weight),
+          key("group_repulsion_weight", 0.0, 100.0, &SfmParams::group_repulsion_weight),
+          key("desired_speed_factor", 0.25, 4.0, &MotionModel::desired_speed_factor)};
 }
 
 std::vector<K> sfmKeys() {
-  std::vector<K> k = {sfm("goal_weight", 0.0, 100.0, &SfmParams::goal_weight),
-                      sfm("obstacle_weight", 0.0, 1000.0, &SfmParams::obstacle_weight),
-                      sfm("obstacle_sigma", 0.01, 10.0, &SfmParams::obstacle_sigma),
-                      sfm("social_weight", 0.0, 100.0, &SfmParams::social_weight),
-                      sfm("lambda", 0.0, 20.0, &SfmParams::lambda),
-                      sfm("gamma", 0.01, 10.0, &SfmParams::gamma),
-                      sfm("n", 0.0, 20.0, &SfmParams::n),
-                      sfm("n_prime", 0.0, 20.0, &SfmParams::n_prime),
-                      sfm("relaxation_time", 0.01, 10.0, &SfmParams::relaxation_time),
-                      field("interaction_range", 0.0, 8.0, &MotionModel::interaction_range)};
+  std::vector<K> k = {key("goal_weight", 0.0, 100.0, &SfmParams::goal_weight),
+                      key("obstacle_weight", 0.0, 1000.0, &SfmParams::obstacle_weight),
+                      key("obstacle_sigma", 0.01, 10.0, &SfmParams::obstacle_sigma),
+                      key("social_weight", 0.0, 100.0, &SfmParams::social_weight),
+                      key("lambda", 0.0, 20.0, &SfmParams::lambda),
+                      key("gamma", 0.01, 10.0, &SfmParams::gamma),
+                      key("n", 0.0, 20.0, &SfmParams::n),
+                      key("n_prime", 0.0, 20.0, &SfmParams::n_prime),
+                      key("relaxation_time", 0.01, 10.0, &SfmParams::relaxation_time),
+                      key("interaction_range", 0.0, 8.0, &MotionModel::interaction_range)};
   for (const K& g : groupAndSpeedKeys()) k.push_back(g);
   return k;
 }
@@ -67,27 +58,27 @@ std::vector<K> sfmKeys() {
 std::vector<K> orcaKeys() {
   K neighbours{"max_neighbors", 1.0, 100.0};
   neighbours.orca_count = &OrcaParams::max_neighbors;
-  return {orca("neighbor_distance", 0.0, 20.0, &OrcaParams::neighbor_distance),
+  return {key("neighbor_distance", 0.0, 20.0, &OrcaParams::neighbor_distance),
           neighbours,
-          orca("time_horizon", 0.05, 30.0, &OrcaParams::time_horizon),
-          orca("obstacle_time_horizon", 0.05, 30.0, &OrcaParams::obstacle_time_horizon),
-          orca("radius", -1.0, 2.0, &OrcaParams::radius),
-          orca("responsibility", 0.05, 1.0, &OrcaParams::responsibility),
-          orca("relaxation_time", 0.0, 10.0, &OrcaParams::relaxation_time),
-          field("desired_speed_factor", 0.25, 4.0, &MotionModel::desired_speed_factor)};
+          key("time_horizon", 0.05, 30.0, &OrcaParams::time_horizon),
+          key("obstacle_time_horizon", 0.05, 30.0, &OrcaParams::obstacle_time_horizon),
+          key("radius", -1.0, 2.0, &OrcaParams::radius),
+          key("responsibility", 0.05, 1.0, &OrcaParams::responsibility),
+          key("relaxation_time", 0.0, 10.0, &OrcaParams::relaxation_time),
+          key("desired_speed_factor", 0.25, 4.0, &MotionModel::desired_speed_factor)};
 }
 
 std::vector<K> ttcKeys() {
-  std::vector<K> k = {ttc("k", 0.0, 100.0, &TtcParams::k),
-                      ttc("tau0", 0.05, 30.0, &TtcParams::tau0),
-                      ttc("relaxation_time", 0.01, 10.0, &TtcParams::relaxation_time),
-                      ttc("radius", -1.0, 2.0, &TtcParams::radius),
-                      ttc("neighbor_distance", 0.0, 20.0, &TtcParams::neighbor_distance),
-                      ttc("max_force", 0.0, 1000.0, &TtcParams::max_force),
-                      ttc("field_of_view", 0.0, 2.0 * kPi, &TtcParams::field_of_view),
-                      ttc("max_speed_factor", 1.0, 3.0, &TtcParams::max_speed_factor),
-                      sfm("obstacle_weight", 0.0, 1000.0, &SfmParams::obstacle_weight),
-                      sfm("obstacle_sigma", 0.01, 10.0, &SfmParams::obstacle_sigma)};
+  std::vector<K> k = {key("k", 0.0, 100.0, &TtcParams::k),
+                      key("tau0", 0.05, 30.0, &TtcParams::tau0),
+                      key("relaxation_time", 0.01, 10.0, &TtcParams::relaxation_time),
+                      key("radius", -1.0, 2.0, &TtcParams::radius),
+                      key("neighbor_distance", 0.0, 20.0, &TtcParams::neighbor_distance),
+                      key("max_force", 0.0, 1000.0, &TtcParams::max_force),
+                      key("field_of_view", 0.0, 2.0 * kPi, &TtcParams::field_of_view),
+                      key("max_speed_factor", 1.0, 3.0, &TtcParams::max_speed_factor),
+                      key("obstacle_weight", 0.0, 1000.0, &SfmParams::obstacle_weight),
+                      key("obstacle_sigma", 0.01, 10.0, &SfmParams::obstacle_sigma)};
   for (const K& g : groupAndSpeedKeys()) k.push_back(g);
   return k;
 }
