@@ -94,10 +94,12 @@ def main():
             browser.wait_for("window.hunavView && window.hunavView.ready === true", 120)
             # (a) the page's own cost of a frame: state, trails and a full redraw, 30 frames per
             #     simulated second, timed inside the page (what the page can sustain);
-            cost = browser.eval("""(() => { const v = window.hunavView; v.seek(0);
+            #     the chunks of those 4 s fetched first (the replay comes in chunks);
+            cost = browser.eval("""(async () => { const v = window.hunavView; await v.preload(0, 4.0); v.seek(0);
               const t0 = performance.now(); let n = 0;
               for (let t = 0; t <= 4.0; t += 1 / 30, n++) v.seek(t);
-              const ms = (performance.now() - t0) / n; return [n, ms, v.drawn.people.length]; })()""")
+              const ms = (performance.now() - t0) / n; return [n, ms, v.drawn.people.length]; })()""",
+                                await_promise=True)
             # (b) frames shown per second while playing at 1x (requestAnimationFrame, compositing included).
             browser.eval("window.hunavView.seek(0); document.getElementById('play').click()")
             browser.pump(2.5)

@@ -41,7 +41,7 @@ PACKAGES=(
   chromium  # the report test renders hunav_report's pages headless
   parallel libboost-dev  # batches: GNU parallel runs the matrix; Boost.Math (headers) for the Student t statistics
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
-  libcpp-httplib-dev nlohmann-json3-dev python3-websocket python3-yaml  # hunav_view (view/) and its page tests
+  libcpp-httplib-dev nlohmann-json3-dev zlib1g-dev python3-websocket python3-yaml  # hunav_view (view/) and its page tests
   shellcheck flake8 eslint  # the lints of the project's own files (tests/lint/)
   libnlopt-cxx-dev  # hunav_realism --calibrate: NLopt's BOBYQA fits the people models (realism/README.md)
 )

@@ -27,6 +27,7 @@ struct Options {
   long netns_pid = 0;
   double fps = 30.0, netns_wait = 30.0;
   bool no_live = false, no_editor = false;
+  ReplayOptions replay;
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -38,6 +39,18 @@ void addOptions(CLI::App& app, Options& o) {
   auto* results = app.add_option("--results", o.results_dir, "replay a results folder (states.csv, run.json)");
   auto* log_opt = app.add_option("--log", o.log_file, "replay an LCM log (run_experiment.sh --record's run.lcmlog)");
   results->excludes(log_opt);
+  app.add_option("--replay-rate", o.replay.rate,
+                 "replay frames kept per second of simulation time, at most (0: every sample; a crowd keeps fewer: "
+                 "at most --replay-rows rows per second); default 20")
+      ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--replay-rows", o.replay.max_rows_per_second,
+                 "replay rows (robot and people) kept per second of simulation time, at most (0: no limit); default "
+                 "10000")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--replay-chunk-seconds", o.replay.chunk_seconds,
+                 "a replay is sent to the page in chunks of at most this many seconds of simulation time (and 1 MB "
+                 "of text); default 30")
+      ->check(CLI::Range(0.01, 1e6));
   app.add_flag("--no-live", o.no_live, "no live view (the editor only)");
   app.add_option("--host", o.host, "address to listen on (default 127.0.0.1: this machine only)");
   app.add_option("--port", o.port, "port to listen on (0: any free port; the URL is printed)")
@@ -99,8 +112,8 @@ int run(const Options& o, const std::atomic<bool>& stop) {
               << ": anyone who can reach it sees the run and can read and write scenarios in the editor's folder\n";
   SceneStore scene;
   std::optional<Replay> replay;
-  if (!o.results_dir.empty()) replay = loadResults(o.results_dir);
-  if (!o.log_file.empty()) replay = loadLog(o.log_file);
+  if (!o.results_dir.empty()) replay = loadResults(o.results_dir, o.replay);
+  if (!o.log_file.empty()) replay = loadLog(o.log_file, o.replay);
   loadScene(o, replay, scene);
   std::unique_ptr<Editor> editor;
   if (!o.no_editor) editor = std::make_unique<Editor>(o.editor_dir);
@@ -111,6 +124,7 @@ int run(const Options& o, const std::atomic<bool>& stop) {
   parts.live = live ? &hub : nullptr;
   parts.replay = replay ? &*replay : nullptr;
   parts.editor = editor.get();
+  parts.replay_options = o.replay;
   ViewServer server(parts);
   // The socket opens in this thread's namespace (the host's) before any namespace is joined.
   const int bound = server.bind(o.host, o.port);

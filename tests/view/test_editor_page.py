@@ -119,7 +119,7 @@ def agents_file_and_generator_and_run(browser, root, repo, problems):
         problems.append("the run button's run: %s (run.json there: %s)" % (run, os.path.exists(run_json)))
     elif json.load(open(run_json))["fingerprint"] != run["fingerprint"] or "sfw" not in run["out_dir"]:
         problems.append("the run shown is not the run written: %s" % run)
-    frames = browser.eval("window.hunavView.app.replay.frames.length")
+    frames = browser.eval("window.hunavView.app.replay.frameCount")
     if not frames or browser.eval("window.hunavView.app.editing"):
         problems.append("after run the page does not replay it (%s frames)" % frames)
 

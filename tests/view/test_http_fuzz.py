@@ -23,7 +23,8 @@ import urllib.parse
 from viewproc import View
 
 API_GETS = ["/api/info", "/api/scene", "/api/frame", "/api/stream", "/api/replay", "/api/editor/files",
-            "/api/editor/open", "/api/editor/replay", "/api/nothing", "/", "/app.js", "/favicon.ico"]
+            "/api/editor/open", "/api/editor/replay", "/api/replay/chunk", "/api/editor/replay/chunk",
+            "/api/nothing", "/", "/app.js", "/favicon.ico"]
 API_POSTS = ["/api/editor/validate", "/api/editor/save", "/api/editor/run", "/api/info", "/api/editor/nothing"]
 
 

@@ -387,3 +387,125 @@ TEST(ViewReplay, ResultsFolderErrorsNameTheFile) {
   write(dir.path() / "run.lcmlog", "not a log");
   EXPECT_THROW(hunav::view::loadLog(dir.path() / "run.lcmlog"), hunav::ConfigError);
 }
+
+namespace {
+
+// A 15 s run of HuNavSim's cafe (six people, a map_server map), every tick in states.csv and the log.
+struct CafeRun {
+  TempDir dir{"replay_cafe"};
+  fs::path out = dir.path() / "run", log = dir.path() / "run.lcmlog";
+  CafeRun() {
+    hunav::Scenario s = hunav::loadScenario((fs::path(HUNAV_SOURCE_DIR) / "scenarios" / "cafe.yaml").string());
+    s.time_limit = 15.0;
+    hunav::runner::RunOptions options;
+    options.out_dir = out.string();
+    options.record_file = log.string();
+    hunav::runner::runInProcess(s, options);
+  }
+};
+
+// The times of the robot rows of states.csv.
+std::vector<double> sampleTimes(const fs::path& states) {
+  std::ifstream in(states);
+  std::string line;
+  std::getline(in, line);
+  std::vector<double> times;
+  while (std::getline(in, line))
+    if (line.find(",robot,") != std::string::npos) times.push_back(std::stod(line.substr(0, line.find(','))));
+  return times;
+}
+
+// The frames of every chunk, in order, with each chunk's JSON.
+std::vector<Json> framesOf(const hunav::view::Replay& replay, std::vector<Json>* chunks = nullptr) {
+  std::vector<Json> frames;
+  for (std::size_t i = 0; i < replay.chunks.size(); ++i) {
+    Json c = Json::parse(replay.chunkText(i));
+    EXPECT_EQ(replay.chunks[i].first_frame, frames.size()) << "chunk " << i;
+    EXPECT_EQ(replay.chunks[i].frames, c["frames"].size()) << "chunk " << i;
+    EXPECT_DOUBLE_EQ(replay.chunks[i].t0, c["frames"].front()["t"].get<double>());
+    EXPECT_DOUBLE_EQ(replay.chunks[i].t1, c["frames"].back()["t"].get<double>());
+    for (const Json& f : c["frames"]) frames.push_back(f);
+    if (chunks) chunks->push_back(std::move(c));
+  }
+  return frames;
+}
+
+}  // namespace
+
+TEST(ViewReplay, GzipRoundTripsAndRefusesCorruptData) {
+  std::string text;
+  for (int i = 0; i < 20000; ++i) text += "{\"t\":" + std::to_string(i * 0.01) + "},";
+  const std::string packed = hunav::view::gzip(text);
+  EXPECT_LT(packed.size(), text.size() / 4);
+  EXPECT_EQ(hunav::view::gunzip(packed), text);
+  EXPECT_EQ(hunav::view::gunzip(hunav::view::gzip("")), "");
+  EXPECT_THROW(hunav::view::gunzip(packed.substr(0, packed.size() / 2)), std::runtime_error);
+  EXPECT_THROW(hunav::view::gunzip("not gzip at all"), std::runtime_error);
+}
+
+// A results folder and the log of the same run give the same frames: at 20 Hz (the evaluator's sample
+// rule: 0, 0.05, 0.10, ... of the 100 Hz ticks) plus the run's last sample, cut into chunks of at
+// most 4 s that together hold every kept frame once; with rate 0, every sample.
+TEST(ViewReplay, ChunksHoldTheFramesAtTheRateAndTheLastSample) {
+  CafeRun run;
+  const std::vector<double> times = sampleTimes(run.out / "states.csv");
+  ASSERT_GT(times.size(), 1000u);  // 15 s at 100 Hz
+  std::vector<double> kept;
+  for (double t : times)
+    if (kept.empty() || std::llround(t * 1e6) >= std::llround(kept.back() * 1e6) + 50'000) kept.push_back(t);
+  if (kept.back() != times.back()) kept.push_back(times.back());
+
+  hunav::view::ReplayOptions options;
+  options.chunk_seconds = 4.0;
+  for (const bool from_log : {false, true}) {
+    SCOPED_TRACE(from_log ? "log" : "results");
+    const hunav::view::Replay replay =
+        from_log ? hunav::view::loadLog(run.log, options) : hunav::view::loadResults(run.out, options);
+    EXPECT_DOUBLE_EQ(replay.rate, 20.0);
+    EXPECT_EQ(replay.samples, times.size());
+    std::vector<Json> chunks;
+    const std::vector<Json> frames = framesOf(replay, &chunks);
+    ASSERT_EQ(frames.size(), kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) ASSERT_NEAR(frames[k]["t"].get<double>(), kept[k], 1e-9) << k;
+    EXPECT_EQ(frames.front()["people"].size(), 6u);
+    EXPECT_GE(replay.chunks.size(), 4u);  // 15 s in chunks of less than 4 s
+    for (std::size_t i = 0; i < replay.chunks.size(); ++i) EXPECT_LT(replay.chunks[i].t1 - replay.chunks[i].t0, 4.0);
+    const Json header = replay.header();
+    EXPECT_EQ(header["frames"], kept.size());
+    EXPECT_DOUBLE_EQ(header["t1"].get<double>(), times.back());
+    EXPECT_EQ(header["chunks"].size(), replay.chunks.size());
+    if (from_log) {
+      // Every chunk after the first starts with the scan and path of the chunk before (its carry),
+      // so that the page draws them at the chunk's first time.
+      for (std::size_t i = 1; i < chunks.size(); ++i) {
+        ASSERT_FALSE(chunks[i]["laser"].empty());
+        EXPECT_LE(chunks[i]["laser"].front()["t"].get<double>(), replay.chunks[i].t0);
+        EXPECT_EQ(chunks[i]["laser"].front(), chunks[i - 1]["laser"].back());
+        ASSERT_FALSE(chunks[i]["paths"].empty());
+        EXPECT_EQ(chunks[i]["paths"].front(), chunks[i - 1]["paths"].back());
+      }
+    } else {
+      // metrics_steps.csv at the frames' rate, each chunk led by the row before it.
+      for (std::size_t i = 1; i < chunks.size(); ++i) {
+        ASSERT_FALSE(chunks[i]["metrics"].empty());
+        EXPECT_LE(chunks[i]["metrics"].front()["t"].get<double>(), replay.chunks[i].t0);
+      }
+    }
+  }
+  options.rate = 0.0;
+  const hunav::view::Replay every = hunav::view::loadResults(run.out, options);
+  const std::vector<Json> frames = framesOf(every);
+  ASSERT_EQ(frames.size(), times.size());
+  EXPECT_DOUBLE_EQ(frames.back()["t"].get<double>(), times.back());
+}
+
+// A crowd keeps at most max_rows_per_second entity rows per second of simulation time: fewer frames.
+TEST(ViewReplay, CrowdsKeepFewerFramesPerSecond) {
+  CafeRun run;  // 7 entities per frame
+  hunav::view::ReplayOptions options;
+  options.max_rows_per_second = 35;  // 35 / 7 = 5 frames per second
+  const hunav::view::Replay replay = hunav::view::loadResults(run.out, options);
+  EXPECT_DOUBLE_EQ(replay.rate, 5.0);
+  // 0, 0.2, ..., 14.8 and the last sample (14.99 or so): 75 + 1.
+  EXPECT_EQ(replay.frames(), 76u);
+}

@@ -347,55 +347,114 @@ function lastAtOrBefore(list, t) {  // binary search on .t
   while (lo <= hi) { const mid = (lo + hi) >> 1; if (list[mid].t <= t + 1e-9) { best = mid; lo = mid + 1; } else hi = mid - 1; }
   return best;
 }
+// A replay arrives in chunks (view/README.md, "Replays"): the header lays out the slider, and each chunk
+// holds the frames of a stretch of time with the scans, paths and metrics of it, each list led by the
+// last one before the chunk. A chunk is fetched when the time reaches it (the next one while playing
+// through the second half of the current one); at most KEEP_CHUNKS stay in the page.
+const KEEP_CHUNKS = 8;
+function chunkAtTime(rp, t) {  // the last chunk starting at or before t (0 before the first)
+  let lo = 0, hi = rp.chunks.length - 1, best = 0;
+  while (lo <= hi) { const mid = (lo + hi) >> 1; if (rp.chunks[mid].t0 <= t + 1e-9) { best = mid; lo = mid + 1; } else hi = mid - 1; }
+  return best;
+}
+function chunkOfFrame(rp, k) {
+  let lo = 0, hi = rp.chunks.length - 1, best = 0;
+  while (lo <= hi) { const mid = (lo + hi) >> 1; if (rp.chunks[mid].first_frame <= k) { best = mid; lo = mid + 1; } else hi = mid - 1; }
+  return best;
+}
+function frameAt(rp, k) {  // frame k of the replay, or undefined while its chunk is not in the page
+  const ci = chunkOfFrame(rp, k);
+  const c = rp.loaded.get(ci);
+  return c ? c.frames[k - rp.chunks[ci].first_frame] : undefined;
+}
+function loadChunk(rp, i) {
+  if (i < 0 || i >= rp.chunks.length) return Promise.resolve(null);
+  if (rp.loaded.has(i)) return Promise.resolve(rp.loaded.get(i));
+  if (!rp.pending.has(i)) {
+    rp.pending.set(i, fetch(rp.url + i).then((r) => {
+      if (!r.ok) throw new Error('replay chunk ' + i + ': HTTP ' + r.status);
+      return r.json();
+    }).then((c) => {
+      rp.pending.delete(i);
+      rp.loaded.set(i, c);
+      rp.fetched += 1;
+      // Keep the chunks nearest the time shown.
+      while (rp.loaded.size > KEEP_CHUNKS) {
+        const now = chunkAtTime(rp, app.replayTime);
+        let far = -1;
+        for (const j of rp.loaded.keys()) if (far < 0 || Math.abs(j - now) > Math.abs(far - now)) far = j;
+        rp.loaded.delete(far);
+      }
+      // The time shown was waiting for this chunk: show it now.
+      if (app.replay === rp && chunkAtTime(rp, app.replayTime) === i) setReplayTime(app.replayTime, false);
+      return c;
+    }, (e) => { rp.pending.delete(i); app.errors.push(String(e)); $('banner').textContent = String(e); return null; }));
+  }
+  return rp.pending.get(i);
+}
 function setReplayTime(t, fromSlider) {
   const rp = app.replay;
-  const frames = rp.frames;
-  const t0 = frames[0].t, t1 = frames[frames.length - 1].t;
-  if (t >= t1) { t = t1; if (app.playing) togglePlay(); }
-  t = Math.max(t0, t);
+  if (t >= rp.t1) { t = rp.t1; if (app.playing) togglePlay(); }
+  t = Math.max(rp.t0, t);
   app.replayTime = t;
-  const k = Math.max(0, lastAtOrBefore(frames, t));
-  const f = Object.assign({}, frames[k]);
-  const li = lastAtOrBefore(rp.laser, t), pi = lastAtOrBefore(rp.paths, t), mi = lastAtOrBefore(rp.metrics, t);
-  f.laser = li >= 0 ? rp.laser[li] : null;
-  f.path = pi >= 0 ? rp.paths[pi] : null;
+  if (!fromSlider) $('slider').value = t;
+  $('replay-time').textContent = fmt(t, 2) + ' / ' + fmt(rp.t1, 2) + ' s';
+  const ci = chunkAtTime(rp, t);
+  const info = rp.chunks[ci];
+  if (ci + 1 < rp.chunks.length && t >= (info.t0 + info.t1) / 2) loadChunk(rp, ci + 1);
+  const chunk = rp.loaded.get(ci);
+  if (!chunk) { loadChunk(rp, ci); return; }  // drawn when it arrives
+  const local = Math.max(0, lastAtOrBefore(chunk.frames, t));
+  const k = info.first_frame + local;
+  const f = Object.assign({}, chunk.frames[local]);
+  const li = lastAtOrBefore(chunk.laser, t), pi = lastAtOrBefore(chunk.paths, t), mi = lastAtOrBefore(chunk.metrics, t);
+  f.laser = li >= 0 ? chunk.laser[li] : null;
+  f.path = pi >= 0 ? chunk.paths[pi] : null;
   // Trails: the frames of the last seconds, about 10 per second; while playing forward only the
-  // frames since the last one shown are added.
-  const step = Math.max(1, Math.round(0.1 / Math.max(1e-3, (t1 - t0) / frames.length)));
+  // frames since the last one shown are added. Frames of a chunk no longer in the page are skipped.
+  const step = Math.max(1, Math.round(0.1 / Math.max(1e-3, (rp.t1 - rp.t0) / rp.frameCount)));
   const prev = app.replayK === undefined ? -1 : app.replayK;
-  if (k >= prev && prev >= 0 && frames[k].t - frames[prev].t < TRAIL_SECONDS) {
-    for (let j = prev + step - (prev % step); j < k; j += step) updateTrails(frames[j]);
+  const prevFrame = prev >= 0 ? frameAt(rp, prev) : undefined;
+  const add = (j) => { const g = frameAt(rp, j); if (g) updateTrails(g); };
+  if (k >= prev && prevFrame && f.t - prevFrame.t < TRAIL_SECONDS) {
+    for (let j = prev + step - (prev % step); j < k; j += step) add(j);
   } else {
     app.trails.clear();
-    for (let j = Math.max(0, lastAtOrBefore(frames, t - TRAIL_SECONDS)); j < k; j += step) updateTrails(frames[j]);
+    const ti = chunkAtTime(rp, t - TRAIL_SECONDS), tc = rp.loaded.get(ti);
+    const from = tc ? rp.chunks[ti].first_frame + Math.max(0, lastAtOrBefore(tc.frames, t - TRAIL_SECONDS)) : info.first_frame;
+    for (let j = from; j < k; j += step) add(j);
   }
   app.replayK = k;
   app.frame = f;
   updateTrails(f);
   showStatus(f);
   showSelected();
-  if (mi >= 0 && mi !== app.replayMetric) { app.replayMetric = mi; showMetrics(rp.metrics[mi]); }
-  if (!fromSlider) $('slider').value = t;
-  $('replay-time').textContent = fmt(t, 2) + ' / ' + fmt(t1, 2) + ' s';
+  const metric = mi >= 0 ? chunk.metrics[mi] : null;
+  if (metric !== app.replayMetric) { app.replayMetric = metric; showMetrics(metric); }
   app.dirty = true;
 }
 function togglePlay() {
   app.playing = !app.playing;
   app.lastTick = performance.now();
   $('play').textContent = app.playing ? 'pause' : 'play';
-  if (app.playing && app.replayTime >= app.replay.frames[app.replay.frames.length - 1].t) setReplayTime(app.replay.frames[0].t, false);
+  if (app.playing && app.replayTime >= app.replay.t1) setReplayTime(app.replay.t0, false);
 }
-function startReplay(data) {
+// header: /api/replay's answer; chunkUrl + i fetches chunk i. Resolves when the first frame shows.
+function startReplay(header, chunkUrl) {
   app.mode = 'replay';
-  app.replay = data;
-  $('mode').textContent = 'replay of ' + (data.info.source || '');
+  const rp = { info: header.info, t0: header.t0, t1: header.t1, frameCount: header.frames, rate: header.rate,
+               chunks: header.chunks, url: chunkUrl, loaded: new Map(), pending: new Map(), fetched: 0 };
+  app.replay = rp;
+  $('mode').textContent = 'replay of ' + (rp.info.source || '');
   $('replay-panel').hidden = false;
-  const frames = data.frames;
-  $('slider').min = frames[0].t; $('slider').max = frames[frames.length - 1].t;
-  $('slider').step = Math.max(0.001, (frames[frames.length - 1].t - frames[0].t) / Math.max(1, frames.length - 1));
-  if (!data.metrics.length) showMetrics(null);
+  $('slider').min = rp.t0; $('slider').max = rp.t1;
+  $('slider').step = Math.max(0.001, (rp.t1 - rp.t0) / Math.max(1, rp.frameCount - 1));
+  showMetrics(null);
   app.playing = false;
-  setReplayTime(frames[0].t, false);
+  app.replayK = undefined;
+  app.replayMetric = null;
+  app.replayTime = rp.t0;
+  return loadChunk(rp, 0).then(() => setReplayTime(rp.t0, false));
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -761,16 +820,17 @@ async function edRun() {
   const res = await edPost('/api/editor/run', { path: ed.path, planner: $('ed-planner').value });
   if (!res.ok) { edStatus((res.error && (res.error.message || res.error)) || 'the run failed', true); return; }
   edStatus('ran: ' + res.status + ' after ' + fmt(res.sim_time, 1) + ' s, fingerprint ' + res.fingerprint + '; results in ' + res.out_dir, false);
-  const data = await (await fetch('/api/editor/replay?path=' + encodeURIComponent(res.out_dir))).json();
-  showRunReplay(ed, res, data);
+  const path = encodeURIComponent(res.out_dir);
+  const header = await (await fetch('/api/editor/replay?path=' + path)).json();
+  await showRunReplay(ed, res, header, '/api/editor/replay/chunk?path=' + path + '&i=');
 }
 // The replay of a run the editor started, in place of the editor.
-function showRunReplay(ed, run, data) {
+async function showRunReplay(ed, run, header, chunkUrl) {
   app.scene = ed.scene;
   setEditing(false);
   $('banner').textContent = 'replay of the run of ' + ed.path + ' (' + run.out_dir + ')';
-  startReplay(data);
   app.lastRun = run;
+  await startReplay(header, chunkUrl);
 }
 async function edFiles() {
   const r = await fetch('/api/editor/files');
@@ -905,7 +965,7 @@ async function main() {
   $('toggle-editor').hidden = !info.editor;
   await loadScene();
   if (info.mode === 'live') { $('mode').textContent = 'live'; startLive(); }
-  else if (info.mode === 'replay') startReplay(await (await fetch('/api/replay')).json());
+  else if (info.mode === 'replay') await startReplay(await (await fetch('/api/replay')).json(), '/api/replay/chunk?i=');
   else { $('mode').textContent = 'editor'; setEditing(true); }
   requestAnimationFrame(loop);
 }
@@ -915,7 +975,17 @@ window.hunavView = {
   ready: false,
   // The RGBA of the canvas at a CSS pixel.
   pixel(px, py) { const d = window.devicePixelRatio || 1; return Array.from(ctx.getImageData(Math.round(px * d), Math.round(py * d), 1, 1).data); },
+  // Shows time t of the replay now, with the chunks in the page (a chunk not yet in the page is fetched
+  // and shown when it arrives); seekLoaded waits for the chunk first (a promise of what was drawn).
   seek(t) { setReplayTime(t, false); draw(); return drawn; },
+  async seekLoaded(t) { await loadChunk(app.replay, chunkAtTime(app.replay, t)); return this.seek(t); },
+  // Fetches the chunks of [t0, t1] (at most KEEP_CHUNKS stay).
+  async preload(t0, t1) {
+    const rp = app.replay;
+    const jobs = [];
+    for (let i = chunkAtTime(rp, t0); i <= chunkAtTime(rp, t1); ++i) jobs.push(loadChunk(rp, i));
+    await Promise.all(jobs);
+  },
   fps() { const n = app.fpsTimes.length; return n < 2 ? 0 : (n - 1) * 1000 / (app.fpsTimes[n - 1] - app.fpsTimes[0]); },
   redraw() { draw(); return drawn; },
   errors: app.errors,

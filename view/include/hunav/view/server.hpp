@@ -9,8 +9,10 @@
 // (and Origin, when sent) must name this server; writes and runs (POST) must carry the token of this
 // start, which only the page served here holds (a <meta name="hunav-token"> element).
 #include <atomic>
+#include <filesystem>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +35,7 @@ struct ServerParts {
   FrameHub* live = nullptr;             // live mode: frames to stream
   const Replay* replay = nullptr;       // replay mode
   Editor* editor = nullptr;             // the editor's folder (null: no editor)
+  ReplayOptions replay_options;         // for the replays of the editor's runs
   std::string default_planner = "dwb";  // for the editor's runs
 };
 
@@ -73,6 +76,9 @@ class ViewServer {
   // The request policy above: true to go on, false with the refusal answered.
   bool admit(const httplib::Request& req, httplib::Response& res) const;
   bool hostAllowed(const std::string& host) const;
+  // The replay of a results folder of the editor's: loaded again when `reload` (the page opens a run)
+  // or when it is not the folder loaded last; its chunks are fetched one request each.
+  std::shared_ptr<const Replay> editorReplay(const std::filesystem::path& dir, bool reload);
   ServerParts parts_;
   std::unique_ptr<httplib::Server> server_;
   std::string token_;
@@ -80,6 +86,9 @@ class ViewServer {
   bool any_host_ = false;                   // bound to every address (0.0.0.0, ::): any Host
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};
+  std::mutex editor_replay_mutex_;
+  std::filesystem::path editor_replay_dir_;
+  std::shared_ptr<const Replay> editor_replay_;
 };
 
 // hunav_view's loop: serves HTTP on a thread of its own and, until `stop` is set or `keep_going`
