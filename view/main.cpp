@@ -1,4 +1,6 @@
 // hunav_view: a web page that shows a run live (or a replay of one) and edits scenarios.
+#include <sys/resource.h>
+
 #include <atomic>
 #include <chrono>
 #include <iostream>
@@ -144,10 +146,16 @@ int run(const Options& o, const std::atomic<bool>& stop) {
   serveUntilStopped(server, bus.get(), stop, [&o] {
     return o.netns_pid == 0 || processAlive(static_cast<pid_t>(o.netns_pid));  // else the run is over
   });
-  if (feed)
+  if (feed) {
+    // What watching cost (docs/performance.md, "Sampling the bus"): the process's CPU, start-up included.
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const auto ms = [](const timeval& t) { return static_cast<double>(t.tv_sec) * 1e3 + t.tv_usec * 1e-3; };
     std::cerr << "hunav_view: " << feed->worldStates() << " world states received, " << feed->statesDecoded()
               << " decoded, " << feed->framesBuilt() << " frames sent, " << feed->undecodable()
-              << " sampled messages dropped as undecodable\n";
+              << " sampled messages dropped as undecodable; CPU " << ms(usage.ru_utime) << " ms user, "
+              << ms(usage.ru_stime) << " ms system\n";
+  }
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "hunav/bus.hpp"
 #include "hunav/channels.hpp"
 #include "hunav/config_error.hpp"
 #include "hunav/lcm_log_reader.hpp"
@@ -14,7 +15,6 @@
 #include "hunav/results/run_json.hpp"
 #include "hunav/results/sample_rate.hpp"
 #include "hunav/results/states_csv.hpp"
-#include "hunav/wire_checks.hpp"
 
 namespace hunav::view {
 
@@ -268,9 +268,7 @@ namespace {
 template <class Message>
 std::optional<Message> decodeLogged(const std::vector<std::uint8_t>& data) {
   Message m;
-  if (!wire::safeToDecode<Message>(data.data(), data.size()) ||
-      m.decode(data.data(), 0, static_cast<int>(data.size())) < 0)
-    return std::nullopt;
+  if (!decodeMessage(data.data(), data.size(), m)) return std::nullopt;
   return m;
 }
 
