@@ -452,3 +452,13 @@ TEST(Scenario, PeopleModelChoices) {
                   "      a1: {id: 1, init_pose: {x: 1, y: 1}, people_model: nowhere.yaml}\n",
               14, "people.hunav_loader.ros__parameters.a1.people_model");
 }
+
+// The text of a ConfigError: "file:line: key: what", leaving out what it does not know (an error of a
+// command-line value has no file: it starts with its key, not with ": ").
+TEST(ConfigErrorText, NamesFileLineAndKeyAndLeavesOutWhatIsUnknown) {
+  EXPECT_STREQ(hunav::ConfigError("a.yaml", 3, "dt", "must be positive").what(), "a.yaml:3: dt: must be positive");
+  EXPECT_STREQ(hunav::ConfigError("a.yaml", 0, "dt", "must be positive").what(), "a.yaml: dt: must be positive");
+  EXPECT_STREQ(hunav::ConfigError("a.yaml", 3, "", "not YAML").what(), "a.yaml:3: not YAML");
+  EXPECT_STREQ(hunav::ConfigError("", 0, "--people-model", "unknown").what(), "--people-model: unknown");
+  EXPECT_STREQ(hunav::ConfigError("", 0, "", "bad").what(), "bad");
+}

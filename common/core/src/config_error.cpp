@@ -4,9 +4,10 @@ namespace hunav {
 
 namespace {
 std::string format(const std::string& file, int line, const std::string& key, const std::string& what) {
+  // "file:line: key: what"; an error of no file (a command-line value) starts with its key.
   std::string s = file;
-  if (line > 0) s += ":" + std::to_string(line);
-  s += ": ";
+  if (!file.empty() && line > 0) s += ":" + std::to_string(line);
+  if (!s.empty()) s += ": ";
   if (!key.empty()) s += key + ": ";
   return s + what;
 }
