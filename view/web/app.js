@@ -385,12 +385,19 @@ function loadChunk(rp, i) {
         for (const j of rp.loaded.keys()) if (far < 0 || Math.abs(j - now) > Math.abs(far - now)) far = j;
         rp.loaded.delete(far);
       }
-      // The time shown was waiting for this chunk: show it now.
-      if (app.replay === rp && chunkAtTime(rp, app.replayTime) === i) setReplayTime(app.replayTime, false);
+      // Show the time now if it was waiting for this chunk, or ask for its chunk if a drag of the
+      // slider moved on meanwhile (requestChunk fetched at most two at a time).
+      const now = chunkAtTime(rp, app.replayTime);
+      if (app.replay === rp && (now === i || !rp.loaded.has(now))) setReplayTime(app.replayTime, false);
       return c;
     }, (e) => { rp.pending.delete(i); app.errors.push(String(e)); $('banner').textContent = String(e); return null; }));
   }
   return rp.pending.get(i);
+}
+// What setReplayTime fetches: at most two chunks at a time (the one shown and the next), so that a
+// fast drag of the slider over a crowd's replay does not fetch every chunk it passes.
+function requestChunk(rp, i) {
+  if (rp.pending.has(i) || rp.loaded.has(i) || rp.pending.size < 2) loadChunk(rp, i);
 }
 function setReplayTime(t, fromSlider) {
   const rp = app.replay;
@@ -401,9 +408,9 @@ function setReplayTime(t, fromSlider) {
   $('replay-time').textContent = fmt(t, 2) + ' / ' + fmt(rp.t1, 2) + ' s';
   const ci = chunkAtTime(rp, t);
   const info = rp.chunks[ci];
-  if (ci + 1 < rp.chunks.length && t >= (info.t0 + info.t1) / 2) loadChunk(rp, ci + 1);
   const chunk = rp.loaded.get(ci);
-  if (!chunk) { loadChunk(rp, ci); return; }  // drawn when it arrives
+  if (!chunk) { requestChunk(rp, ci); return; }  // drawn when it arrives
+  if (ci + 1 < rp.chunks.length && t >= (info.t0 + info.t1) / 2) requestChunk(rp, ci + 1);
   const local = Math.max(0, lastAtOrBefore(chunk.frames, t));
   const k = info.first_frame + local;
   const f = Object.assign({}, chunk.frames[local]);
