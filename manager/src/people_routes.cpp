@@ -192,9 +192,22 @@ RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r, double margin) cons
   const int margin_class = static_cast<int>(std::lround(margin / kRadiusStep));
   const std::uint64_t key = (static_cast<std::uint64_t>(radius_class) << 42) |
                             (static_cast<std::uint64_t>(margin_class) << 32) | static_cast<std::uint32_t>(goal_cell);
-  if (auto it = fields_.find(key); it != fields_.end()) return it->second;
-  if (fields_.size() >= 128) fields_.clear();  // moving targets (the robot) leave many behind
+  ++use_count_;
+  if (auto it = fields_.find(key); it != fields_.end()) {
+    it->second.last_used = use_count_;
+    return it->second;
+  }
+  // Moving targets (the robot) and people with goals of their own leave many fields behind.
+  const std::size_t max_fields = std::max(kMinFields, kFieldBytes / (5 * std::max<std::size_t>(1, clearance_.size())));
+  if (fields_.size() >= max_fields) {
+    auto oldest = fields_.begin();
+    for (auto it = fields_.begin(); it != fields_.end(); ++it)
+      if (it->second.last_used < oldest->second.last_used) oldest = it;
+    fields_.erase(oldest);
+  }
   Field& f = fields_[key];
+  f.last_used = use_count_;
+  ++fields_built_;
   f.cost.assign(clearance_.size(), kUnreachable);
   f.settled.assign(clearance_.size(), 0);
   f.price = priceFor(radius_class, margin_class);

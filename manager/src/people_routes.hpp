@@ -46,6 +46,12 @@ class RouteMap {
   double passMargin(double r, const SfmParams& params, double desired_speed) const;
   static constexpr double kMaxPassMargin = 0.5;
 
+  // Route fields built so far (each a Dijkstra search from a goal): for tests and benchmarks.
+  std::size_t fieldsBuilt() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return fields_built_;
+  }
+
   // How much less than its radius a body may have in a cell a route crosses (the grid's own error).
   static constexpr double kSqueeze = 0.1;
 
@@ -57,7 +63,15 @@ class RouteMap {
     std::vector<std::uint8_t> settled;
     std::vector<std::pair<float, int>> open;          // a min-heap on (cost, cell)
     std::shared_ptr<const std::vector<float>> price;  // per metre through each cell
+    std::uint64_t last_used = 0;                      // use_count_ when last asked for
   };
+  // The fields kept: as many as kFieldBytes holds at 5 bytes per cell (a cost and a flag), at least
+  // kMinFields; beyond, the least recently used goes. A field is the same whenever it is rebuilt, so
+  // this bounds memory and time, never routes. (Keeping 128 and clearing all of them at the 129th
+  // rebuilt every field over and over once more than 128 goals were walked to: 180 people with goals
+  // of their own spent 91% of a run in Dijkstra.)
+  static constexpr std::size_t kFieldBytes = std::size_t{256} << 20;
+  static constexpr std::size_t kMinFields = 16;
   int cellOf(const Vec2& p) const;  // -1 outside the grid
   Vec2 centreOf(int cell) const;
   std::shared_ptr<const std::vector<float>> priceFor(int radius_class, int margin_class) const;  // mutex_ held
@@ -72,6 +86,8 @@ class RouteMap {
   std::vector<float> clearance_;  // per cell, m
   mutable std::mutex mutex_;      // guards fields_ and prices_
   mutable std::unordered_map<std::uint64_t, Field> fields_;
+  mutable std::uint64_t use_count_ = 0;
+  mutable std::size_t fields_built_ = 0;
   mutable std::unordered_map<int, std::shared_ptr<const std::vector<float>>> prices_;  // by radius, margin
   // The backward part of a unit obstacle force's peak, by radius and margin class (passMargin).
   mutable std::map<std::pair<double, int>, double> peaks_;

@@ -113,6 +113,22 @@ TEST(RouteMap, AWaypointLeadsAroundTheTableAndTheGoalInSightIsTheGoal) {
   EXPECT_TRUE(map.clearLine(w, w2, 0.35));
 }
 
+// Routes to 300 goals behind a wall, asked twice over: each goal's field is built once (the map keeps
+// far more than 300 fields of this 101 x 61 grid), and the second round gives the same waypoints.
+// (It kept 128 and dropped them all at the 129th: every goal was searched again, over and over.)
+TEST(RouteMap, EachGoalsFieldIsBuiltOnceWhileManyPeopleWalkToGoalsOfTheirOwn) {
+  const RouteMap map({box(4.9, -3, 5.1, 2)}, Vec2(0, -3), Vec2(10, 3), 0.1);
+  std::vector<Vec2> goals, first;
+  for (int i = 0; i < 300; ++i) goals.emplace_back(6.0 + 0.01 * (i % 30) * 10, -2.5 + 0.5 * (i / 30));
+  const Vec2 from(1, -2);
+  for (const Vec2& g : goals) first.push_back(map.nextWaypoint(from, g, 0.25));
+  const std::size_t built = map.fieldsBuilt();
+  EXPECT_GE(built, 100u);  // goals in different cells: fields of their own (some in sight need none)
+  EXPECT_LE(built, goals.size());
+  for (std::size_t i = 0; i < goals.size(); ++i) EXPECT_EQ(map.nextWaypoint(from, goals[i], 0.25), first[i]) << i;
+  EXPECT_EQ(map.fieldsBuilt(), built);
+}
+
 TEST(RouteMap, TheRouteTakesTheGapThatFitsTheBody) {
   // A wall across the hall at x = 5 with two gaps: 0.5 m wide at y = 1 (too narrow for a 0.35 m
   // body) and 1.4 m wide at y = -2.
