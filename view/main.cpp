@@ -48,7 +48,7 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--replay-rows", o.replay.max_rows_per_second,
                  "replay rows (robot and people) kept per second of simulation time, at most (0: no limit); default "
                  "10000")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(std::size_t{0}, std::size_t{1'000'000'000}));
   app.add_option("--replay-chunk-seconds", o.replay.chunk_seconds,
                  "a replay is sent to the page in chunks of at most this many seconds of simulation time (and 1 MB "
                  "of text); default 30")

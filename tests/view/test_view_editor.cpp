@@ -508,4 +508,10 @@ TEST(ViewReplay, CrowdsKeepFewerFramesPerSecond) {
   EXPECT_DOUBLE_EQ(replay.rate, 5.0);
   // 0, 0.2, ..., 14.8 and the last sample (14.99 or so): 75 + 1.
   EXPECT_EQ(replay.frames(), 76u);
+  // A rate below what SampleRate takes is a frame per 1000 s: the first sample and the last.
+  options.rate = 1e-9;
+  options.max_rows_per_second = 0;
+  const hunav::view::Replay sparse = hunav::view::loadResults(run.out, options);
+  EXPECT_DOUBLE_EQ(sparse.rate, 1e-3);
+  EXPECT_EQ(sparse.frames(), 2u);
 }

@@ -151,9 +151,10 @@ class ChunkBuilder {
 // a crowd keeps at most max_rows_per_second rows per second.
 double frameRate(const ReplayOptions& options, std::size_t rows) {
   if (options.rate <= 0.0) return 0.0;
-  if (options.max_rows_per_second == 0 || rows == 0) return options.rate;
-  return std::max(1e-3,
-                  std::min(options.rate, static_cast<double>(options.max_rows_per_second) / static_cast<double>(rows)));
+  double rate = options.rate;
+  if (options.max_rows_per_second > 0 && rows > 0)
+    rate = std::min(rate, static_cast<double>(options.max_rows_per_second) / static_cast<double>(rows));
+  return std::max(1e-3, rate);  // a frame per 1000 s at least (SampleRate's range)
 }
 
 Json entityRobot(const results::EntityState& e) {
