@@ -347,7 +347,7 @@ function lastAtOrBefore(list, t) {  // binary search on .t
   while (lo <= hi) { const mid = (lo + hi) >> 1; if (list[mid].t <= t + 1e-9) { best = mid; lo = mid + 1; } else hi = mid - 1; }
   return best;
 }
-// A replay arrives in chunks (view/README.md, "Replays"): the header lays out the slider, and each chunk
+// A replay arrives in chunks (view/README.md, "Replays that open at once"): the header lays out the slider, and each chunk
 // holds the frames of a stretch of time with the scans, paths and metrics of it, each list led by the
 // last one before the chunk. A chunk is fetched when the time reaches it (the next one while playing
 // through the second half of the current one); at most KEEP_CHUNKS stay in the page.
