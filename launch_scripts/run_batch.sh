@@ -44,10 +44,11 @@ usage() {
   cat <<'EOF'
 Usage: launch_scripts/run_batch.sh --scenarios LIST --planners LIST --seeds SEEDS --out DIR [options]
 
-Runs every (scenario, planner, seed) of the matrix, several at a time (GNU parallel), then writes the
-batch summary (hunav_summary DIR). In the inprocess mode each job is one hunav_run process running a
-chunk of seeds of one scenario and planner (hunav_run --seeds: the same result files as one process per
-run, at the speed of the simulation); in lockstep and realtime each run is a run_experiment.sh.
+Runs every (scenario, planner, seed) of the matrix, several at a time, then writes the batch summary
+(hunav_summary DIR). In the inprocess mode one hunav_run process runs the whole matrix, --jobs episodes
+at a time on threads of its own (hunav_run --runs: the same result files as one process per run, at
+the speed of the simulation); in lockstep and realtime each run is a run_experiment.sh, several at a
+time with GNU parallel.
 
   --scenarios LIST   comma-separated scenario names (scenarios/NAME.yaml) or YAML files
   --planners LIST    comma-separated planners: dwb, scl, sfw, none, or names given --planner-cmd
@@ -57,9 +58,8 @@ run, at the speed of the simulation); in lockstep and realtime each run is a run
   --mode MODE        inprocess (default), lockstep or realtime (separate processes, each run in its own
                      private network namespace, made by run_experiment.sh)
   --duration S       simulated time limit of every run (default: each scenario's time_limit)
-  --timeout S        wall-clock limit of every run (run_experiment.sh --timeout: the run is stopped,
-                     aborted, exit 124, and runs again next time; inprocess: of every chunk, the sum
-                     of its runs' limits); default, per run:
+  --timeout S        wall-clock limit of every run (run_experiment.sh --timeout, hunav_run --runs' limit:
+                     the run is stopped, aborted, and runs again next time); default, per run:
                      HUNAV_BATCH_TIMEOUT_MARGIN (60) + 2 x the run's time limit (--duration, else its
                      scenario's time_limit, else 60) s, so a run that hangs cannot hold the batch
   --profile P        metrics profile: default or hunav_v1
@@ -91,8 +91,8 @@ run, at the speed of the simulation); in lockstep and realtime each run is a run
 Layout of DIR:
   runs/<scenario>__<planner>__seed<N>/   the output folder of each run (run_experiment.sh --out),
                                          with its console output in logs/run_experiment.log
-                                         (inprocess: logs/hunav_run.log, its part of the chunk's)
-  logs/<scenario>__<planner>__seeds<A>-<B>.log   inprocess: the console output of each chunk
+                                         (inprocess: logs/hunav_run.log)
+  logs/hunav_run.log                     inprocess: the rest of hunav_run's console output
   matrix.tsv                             the matrix (as --print-matrix)
   batch.log                              one line per invocation: arguments, duration, counts
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
@@ -265,7 +265,7 @@ if [ "${1:-}" = --run-one ]; then
 fi
 
 # ---------------------------------------------------------------------------------------------------
-# A chunk of runs (what each parallel job executes in the inprocess mode): one hunav_run process runs
+# A chunk of runs (what each task of slurm_batch.sh executes): one hunav_run process runs
 # several seeds of one scenario and planner (hunav_run --seeds: the same result files as one process
 # per run), so that a batch costs its simulations, not a shell and a process per run.
 #   --run-chunk DIR FILE SCENARIO PLANNER SEEDS(comma-separated) [run_experiment options]
@@ -570,49 +570,62 @@ parallel_rc=0
 # recorded (its default, 0.4 s, could cut a run's result files short) before SIGKILL.
 termseq=TERM,30000,KILL,25
 if [ "$mode" = inprocess ]; then
-  # Chunks: the runs still to do of each (scenario, planner), a few seeds per hunav_run process,
-  # about six chunks per job so that the jobs end together (at most 10 runs per chunk: progress lines
-  # come at the end of each chunk). The finished runs are reported as skipped here.
+  # One hunav_run process runs every run still to do (hunav_run --runs: the matrix's order, $jobs
+  # episodes at a time on threads of its own, each with its wall-clock limit), so that a batch costs
+  # its simulations, not a shell, a process and a judge per chunk (docs/performance.md, "Batches").
+  # Its progress lines are printed here as the runs end; the rest of its output goes to
+  # logs/hunav_run.log, and each run's part to its folder's logs/hunav_run.log.
   need_bin hunav_run
-  todo=$((total - already))
-  chunk_size=$(((todo + 6 * jobs - 1) / (6 * jobs)))
-  [ "$chunk_size" -ge 1 ] || chunk_size=1
-  [ "$chunk_size" -le 10 ] || chunk_size=10
-  export HUNAV_BATCH_TOTAL=$total
-  # As many jobs as cores: a hunav_run's own threads (the evaluator's lane) would only add the CPU
-  # of their hand-offs (docs/performance.md, "Batches"), so each runs on one thread (the same results).
-  cores=$(nproc 2>/dev/null || echo 1)
-  export HUNAV_BATCH_SINGLE_THREAD=$((jobs >= cores ? 1 : 0))
-  : >"$out/.chunks"
-  current="" seeds_csv="" count=0
-  skipped=()
+  declare -A limit_of=() config_of=()
+  for ((k = 0; k < ${#planner_specs[@]}; k += 2)); do
+    [ "${planner_specs[k]}" != --planner-config ] || config_of[${planner_specs[k + 1]%%=*}]=${planner_specs[k + 1]#*=}
+  done
+  skipped=() todo_dirs=()
   while IFS=$'\t' read -r _ file label planner seed; do
-    if [ -n "${finished_dirs[$out/runs/${label}__${planner}__seed${seed}]-}" ]; then
+    run_dir="$out/runs/${label}__${planner}__seed${seed}"
+    if [ -n "${finished_dirs[$run_dir]-}" ]; then
       skipped+=("$label $planner seed $seed" "skipped (finished before)")
       continue
     fi
-    if [ "$file"$'\t'"$label"$'\t'"$planner" != "$current" ] || [ "$count" -eq "$chunk_size" ]; then
-      [ -z "$seeds_csv" ] || printf '%s\t%s\n' "$current" "$seeds_csv" >>"$out/.chunks"
-      current="$file"$'\t'"$label"$'\t'"$planner" seeds_csv="" count=0
-    fi
-    seeds_csv=${seeds_csv:+$seeds_csv,}$seed
-    count=$((count + 1))
-  done <"$out/matrix.tsv"
-  [ -z "$seeds_csv" ] || printf '%s\t%s\n' "$current" "$seeds_csv" >>"$out/.chunks"
+    [ -n "${limit_of[$file]-}" ] || limit_of[$file]=${timeout:-$(run_limit "$file" "$duration")}
+    todo_dirs+=("$run_dir")
+    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$file" "$label" "$planner" "$seed" "${limit_of[$file]}" "${config_of[$planner]-}"
+  done <"$out/matrix.tsv" >"$out/.runs"
+  export HUNAV_BATCH_TOTAL=$total
   [ "${#skipped[@]}" -eq 0 ] || progress "${skipped[@]}"
-  # parallel hands the command to a shell and quotes the fields it substitutes ({1}...{4}); the rest
-  # is quoted here. Ctrl-C reaches every hunav_run, which ends its episode and writes what it recorded;
-  # the interrupted runs are not finished and run again next time.
-  job=$(printf '%q ' "$script_path" --run-chunk "$out")'{1} {2} {3} {4} '$(printf '%q ' "${run_args[@]}")
-  if [ -s "$out/.chunks" ]; then
-    # No more jobs than chunks: parallel probes its limits for each job slot it is given.
-    chunks=$(wc -l <"$out/.chunks")
-    # In the background: SIGINT to the batch's group then ends this shell at once (see the top).
-    HUNAV_BIN_DIR=$bin_dir parallel --will-cite --jobs "$((jobs < chunks ? jobs : chunks))" --line-buffer \
-      --termseq "$termseq" --colsep '\t' --arg-file "$out/.chunks" "$job" &
+  hunav_args=(--quiet)
+  [ -z "$duration" ] || hunav_args+=(--duration "$duration")
+  [ -z "$profile" ] || hunav_args+=(--profile "$profile")
+  [ -z "$metrics" ] || hunav_args+=(--metrics "$metrics")
+  [ -z "$format" ] || hunav_args+=(--format "$format")
+  [ -z "$people_model" ] || hunav_args+=(--people-model "$people_model")
+  [ "$counterfactual" -eq 0 ] || hunav_args+=(--counterfactual)
+  [ "$no_states_csv" -eq 0 ] || hunav_args+=(--no-states-csv)
+  [ "$no_per_tick_files" -eq 0 ] || hunav_args+=(--no-per-tick-files)
+  if [ "${#todo_dirs[@]}" -gt 0 ]; then
+    rm -rf "${todo_dirs[@]}"
+    mkdir -p "$out/logs"
+    runs_log="$out/logs/hunav_run.log"
+    : >"$runs_log"
+    # SIGINT to the batch's group (see the top) reaches hunav_run, which ends its episodes and writes
+    # what they recorded (the interrupted runs run again next time); this shell ends at once, and
+    # hunav_run ignores the closed pipe.
+    done_count=$already
+    while IFS= read -r line; do
+      if [[ $line =~ ^\[[0-9]+/[0-9]+\]\ (.*)$ ]]; then
+        done_count=$((done_count + 1))
+        printf 'run_batch: [%d/%d] %s\n' "$done_count" "$total" "${BASH_REMATCH[1]}"
+      else
+        printf '%s\n' "$line" >>"$runs_log"
+      fi
+    done < <(exec "$bin_dir/hunav_run" --runs "$out/.runs" --jobs "$jobs" --out "$out/runs" "${hunav_args[@]}" \
+      2>>"$runs_log" </dev/null)
+    # hunav_run's exit code (bash waits for a process substitution by its pid); a failed expect:
+    # condition is a result (junit.xml), an unfinished run is reported below.
     wait "$!" || parallel_rc=$?
+    [ "$parallel_rc" -ne 3 ] || parallel_rc=0
   fi
-  rm -f "$out/.chunks"
+  rm -f "$out/.runs"
 else
   # Each job runs this script with --run-one. parallel hands the command to a shell and quotes the
   # fields it substitutes ({2}...{5}); the rest is quoted here. Ctrl-C reaches every run_experiment.sh,

@@ -1,7 +1,12 @@
 // hunav_run: one episode with every component in this process (no network), then a metrics table.
+#include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
+#include <mutex>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,35 +21,61 @@
 #include "hunav/runner/expectations.hpp"
 #include "hunav/runner/in_process_run.hpp"
 #include "hunav/runner/robot_free_run.hpp"
+#include "hunav/runner/run_list.hpp"
 #include "hunav/runner/run_summary.hpp"
 #include "hunav/signals.hpp"
 #include "hunav/thread_pool.hpp"
 
 namespace {
 
-// One episode: runs it, prints its line and metrics table, judges its expect: conditions. Returns
-// the exit code of README.md's table: 0 ended on its own (and every condition passed), 1 aborted,
-// 130/143 interrupted, 3 a condition failed.
-int runEpisode(const hunav::Scenario& scenario, const hunav::runner::RunOptions& options, bool quiet) {
+// What became of one episode: its exit code (README.md's table: 0 ended on its own and every
+// expect: condition passed, 1 aborted, 130/143 interrupted, 3 a condition failed, 2 bad input) and
+// what its run.json says.
+struct EpisodeReport {
+  int code = 1;
+  std::string status, reason;
+  double sim_time = 0.0;
+  bool complete = false;  // run.json "complete": an END closed the recording
+};
+
+// One episode: runs it, prints its line and metrics table to `out`, judges its expect: conditions.
+EpisodeReport runEpisode(const hunav::Scenario& scenario, const hunav::runner::RunOptions& options, bool quiet,
+                         std::ostream& out) {
   const auto outcome = hunav::runner::runInProcess(scenario, options);
   const auto& ep = outcome.episode;
-  std::cout << hunav::runner::formatRunLine(outcome.result ? outcome.result->info.run_id : options.run_id, ep.status,
-                                            ep.reason, ep.sim_time, ep.wall_time, ep.ticks, ep.fingerprint);
+  EpisodeReport report;
+  report.status = ep.status;
+  report.reason = ep.reason;
+  report.sim_time = ep.sim_time;
+  out << hunav::runner::formatRunLine(outcome.result ? outcome.result->info.run_id : options.run_id, ep.status,
+                                      ep.reason, ep.sim_time, ep.wall_time, ep.ticks, ep.fingerprint);
   if (outcome.result) {
-    if (!quiet) std::cout << outcome.result->formatTable();
-    std::cout << "results in " << outcome.result->run_dir.string() << "\n";
+    const auto& info = outcome.result->info;
+    report.status = info.status;
+    report.reason = info.reason;
+    report.complete = info.complete;
+    if (!quiet) out << outcome.result->formatTable();
+    out << "results in " << outcome.result->run_dir.string() << "\n";
   }
-  if (!ep.ended()) return hunav::episode_status::exitCodeFor(ep.status, hunav::stopSignal());
-  if (scenario.expectations.empty() || !outcome.result) return 0;
+  if (!ep.ended()) {
+    report.code = hunav::episode_status::exitCodeFor(ep.status, hunav::stopSignal());
+    return report;
+  }
+  report.code = 0;
+  if (scenario.expectations.empty() || !outcome.result) return report;
   // Judged on what the evaluator wrote (its run.json status: an incomplete recording is not judged).
   const auto& info = outcome.result->info;
   const std::filesystem::path expect_json = outcome.result->run_dir / "expect.json";
   std::filesystem::remove(expect_json);
-  if (!hunav::episode_status::ranToEnd(info.status)) return 1;
+  if (!hunav::episode_status::ranToEnd(info.status)) {
+    report.code = 1;
+    return report;
+  }
   const auto verdicts = hunav::runner::judge(scenario.expectations, info.status, outcome.result->metrics);
-  std::cout << hunav::runner::formatVerdicts(verdicts);
+  out << hunav::runner::formatVerdicts(verdicts);
   hunav::runner::writeExpectJson(expect_json, info.run_id, info.status, verdicts);
-  return hunav::runner::allPass(verdicts) ? 0 : hunav::runner::kExitExpectationsFailed;
+  report.code = hunav::runner::allPass(verdicts) ? 0 : hunav::runner::kExitExpectationsFailed;
+  return report;
 }
 
 // The exit code of several episodes: bad input (2), else an interrupt (130/143), else an aborted run
@@ -88,12 +119,14 @@ struct Options {
   bool no_per_tick_files = false;
   bool single_thread = false;
   std::string robot_free_of, robot_free_out;  // --robot-free-of, --robot-free-out
+  std::string run_list;                       // --runs
+  int jobs = 1;                               // --jobs
   CLI::Option* experiment_tag = nullptr;      // given on the command line when its count() > 0
 };
 
 void addOptions(CLI::App& app, Options& o) {
   hunav::runner::RunOptions& run = o.run;
-  app.add_option("--scenario", o.scenario_file, "scenario YAML file")->required();
+  auto* scenario_opt = app.add_option("--scenario", o.scenario_file, "scenario YAML file (or --runs)");
   app.add_option(
       "--planner", run.planner, "planner: " + [] {
         std::string names;
@@ -164,6 +197,27 @@ void addOptions(CLI::App& app, Options& o) {
           ->excludes("--counterfactual");
   app.add_option("--robot-free-out", o.robot_free_out, "the states.csv of --robot-free-of")->needs(robot_free_of);
   robot_free_of->needs("--robot-free-out");
+  auto* runs_opt =
+      app.add_option("--runs", o.run_list,
+                     "instead of --scenario: run every episode of this list (any mix of scenarios, planners and seeds; "
+                     "a line per run, tab-separated: scenario file, label, planner, seed, and optionally a wall-clock "
+                     "limit in s (0 = none) and a planner config file) on --jobs threads, each into "
+                     "OUT/<label>__<planner>__seed<N>/ (OUT: --out, default results) with its console output in its "
+                     "logs/hunav_run.log; prints a line per run as it ends (run_batch.sh's inprocess mode)")
+          ->check(CLI::ExistingFile)
+          ->excludes(scenario_opt)
+          ->excludes(seed_opt)
+          ->excludes("--seeds")
+          ->excludes("--planners")
+          ->excludes("--folder-label")
+          ->excludes("--record")
+          ->excludes("--run-id")
+          ->excludes("--robot-free-of");
+  app.add_option("--jobs", o.jobs,
+                 "with --runs: episodes at a time, each on a thread of its own (every component of an episode on "
+                 "its thread: the same results as one at a time)")
+      ->check(CLI::Range(1, 1024))
+      ->needs(runs_opt);
 }
 
 // The scenario of one seed (-1: its own), with this invocation's overrides; bad input throws
@@ -250,7 +304,7 @@ int runSeries(const Options& o, const hunav::Scenario& first, const std::vector<
             (std::filesystem::path(out_root) /
              hunav::runner::batchRunFolder(o.folder_label.empty() ? s.name : o.folder_label, planner, episode_seed))
                 .string();
-        code = runEpisode(s, episode, o.quiet);
+        code = runEpisode(s, episode, o.quiet, std::cout).code;
       } catch (const hunav::ConfigError& e) {
         std::cerr << "hunav_run: " << planner << " seed " << episode_seed << ": " << e.what() << "\n";
         code = hunav::kExitBadInput;
@@ -268,7 +322,92 @@ int runSeries(const Options& o, const hunav::Scenario& first, const std::vector<
   return tally.exitCode();
 }
 
+// One line of a --runs progress: the run and what became of it (run_batch.sh's words for it).
+std::string listedRunLine(const hunav::runner::ListedRun& listed, const EpisodeReport& report,
+                          const std::filesystem::path& run_dir, const std::filesystem::path& log) {
+  std::ostringstream line;
+  line << listed.label << " " << listed.planner << " seed " << listed.seed << ": ";
+  const bool finished = report.complete && hunav::episode_status::ranToEnd(report.status);
+  if (finished && report.code == hunav::runner::kExitExpectationsFailed)
+    line << report.status << ", expectations FAILED (see " << (run_dir / "expect.json").string() << ")";
+  else if (finished)
+    line << report.status << " after " << std::fixed << std::setprecision(2) << report.sim_time << " s of simulation";
+  else if (!report.status.empty())
+    line << "NOT FINISHED: " << report.status << (report.reason.empty() ? "" : " (" + report.reason + ")") << ", exit "
+         << report.code << "; runs again next time (see " << log.string() << ")";
+  else
+    line << "FAILED (exit " << report.code << ", see " << log.string() << ")";
+  return line.str();
+}
+
+// --runs: the listed episodes on --jobs threads, each with the options of this command line, into
+// OUT/<label>__<planner>__seed<N>/ with its console output in logs/hunav_run.log; a line per run on
+// stdout as it ends. Each thread keeps its planner for its next episode (KeptPlanner).
+int runList(Options& o) {
+  const std::vector<hunav::runner::ListedRun> runs = hunav::runner::readRunList(o.run_list);
+  // A reader of the progress lines that goes away (run_batch.sh stopped) must not end the runs.
+  std::signal(SIGPIPE, SIG_IGN);
+  o.run.stop = &hunav::installStopSignals();
+  const std::filesystem::path out_root = o.run.out_dir.empty() ? "results" : o.run.out_dir;
+  std::vector<hunav::runner::KeptPlanner> kept(static_cast<std::size_t>(o.jobs));
+  std::mutex print_mutex;
+  std::size_t printed = 0;
+  const auto run_one = [&](int worker, std::size_t item, const std::atomic<bool>& stop,
+                           const std::function<hunav::episode_status::StopCause()>& cause) {
+    const hunav::runner::ListedRun& listed = runs[item];
+    const std::filesystem::path run_dir =
+        out_root / hunav::runner::batchRunFolder(listed.label, listed.planner, listed.seed);
+    std::ostringstream text;
+    EpisodeReport report;
+    try {
+      Options per = o;
+      per.scenario_file = listed.scenario_file;
+      per.seed = listed.seed;
+      if (!listed.planner_config.empty()) per.run.planner_config = listed.planner_config;
+      const hunav::Scenario scenario = prepare(per);
+      hunav::runner::RunOptions& episode = per.run;
+      episode.planner = listed.planner;
+      episode.out_dir = run_dir.string();
+      episode.kept_planner = &kept[static_cast<std::size_t>(worker)];
+      episode.stop = &stop;
+      episode.stop_cause = cause;
+      episode.threads = nullptr;  // a thread per episode already
+      report = runEpisode(scenario, episode, o.quiet, text);
+    } catch (const hunav::ConfigError& e) {
+      text << "hunav_run: " << o.run_list << ":" << listed.line << ": " << e.what() << "\n";
+      report.code = hunav::kExitBadInput;
+    } catch (const std::exception& e) {
+      text << "hunav_run: " << o.run_list << ":" << listed.line << ": error: " << e.what() << "\n";
+      report.code = 1;
+    }
+    const std::filesystem::path log = run_dir / "logs" / "hunav_run.log";
+    std::error_code ignored;  // a folder that cannot be made: the line below still says what happened
+    std::filesystem::create_directories(log.parent_path(), ignored);
+    std::ofstream(log) << text.str();
+    const std::string line = listedRunLine(listed, report, run_dir, log);
+    std::lock_guard<std::mutex> lock(print_mutex);
+    if (report.status.empty()) std::cerr << text.str();  // an error before the episode: on the console too
+    std::cout << "[" << ++printed << "/" << runs.size() << "] " << line << std::endl;
+    return report.code;
+  };
+  const auto codes = hunav::runner::runInParallel(
+      runs.size(), o.jobs, *o.run.stop, [&](std::size_t i) { return runs[i].timeout; }, run_one);
+  EpisodeTally tally;
+  for (int code : codes)
+    if (code >= 0) tally.add(code);
+  std::cout << tally.text();
+  // Interrupted before every run started: the ones left are not run (an interrupt's exit code).
+  if (o.run.stop->load() && tally.runs < runs.size())
+    tally.interrupt_code = hunav::episode_status::exitCodeFor(hunav::episode_status::kInterrupted, hunav::stopSignal());
+  return tally.exitCode();
+}
+
 int run(Options& o) {
+  if (!o.run_list.empty()) return runList(o);
+  if (o.scenario_file.empty()) {
+    std::cerr << "hunav_run: --scenario FILE (or --runs FILE) is required\n";
+    return hunav::kExitBadInput;
+  }
   if (!o.robot_free_of.empty()) {
     hunav::runner::writeRobotFreeStates(scenarioFor(o, o.seed), o.robot_free_of, o.robot_free_out);
     return 0;
@@ -289,7 +428,7 @@ int run(Options& o) {
     if (o.run.out_dir.empty())  // the scenario's name: may say anything (safeFileName keeps it inside results/)
       o.run.out_dir = "results/" + hunav::results::safeFileName(scenario.name) + "_" + o.run.planner + "_" +
                       std::to_string(scenario.seed);
-    return runEpisode(scenario, o.run, o.quiet);
+    return runEpisode(scenario, o.run, o.quiet, std::cout).code;
   }
   return runSeries(o, scenario, planners, seeds);
 }

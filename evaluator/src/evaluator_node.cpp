@@ -651,7 +651,7 @@ void EvaluatorNode::finish(const episode_event_t* end, const std::string& incomp
     info.planner_dropped_messages = end->planner_dropped_messages;
     // Stopped from outside (an interrupt, or a supervisor's reason: episode_status::stopCause), the
     // episode was cut short even when the world still sent its END.
-    const auto stop = episode_status::stopCause();
+    const auto stop = options_.stop_cause ? options_.stop_cause() : episode_status::stopCause();
     info.complete = end->status != episode_status::kInterrupted &&
                     !(end->status == episode_status::kAborted && end->reason == stop.reason);
     // Ticks published after the last one that arrived.

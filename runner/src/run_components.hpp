@@ -27,6 +27,7 @@ inline evaluator::EvaluatorOptions evaluatorOptions(const Scenario& scenario, co
   e.states_csv = options.states_csv;
   e.per_tick_files = options.per_tick_files;
   e.write_files = options.write_files;
+  e.stop_cause = options.stop_cause;
   return e;
 }
 
@@ -36,6 +37,7 @@ inline worldsim::WorldOptions worldOptions(const RunOptions& options) {
   w.mode = "inprocess";
   w.run_id = options.run_id;
   w.stop = options.stop;
+  w.stop_cause = options.stop_cause;
   return w;
 }
 

@@ -29,7 +29,7 @@ for p in dwb sfw; do
   for s in 1 2; do
     d="$out/runs/passing__${p}__seed$s"
     { [ -s "$d/metrics.csv" ] && [ -s "$d/run.json" ] && [ -s "$d/states.csv" ]; } || fail "incomplete run folder $d"
-    # In-process batches run chunks of seeds in one hunav_run: each run's part of its output.
+    # In-process batches run the matrix in one hunav_run (--runs): each run's own console output.
     grep -q "^run passing_${p}_s$s: " "$d/logs/hunav_run.log" || fail "no console log in $d/logs"
     grep -q "^results in $d\$" "$d/logs/hunav_run.log" || fail "$d/logs/hunav_run.log holds another run's output"
     checker="$REPO/../shared/tools/check_outputs.py"

@@ -474,7 +474,7 @@ bool WorldSim::awaitPlannerReady(std::string& failure) {
 
 void WorldSim::abortWith(EpisodeResult& result, const std::string& failure) const {
   if (options_.stop != nullptr && options_.stop->load()) {
-    auto cause = episode_status::stopCause();
+    auto cause = options_.stop_cause ? options_.stop_cause() : episode_status::stopCause();
     result.status = std::move(cause.status);
     result.reason = std::move(cause.reason);
   } else {

@@ -38,6 +38,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/world_state_t.hpp>
 #include <memory>
@@ -47,6 +48,7 @@
 #include <vector>
 
 #include "hunav/bus.hpp"
+#include "hunav/episode_status.hpp"
 #include "hunav/evaluator/counterfactual.hpp"
 #include "hunav/evaluator/metrics.hpp"
 #include "hunav/evaluator/result_files.hpp"
@@ -105,6 +107,9 @@ struct EvaluatorOptions {
   // writeRunSummaries() writes its metrics.csv rows and run.json later). For learning loops that
   // read the metrics in memory (hunav.gym); not with robot_free_run, which reads states.csv back.
   bool write_files = true;
+  // Why the run was stopped, when it was (empty: the process's, episode_status::stopCause()): an
+  // episode the world ended with this cause is recorded as cut short (WorldOptions::stop_cause).
+  std::function<episode_status::StopCause()> stop_cause;
 };
 
 class EvaluatorNode {

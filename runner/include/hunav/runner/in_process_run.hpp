@@ -3,6 +3,7 @@
 // in-process bus (or LCM's memq://): the same code and the same messages as separate processes in
 // lockstep, so the same fingerprint, without a network.
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -41,6 +42,8 @@ struct RunOptions {
   bool use_memq = false;    // run on LCM's memq:// instead of the Bus's own in-process queue
                             // (same messages and results; memq costs a pipe round trip each)
   const std::atomic<bool>* stop = nullptr;
+  // Why `stop` was set (empty: the process's signal or supervisor, episode_status::stopCause()).
+  std::function<episode_status::StopCause()> stop_cause;
   // Where the previous episode of a series left its planner (null: always a new planner).
   KeptPlanner* kept_planner = nullptr;
   // The caller's threads (outliving the run): the manager's helpers for large crowds and the

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <hunav/episode_event_t.hpp>
 #include <hunav/map_t.hpp>
 #include <hunav/planner_ready_t.hpp>
@@ -36,6 +37,9 @@ struct WorldOptions {
   std::chrono::milliseconds silence_limit{1000};   // abort after this long without an answer
   std::chrono::milliseconds startup_limit{10000};  // same, for a component's first answer of an episode
   const std::atomic<bool>* stop = nullptr;         // set (e.g. by SIGINT) to end the episode early
+  // Why `stop` was set (empty: the process's, episode_status::stopCause()): a runner of several
+  // episodes at once stops one of them with a reason of its own (hunav_run --runs' wall-clock limit).
+  std::function<episode_status::StopCause()> stop_cause;
   // The caller of tick() drives the robot (command()), not a planner on the bus: a control tick stops
   // before the planner exchange with the observation pending (the Python module's step()).
   bool external_control = false;
