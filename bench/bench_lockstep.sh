@@ -7,7 +7,7 @@
 # passing run): the wall clock is at the mercy of whatever else runs on the 2 cores; CPU time and
 # switches are not.
 #   bench/bench_lockstep.sh [--bin DIR] [--scenario FILE] [--repeat N] [--planners "dwb none"] [--nice N]
-#                           [--url URL] [--rt PRIO]
+#                           [--url URL] [--rt PRIO] [--view]
 # --nice N (root): run the processes at nice N (e.g. -10), so that other work on the machine delays
 # their wake-ups less; the wall-clock figure then approaches that of an idle machine.
 # --rt PRIO (root): run them under the real-time FIFO policy at PRIO (chrt -f), so that compiles on
@@ -18,6 +18,10 @@
 # put every channel on one port. The evaluator gets the URL without that option, as in run_experiment.sh.
 # After the runs of a planner: the median real-time factor and CPU per tick over the repeats.
 # Figures of one port against channel ports: lcmtypes/README.md, "Ports".
+# --view: every repeat runs twice, without and with hunav_view listening to the run's port (what
+# run_experiment.sh --view attaches), interleaved; a summary for each, and the view's own CPU. The
+# processes' CPU per tick tells what the view costs them (the kernel's delivery of each datagram to
+# one more socket is charged to its publisher) whatever else the 2 cores do.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 bin=${HUNAV_BIN_DIR:-$repo/build/bin}
@@ -26,6 +30,7 @@ repeat=3
 planners="dwb none"
 nice_level=0
 rt_prio=0
+view=0
 url=''  # below: our processes' default bus (asked of the build), with channel_ports=1
 while [ $# -gt 0 ]; do
   case $1 in
@@ -36,10 +41,11 @@ while [ $# -gt 0 ]; do
     --nice) nice_level=$2; shift 2 ;;
     --url) url=$2; shift 2 ;;
     --rt) rt_prio=$2; shift 2 ;;
-    *) echo "usage: $0 [--bin DIR] [--scenario FILE] [--repeat N] [--planners LIST] [--nice N] [--url URL] [--rt PRIO]" >&2; exit 2 ;;
+    --view) view=1; shift ;;
+    *) echo "usage: $0 [--bin DIR] [--scenario FILE] [--repeat N] [--planners LIST] [--nice N] [--url URL] [--rt PRIO] [--view]" >&2; exit 2 ;;
   esac
 done
-for exe in hunav_worldsim hunav_manager hunav_planner hunav_evaluator hunav_record; do
+for exe in hunav_worldsim hunav_manager hunav_planner hunav_evaluator hunav_record hunav_view; do
   [ -x "$bin/$exe" ] || { echo "$exe not built in $bin" >&2; exit 2; }
 done
 if [ -z "$url" ]; then
@@ -62,8 +68,10 @@ sys.exit(code if code >= 0 else 128 - code)')
 if [ -z "${HUNAV_BENCH_NETNS:-}" ]; then
   flags=--net
   [ "$(id -u)" -eq 0 ] || flags=-rn
+  view_args=()
+  [ "$view" -eq 0 ] || view_args=(--view)
   HUNAV_BENCH_NETNS=1 exec unshare $flags -- "$BASH" "$0" --bin "$bin" --scenario "$scenario" --repeat "$repeat" \
-    --planners "$planners" --nice "$nice_level" --url "$url" --rt "$rt_prio"
+    --planners "$planners" --nice "$nice_level" --url "$url" --rt "$rt_prio" "${view_args[@]}"
 fi
 ip link set lo up
 ip route replace 224.0.0.0/4 dev lo
@@ -96,10 +104,19 @@ start() {  # start NAME PROGRAM ARGS...: in the background, timed, waiting for i
 
 eval_url=$(printf '%s' "$url" | sed -E 's/([?&])channel_ports=1(&|$)/\1/; s/[?&]$//')
 echo "bus: $url (evaluator: $eval_url), nice $nice_level, real-time priority $rt_prio"
+# The series: without the view, and with it (--view).
+series=(plain)
+[ "$view" -eq 0 ] || series+=(view)
 for planner in $planners; do
-  : > "$work/summary_$planner"
+  for kind in "${series[@]}"; do : > "$work/summary_${planner}_$kind"; done
   for i in $(seq "$repeat"); do
-    out=$work/out_$planner$i
+  for kind in "${series[@]}"; do
+    out=$work/out_$planner${i}_$kind
+    view_pid=""
+    if [ "$kind" = view ]; then
+      start view "$bin/hunav_view" --lcm-url "$eval_url" --port 0 --no-editor --scenario "$scenario"
+      view_pid=${pids[-1]}
+    fi
     start evaluator "$bin/hunav_evaluator" --out "$out" --episodes 1 --lcm-url "$eval_url"
     # As run_experiment.sh: the manager runs until stopped (SIGTERM once the world has ended), so that
     # it need not listen to the URL's own port for the END event.
@@ -115,14 +132,19 @@ for planner in $planners; do
     # The manager itself, not the timing wrapper (which would die without writing its figures).
     mapfile -t manager_children < <(pgrep -P "$manager_pid")
     [ "${#manager_children[@]}" -eq 0 ] || kill -TERM "${manager_children[@]}" 2>/dev/null || true
+    if [ -n "$view_pid" ]; then
+      mapfile -t view_children < <(pgrep -P "$view_pid")
+      [ "${#view_children[@]}" -eq 0 ] || kill -TERM "${view_children[@]}" 2>/dev/null || true
+    fi
     for pid in "${pids[@]}"; do wait "$pid" || true; done
     pids=()
-    python3 - "$out/run.json" "$planner" "$work" "${names[@]}" >>"$work/summary_$planner" <<'PY'
+    [ "$kind" = plain ] || names+=(view)
+    python3 - "$out/run.json" "$planner" "$work" "${names[@]}" >>"$work/summary_${planner}_$kind" <<'PY'
 import json, sys
 run = json.load(open(sys.argv[1]))
 planner, work, names = sys.argv[2], sys.argv[3], sys.argv[4:]
 ticks = run["ticks"]
-print(f"lockstep planner {planner}: {run['status']}, {run['sim_time']:.2f} s simulated, {ticks} ticks in "
+print(f"lockstep planner {planner}{' with hunav_view' if 'view' in names else ''}: {run['status']}, {run['sim_time']:.2f} s simulated, {ticks} ticks in "
       f"{run['wall_time']:.3f} s: {run['sim_time'] / run['wall_time']:.0f}x real time, "
       f"{run['wall_time'] / ticks * 1e6:.1f} us per tick, fingerprint {run['fingerprint']}")
 # The evaluator must have recorded every world state (lost_ticks: numbered states that never came;
@@ -135,24 +157,27 @@ parts = []
 for name in names:
     user, system, voluntary, involuntary = open(f"{work}/{name}.time").read().split()[-4:]
     cpu = float(user) + float(system)
-    total += cpu
+    total += cpu if name != "view" else 0.0  # the run's processes
     parts.append(f"{name} {cpu / ticks * 1e6:.1f} us ({float(system) / ticks * 1e6:.1f} sys), "
                  f"{(int(voluntary) + int(involuntary)) / ticks:.1f} sw")
 print(f"  CPU per tick (whole process lifetimes, start-up included): total {total / ticks * 1e6:.1f} us; "
       + "; ".join(parts))
 PY
-    tail -n 3 "$work/summary_$planner"
+    tail -n 3 "$work/summary_${planner}_$kind"
   done
-  python3 - "$work/summary_$planner" "$planner" <<'PY'
+  done
+  for kind in "${series[@]}"; do
+  python3 - "$work/summary_${planner}_$kind" "$planner" "$kind" <<'PY'
 import re, statistics, sys
 text = open(sys.argv[1]).read()
 factors = [float(x) for x in re.findall(r"(\d+)x real time", text)]
 cpu = {}
 for line in text.splitlines():
-    for name, us in re.findall(r"(total|world|manager|evaluator|planner) ([0-9.]+) us", line):
+    for name, us in re.findall(r"(total|world|manager|evaluator|planner|view) ([0-9.]+) us", line):
         cpu.setdefault(name, []).append(float(us))
-print(f"planner {sys.argv[2]}, {len(factors)} runs: median {statistics.median(factors):.0f}x real time "
+print(f"planner {sys.argv[2]}{' with hunav_view' if sys.argv[3] == 'view' else ''}, {len(factors)} runs: median {statistics.median(factors):.0f}x real time "
       f"(min {min(factors):.0f}x, max {max(factors):.0f}x); median CPU us per tick: "
       + ", ".join(f"{k} {statistics.median(v):.1f}" for k, v in cpu.items()))
 PY
+  done
 done
