@@ -93,6 +93,8 @@ Layout of DIR:
                                          with its console output in logs/run_experiment.log
                                          (inprocess: logs/hunav_run.log)
   logs/hunav_run.log                     inprocess: the rest of hunav_run's console output
+  logs/runs.tsv                          inprocess: the runs the last invocation handed to hunav_run
+                                         (hunav_run --runs; its errors name lines of it)
   matrix.tsv                             the matrix (as --print-matrix)
   batch.log                              one line per invocation: arguments, duration, counts
   summary.csv, summary_stats.csv, paired.csv, summary.md   the aggregation (hunav_summary)
@@ -581,6 +583,7 @@ if [ "$mode" = inprocess ]; then
     [ "${planner_specs[k]}" != --planner-config ] || config_of[${planner_specs[k + 1]%%=*}]=${planner_specs[k + 1]#*=}
   done
   skipped=() todo_dirs=()
+  mkdir -p "$out/logs"
   while IFS=$'\t' read -r _ file label planner seed; do
     run_dir="$out/runs/${label}__${planner}__seed${seed}"
     if [ -n "${finished_dirs[$run_dir]-}" ]; then
@@ -590,7 +593,7 @@ if [ "$mode" = inprocess ]; then
     [ -n "${limit_of[$file]-}" ] || limit_of[$file]=${timeout:-$(run_limit "$file" "$duration")}
     todo_dirs+=("$run_dir")
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$file" "$label" "$planner" "$seed" "${limit_of[$file]}" "${config_of[$planner]-}"
-  done <"$out/matrix.tsv" >"$out/.runs"
+  done <"$out/matrix.tsv" >"$out/logs/runs.tsv"
   export HUNAV_BATCH_TOTAL=$total
   [ "${#skipped[@]}" -eq 0 ] || progress "${skipped[@]}"
   hunav_args=(--quiet)
@@ -604,7 +607,6 @@ if [ "$mode" = inprocess ]; then
   [ "$no_per_tick_files" -eq 0 ] || hunav_args+=(--no-per-tick-files)
   if [ "${#todo_dirs[@]}" -gt 0 ]; then
     rm -rf "${todo_dirs[@]}"
-    mkdir -p "$out/logs"
     runs_log="$out/logs/hunav_run.log"
     : >"$runs_log"
     # SIGINT to the batch's group (see the top) reaches hunav_run, which ends its episodes and writes
@@ -618,14 +620,13 @@ if [ "$mode" = inprocess ]; then
       else
         printf '%s\n' "$line" >>"$runs_log"
       fi
-    done < <(exec "$bin_dir/hunav_run" --runs "$out/.runs" --jobs "$jobs" --out "$out/runs" "${hunav_args[@]}" \
+    done < <(exec "$bin_dir/hunav_run" --runs "$out/logs/runs.tsv" --jobs "$jobs" --out "$out/runs" "${hunav_args[@]}" \
       2>>"$runs_log" </dev/null)
     # hunav_run's exit code (bash waits for a process substitution by its pid); a failed expect:
     # condition is a result (junit.xml), an unfinished run is reported below.
     wait "$!" || parallel_rc=$?
     [ "$parallel_rc" -ne 3 ] || parallel_rc=0
   fi
-  rm -f "$out/.runs"
 else
   # Each job runs this script with --run-one. parallel hands the command to a shell and quotes the
   # fields it substitutes ({2}...{5}); the rest is quoted here. Ctrl-C reaches every run_experiment.sh,
