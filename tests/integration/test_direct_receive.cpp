@@ -313,3 +313,40 @@ TEST(DirectReceive, ASocketFilterKeepsOtherChannelsInTheKernel) {
   EXPECT_LE(hunav::testing::TransportProbe::datagramsRead(planner), 5u + fragments);
   EXPECT_EQ(planner.droppedMessages(), 0u);
 }
+
+TEST(DirectReceive, ASampledChannelPassesAboutOneInEveryAndTheOthersAll) {
+  // hunav_view's sampling (Bus::sampleChannel): the kernel passes each WORLD_STATE with probability
+  // 1/10, every message of the other channels, and all of them again once the sampling is off. A
+  // bus without a filter says it cannot.
+  UdpmBus plain(kUrl);
+  EXPECT_FALSE(plain.sampleChannel(ch::kWorldState, 10));
+  UdpmBus view(kUrl, filtered(true));
+  int states = 0, events = 0;
+  const hunav::Subscription s1 =
+      view.subscribe<hunav::nav_goal_t>(ch::kWorldState, [&](const hunav::nav_goal_t&) { ++states; });
+  const hunav::Subscription s2 =
+      view.subscribe<hunav::nav_goal_t>(ch::kEpisodeEvent, [&](const hunav::nav_goal_t&) { ++events; });
+  ASSERT_TRUE(view.sampleChannel(ch::kWorldState, 10));
+  lcm::LCM publisher(hunav::lcmUrlForChannel(kUrl, ch::kWorldState));
+  ASSERT_TRUE(publisher.good());
+  hunav::nav_goal_t goal{};
+  constexpr int kStates = 3000, kEvents = 60;
+  for (int i = 0; i < kStates; ++i) {
+    ASSERT_EQ(publisher.publish(ch::kWorldState, &goal), 0);
+    if (i % (kStates / kEvents) == 0) {
+      ASSERT_EQ(publisher.publish(ch::kEpisodeEvent, &goal), 0);
+    }
+    if (i % 100 == 99) view.handleAvailable();  // the socket buffer never fills
+  }
+  // One sender: the last event comes after every state before it.
+  ASSERT_TRUE(handleUntil({&view}, [&] { return events == kEvents; })) << events;
+  // Binomial(3000, 1/10): mean 300, sd 16.4; the bounds are 6 sd away.
+  EXPECT_GT(states, 200);
+  EXPECT_LT(states, 400);
+  ASSERT_TRUE(view.sampleChannel(ch::kWorldState, 1));
+  states = 0;
+  for (int i = 0; i < 100; ++i) ASSERT_EQ(publisher.publish(ch::kWorldState, &goal), 0);
+  ASSERT_EQ(publisher.publish(ch::kEpisodeEvent, &goal), 0);
+  ASSERT_TRUE(handleUntil({&view}, [&] { return events == kEvents + 1; }));
+  EXPECT_EQ(states, 100);
+}

@@ -1,6 +1,7 @@
 #include "hunav/view/live_feed.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 
 #include "hunav/channels.hpp"
@@ -82,7 +83,7 @@ std::string SceneStore::file() const {
 }
 
 LiveFeed::LiveFeed(Bus& bus, FrameHub& hub, SceneStore& scene, LiveOptions options)
-    : hub_(hub), scene_(scene), options_(options) {
+    : bus_(bus), hub_(hub), scene_(scene), options_(options) {
   period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / std::max(options_.fps, 0.1)));
   // Bounded queues: a monitor may drop what it cannot keep up with (it only samples). The frequent
@@ -136,8 +137,34 @@ void LiveFeed::onEpisodeEvent(const episode_event_t& e) {
 
 void LiveFeed::onWorldState(const std::uint8_t* data, std::size_t size) {
   ++world_states_;
+  ++window_states_;
   state_.keep(data, size);
-  if (std::chrono::steady_clock::now() - last_build_ >= period_) buildNewest();
+  const auto now = std::chrono::steady_clock::now();
+  if (can_sample_) adaptSampling(now);
+  if (now - last_build_ >= period_) buildNewest();
+}
+
+void LiveFeed::adaptSampling(std::chrono::steady_clock::time_point now) {
+  // A window of at least 20 states and 2 ms (a lockstep run publishes thousands per second and may
+  // last a tenth of one), or of 0.5 s.
+  const double seconds = std::chrono::duration<double>(now - window_start_).count();
+  if (window_states_ == 1) {
+    window_start_ = now;
+    return;
+  }
+  if (!((window_states_ >= 20 && seconds >= 0.002) || seconds >= 0.5)) return;
+  const double published_per_second = static_cast<double>(window_states_ - 1) * sample_every_ / seconds;
+  const double wanted_per_second = 2.0 * std::max(options_.fps, 0.1);
+  const auto every = static_cast<std::uint32_t>(std::clamp(std::floor(published_per_second / wanted_per_second), 1.0,
+                                                           double(std::max(options_.max_sample_every, 1u))));
+  if (every != sample_every_) {
+    if (bus_.sampleChannel(channels::kWorldState, every))
+      sample_every_ = every;
+    else
+      can_sample_ = false;  // every state keeps coming: nothing to adapt
+  }
+  window_states_ = 1;
+  window_start_ = now;
 }
 
 template <class Msg, class ToJson>

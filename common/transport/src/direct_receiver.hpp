@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <deque>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -124,7 +125,11 @@ class DirectReceiver {
   // Lets the kernel pass only short messages (LC02) on these channels, fragments (LC03: only the
   // first names its channel) and anything else (counted as malformed here); drops the rest. A
   // classic BPF program: for a UDP socket it sees the datagram from the UDP header (8 bytes) on.
-  void setChannelFilter(const std::vector<std::string>& channels) {
+  // A channel with an entry `every` > 1 in `sample_every` passes each short message with probability
+  // 1 / `every` (the kernel's per-packet random number: a publisher's sequence numbers could fall
+  // into a pattern that a modulus would always miss).
+  void setChannelFilter(const std::vector<std::string>& channels,
+                        const std::map<std::string, std::uint32_t>& sample_every = {}) {
     constexpr std::uint32_t kPayload = 8;  // the UDP header
     constexpr std::uint32_t kAccept = 0xFFFFFFFFu, kDrop = 0;
     std::vector<sock_filter> program;
@@ -138,9 +143,13 @@ class DirectReceiver {
       const std::size_t words = (bytes.size() + 3) / 4;
       bytes.resize(words * 4, 0);
       const std::size_t tail = (name.size() + 1) % 4;  // bytes of the last word that count (0: all)
+      const auto sampled = sample_every.find(name);
+      const std::uint32_t every = sampled == sample_every.end() ? 1 : sampled->second;
       // Instructions of the block: per word a load, a compare and, for a partial last word, a mask;
-      // then the accept. A mismatch jumps past the rest of the block.
-      const std::size_t block = words * 2 + (tail != 0 ? 1 : 0) + 1;
+      // then the accept (or, sampled: a random number modulo `every`, accept a zero, drop the rest).
+      // A mismatch jumps past the rest of the block.
+      const std::size_t ending = every > 1 ? 5 : 1;
+      const std::size_t block = words * 2 + (tail != 0 ? 1 : 0) + ending;
       if (block > 255 || program.size() + block + 1 > BPF_MAXINSNS) return;  // cannot express it: no filter
       for (std::size_t w = 0; w < words; ++w) {
         program.push_back(BPF_STMT(BPF_LD | BPF_W | BPF_ABS, static_cast<std::uint32_t>(kPayload + 8 + 4 * w)));
@@ -152,10 +161,18 @@ class DirectReceiver {
         }
         const std::size_t done = program.size() + 1;  // after this compare
         const std::size_t block_end =
-            done + (words - 1 - w) * 2 + 1 + ((tail != 0 && w + 1 < words) ? 1 : 0);  // the accept included
+            done + (words - 1 - w) * 2 + ending + ((tail != 0 && w + 1 < words) ? 1 : 0);  // the ending included
         program.push_back(BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, value, 0, static_cast<std::uint8_t>(block_end - done)));
       }
-      program.push_back(BPF_STMT(BPF_RET | BPF_K, kAccept));
+      if (every > 1) {
+        program.push_back(BPF_STMT(BPF_LD | BPF_W | BPF_ABS, static_cast<std::uint32_t>(SKF_AD_OFF + SKF_AD_RANDOM)));
+        program.push_back(BPF_STMT(BPF_ALU | BPF_MOD | BPF_K, every));
+        program.push_back(BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, 0, 0, 1));
+        program.push_back(BPF_STMT(BPF_RET | BPF_K, kAccept));
+        program.push_back(BPF_STMT(BPF_RET | BPF_K, kDrop));
+      } else {
+        program.push_back(BPF_STMT(BPF_RET | BPF_K, kAccept));
+      }
     }
     program.push_back(BPF_STMT(BPF_RET | BPF_K, kDrop));
     sock_fprog fprog{static_cast<unsigned short>(program.size()), program.data()};

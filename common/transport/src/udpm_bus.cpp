@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <lcm/lcm-cpp.hpp>
+#include <map>
 #include <thread>
 
 #include "direct_receiver.hpp"
@@ -33,7 +34,7 @@ struct UdpmBus::Ports {
     std::vector<std::string> names;
     for (const auto& ch : queue.channels())
       if (ch->port_offset == offset && detail::LocalQueue::hasSubscribers(*ch)) names.push_back(ch->name);
-    receiver(offset).setChannelFilter(names);
+    receiver(offset).setChannelFilter(names, sample_every);
   }
   // Reads what `r` has and queues the messages of channels subscribed to.
   void drain(detail::DirectReceiver& r) {
@@ -54,6 +55,7 @@ struct UdpmBus::Ports {
   std::string url;
   bool channel_ports = false;
   ReceiveOptions options;
+  std::map<std::string, std::uint32_t> sample_every;                               // sampleChannel()
   detail::LcmInstances senders{""};                                                // one per port
   std::vector<std::pair<int, std::unique_ptr<detail::DirectReceiver>>> receivers;  // port offset, socket
   std::vector<pollfd> poll_fds;                                                    // of receivers, in the same order
@@ -87,6 +89,19 @@ void UdpmBus::attach(Subscriber& sub, int /*queue_capacity: our queue never drop
 void UdpmBus::detach(Subscriber& sub) {
   ports_->queue.remove(sub);
   if (ports_->options.filter_unsubscribed_channels) ports_->updateFilter(ports_->offsetOf(sub.channel()));
+}
+
+bool UdpmBus::sampleChannel(std::string_view channel, std::uint32_t every) {
+  if (!ports_->options.filter_unsubscribed_channels) return false;  // no filter to sample in
+  const std::string name(channel);
+  if (every <= 1)
+    ports_->sample_every.erase(name);
+  else
+    ports_->sample_every[name] = every;
+  const int offset = ports_->offsetOf(name);
+  for (const auto& entry : ports_->receivers)
+    if (entry.first == offset) ports_->updateFilter(offset);  // a port already listened to
+  return true;
 }
 
 void UdpmBus::publishMessage(std::string_view channel, const OutgoingMessage& msg) {

@@ -142,6 +142,12 @@ class Bus {
   virtual std::uint64_t malformedDatagrams() const { return 0; }
   // What the backend's receive path lost so far (zeros when it cannot tell).
   virtual ReceiveLosses receiveLosses() const { return {}; }
+  // Asks for only about one message in `every` of `channel` (1: all again), the others dropped
+  // before they cost this process anything: for a watcher that shows a fraction of a fast channel
+  // (hunav_view). True when the transport does it (UdpmBus with ReceiveOptions::
+  // filter_unsubscribed_channels: its socket filter passes each message with probability 1/every);
+  // false when every message keeps coming.
+  virtual bool sampleChannel(std::string_view /*channel*/, std::uint32_t /*every*/) { return false; }
 
  private:
   friend class BusBackend;  // the one class derived from Bus, the base of every backend

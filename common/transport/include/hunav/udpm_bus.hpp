@@ -37,6 +37,7 @@ class UdpmBus final : public BusBackend {
   std::uint64_t droppedMessages() const override;
   std::uint64_t malformedDatagrams() const override;
   ReceiveLosses receiveLosses() const override;
+  bool sampleChannel(std::string_view channel, std::uint32_t every) override;
 
  private:
   friend class testing::TransportProbe;

@@ -64,6 +64,10 @@ class SceneStore {
 
 struct LiveOptions {
   double fps = 30.0;  // frames built per second of wall-clock time (at most)
+  // World states are sampled by the transport when it can (Bus::sampleChannel) so that about two
+  // arrive per frame, one in at most this many (1: every state is received). A sampled run's last
+  // frame is the last state that arrived: on average this many ticks before the true last one.
+  std::uint32_t max_sample_every = 10;
   // Follow the scenario file named by EPISODE_EVENT START (when it can be read from here).
   bool follow_episode_scenario = true;
 };
@@ -77,6 +81,7 @@ class LiveFeed {
   std::uint64_t statesDecoded() const { return states_decoded_; }  // decoded: one per frame built
   std::uint64_t undecodable() const { return undecodable_; }       // sampled messages dropped as bad
   std::uint64_t framesBuilt() const { return frames_built_; }
+  std::uint32_t sampleEvery() const { return sample_every_; }  // 1: every world state comes
   bool episodeEnded() const { return ended_; }
 
  private:
@@ -87,6 +92,9 @@ class LiveFeed {
     void keep(const std::uint8_t* data, std::size_t size);
   };
   void onWorldState(const std::uint8_t* data, std::size_t size);
+  // From the states that came since the last adaptation: the rate the run publishes them at, and so
+  // the fraction the transport should pass (about two per frame).
+  void adaptSampling(std::chrono::steady_clock::time_point now);
   void onEpisodeEvent(const episode_event_t& e);
   // Decodes the newest world state (and the newest laser, path and metrics) into a frame; false
   // when the state does not decode (counted in undecodable()).
@@ -95,6 +103,7 @@ class LiveFeed {
   template <class Msg, class ToJson>
   void sample(Newest& newest, Json& out, ToJson&& to_json);
 
+  Bus& bus_;
   FrameHub& hub_;
   SceneStore& scene_;
   LiveOptions options_;
@@ -109,6 +118,10 @@ class LiveFeed {
   std::uint64_t undecodable_ = 0;
   std::uint64_t frames_built_ = 0;
   bool ended_ = false;
+  std::uint32_t sample_every_ = 1;
+  bool can_sample_ = true;  // false once the transport said it cannot
+  std::chrono::steady_clock::time_point window_start_{};
+  std::uint64_t window_states_ = 0;
   std::vector<Subscription> subscriptions_;  // last, so that they end first
 };
 
