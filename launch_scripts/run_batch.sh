@@ -551,16 +551,19 @@ done <"$out/matrix.tsv"
 finished_among "${matrix_dirs[@]}"
 already=${#finished_dirs[@]}
 
-run_args=(--mode "$mode")
-[ -z "$duration" ] || run_args+=(--duration "$duration")
+# What every episode is run with (hunav_run's and run_experiment.sh's options alike).
+episode_args=()
+[ -z "$duration" ] || episode_args+=(--duration "$duration")
+[ -z "$profile" ] || episode_args+=(--profile "$profile")
+[ -z "$metrics" ] || episode_args+=(--metrics "$metrics")
+[ -z "$format" ] || episode_args+=(--format "$format")
+[ -z "$people_model" ] || episode_args+=(--people-model "$people_model")
+[ "$counterfactual" -eq 0 ] || episode_args+=(--counterfactual)
+[ "$no_states_csv" -eq 0 ] || episode_args+=(--no-states-csv)
+[ "$no_per_tick_files" -eq 0 ] || episode_args+=(--no-per-tick-files)
+# A job's (--run-one) options: those, the mode, the limit and the planners' commands and configs.
+run_args=(--mode "$mode" "${episode_args[@]}")
 [ -z "$timeout" ] || run_args+=(--timeout "$timeout")
-[ -z "$profile" ] || run_args+=(--profile "$profile")
-[ -z "$metrics" ] || run_args+=(--metrics "$metrics")
-[ -z "$format" ] || run_args+=(--format "$format")
-[ -z "$people_model" ] || run_args+=(--people-model "$people_model")
-[ "$counterfactual" -eq 0 ] || run_args+=(--counterfactual)
-[ "$no_states_csv" -eq 0 ] || run_args+=(--no-states-csv)
-[ "$no_per_tick_files" -eq 0 ] || run_args+=(--no-per-tick-files)
 run_args+=("${planner_specs[@]}")
 
 log "$total runs (${#scenario_files[@]} scenarios x ${#planner_list[@]} planners x ${#seed_list[@]} seeds), $already already finished; $jobs at a time, mode $mode"
@@ -596,15 +599,6 @@ if [ "$mode" = inprocess ]; then
   done <"$out/matrix.tsv" >"$out/logs/runs.tsv"
   export HUNAV_BATCH_TOTAL=$total
   [ "${#skipped[@]}" -eq 0 ] || progress "${skipped[@]}"
-  hunav_args=(--quiet)
-  [ -z "$duration" ] || hunav_args+=(--duration "$duration")
-  [ -z "$profile" ] || hunav_args+=(--profile "$profile")
-  [ -z "$metrics" ] || hunav_args+=(--metrics "$metrics")
-  [ -z "$format" ] || hunav_args+=(--format "$format")
-  [ -z "$people_model" ] || hunav_args+=(--people-model "$people_model")
-  [ "$counterfactual" -eq 0 ] || hunav_args+=(--counterfactual)
-  [ "$no_states_csv" -eq 0 ] || hunav_args+=(--no-states-csv)
-  [ "$no_per_tick_files" -eq 0 ] || hunav_args+=(--no-per-tick-files)
   if [ "${#todo_dirs[@]}" -gt 0 ]; then
     rm -rf "${todo_dirs[@]}"
     runs_log="$out/logs/hunav_run.log"
@@ -620,7 +614,7 @@ if [ "$mode" = inprocess ]; then
       else
         printf '%s\n' "$line" >>"$runs_log"
       fi
-    done < <(exec "$bin_dir/hunav_run" --runs "$out/logs/runs.tsv" --jobs "$jobs" --out "$out/runs" "${hunav_args[@]}" \
+    done < <(exec "$bin_dir/hunav_run" --runs "$out/logs/runs.tsv" --jobs "$jobs" --out "$out/runs" --quiet "${episode_args[@]}" \
       2>>"$runs_log" </dev/null)
     # hunav_run's exit code (bash waits for a process substitution by its pid); a failed expect:
     # condition is a result (junit.xml), an unfinished run is reported below.
