@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -10,7 +11,9 @@
 #include <thread>
 
 #include "hunav/config_error.hpp"
+#include "hunav/runner/in_process_run.hpp"
 #include "hunav/runner/run_list.hpp"
+#include "hunav/testing/scenarios.hpp"
 
 namespace hunav::runner {
 namespace {
@@ -154,6 +157,59 @@ TEST(RunInParallel, AStopEndsTheRunningItemsAndStartsNoOther) {
   signaller.join();
   EXPECT_EQ(codes, (std::vector<int>{130, 130, -1, -1, -1, -1}));
   EXPECT_EQ(status, "interrupted");  // the process's cause (no supervisor's reason file)
+}
+
+TEST(RunInParallel, EpisodesOnTwoThreadsAtOnceGiveWhatTheyGiveOneAtATime) {
+  // hunav_run --runs' threads share the process: HuNavSim's cafe map and agents with every planner
+  // and the crowd generator, two episodes at a time (the tsan preset runs this under ThreadSanitizer),
+  // against the same episodes one after the other: the same fingerprints and metrics.
+  struct Case {
+    const char* scenario;
+    const char* planner;
+    double seconds;
+  };
+  const std::vector<Case> cases = {{"cafe", "dwb", 8.0},      {"cafe", "sfw", 8.0}, {"crowd", "scl", 2.0},
+                                   {"combined", "dwb", 10.0}, {"cafe", "scl", 8.0}, {"passing", "sfw", 10.0}};
+  const auto runOne = [&](std::size_t i, const std::atomic<bool>* stop, KeptPlanner* kept) {
+    Scenario scenario = testing::shippedScenario(cases[i].scenario, 1 + static_cast<long long>(i % 2));
+    scenario.time_limit = cases[i].seconds;
+    RunOptions options;
+    options.planner = cases[i].planner;
+    options.write_files = false;
+    options.stop = stop;
+    options.kept_planner = kept;
+    return runInProcess(scenario, options);
+  };
+  std::vector<std::string> alone;
+  std::vector<std::vector<evaluator::MetricValue>> alone_metrics;
+  const std::atomic<bool> never{false};
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto outcome = runOne(i, &never, nullptr);
+    ASSERT_TRUE(outcome.result);
+    alone.push_back(outcome.episode.fingerprint);
+    alone_metrics.push_back(outcome.result->metrics);
+  }
+  std::vector<std::string> together(cases.size());
+  std::vector<std::vector<evaluator::MetricValue>> together_metrics(cases.size());
+  std::vector<KeptPlanner> kept(2);
+  const auto codes = runInParallel(
+      cases.size(), 2, never, [](std::size_t) { return 0.0; },
+      [&](int worker, std::size_t item, const std::atomic<bool>& stop, const auto&) {
+        const auto outcome = runOne(item, &stop, &kept[static_cast<std::size_t>(worker)]);
+        together[item] = outcome.episode.fingerprint;
+        if (outcome.result) together_metrics[item] = outcome.result->metrics;
+        return 0;
+      });
+  EXPECT_EQ(codes, std::vector<int>(cases.size(), 0));
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    SCOPED_TRACE(std::string(cases[i].scenario) + " " + cases[i].planner);
+    EXPECT_EQ(together[i], alone[i]);
+    ASSERT_EQ(together_metrics[i].size(), alone_metrics[i].size());
+    for (std::size_t m = 0; m < alone_metrics[i].size(); ++m) {
+      const double a = alone_metrics[i][m].value, b = together_metrics[i][m].value;
+      EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << alone_metrics[i][m].name << ": " << a << " " << b;
+    }
+  }
 }
 
 }  // namespace
