@@ -390,6 +390,14 @@ int runList(Options& o) {
     std::cout << "[" << ++printed << "/" << runs.size() << "] " << line << std::endl;
     return report.code;
   };
+  // yaml-cpp builds a table on its first bool (a function-local static of the library, whose guard
+  // ThreadSanitizer cannot see in the uninstrumented library): one scenario read on this thread first.
+  if (!runs.empty()) {
+    try {
+      hunav::cli::loadScenarioFor(runs[0].scenario_file, runs[0].seed, o.duration);
+    } catch (const std::exception&) {  // reported by its run
+    }
+  }
   const auto codes = hunav::runner::runInParallel(
       runs.size(), o.jobs, *o.run.stop, [&](std::size_t i) { return runs[i].timeout; }, run_one);
   EpisodeTally tally;
