@@ -81,8 +81,9 @@ std::vector<double> squaredDistanceTransform(const std::vector<std::uint8_t>& oc
   return out;
 }
 
-RouteMap::RouteMap(const std::vector<Shape>& shapes, const Vec2& lo, const Vec2& hi, double resolution)
-    : origin_(lo), res_(resolution) {
+RouteMap::RouteMap(const std::vector<Shape>& shapes, const Vec2& lo, const Vec2& hi, double resolution,
+                   std::size_t field_bytes)
+    : field_bytes_(field_bytes), origin_(lo), res_(resolution) {
   const Vec2 size = (hi - lo).cwiseMax(Vec2(resolution, resolution));
   // A huge map gets coarser cells rather than gigabytes.
   while ((size.x() / res_ + 1.0) * (size.y() / res_ + 1.0) > static_cast<double>(kMaxCells)) res_ *= 2.0;
@@ -197,12 +198,16 @@ RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r, double margin) cons
     it->second.last_used = use_count_;
     return it->second;
   }
-  // Moving targets (the robot) and people with goals of their own leave many fields behind.
-  const std::size_t max_fields = std::max(kMinFields, kFieldBytes / (5 * std::max<std::size_t>(1, clearance_.size())));
-  if (fields_.size() >= max_fields) {
+  // Moving targets (the robot) and people with goals of their own leave many fields behind: room for
+  // a new one (its cost and flags) within the budget, the least recently used going first.
+  std::size_t held = 0;
+  for (const auto& entry : fields_) held += bytesOf(entry.second);
+  const std::size_t new_field = clearance_.size() * (sizeof(float) + 1);
+  while (fields_.size() >= kMinFields && held + new_field > field_bytes_) {
     auto oldest = fields_.begin();
     for (auto it = fields_.begin(); it != fields_.end(); ++it)
       if (it->second.last_used < oldest->second.last_used) oldest = it;
+    held -= bytesOf(oldest->second);
     fields_.erase(oldest);
   }
   Field& f = fields_[key];
@@ -214,6 +219,13 @@ RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r, double margin) cons
   f.cost[static_cast<std::size_t>(goal_cell)] = 0.0f;
   f.open.push_back({0.0f, goal_cell});
   return f;
+}
+
+std::size_t RouteMap::fieldBytesHeld() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t held = 0;
+  for (const auto& entry : fields_) held += bytesOf(entry.second);
+  return held;
 }
 
 bool RouteMap::settle(Field& f, int cell) const {

@@ -20,7 +20,9 @@ class RouteMap {
  public:
   // The grid covers [lo, hi] with square cells of `resolution` metres (made coarser when it would
   // exceed kMaxCells). A cell is occupied when a shape comes within half a cell diagonal of its centre.
-  RouteMap(const std::vector<Shape>& shapes, const Vec2& lo, const Vec2& hi, double resolution);
+  // The route fields kept hold at most `field_bytes` (and at least kMinFields fields).
+  RouteMap(const std::vector<Shape>& shapes, const Vec2& lo, const Vec2& hi, double resolution,
+           std::size_t field_bytes = kFieldBytes);
 
   static constexpr std::size_t kMaxCells = 20'000'000;
 
@@ -51,6 +53,8 @@ class RouteMap {
     std::lock_guard<std::mutex> lock(mutex_);
     return fields_built_;
   }
+  // The bytes the route fields kept hold now (their costs, flags and search heaps, by capacity).
+  std::size_t fieldBytesHeld() const;
 
   // How much less than its radius a body may have in a cell a route crosses (the grid's own error).
   static constexpr double kSqueeze = 0.1;
@@ -65,13 +69,17 @@ class RouteMap {
     std::shared_ptr<const std::vector<float>> price;  // per metre through each cell
     std::uint64_t last_used = 0;                      // use_count_ when last asked for
   };
-  // The fields kept: as many as kFieldBytes holds at 5 bytes per cell (a cost and a flag), at least
-  // kMinFields; beyond, the least recently used goes. A field is the same whenever it is rebuilt, so
-  // this bounds memory and time, never routes. (Keeping 128 and clearing all of them at the 129th
-  // rebuilt every field over and over once more than 128 goals were walked to: 180 people with goals
-  // of their own spent 91% of a run in Dijkstra.)
+  // The fields kept: as many as field_bytes_ holds (a cost and a flag per cell, and the search heap,
+  // which keeps the capacity of its widest frontier), at least kMinFields; beyond, the least recently
+  // used go. A field is the same whenever it is rebuilt, so this bounds memory and time, never routes.
+  // (Keeping 128 and clearing all of them at the 129th rebuilt every field over and over once more
+  // than 128 goals were walked to: 180 people with goals of their own spent 91% of a run in Dijkstra.)
   static constexpr std::size_t kFieldBytes = std::size_t{256} << 20;
   static constexpr std::size_t kMinFields = 16;
+  static std::size_t bytesOf(const Field& f) {
+    return f.cost.capacity() * sizeof(float) + f.settled.capacity() + f.open.capacity() * sizeof(f.open[0]);
+  }
+  std::size_t field_bytes_ = kFieldBytes;
   int cellOf(const Vec2& p) const;  // -1 outside the grid
   Vec2 centreOf(int cell) const;
   std::shared_ptr<const std::vector<float>> priceFor(int radius_class, int margin_class) const;  // mutex_ held

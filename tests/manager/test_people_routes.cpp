@@ -1,6 +1,7 @@
 // People's obstacle points (people.obstacle_points) and routes around furniture (people.navigation).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -127,6 +128,35 @@ TEST(RouteMap, EachGoalsFieldIsBuiltOnceWhileManyPeopleWalkToGoalsOfTheirOwn) {
   EXPECT_LE(built, goals.size());
   for (std::size_t i = 0; i < goals.size(); ++i) EXPECT_EQ(map.nextWaypoint(from, goals[i], 0.25), first[i]) << i;
   EXPECT_EQ(map.fieldsBuilt(), built);
+}
+
+TEST(RouteMap, TheFieldsKeptStayWithinTheirBytesAndTheRoutesStayTheSame) {
+  // The hall of the test above (101 x 61 cells at 0.1 m: 30.8 kB of costs and flags per field, more
+  // with its search heap), with a budget of 40 fields' costs and flags: 300 goals' fields, the bytes
+  // held never above the budget and one field's search, and every route that of a map that keeps
+  // every field. Counted without the heaps, the budget held 40 fields' costs and many times that.
+  const std::vector<Shape> wall{box(4.9, -3, 5.1, 2)};
+  const std::size_t cells = 101 * 61;
+  const std::size_t budget = 40 * cells * 5;
+  const RouteMap small(wall, Vec2(0, -3), Vec2(10, 3), 0.1, budget);
+  const RouteMap keeps_all(wall, Vec2(0, -3), Vec2(10, 3), 0.1);
+  std::vector<Vec2> goals;
+  for (int i = 0; i < 300; ++i) goals.emplace_back(6.0 + 0.01 * (i % 30) * 10, -2.5 + 0.5 * (i / 30));
+  const Vec2 from(1, -2);
+  std::size_t most = 0;
+  for (const Vec2& g : goals) {
+    EXPECT_EQ(small.nextWaypoint(from, g, 0.25), keeps_all.nextWaypoint(from, g, 0.25));
+    most = std::max(most, small.fieldBytesHeld());
+  }
+  // One field's search beyond the budget at most: its heap holds at most every cell's eight
+  // neighbours (8 bytes each), its capacity at most twice that.
+  EXPECT_LE(most, budget + cells * (5 + 2 * 8 * 8)) << most << " bytes held";
+  EXPECT_GT(keeps_all.fieldBytesHeld(), 2 * budget);  // what keeping them all holds
+  // The evicted fields are built again when asked for, with the same routes.
+  const std::size_t built = small.fieldsBuilt();
+  for (const Vec2& g : goals) EXPECT_EQ(small.nextWaypoint(from, g, 0.25), keeps_all.nextWaypoint(from, g, 0.25));
+  EXPECT_GT(small.fieldsBuilt(), built);
+  EXPECT_EQ(keeps_all.fieldsBuilt(), built);  // it built each field once, as the small one did at first
 }
 
 TEST(RouteMap, TheRouteTakesTheGapThatFitsTheBody) {
