@@ -264,9 +264,7 @@ bool readLists(const Options& o, std::vector<std::string>& planners, std::vector
   }
   // The label names folders inside --out: a plain name, never a path (a "../" escaped --out).
   const std::string& label = o.folder_label;
-  if (!label.empty() && (label == "." || label == ".." ||
-                         label.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-") !=
-                             std::string::npos)) {
+  if (!label.empty() && !hunav::runner::isFolderLabel(label)) {
     std::cerr << "hunav_run: --folder-label: a name of letters, digits, '.', '_' or '-' (got '" << label << "')\n";
     return false;
   }

@@ -66,6 +66,12 @@ std::vector<std::string> parseNameList(const std::string& text) {
   return names;
 }
 
+bool isFolderLabel(const std::string& label) {
+  return !label.empty() && label != "." && label != ".." &&
+         label.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-") ==
+             std::string::npos;
+}
+
 std::string batchRunFolder(const std::string& scenario, const std::string& planner, long long seed) {
   // One folder name whatever the scenario's name: says ("../x" would leave --out).
   return results::safeFileName(scenario) + "__" + results::safeFileName(planner) + "__seed" + std::to_string(seed);

@@ -30,11 +30,6 @@ std::vector<std::string> splitTabs(const std::string& line) {
   }
 }
 
-bool plainName(const std::string& s) {
-  return !s.empty() && s != "." && s != ".." &&
-         s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-") == std::string::npos;
-}
-
 }  // namespace
 
 std::vector<ListedRun> readRunList(const std::string& file) {
@@ -59,7 +54,8 @@ std::vector<ListedRun> readRunList(const std::string& file) {
     run.label = f[1];
     run.planner = f[2];
     if (run.scenario_file.empty()) fail("scenario", "empty");
-    if (!plainName(run.label)) fail("label", "a name of letters, digits, '.', '_' or '-' (got '" + run.label + "')");
+    if (!isFolderLabel(run.label))
+      fail("label", "a name of letters, digits, '.', '_' or '-' (got '" + run.label + "')");
     if (run.planner != "none" && !planners::hasPlanner(run.planner))
       fail("planner", "unknown planner '" + run.planner + "'");
     const std::string& seed = f[3];

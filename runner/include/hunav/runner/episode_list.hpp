@@ -14,6 +14,10 @@ std::vector<long long> parseSeedList(const std::string& text);
 // "dwb,scl,sfw": the names in order (empty items and repeats refused: std::invalid_argument).
 std::vector<std::string> parseNameList(const std::string& text);
 
+// A folder label (hunav_run --folder-label, a --runs list's label): letters, digits, '.', '_' and
+// '-', not empty, not "." or "..": a plain name inside --out, never a path.
+bool isFolderLabel(const std::string& label);
+
 // A run's folder name in a batch: <scenario>__<planner>__seed<N> (run_batch.sh's runs/ layout), each
 // name made safe for a file name (results::safeFileName: a scenario name "../x" stays inside --out).
 std::string batchRunFolder(const std::string& scenario, const std::string& planner, long long seed);
