@@ -202,14 +202,18 @@ SfmMotion ttcStep(const StepSnapshot& snap, std::size_t index, const agent_state
   const double r = t.radius >= 0.0 ? t.radius : me.radius;
   const Vec2 preferred = preferredVelocity(me, goal, goal_radius, speed, Vec2::Zero(), 0.0);
   Vec2 force = (preferred - me.velocity) / t.relaxation_time;
+  // A pair's force, scaled by the person's share of the avoidance (1 with speed_share 0: the paper's).
+  auto pairForce = [&](const Vec2& position, const Vec2& velocity, double radius) -> Vec2 {
+    return ttcForce(me.position - position, me.velocity - velocity, r + radius, t) *
+           speedShareFactor(me.velocity.norm(), velocity.norm(), t.speed_share);
+  };
   forEachAgentNear(snap, index, t.neighbor_distance, [&](int j) {
     const SfmBody& other = snap.agents[j];
     if (!inFieldOfView(me.position, a.yaw, other.position, t.field_of_view)) return;
-    force += ttcForce(me.position - other.position, me.velocity - other.velocity,
-                      r + (t.radius >= 0.0 ? t.radius : other.radius), t);
+    force += pairForce(other.position, other.velocity, t.radius >= 0.0 ? t.radius : other.radius);
   });
   if (robot == RobotAs::Person && inFieldOfView(me.position, a.yaw, snap.robot.position, t.field_of_view))
-    force += ttcForce(me.position - snap.robot.position, me.velocity - snap.robot.velocity, r + snap.robot.radius, t);
+    force += pairForce(snap.robot.position, snap.robot.velocity, snap.robot.radius);
   force += obstacleForceOn(snap, index, a, robot, model.sfm);
   force += groupForceOn(snap, index, normalizedOrZero(preferred), model.sfm);
   if (std::isfinite(extra.x()) && std::isfinite(extra.y())) force += extra;

@@ -194,6 +194,17 @@ TEST(TtcForce, CappedAndRanged) {
   EXPECT_EQ(ttcForce(Vec2(-0.5, 0), Vec2(0, 0), 1.0, q), Vec2::Zero());
 }
 
+TEST(TtcForce, SpeedShareByHand) {
+  // (1 - w) + w * 2 |v_me| / (|v_me| + |v_other|):
+  EXPECT_EQ(speedShareFactor(1.3, 0.0, 0.0), 1.0);            // w = 0: the paper's force, whoever walks
+  EXPECT_EQ(speedShareFactor(1.0, 1.0, 1.0), 1.0);            // 2 * 1 / 2 = 1: equal speeds share equally
+  EXPECT_EQ(speedShareFactor(1.2, 0.0, 1.0), 2.0);            // 2 * 1.2 / 1.2: the walker takes it all
+  EXPECT_EQ(speedShareFactor(0.0, 1.3, 1.0), 0.0);            // the one standing takes none
+  EXPECT_DOUBLE_EQ(speedShareFactor(1.0, 3.0, 0.5), 0.75);    // 0.5 + 0.5 * 2 * 1 / 4
+  EXPECT_DOUBLE_EQ(speedShareFactor(0.6, 0.2, 0.25), 1.125);  // 0.75 + 0.25 * 2 * 0.6 / 0.8 = 0.75 + 0.375
+  EXPECT_EQ(speedShareFactor(0.0, 0.0, 1.0), 1.0);            // both standing: no collision ahead anyway
+}
+
 TEST(MotionModels, Presets) {
   const MotionModel sfm = motionModelByName("sfm");
   EXPECT_TRUE(sfm.isHunavDefault());

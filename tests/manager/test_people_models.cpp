@@ -82,6 +82,31 @@ TEST(PeopleModels, HeadOnPeopleAvoidEachOther) {
   }
 }
 
+TEST(PeopleModels, WithTtcsSpeedShareTheWalkerGivesWayToThePersonStanding) {
+  // A walker passes 0.1 m beside a person standing at its goal. With the paper's symmetric force
+  // (speed_share 0) the standing person is pushed aside too; with speed_share 1 its share of the
+  // avoidance is 2 * 0 / (0 + v) = 0: it stands where it is, and the walker (share 2 * v / v = 2)
+  // goes around it alone.
+  for (double share : {0.0, 1.0}) {
+    MotionModel model = motionModelByName("ttc");
+    model.ttc.speed_share = share;
+    World w;
+    w.manager.setPeopleModels(model);
+    w.agents = {walker(1, 0, 0, 8, 0.1), walker(2, 4, 0, 4, 0)};
+    double moved = 0.0;
+    for (int k = 0; k < 1400; ++k) {
+      w.step();
+      moved = std::max(moved, (w.at(1) - Vec2(4, 0)).norm());
+    }
+    if (share == 0.0)
+      EXPECT_GT(moved, 0.05);
+    else
+      EXPECT_EQ(moved, 0.0);
+    EXPECT_GT(w.closest, 0.5) << share;
+    EXPECT_LT((w.at(0) - Vec2(8, 0.1)).norm(), 0.5) << share;
+  }
+}
+
 TEST(PeopleModels, OrcaKeepsOutOfTheMapsWalls) {
   // A wall across the way (x = 3, y from -3 to 3) with the goal behind it: walking straight, the
   // person stops at the wall and slides along it, never closer than its radius (0.35 m) to it.

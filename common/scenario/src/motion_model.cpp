@@ -77,6 +77,7 @@ std::vector<K> ttcKeys() {
                       key("max_force", 0.0, 1000.0, &TtcParams::max_force),
                       key("field_of_view", 0.0, 2.0 * kPi, &TtcParams::field_of_view),
                       key("max_speed_factor", 1.0, 3.0, &TtcParams::max_speed_factor),
+                      key("speed_share", 0.0, 1.0, &TtcParams::speed_share),
                       key("obstacle_weight", 0.0, 1000.0, &SfmParams::obstacle_weight),
                       key("obstacle_sigma", 0.01, 10.0, &SfmParams::obstacle_sigma)};
   for (const K& g : groupAndSpeedKeys()) k.push_back(g);

@@ -23,7 +23,19 @@ struct TtcParams {
   // The speed cap, times the person's desired speed (1: never faster than it, as the manager's SFM):
   // above 1, a person slowed or turned by an encounter may catch up on its way.
   double max_speed_factor = 1.0;
+  // How much the walker gives way rather than the one standing: each pair's force on a person is
+  // scaled by (1 - w) + w * 2 |v_me| / (|v_me| + |v_other|) (0, the paper's: the same force on both;
+  // 1: two equally fast people share the avoidance as in the paper, a person standing leaves it to
+  // the one walking, who takes all of it: twice the paper's force).
+  double speed_share = 0.0;
 };
+
+// The factor speed_share gives a pair's force on a person with speed `mine` meeting one with `theirs`
+// (1 when both stand: no collision lies ahead of two people standing anyway).
+inline double speedShareFactor(double mine, double theirs, double speed_share) {
+  const double sum = mine + theirs;
+  return sum > 0.0 ? 1.0 - speed_share + speed_share * 2.0 * mine / sum : 1.0;
+}
 
 // Whether a person at `position` heading `yaw` sees `other` within `field_of_view` (the whole angle).
 inline bool inFieldOfView(const Vec2& position, double yaw, const Vec2& other, double field_of_view) {
