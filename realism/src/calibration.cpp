@@ -41,6 +41,16 @@ const char* stopReason(nlopt::result r) {
 
 }  // namespace
 
+double FreeParameter::at(double x) const {
+  x = std::clamp(x, 0.0, 1.0);
+  return log_scale ? lo * std::pow(hi / lo, x) : lo + x * (hi - lo);
+}
+
+double FreeParameter::fraction(double v) const {
+  const double x = log_scale ? std::log(std::max(v, lo) / lo) / std::log(hi / lo) : (v - lo) / (hi - lo);
+  return std::clamp(x, 0.0, 1.0);
+}
+
 const std::vector<FreeParameter>& freeParameters(MotionModelKind kind) {
   static const std::vector<FreeParameter> sfm = {{"goal_weight", 0.1, 10.0},
                                                  {"social_weight", 0.0, 20.0},
@@ -57,14 +67,17 @@ const std::vector<FreeParameter>& freeParameters(MotionModelKind kind) {
   static const std::vector<FreeParameter> orca = {
       {"neighbor_distance", 0.5, 10.0}, {"time_horizon", 0.1, 10.0},   {"radius", 0.05, 0.5},
       {"responsibility", 0.05, 1.0},    {"relaxation_time", 0.0, 2.0}, {"desired_speed_factor", 0.7, 1.5}};
+  // TTC's tau0 stays near the paper's 3 s, and its force cap spans gentle to violent on a log scale
+  // (realism/README.md, "Calibration": why both).
   static const std::vector<FreeParameter> ttc = {{"k", 0.0, 10.0},
-                                                 {"tau0", 0.2, 10.0},
+                                                 {"tau0", 0.2, 5.0},
                                                  {"relaxation_time", 0.05, 2.0},
                                                  {"radius", 0.05, 0.5},
                                                  {"neighbor_distance", 0.5, 10.0},
-                                                 {"max_force", 1.0, 50.0},
+                                                 {"max_force", 0.05, 50.0, true},
                                                  {"field_of_view", kPi / 2.0, 2.0 * kPi},
                                                  {"max_speed_factor", 1.0, 1.5},
+                                                 {"speed_share", 0.0, 1.0},
                                                  {"group_gaze_weight", 0.0, 10.0},
                                                  {"group_coherence_weight", 0.0, 10.0},
                                                  {"group_repulsion_weight", 0.0, 10.0},
@@ -112,14 +125,12 @@ FitResult fitModel(const std::vector<TrainingScene>& scenes, const MotionModel& 
   // for every coordinate, so the coordinates must share a scale.
   auto modelAt = [&](const std::vector<double>& x) {
     MotionModel m = start;
-    for (std::size_t i = 0; i < n; ++i)
-      keyOf(start.kind, free[i].key).set(m, free[i].lo + std::clamp(x[i], 0.0, 1.0) * (free[i].hi - free[i].lo));
+    for (std::size_t i = 0; i < n; ++i) keyOf(start.kind, free[i].key).set(m, free[i].at(x[i]));
     return m;
   };
   std::vector<double> x(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double v = keyOf(start.kind, free[i].key).get(start);
-    x[i] = std::clamp((v - free[i].lo) / (free[i].hi - free[i].lo), 0.0, 1.0);
+    x[i] = free[i].fraction(keyOf(start.kind, free[i].key).get(start));
   }
   FitResult result;
   result.model = start;

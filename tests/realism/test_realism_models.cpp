@@ -3,6 +3,7 @@
 // calibrations that are deterministic, bounded and honest about not improving.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -147,6 +148,30 @@ TEST(RealismCalibration, DeterministicAndBounded) {
       EXPECT_LE(k.get(a.model), f.hi) << f.key;
     }
   }
+}
+
+TEST(RealismCalibration, ALogScaleParameterSpansItsBoxGeometrically) {
+  const FreeParameter force{"max_force", 0.05, 50.0, true};
+  EXPECT_DOUBLE_EQ(force.at(0.0), 0.05);
+  EXPECT_DOUBLE_EQ(force.at(1.0), 50.0);
+  // Halfway on a log scale is the geometric mean: sqrt(0.05 * 50) = sqrt(2.5) = 1.58114 m/s^2.
+  EXPECT_NEAR(force.at(0.5), std::sqrt(2.5), 1e-12);
+  // A third of the way: 0.05 * (50 / 0.05)^(1/3) = 0.05 * 1000^(1/3) = 0.05 * 10 = 0.5 m/s^2.
+  EXPECT_NEAR(force.at(1.0 / 3.0), 0.5, 1e-12);
+  EXPECT_NEAR(force.fraction(0.5), 1.0 / 3.0, 1e-12);
+  EXPECT_EQ(force.fraction(100.0), 1.0);  // outside the box: its edge
+  EXPECT_EQ(force.fraction(0.0), 0.0);
+  const FreeParameter k{"k", 0.0, 10.0};  // linear: 0 + 0.25 * (10 - 0) = 2.5
+  EXPECT_DOUBLE_EQ(k.at(0.25), 2.5);
+  EXPECT_DOUBLE_EQ(k.fraction(7.5), 0.75);
+  // Every fitted parameter of every model: fraction inverts at, and at stays in the box.
+  for (MotionModelKind kind : {MotionModelKind::Sfm, MotionModelKind::Orca, MotionModelKind::Ttc})
+    for (const FreeParameter& f : freeParameters(kind))
+      for (double x : {0.0, 0.3, 0.8, 1.0}) {
+        EXPECT_NEAR(f.fraction(f.at(x)), x, 1e-9) << f.key;
+        EXPECT_GE(f.at(x), f.lo) << f.key;
+        EXPECT_LE(f.at(x), f.hi * (1.0 + 1e-12)) << f.key;
+      }
 }
 
 TEST(RealismCalibration, SaysWhenItCannotImproveAndWritesTheStart) {

@@ -15,10 +15,10 @@
 namespace hunav::realism {
 
 struct CalibrationOptions {
-  int max_evaluations = 60;             // objective evaluations per start of a fit (the time bound: no wall
-                                        // clock, so the result does not depend on the machine)
-  std::size_t samples_per_scene = 300;  // evenly spaced samples of each training scene
-  double overlap_penalty = 1.0;         // m of ADE per unit of overlap share beyond the data's
+  int max_evaluations = 60;              // objective evaluations per start of a fit (the time bound: no wall
+                                         // clock, so the result does not depend on the machine)
+  std::size_t samples_per_scene = 1000;  // evenly spaced samples of each training scene
+  double overlap_penalty = 1.0;          // m of ADE per unit of overlap share beyond the data's
   // The fits to make: data set names to hold out, "none" for the fit on all of them; empty: each
   // data set in turn (with two or more) and none.
   std::vector<std::string> folds;
@@ -28,6 +28,11 @@ struct CalibrationOptions {
 struct FreeParameter {
   const char* key;
   double lo, hi;
+  // Searched on a log scale (lo > 0): for a bound spanning orders of magnitude, where 0.5 and 1 differ
+  // as much as 20 and 40.
+  bool log_scale = false;
+  double at(double x) const;        // the value a fraction x in [0, 1] into the box
+  double fraction(double v) const;  // its inverse, clamped to [0, 1]
 };
 // The parameters fitted for a model kind (realism/README.md lists them, and why the others are not).
 const std::vector<FreeParameter>& freeParameters(MotionModelKind kind);
