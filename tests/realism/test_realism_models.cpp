@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -196,4 +197,38 @@ TEST(RealismCalibration, SaysWhenItCannotImproveAndWritesTheStart) {
   EXPECT_TRUE(fs::exists(dir / "calibration.csv"));
   // With one data set there is nothing to hold out: only the file fitted on all of them.
   EXPECT_FALSE(fs::exists(dir / "orca_calibrated_held_out_line.yaml"));
+}
+
+TEST(RealismResults, TtcsInteractionBeatsNoInteractionOnEveryRecordingHeldOut) {
+  // Issue 32's bar, on the five recordings with the shipped parameter files: on each scene held out
+  // of the fit, ttc_calibrated_goal is more accurate than its own interaction-off version and than
+  // constant velocity, with nearest-neighbour distances closer to the data's than HuNavSim's sfm_goal.
+  // The recordings are not in the repository (realism/README.md, "Data"): without them this skips.
+  const char* env = std::getenv("HUNAV_ETH_UCY");
+  const fs::path dir = env != nullptr ? fs::path(env) : fs::path(HUNAV_SOURCE_DIR) / ".." / "shared" / "eth_ucy";
+  const std::vector<std::string> files = {"biwi_eth.txt", "biwi_hotel.txt", "crowds_zara01.txt", "crowds_zara02.txt",
+                                          "students003.txt"};
+  for (const std::string& f : files)
+    if (!fs::is_regular_file(dir / f))
+      GTEST_SKIP() << (dir / f).string() << " is missing (tools/fetch_eth_ucy.sh DIR fetches the five recordings; "
+                   << "HUNAV_ETH_UCY=DIR points this test at them)";
+  const Scoring scoring;
+  ThreadPool pool(ThreadPool::Size{1, 0});
+  for (const std::string& f : files) {
+    const Dataset d = readTracks((dir / f).string());
+    Method cv;
+    cv.name = "cv";
+    cv.constant_velocity = true;
+    Method sfm_goal = methodsOf("sfm", uncalibratedModel(scoring, "sfm"), false)[1];
+    const std::optional<MotionModel> ttc = calibratedModel(scoring, "ttc", d.name);
+    ASSERT_TRUE(ttc.has_value()) << d.name;
+    EXPECT_EQ(ttc->name, "ttc_calibrated_held_out_" + d.name);
+    const std::vector<Method> columns = methodsOf("ttc_calibrated", *ttc, false);  // extrapolated, goal, goal_alone
+    const DatasetResult r = evaluate(d, {cv, sfm_goal, columns[1], columns[2]}, scoring.protocol, nullptr, &pool);
+    ASSERT_EQ(r.methods[2].method, "ttc_calibrated_goal");
+    ASSERT_EQ(r.methods[3].method, "ttc_calibrated_goal_alone");
+    EXPECT_LT(r.methods[2].ade, r.methods[3].ade) << d.name;
+    EXPECT_LT(r.methods[2].ade, r.methods[0].ade) << d.name;
+    EXPECT_LT(wasserstein1(r.methods[2].nn, r.data.nn), wasserstein1(r.methods[1].nn, r.data.nn)) << d.name;
+  }
 }
