@@ -121,7 +121,7 @@ FitResult fitModel(const std::vector<TrainingScene>& scenes, const MotionModel& 
     if (groups == isGroupWeight(f.key)) free.push_back(f);
   const int budget = groups ? std::max(10, options.max_evaluations / 3) : options.max_evaluations;
   const std::size_t n = free.size();
-  // The search runs on x in [0, 1]^n (value = lo + x (hi - lo)): BOBYQA's trust region is one radius
+  // The search runs on x in [0, 1]^n (value = FreeParameter::at(x)): BOBYQA's trust region is one radius
   // for every coordinate, so the coordinates must share a scale.
   auto modelAt = [&](const std::vector<double>& x) {
     MotionModel m = start;

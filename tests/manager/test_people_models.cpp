@@ -83,7 +83,7 @@ TEST(PeopleModels, HeadOnPeopleAvoidEachOther) {
 }
 
 TEST(PeopleModels, WithTtcsSpeedShareTheWalkerGivesWayToThePersonStanding) {
-  // A walker passes 0.1 m beside a person standing at its goal. With the paper's symmetric force
+  // A walker passes 0.05 m beside a person standing at its goal. With the paper's symmetric force
   // (speed_share 0) the standing person is pushed aside too; with speed_share 1 its share of the
   // avoidance is 2 * 0 / (0 + v) = 0: it stands where it is, and the walker (share 2 * v / v = 2)
   // goes around it alone.

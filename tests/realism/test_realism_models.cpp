@@ -169,6 +169,9 @@ TEST(RealismCalibration, ALogScaleParameterSpansItsBoxGeometrically) {
   for (MotionModelKind kind : {MotionModelKind::Sfm, MotionModelKind::Orca, MotionModelKind::Ttc})
     for (const FreeParameter& f : freeParameters(kind))
       for (double x : {0.0, 0.3, 0.8, 1.0}) {
+        if (f.log_scale) {
+          EXPECT_GT(f.lo, 0.0) << f.key;  // a log scale needs a positive box
+        }
         EXPECT_NEAR(f.fraction(f.at(x)), x, 1e-9) << f.key;
         EXPECT_GE(f.at(x), f.lo) << f.key;
         EXPECT_LE(f.at(x), f.hi * (1.0 + 1e-12)) << f.key;
@@ -225,6 +228,7 @@ TEST(RealismResults, TtcsInteractionBeatsNoInteractionOnEveryRecordingHeldOut) {
     EXPECT_EQ(ttc->name, "ttc_calibrated_held_out_" + d.name);
     const std::vector<Method> columns = methodsOf("ttc_calibrated", *ttc, false);  // extrapolated, goal, goal_alone
     const DatasetResult r = evaluate(d, {cv, sfm_goal, columns[1], columns[2]}, scoring.protocol, nullptr, &pool);
+    ASSERT_EQ(r.methods[1].method, "sfm_goal");
     ASSERT_EQ(r.methods[2].method, "ttc_calibrated_goal");
     ASSERT_EQ(r.methods[3].method, "ttc_calibrated_goal_alone");
     EXPECT_LT(r.methods[2].ade, r.methods[3].ade) << d.name;

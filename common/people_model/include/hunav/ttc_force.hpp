@@ -16,7 +16,7 @@ struct TtcParams {
   double relaxation_time = 0.54;   // s, xi of the driving force (v_pref - v) / xi
   double radius = -1.0;            // m, the radius avoided with (< 0: the person's own)
   double neighbor_distance = 8.0;  // m, people farther than this exert no force
-  double max_force = 20.0;         // m/s^2, cap of one pair's force (tau -> 0 makes it unbounded)
+  double max_force = 20.0;         // m/s^2, cap of one pair's force before its speed share (tau -> 0: unbounded)
   // rad, the whole angle around the person's heading within which others are seen and reacted to
   // (2 pi, the paper's: everybody; people react little to those behind them).
   double field_of_view = 2.0 * kPi;
@@ -33,6 +33,7 @@ struct TtcParams {
 // The factor speed_share gives a pair's force on a person with speed `mine` meeting one with `theirs`
 // (1 when both stand: no collision lies ahead of two people standing anyway).
 inline double speedShareFactor(double mine, double theirs, double speed_share) {
+  if (speed_share == 0.0) return 1.0;  // the paper's force, whatever the speeds
   const double sum = mine + theirs;
   return sum > 0.0 ? 1.0 - speed_share + speed_share * 2.0 * mine / sum : 1.0;
 }
