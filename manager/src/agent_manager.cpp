@@ -203,9 +203,10 @@ SfmMotion ttcStep(const StepSnapshot& snap, std::size_t index, const agent_state
   const Vec2 preferred = preferredVelocity(me, goal, goal_radius, speed, Vec2::Zero(), 0.0);
   Vec2 force = (preferred - me.velocity) / t.relaxation_time;
   // A pair's force, scaled by the person's share of the avoidance (1 with speed_share 0: the paper's).
+  const double my_speed = me.velocity.norm();
   auto pairForce = [&](const Vec2& position, const Vec2& velocity, double radius) -> Vec2 {
-    return ttcForce(me.position - position, me.velocity - velocity, r + radius, t) *
-           speedShareFactor(me.velocity.norm(), velocity.norm(), t.speed_share);
+    const Vec2 f = ttcForce(me.position - position, me.velocity - velocity, r + radius, t);
+    return t.speed_share == 0.0 ? f : Vec2(f * speedShareFactor(my_speed, velocity.norm(), t.speed_share));
   };
   forEachAgentNear(snap, index, t.neighbor_distance, [&](int j) {
     const SfmBody& other = snap.agents[j];

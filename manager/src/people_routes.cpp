@@ -200,8 +200,7 @@ RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r, double margin) cons
   }
   // Moving targets (the robot) and people with goals of their own leave many fields behind: room for
   // a new one (its cost and flags) within the budget, the least recently used going first.
-  std::size_t held = 0;
-  for (const auto& entry : fields_) held += bytesOf(entry.second);
+  std::size_t held = heldBytes();
   const std::size_t new_field = clearance_.size() * (sizeof(float) + 1);
   while (fields_.size() >= kMinFields && held + new_field > field_bytes_) {
     auto oldest = fields_.begin();
@@ -223,6 +222,10 @@ RouteMap::Field& RouteMap::fieldFor(int goal_cell, double r, double margin) cons
 
 std::size_t RouteMap::fieldBytesHeld() const {
   std::lock_guard<std::mutex> lock(mutex_);
+  return heldBytes();
+}
+
+std::size_t RouteMap::heldBytes() const {
   std::size_t held = 0;
   for (const auto& entry : fields_) held += bytesOf(entry.second);
   return held;

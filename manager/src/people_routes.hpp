@@ -79,6 +79,7 @@ class RouteMap {
   static std::size_t bytesOf(const Field& f) {
     return f.cost.capacity() * sizeof(float) + f.settled.capacity() + f.open.capacity() * sizeof(f.open[0]);
   }
+  std::size_t heldBytes() const;  // mutex_ held: the bytes of every field kept
   std::size_t field_bytes_ = kFieldBytes;
   int cellOf(const Vec2& p) const;  // -1 outside the grid
   Vec2 centreOf(int cell) const;
